@@ -1,0 +1,64 @@
+// The one error taxonomy of lodbake. Library code throws these; nothing below a tool's main
+// prints or exits. Each tool's main maps them to the exit codes in tools/common/cli.h:
+//
+//   Error kind      exit code   meaning
+//   UsageError          1       bad command line (thrown by tools/common only)
+//   IOError             2       file missing, unreadable or unwritable
+//   InvalidInput        2       the file is read but is not valid glTF / holds invalid data
+//   Unsupported         2       the input needs something lodbake does not support
+//                               (an extensionsRequired entry, a feature), named in the message
+//   Impossible          3       the input is valid but the operation cannot be done (say why)
+//   SolverError         4       internal or numerical failure (Ceres did not converge, ...)
+//
+// Every message is one line and, when a file is involved, starts with the file path.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+
+namespace lodbake {
+
+enum class ErrorKind { Usage, IO, InvalidInput, Unsupported, Impossible, Solver };
+
+class Error : public std::runtime_error {
+public:
+    Error(ErrorKind kind, const std::string& message) : std::runtime_error(message), kind_(kind) {}
+    ErrorKind kind() const { return kind_; }
+
+private:
+    ErrorKind kind_;
+};
+
+struct UsageError : Error {
+    explicit UsageError(const std::string& m) : Error(ErrorKind::Usage, m) {}
+};
+struct IOError : Error {
+    explicit IOError(const std::string& m) : Error(ErrorKind::IO, m) {}
+};
+struct InvalidInput : Error {
+    explicit InvalidInput(const std::string& m) : Error(ErrorKind::InvalidInput, m) {}
+};
+struct Unsupported : Error {
+    explicit Unsupported(const std::string& m) : Error(ErrorKind::Unsupported, m) {}
+};
+struct Impossible : Error {
+    explicit Impossible(const std::string& m) : Error(ErrorKind::Impossible, m) {}
+};
+struct SolverError : Error {
+    explicit SolverError(const std::string& m) : Error(ErrorKind::Solver, m) {}
+};
+
+// Exit code for an error kind (0 is success).
+inline int exitCodeFor(ErrorKind k) {
+    switch (k) {
+        case ErrorKind::Usage: return 1;
+        case ErrorKind::IO: return 2;
+        case ErrorKind::InvalidInput: return 2;
+        case ErrorKind::Unsupported: return 2;
+        case ErrorKind::Impossible: return 3;
+        case ErrorKind::Solver: return 4;
+    }
+    return 4;
+}
+
+}  // namespace lodbake

@@ -1,0 +1,54 @@
+// glTF 2.0 reading and writing. The only module that includes tinygltf and Draco.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "lodbake/core/mesh.h"
+#include "lodbake/core/multires.h"
+
+namespace lodbake {
+
+struct ReadOptions {
+    bool decodeImages = true;  // decode every image with OpenImageIO to check it and fill width/height
+};
+
+// Reads a .gltf or .glb: default scene (or scene 0, or every root node when there is no scene),
+// node hierarchy flattened with TRS/matrix transforms (negative determinant flips winding),
+// every TRIANGLES / TRIANGLE_STRIP / TRIANGLE_FAN primitive (points and lines dropped with a
+// warning), all accessor component types (normalized or not), sparse accessors, interleaved
+// views, data URIs, external files relative to the asset, KHR_draco_mesh_compression,
+// KHR_mesh_quantization, KHR_texture_transform, KHR_materials_unlit. Skinned meshes are read in
+// bind pose (the node transform of the mesh node, joints ignored).
+//
+// When the file carries a LODBAKE_multires extension, `multires` (if non-null) receives it and
+// asset.mesh is the original (level-0) mesh it refers to.
+//
+// \throw IOError (missing/unreadable file), InvalidInput (malformed glTF, out-of-range indices,
+//        NaN/Inf positions), Unsupported (extensionsRequired entry not supported), all with
+//        one-line messages starting with the path.
+Asset readGltf(const std::string& path, const ReadOptions& options = {},
+               std::optional<Multires>* multires = nullptr);
+
+struct WriteOptions {
+    std::string generator = "lodbake";
+    bool embedImages = true;  // images go into the buffer (GLB chunk or .bin) rather than beside
+};
+
+// Writes `asset` (and, when non-null, the levels of `multires` as extra meshes plus the
+// LODBAKE_multires extension). Output format follows the extension of `path` (.glb or .gltf,
+// which writes PATH.bin beside it). Written atomically: temporary files renamed into place.
+//
+// Layout: node 0 / mesh 0 = the original mesh, node k / mesh k = level k (k >= 1); all nodes are
+// in the scene, level nodes translated side by side along +x (1.25 bounding-box widths apart) so
+// a viewer shows the chain; the mesh data itself stays in the original's world space. One
+// primitive per material per mesh. readGltf of such a file returns node 0 only as asset.mesh.
+//
+// \throw IOError when the file cannot be written.
+void writeGltf(const std::string& path, const Asset& asset, const Multires* multires = nullptr,
+               const WriteOptions& options = {});
+
+// Writes `bytes` to `path` atomically (temp file in the same folder, then rename).
+void writeFileAtomic(const std::string& path, const std::string& bytes);
+
+}  // namespace lodbake

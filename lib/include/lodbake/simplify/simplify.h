@@ -1,0 +1,49 @@
+// Half-edge-collapse simplification with a region hierarchy (thesis 2.3 and 3.2, DESIGN.md).
+//
+// Collapses (v_i -> v_j) keep v_j at its original position, so coarse vertices are original
+// vertices (point-consistent mapping). Collapses are ordered by vertex deviation; a collapse
+// that flips or degenerates a face, changes topology (link condition) or breaks a region rule
+// is rejected. Regions start as single faces and merge as collapses happen; the three
+// p-boundary rules of DESIGN.md are applied. Every level records its regions and its
+// simplification pairs.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "lodbake/core/mesh.h"
+#include "lodbake/core/multires.h"
+
+namespace lodbake {
+
+struct LevelTarget {
+    double ratio = 0;        // fraction of the input triangle count, (0, 1]; 0 = unused
+    uint64_t triangles = 0;  // absolute triangle count; 0 = unused
+    double maxError = 0;     // stop before the vertex deviation exceeds this, relative to the
+                             // bounding-box diagonal; 0 = unused
+};
+
+struct SimplifyOptions {
+    std::vector<LevelTarget> levels;  // any order; levels are produced finest first
+    // Rule 3 epsilon: max(epsilonDeviationFactor * deviation, epsilonBoxFactor * longest box side).
+    double epsilonDeviationFactor = 0.1;
+    double epsilonBoxFactor = 0.01;
+    // Rule 2: collapses whose deviation is within this factor of the best are ranked by E_region.
+    double similarDeviation = 0.05;   // relative tolerance; 0 disables region-shape ranking
+    double maxNormalChangeDeg = 90;   // reject a collapse that turns a face normal by more
+    int threads = 1;                  // results are identical for any value
+    // Progress in [0,1]; return false to cancel (throws Impossible("cancelled")). May be empty.
+    std::function<bool(double)> progress;
+};
+
+struct SimplifyResult {
+    Multires multires;
+    double diagonal = 0;  // bounding-box diagonal of the input, model units
+};
+
+// \pre mesh has finite positions and valid indices (the reader guarantees it).
+// \throw Impossible when the mesh has no triangles.
+SimplifyResult simplify(const TriMesh& mesh, const SimplifyOptions& options);
+
+}  // namespace lodbake

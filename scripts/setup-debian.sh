@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# Installs everything lodbake needs on a fresh Debian 12 machine: the build toolchain, the
+# libraries (Debian's packages) and the node tools used by tests and benchmarks.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq \
+  cmake ninja-build g++ make pkg-config python3 time \
+  libtinygltf-dev libdraco-dev libceres-dev libcgal-dev libeigen3-dev \
+  libopenimageio-dev openimageio-tools nlohmann-json3-dev libgtest-dev \
+  gltfpack >/dev/null
+if ! command -v npm >/dev/null 2>&1; then
+  $SUDO apt-get install -y -qq nodejs npm >/dev/null
+fi
+# Khronos glTF-Validator and the peer tools, pinned by scripts/node/package-lock.json.
+(cd scripts/node && npm ci --silent --no-audit --no-fund)
+echo "setup: dependencies installed"

@@ -1,0 +1,153 @@
+"""Shared helpers for lodbake's CLI tests (python3 stdlib only).
+
+Environment (set by tests/CMakeLists.txt): LODBAKE_BIN (built executables), LODBAKE_SOURCE,
+LODBAKE_SHARED (../shared, may be absent), LODBAKE_WORK (scratch folder for this test).
+A test that cannot run here exits 77, which ctest reports as skipped.
+"""
+import array
+import json
+import os
+import shutil
+import struct
+import subprocess
+import sys
+
+BIN = os.environ.get("LODBAKE_BIN", os.path.join(os.path.dirname(__file__), "../../build/bin"))
+SOURCE = os.environ.get("LODBAKE_SOURCE", os.path.join(os.path.dirname(__file__), "../.."))
+SHARED = os.environ.get("LODBAKE_SHARED", os.path.join(SOURCE, "../shared"))
+WORK = os.environ.get("LODBAKE_WORK", "/tmp/lodbake-test")
+ASSETS = os.path.join(SHARED, "assets")
+BAD_INPUTS = os.path.join(SHARED, "bad-inputs")
+SKIP = 77
+
+# The real assets of ../shared/assets, by name.
+ASSET_FILES = {
+    "Duck": "Duck/Duck.glb",
+    "Avocado": "Avocado/Avocado.gltf",
+    "BoxTextured": "BoxTextured/BoxTextured.glb",
+    "CesiumMilkTruck": "CesiumMilkTruck/CesiumMilkTruck.glb",
+    "2CylinderEngine": "2CylinderEngine/2CylinderEngine.glb",
+    "StanfordBunny": "StanfordBunny/StanfordBunny.glb",
+}
+
+
+def skip(reason):
+    print("SKIPPED: " + reason)
+    sys.exit(SKIP)
+
+
+def require_assets():
+    if not os.path.isdir(ASSETS):
+        skip("../shared/assets is absent (a user's clone has no ../shared); nothing to test here")
+    return {name: os.path.join(ASSETS, rel) for name, rel in ASSET_FILES.items()}
+
+
+def work_dir(name=""):
+    d = os.path.join(WORK, name)
+    if os.path.isdir(d):
+        shutil.rmtree(d)
+    os.makedirs(d, exist_ok=True)
+    return d
+
+
+def tool(name):
+    return os.path.join(BIN, name)
+
+
+def run(args, check=True, timeout=1200):
+    """Runs a command; returns CompletedProcess with text stdout/stderr."""
+    p = subprocess.run(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, timeout=timeout)
+    if check and p.returncode != 0:
+        raise AssertionError("command failed (%d): %s\nstdout: %s\nstderr: %s"
+                             % (p.returncode, " ".join(args), p.stdout[-2000:], p.stderr[-2000:]))
+    return p
+
+
+def make_samples(out_dir):
+    run([tool("make-samples"), out_dir])
+    return out_dir
+
+
+VALIDATOR = os.path.join(SOURCE, "scripts/node/validate.js")
+
+
+def validator_available():
+    return shutil.which("node") is not None and os.path.isdir(os.path.join(SOURCE, "scripts/node/node_modules/gltf-validator"))
+
+
+def validate(path):
+    """Khronos glTF-Validator report summary for one file: dict with errors, warnings, messages."""
+    p = run(["node", VALIDATOR, path], check=False)
+    if p.returncode not in (0, 1):
+        raise AssertionError("validator could not read %s: %s" % (path, p.stderr))
+    return json.loads(p.stdout.strip().splitlines()[-1])
+
+
+class Gltf:
+    """A glTF or GLB file's JSON and binary buffer 0, with accessor reading."""
+
+    def __init__(self, path):
+        self.path = path
+        with open(path, "rb") as f:
+            data = f.read()
+        self.bin = b""
+        if data[:4] == b"glTF":
+            length = struct.unpack_from("<I", data, 8)[0]
+            off = 12
+            while off < length:
+                clen, ctype = struct.unpack_from("<II", data, off)
+                chunk = data[off + 8: off + 8 + clen]
+                if ctype == 0x4E4F534A:
+                    self.json = json.loads(chunk.decode("utf-8"))
+                elif ctype == 0x004E4942:
+                    self.bin = chunk
+                off += 8 + clen
+        else:
+            self.json = json.loads(data.decode("utf-8"))
+            buffers = self.json.get("buffers", [])
+            if buffers and "uri" in buffers[0] and not buffers[0]["uri"].startswith("data:"):
+                with open(os.path.join(os.path.dirname(path), buffers[0]["uri"]), "rb") as f:
+                    self.bin = f.read()
+
+    def accessor(self, index):
+        """Accessor values as a flat list (uint32/uint16/uint8/float, non-sparse, buffer 0)."""
+        acc = self.json["accessors"][index]
+        view = self.json["bufferViews"][acc["bufferView"]]
+        comps = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4, "MAT4": 16}[acc["type"]]
+        code = {5121: "B", 5123: "H", 5125: "I", 5126: "f", 5120: "b", 5122: "h"}[acc["componentType"]]
+        size = array.array(code).itemsize
+        start = view.get("byteOffset", 0) + acc.get("byteOffset", 0)
+        stride = view.get("byteStride", size * comps)
+        n = acc["count"]
+        if stride == size * comps:
+            a = array.array(code)
+            a.frombytes(self.bin[start: start + n * comps * size])
+            return list(a)
+        out = []
+        for i in range(n):
+            a = array.array(code)
+            a.frombytes(self.bin[start + i * stride: start + i * stride + comps * size])
+            out.extend(a)
+        return out
+
+    def multires(self):
+        return self.json.get("extensions", {}).get("LODBAKE_multires")
+
+    def mesh_triangle_count(self, mesh_index):
+        n = 0
+        for prim in self.json["meshes"][mesh_index]["primitives"]:
+            if "indices" in prim:
+                n += self.json["accessors"][prim["indices"]]["count"] // 3
+            else:
+                n += self.json["accessors"][prim["attributes"]["POSITION"]]["count"] // 3
+        return n
+
+
+def main(test_case_classes):
+    """Runs unittest test cases and exits with a ctest-friendly status."""
+    import unittest
+    suite = unittest.TestSuite()
+    for c in test_case_classes:
+        suite.addTests(unittest.defaultTestLoader.loadTestsFromTestCase(c))
+    result = unittest.TextTestRunner(verbosity=2).run(suite)
+    sys.exit(0 if result.wasSuccessful() else 1)

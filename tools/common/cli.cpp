@@ -1,0 +1,252 @@
+#include "common/cli.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+#include <thread>
+
+#include "lodbake/core/errors.h"
+#include "lodbake/io/gltf.h"
+
+namespace lodbake::cli {
+
+namespace {
+
+std::vector<std::string> splitNames(const std::string& names) {
+    std::vector<std::string> out;
+    std::stringstream ss(names);
+    std::string n;
+    while (std::getline(ss, n, ',')) {
+        while (!n.empty() && n.front() == ' ') n.erase(n.begin());
+        if (!n.empty()) out.push_back(n);
+    }
+    return out;
+}
+
+std::string lowerExtension(const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return ext;
+}
+
+}  // namespace
+
+ArgParser::ArgParser(std::string tool, std::string synopsis)
+    : tool_(std::move(tool)), synopsis_(std::move(synopsis)) {}
+
+void ArgParser::option(const std::string& names, const std::string& valueName, const std::string& help,
+                       std::function<void(const std::string&)> handler) {
+    opts_.push_back({splitNames(names), valueName, help, std::move(handler), true});
+}
+
+void ArgParser::flag(const std::string& names, const std::string& help, std::function<void()> handler) {
+    opts_.push_back({splitNames(names), "", help, [h = std::move(handler)](const std::string&) { h(); }, false});
+}
+
+void ArgParser::positionals(const std::string& names, std::function<void(const std::string&)> handler) {
+    positionalNames_ = names;
+    positional_ = std::move(handler);
+}
+
+void ArgParser::addCommon(CommonSettings& s, bool needsOutput) {
+    option("-i,--input", "FILE", "input glTF (.gltf or .glb)", [&s](const std::string& v) { s.input = v; });
+    if (needsOutput)
+        option("-o,--output", "FILE", "output file; .glb or .gltf (+ .bin) chosen by its extension",
+               [&s](const std::string& v) { s.output = v; });
+    option("--report", "FILE.json", "write the JSON report to FILE.json", [&s](const std::string& v) { s.report = v; });
+    flag("-v", "print statistics on stdout", [&s] { s.verbose = std::max(s.verbose, 1); });
+    flag("-vv", "print more statistics on stdout", [&s] { s.verbose = 2; });
+    option("--threads", "N", "worker threads (0 = all cores); output is identical for any N",
+           [&s](const std::string& v) {
+               s.threads = parseInt("--threads", v);
+               if (s.threads < 0) throw UsageError("--threads must be >= 0");
+           });
+    flag("--quiet", "no progress on stderr, even on a terminal", [&s] { s.quiet = true; });
+}
+
+bool ArgParser::parse(int argc, char** argv) {
+    for (int i = 1; i < argc; ++i) {
+        std::string a = argv[i];
+        if (a == "-h" || a == "--help") {
+            std::cout << help();
+            return false;
+        }
+        if (a == "--version") {
+            std::cout << tool_ << " (lodbake) 0.1.0\n";
+            return false;
+        }
+        std::string value;
+        bool hasInline = false;
+        if (a.rfind("--", 0) == 0) {
+            size_t eq = a.find('=');
+            if (eq != std::string::npos) {
+                value = a.substr(eq + 1);
+                a = a.substr(0, eq);
+                hasInline = true;
+            }
+        }
+        const Opt* found = nullptr;
+        for (const Opt& o : opts_)
+            for (const std::string& n : o.names)
+                if (n == a) found = &o;
+        if (!found) {
+            if ((a.empty() || a[0] != '-' || a == "-") && positional_) {
+                positional_(a);
+                continue;
+            }
+            throw UsageError("unrecognized option '" + a + "'");
+        }
+        if (found->takesValue) {
+            if (!hasInline) {
+                if (i + 1 >= argc) throw UsageError("option '" + a + "' needs a value (" + found->valueName + ")");
+                value = argv[++i];
+            }
+            found->handler(value);
+        } else {
+            if (hasInline) throw UsageError("option '" + a + "' takes no value");
+            found->handler("");
+        }
+    }
+    return true;
+}
+
+std::string ArgParser::help() const {
+    std::ostringstream os;
+    os << "Usage: " << tool_ << " " << synopsis_ << "\n\nOptions:\n";
+    for (const Opt& o : opts_) {
+        std::string left;
+        for (size_t k = 0; k < o.names.size(); ++k) left += (k ? ", " : "") + o.names[k];
+        if (o.takesValue) left += " " + o.valueName;
+        os << "  " << left;
+        if (left.size() < 28)
+            os << std::string(28 - left.size(), ' ');
+        else
+            os << "\n  " << std::string(28, ' ');
+        os << o.help << "\n";
+    }
+    os << "  -h, --help                  show this help\n"
+          "  --version                   print the version\n"
+          "\nExit codes: 0 success, 1 usage error, 2 unreadable or invalid input,\n"
+          "            3 valid input but the operation is impossible, 4 internal or solver failure.\n";
+    return os.str();
+}
+
+double parseDouble(const std::string& flag, const std::string& v) {
+    char* end = nullptr;
+    errno = 0;
+    double d = std::strtod(v.c_str(), &end);
+    if (v.empty() || *end != '\0' || errno == ERANGE || !std::isfinite(d))
+        throw UsageError(flag + ": '" + v + "' is not a number");
+    return d;
+}
+
+int parseInt(const std::string& flag, const std::string& v) {
+    char* end = nullptr;
+    errno = 0;
+    long n = std::strtol(v.c_str(), &end, 10);
+    if (v.empty() || *end != '\0' || errno == ERANGE || n < -2147483647L || n > 2147483647L)
+        throw UsageError(flag + ": '" + v + "' is not an integer");
+    return static_cast<int>(n);
+}
+
+std::vector<double> parseDoubleList(const std::string& flag, const std::string& v) {
+    std::vector<double> out;
+    std::stringstream ss(v);
+    std::string item;
+    while (std::getline(ss, item, ',')) out.push_back(parseDouble(flag, item));
+    if (out.empty()) throw UsageError(flag + ": expected a comma-separated list of numbers");
+    return out;
+}
+
+std::vector<double> parseVec3(const std::string& flag, const std::string& v) {
+    std::vector<double> out = parseDoubleList(flag, v);
+    if (out.size() != 3) throw UsageError(flag + ": expected x,y,z");
+    return out;
+}
+
+int runTool(const std::string& tool, const std::function<int()>& body) {
+    try {
+        return body();
+    } catch (const Error& e) {
+        std::cerr << tool << " error: " << e.what();
+        if (e.kind() == ErrorKind::Usage) std::cerr << ". See '" << tool << " --help'.";
+        std::cerr << "\n";
+        return exitCodeFor(e.kind());
+    } catch (const std::bad_alloc&) {
+        std::cerr << tool << " error: out of memory\n";
+        return kInternal;
+    } catch (const std::exception& e) {
+        std::cerr << tool << " error: internal: " << e.what() << "\n";
+        return kInternal;
+    }
+}
+
+void checkPaths(const CommonSettings& s, const std::vector<std::string>& allowedExt) {
+    namespace fs = std::filesystem;
+    if (s.input.empty()) throw UsageError("missing input (-i FILE)");
+    if (s.output.empty()) throw UsageError("missing output (-o FILE)");
+    std::string ext = lowerExtension(s.output);
+    bool ok = false;
+    for (const std::string& e : allowedExt) ok = ok || ext == e;
+    if (!ok) {
+        std::string list;
+        for (const std::string& e : allowedExt) list += (list.empty() ? "" : ", ") + e;
+        throw UsageError("output '" + s.output + "' must end in " + list);
+    }
+    std::error_code ec;
+    if (!fs::exists(s.input, ec)) throw IOError(s.input + ": no such file");
+    if (fs::is_directory(s.input, ec)) throw IOError(s.input + ": is a directory");
+    fs::path parent = fs::path(s.output).parent_path();
+    if (!parent.empty() && !fs::is_directory(parent, ec))
+        throw IOError(s.output + ": output folder '" + parent.string() + "' does not exist");
+    if (fs::weakly_canonical(s.input, ec) == fs::weakly_canonical(s.output, ec))
+        throw UsageError("output '" + s.output + "' would overwrite the input");
+    if (!s.report.empty()) {
+        fs::path rp = fs::path(s.report).parent_path();
+        if (!rp.empty() && !fs::is_directory(rp, ec))
+            throw IOError(s.report + ": report folder '" + rp.string() + "' does not exist");
+    }
+}
+
+void writeReport(const std::string& path, const nlohmann::json& report) {
+    writeFileAtomic(path, report.dump(2) + "\n");
+}
+
+Progress::Progress(std::string stage, bool enabled) : stage_(std::move(stage)), enabled_(enabled) {}
+
+Progress::~Progress() { done(); }
+
+bool Progress::operator()(double fraction) {
+    if (!enabled_) return true;
+    int pct = static_cast<int>(std::lround(std::clamp(fraction, 0.0, 1.0) * 100));
+    if (pct != last_) {
+        last_ = pct;
+        std::fprintf(stderr, "\r%s: %3d%%", stage_.c_str(), pct);
+        std::fflush(stderr);
+    }
+    return true;
+}
+
+void Progress::done() {
+    if (enabled_ && last_ >= 0) {
+        std::fprintf(stderr, "\r%s: done\n", stage_.c_str());
+        last_ = -1;
+    }
+}
+
+bool progressEnabled(const CommonSettings& s) { return !s.quiet && isatty(STDERR_FILENO); }
+
+int resolveThreads(int requested) {
+    if (requested > 0) return requested;
+    unsigned n = std::thread::hardware_concurrency();
+    return n ? static_cast<int>(n) : 1;
+}
+
+}  // namespace lodbake::cli
