@@ -107,6 +107,7 @@ int run(const Settings& s) {
     Asset asset = readGltf(s.common.input);
     double loadSeconds = secondsSince(t0);
     for (const std::string& w : asset.warnings) std::cerr << "simplify warning: " << w << "\n";
+    if (asset.mesh.triangleCount() == 0) throw Impossible(s.common.input + ": the scene has no triangles to simplify");
 
     SimplifyOptions opt;
     opt.levels = targets;

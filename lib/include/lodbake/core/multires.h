@@ -38,6 +38,7 @@ struct Level {
     std::vector<uint32_t> faces;    // original face id of each level triangle
     std::vector<Tri> triangles;     // welded vertex ids of each level triangle (CCW)
     std::vector<Tri> cornerWedges;  // original wedge used at each corner (for original materials/UVs)
+    std::vector<int32_t> triangleMaterial;  // per level triangle; empty = the original faces' materials
 
     // Regions at this level: faceRegion[f] = representative face of original face f's region.
     std::vector<uint32_t> faceRegion;
@@ -48,7 +49,7 @@ struct Level {
     uint32_t collapseCount = 0;     // collapses applied to reach this level (prefix of Multires::collapses)
     double maxDeviation = 0;        // model units; non-decreasing along the levels
     double meanDeviation = 0;       // mean of pair deviations
-    double seconds = 0;             // time spent producing this level
+    double seconds = 0;             // time spent producing this level (report only, not written to files)
 };
 
 // One half-edge collapse (removed -> kept) and the region updates it made: the entries

@@ -1,0 +1,34 @@
+// Baking the original appearance into a new UV atlas (DESIGN.md "Bake and gap fill").
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "lodbake/core/mesh.h"
+
+namespace lodbake {
+
+struct BakeOptions {
+    int size = 1024;        // square atlas side in texels
+    double dilation = 1;    // conservative rasterisation margin around each triangle, texels
+    bool fillGaps = true;   // pull-push fill of uncovered texels (ImageBufAlgo::fillholes_pushpull)
+};
+
+struct BakeResult {
+    Image image;                 // PNG, RGB 8-bit sRGB, size x size
+    std::vector<float> pixels;   // the same as floats in [0,1] (encoded sRGB), RGB interleaved, top row first
+    size_t coveredTexels = 0;    // texels hit by a triangle (incl. dilation)
+    size_t texturedLookups = 0;  // texture lookups made through the TextureSystem
+    double seconds = 0;
+};
+
+// Rasterises the ORIGINAL triangles of asset.mesh at `cornerUV` (per face corner, glTF convention:
+// [0,1], v down) and stores at each texel the original base colour = baseColorFactor x
+// baseColorTexture (texCoord set, sampler wrap, KHR_texture_transform; filtered with derivatives
+// from the UV Jacobian) x COLOR_0, composed in linear space and stored as sRGB.
+// \pre cornerUV.size() == asset.mesh.triangleCount().
+// \throw InvalidInput (size mismatch), IOError (an image cannot be decoded / temp files).
+BakeResult bakeBaseColor(const Asset& asset, const std::vector<std::array<Vec2, 3>>& cornerUV,
+                         const BakeOptions& options = {});
+
+}  // namespace lodbake

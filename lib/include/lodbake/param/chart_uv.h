@@ -1,0 +1,78 @@
+// Per-chart UV maps: the injective initial map (Tutte) and the multiresolution-aware energy
+// minimisation (thesis 3.3.2-3.3.3, DESIGN.md "The energy parameterize minimises").
+//
+// A chart is given as its own small mesh: local positions and CCW triangles (indices into
+// `positions`). UVs are in model units (area-matched to 3D), math orientation (v up) with
+// counter-clockwise triangles having a positive determinant.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "lodbake/core/math.h"
+#include "lodbake/core/mesh.h"
+
+namespace lodbake {
+
+struct ChartMesh {
+    std::vector<Vec3> positions;
+    std::vector<Tri> triangles;
+};
+
+// Tutte embedding: the boundary loop goes onto a circle by arc length, interior vertices solve the
+// mean-value-weight Laplace system (uniform weights where a mean-value weight is not finite).
+// Injective for a disk. The result is then scaled so the total UV area equals the 3D area.
+// \throw Impossible when the chart is not a disk (no single boundary loop).
+std::vector<Vec2> tutteEmbedding(const ChartMesh& chart);
+
+// A simplification pair restricted to one chart (indices are local vertices of the chart).
+struct ChartPair {
+    uint32_t vertex = 0;
+    std::array<uint32_t, 3> coarse{};
+    std::array<double, 3> bary{};
+    double deviation = 0;  // |V_i - P_i|, model units
+};
+
+struct ChartEnergyOptions {
+    double alpha = 0.8;       // E_pixel = r (alpha E_l + (1 - alpha) E_s)
+    double beta = 0.7;        // E = beta E_pixel + (1 - beta) E_poly
+    double resolution = 1;    // r: 1 at 512^2 texels, 1/4 per 4x texels
+    // |V_i - P_i| is clamped below by this fraction of sqrt(chart 3D area) in E_poly.
+    double deviationFloor = 0.01;
+};
+
+struct ChartEnergy {
+    double E = 0, pixel = 0, poly = 0, edge = 0, area = 0;  // pixel = r(a El + (1-a) Es), poly = r sum
+};
+
+// E and its terms for `uv` (one UV per chart vertex).
+ChartEnergy chartEnergy(const ChartMesh& chart, const std::vector<ChartPair>& pairs, const std::vector<Vec2>& uv,
+                        const ChartEnergyOptions& options = {});
+
+struct ChartSolveOptions {
+    ChartEnergyOptions energy;
+    int maxIterations = 50;
+};
+
+struct ChartSolveResult {
+    std::vector<Vec2> uv;
+    ChartEnergy before, after;
+    int iterations = 0;
+    bool improved = false;  // the solver lowered E (else uv == the initial map)
+};
+
+// Minimises E with Ceres (Levenberg-Marquardt, 1 thread) from `initial`, which must be injective
+// (every triangle's UV determinant > 0). Steps that would fold a triangle are rejected, so the
+// result has no flipped triangle; overlaps of the boundary are not prevented (check with
+// countOverlaps). Deterministic.
+ChartSolveResult optimizeChartUV(const ChartMesh& chart, const std::vector<ChartPair>& pairs,
+                                 const std::vector<Vec2>& initial, const ChartSolveOptions& options = {});
+
+// Triangles whose UV determinant is <= 0.
+size_t countFlips(const ChartMesh& chart, const std::vector<Vec2>& uv);
+// Triangles owning a boundary edge that properly intersects another boundary edge of the chart
+// (sort-and-sweep over the boundary edges). 0 together with 0 flips means the map is injective.
+size_t countOverlaps(const ChartMesh& chart, const std::vector<Vec2>& uv);
+
+}  // namespace lodbake

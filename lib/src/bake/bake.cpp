@@ -1,0 +1,289 @@
+// Bake: original appearance -> new atlas (DESIGN.md "Bake and gap fill").
+//
+// Pipeline: writeSourceImages (encoded images to a temp folder, read back through OIIO's
+// TextureSystem with automatic MIP-maps) -> rasterizeTriangles (original faces in atlas texel
+// space, 1-texel conservative dilation, exact coverage wins over dilated) -> shadeTexels (base
+// colour factor x filtered texture lookup at the original UV with derivatives from the UV
+// Jacobian x COLOR_0, in linear space) -> fillGaps (ImageBufAlgo::fillholes_pushpull with
+// coverage as alpha) -> encodePng.
+#include "lodbake/bake/bake.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <unistd.h>
+
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
+#include <OpenImageIO/texture.h>
+
+#include "lodbake/core/errors.h"
+
+namespace lodbake {
+namespace {
+
+namespace fs = std::filesystem;
+using OIIO::ustring;
+
+double srgbToLinear(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); }
+double linearToSrgb(double c) {
+    c = std::clamp(c, 0.0, 1.0);
+    return c <= 0.0031308 ? c * 12.92 : 1.055 * std::pow(c, 1 / 2.4) - 0.055;
+}
+
+// A temp folder removed on scope exit.
+struct TempDir {
+    fs::path path;
+    TempDir() {
+        std::string tmpl = (fs::temp_directory_path() / "lodbake-bake-XXXXXX").string();
+        if (!mkdtemp(tmpl.data())) throw IOError("cannot create a temporary folder for baking");
+        path = tmpl;
+    }
+    ~TempDir() {
+        std::error_code ec;
+        fs::remove_all(path, ec);
+    }
+};
+
+std::string extensionFor(const Image& img) {
+    const auto& b = img.encoded;
+    if (b.size() >= 3 && b[0] == 0xFF && b[1] == 0xD8) return ".jpg";
+    if (img.mimeType == "image/jpeg") return ".jpg";
+    return ".png";
+}
+
+struct SourceTexture {
+    ustring file;
+    int channels = 0;
+};
+
+// Writes every image a base-colour texture uses; returns per image index its file (empty if unused).
+std::vector<SourceTexture> writeSourceImages(const Asset& asset, const TempDir& dir, OIIO::TextureSystem& ts) {
+    std::vector<SourceTexture> out(asset.images.size());
+    for (const Material& m : asset.materials) {
+        int t = m.baseColor.texture;
+        if (t < 0 || t >= int(asset.textures.size())) continue;
+        int i = asset.textures[size_t(t)].image;
+        if (i < 0 || i >= int(asset.images.size()) || !out[size_t(i)].file.empty()) continue;
+        const Image& img = asset.images[size_t(i)];
+        fs::path p = dir.path / ("image" + std::to_string(i) + extensionFor(img));
+        std::ofstream f(p, std::ios::binary);
+        f.write(reinterpret_cast<const char*>(img.encoded.data()), std::streamsize(img.encoded.size()));
+        if (!f) throw IOError("cannot write a temporary image for baking: " + p.string());
+        f.close();
+        SourceTexture st;
+        st.file = ustring(p.string());
+        if (!ts.get_texture_info(st.file, 0, ustring("channels"), OIIO::TypeDesc::INT, &st.channels) || st.channels <= 0)
+            throw IOError("image " + std::to_string(i) + " (" + img.name + ") cannot be decoded for baking");
+        out[size_t(i)] = st;
+    }
+    return out;
+}
+
+OIIO::Tex::Wrap wrapMode(int gl) {
+    if (gl == 33071) return OIIO::Tex::Wrap::Clamp;
+    if (gl == 33648) return OIIO::Tex::Wrap::Mirror;
+    return OIIO::Tex::Wrap::Periodic;
+}
+
+// KHR_texture_transform: uv' = T R S uv (linear part returned in m, column-major 2x2).
+Vec2 applyTransform(const TextureTransform& tt, Vec2 uv, std::array<double, 4>& m) {
+    if (!tt.present) {
+        m = {1, 0, 0, 1};
+        return uv;
+    }
+    double c = std::cos(tt.rotation), s = std::sin(tt.rotation);
+    // columns: (c sx, s sx), (-s sy, c sy)
+    m = {c * tt.scale.x, s * tt.scale.x, -s * tt.scale.y, c * tt.scale.y};
+    return {m[0] * uv.x + m[2] * uv.y + tt.offset.x, m[1] * uv.x + m[3] * uv.y + tt.offset.y};
+}
+
+struct TexelHit {
+    int32_t face = -1;
+    float dist = 1e30f;
+    std::array<float, 3> bary{};
+};
+
+// Closest point of triangle abc to p as barycentrics; returns the distance.
+double closestBary(Vec2 p, Vec2 a, Vec2 b, Vec2 c, std::array<double, 3>& out) {
+    double den = cross(b - a, c - a);
+    double l1 = cross(p - a, c - a) / den, l2 = cross(b - a, p - a) / den, l0 = 1 - l1 - l2;
+    if (l0 >= 0 && l1 >= 0 && l2 >= 0) {
+        out = {l0, l1, l2};
+        return 0;
+    }
+    double best = 1e300;
+    const Vec2 v[3] = {a, b, c};
+    for (int e = 0; e < 3; ++e) {
+        Vec2 s = v[e], t = v[(e + 1) % 3];
+        Vec2 d = t - s;
+        double len2 = dot(d, d);
+        double u = len2 > 0 ? std::clamp(dot(p - s, d) / len2, 0.0, 1.0) : 0;
+        Vec2 q = s + d * u;
+        double dist = std::sqrt(dot(p - q, p - q));
+        if (dist < best) {
+            best = dist;
+            std::array<double, 3> bb{};
+            bb[size_t(e)] = 1 - u;
+            bb[size_t((e + 1) % 3)] = u;
+            out = bb;
+        }
+    }
+    return best;
+}
+
+void rasterizeTriangles(const TriMesh& mesh, const std::vector<std::array<Vec2, 3>>& cornerUV, int size,
+                        double dilation, std::vector<TexelHit>& hits) {
+    hits.assign(size_t(size) * size, {});
+    for (uint32_t f = 0; f < mesh.triangleCount(); ++f) {
+        Vec2 P[3];
+        for (int k = 0; k < 3; ++k) P[k] = {cornerUV[f][size_t(k)].x * size, cornerUV[f][size_t(k)].y * size};
+        if (std::fabs(cross(P[1] - P[0], P[2] - P[0])) < 1e-12) continue;
+        double x0 = std::min({P[0].x, P[1].x, P[2].x}) - dilation, x1 = std::max({P[0].x, P[1].x, P[2].x}) + dilation;
+        double y0 = std::min({P[0].y, P[1].y, P[2].y}) - dilation, y1 = std::max({P[0].y, P[1].y, P[2].y}) + dilation;
+        int ix0 = std::max(0, int(std::floor(x0))), ix1 = std::min(size - 1, int(std::ceil(x1)));
+        int iy0 = std::max(0, int(std::floor(y0))), iy1 = std::min(size - 1, int(std::ceil(y1)));
+        for (int y = iy0; y <= iy1; ++y)
+            for (int x = ix0; x <= ix1; ++x) {
+                std::array<double, 3> b{};
+                double d = closestBary({x + 0.5, y + 0.5}, P[0], P[1], P[2], b);
+                if (d > dilation) continue;
+                TexelHit& h = hits[size_t(y) * size + size_t(x)];
+                if (float(d) < h.dist) h = {int32_t(f), float(d), {float(b[0]), float(b[1]), float(b[2])}};
+            }
+    }
+}
+
+}  // namespace
+
+BakeResult bakeBaseColor(const Asset& asset, const std::vector<std::array<Vec2, 3>>& cornerUV, const BakeOptions& o) {
+    auto t0 = std::chrono::steady_clock::now();
+    const TriMesh& mesh = asset.mesh;
+    if (cornerUV.size() != mesh.triangleCount()) throw InvalidInput("bake: cornerUV size differs from the face count");
+    if (o.size < 1) throw InvalidInput("bake: size must be >= 1");
+    const int size = o.size;
+    BakeResult res;
+
+    TempDir dir;
+    OIIO::TextureSystem* ts = OIIO::TextureSystem::create(false);
+    struct TsGuard {
+        OIIO::TextureSystem* ts;
+        ~TsGuard() { OIIO::TextureSystem::destroy(ts); }
+    } guard{ts};
+    ts->attribute("automip", 1);
+    std::vector<SourceTexture> sources = writeSourceImages(asset, dir, *ts);
+
+    std::vector<TexelHit> hits;
+    rasterizeTriangles(mesh, cornerUV, size, o.dilation, hits);
+
+    // Shade: linear RGB + coverage.
+    OIIO::ImageSpec spec(size, size, 4, OIIO::TypeDesc::FLOAT);
+    spec.alpha_channel = 3;
+    OIIO::ImageBuf buf(spec);
+    std::vector<float> px(size_t(size) * size * 4, 0.0f);
+    const bool hasColor = !mesh.wedges.color.empty();
+    for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x) {
+            const TexelHit& h = hits[size_t(y) * size + size_t(x)];
+            if (h.face < 0) continue;
+            ++res.coveredTexels;
+            const uint32_t f = uint32_t(h.face);
+            int mi = f < mesh.triangleMaterial.size() ? mesh.triangleMaterial[f] : -1;
+            Material def;
+            const Material& m = (mi >= 0 && mi < int(asset.materials.size())) ? asset.materials[size_t(mi)] : def;
+            double rgb[3] = {m.baseColorFactor.x, m.baseColorFactor.y, m.baseColorFactor.z};
+            const Tri& cw = mesh.cornerWedges[f];
+            if (hasColor) {
+                double c[3] = {0, 0, 0};
+                for (int k = 0; k < 3; ++k) {
+                    const Vec4& vc = mesh.wedges.color[cw[size_t(k)]];
+                    c[0] += h.bary[size_t(k)] * vc.x;
+                    c[1] += h.bary[size_t(k)] * vc.y;
+                    c[2] += h.bary[size_t(k)] * vc.z;
+                }
+                for (int i = 0; i < 3; ++i) rgb[i] *= c[i];
+            }
+            int ti = m.baseColor.texture;
+            if (ti >= 0 && ti < int(asset.textures.size())) {
+                const Texture& tex = asset.textures[size_t(ti)];
+                int set = m.baseColor.transform.texCoord >= 0 ? m.baseColor.transform.texCoord : m.baseColor.texCoord;
+                const std::vector<Vec2>& uvs = set == 1 ? mesh.wedges.uv1 : mesh.wedges.uv0;
+                if (tex.image >= 0 && size_t(tex.image) < sources.size() && !sources[size_t(tex.image)].file.empty() &&
+                    !uvs.empty()) {
+                    Vec2 T[3];
+                    for (int k = 0; k < 3; ++k) T[k] = uvs[cw[size_t(k)]];
+                    Vec2 uv = T[0] * h.bary[0] + T[1] * h.bary[1] + T[2] * h.bary[2];
+                    // Jacobian d(uv)/d(texel) of the affine map atlas texel -> original UV.
+                    Vec2 P[3];
+                    for (int k = 0; k < 3; ++k) P[k] = {cornerUV[f][size_t(k)].x * size, cornerUV[f][size_t(k)].y * size};
+                    Vec2 e1 = P[1] - P[0], e2 = P[2] - P[0], g1 = T[1] - T[0], g2 = T[2] - T[0];
+                    double det = cross(e1, e2);
+                    // inverse of [e1 e2] = 1/det [e2.y -e2.x; -e1.y e1.x]
+                    Vec2 dx = (g1 * e2.y - g2 * e1.y) * (1 / det);   // d uv / d x
+                    Vec2 dy = (g2 * e1.x - g1 * e2.x) * (1 / det);   // d uv / d y
+                    std::array<double, 4> lm;
+                    Vec2 st = applyTransform(m.baseColor.transform, uv, lm);
+                    Vec2 tdx{lm[0] * dx.x + lm[2] * dx.y, lm[1] * dx.x + lm[3] * dx.y};
+                    Vec2 tdy{lm[0] * dy.x + lm[2] * dy.y, lm[1] * dy.x + lm[3] * dy.y};
+                    Sampler smp;
+                    if (tex.sampler >= 0 && tex.sampler < int(asset.samplers.size())) smp = asset.samplers[size_t(tex.sampler)];
+                    OIIO::TextureOpt opt;
+                    opt.swrap = OIIO::TextureOpt::Wrap(wrapMode(smp.wrapS));
+                    opt.twrap = OIIO::TextureOpt::Wrap(wrapMode(smp.wrapT));
+                    opt.fill = 1.0f;
+                    const SourceTexture& src = sources[size_t(tex.image)];
+                    float r[4] = {1, 1, 1, 1};
+                    ts->texture(src.file, opt, float(st.x), float(st.y), float(tdx.x), float(tdx.y), float(tdy.x),
+                                float(tdy.y), std::min(src.channels, 4), r);
+                    if (src.channels <= 2) r[2] = r[1] = r[0];
+                    ++res.texturedLookups;
+                    for (int i = 0; i < 3; ++i) rgb[i] *= srgbToLinear(std::clamp(double(r[i]), 0.0, 1.0));
+                }
+            }
+            float* p = &px[(size_t(y) * size + size_t(x)) * 4];
+            for (int i = 0; i < 3; ++i) p[i] = float(rgb[i]);
+            p[3] = 1;
+        }
+    buf.set_pixels(OIIO::ROI(0, size, 0, size, 0, 1, 0, 4), OIIO::TypeDesc::FLOAT, px.data());
+
+    // Gap fill: pull-push with coverage as alpha.
+    OIIO::ImageBuf filled;
+    if (o.fillGaps && res.coveredTexels > 0) {
+        if (!OIIO::ImageBufAlgo::fillholes_pushpull(filled, buf))
+            throw SolverError("bake: pull-push fill failed: " + filled.geterror());
+    } else {
+        filled.copy(buf);
+    }
+    filled.get_pixels(OIIO::ROI(0, size, 0, size, 0, 1, 0, 4), OIIO::TypeDesc::FLOAT, px.data());
+
+    // Encode: sRGB 8-bit RGB PNG.
+    res.pixels.resize(size_t(size) * size * 3);
+    std::vector<uint8_t> rgb8(res.pixels.size());
+    for (size_t i = 0; i < size_t(size) * size; ++i)
+        for (int c = 0; c < 3; ++c) {
+            double v = linearToSrgb(px[i * 4 + size_t(c)]);
+            uint8_t b = uint8_t(std::lround(v * 255));
+            rgb8[i * 3 + size_t(c)] = b;
+            res.pixels[i * 3 + size_t(c)] = float(b) / 255.0f;
+        }
+    OIIO::ImageBuf out(OIIO::ImageSpec(size, size, 3, OIIO::TypeDesc::UINT8));
+    out.set_pixels(OIIO::ROI(0, size, 0, size, 0, 1, 0, 3), OIIO::TypeDesc::UINT8, rgb8.data());
+    fs::path png = dir.path / "atlas.png";
+    if (!out.write(png.string(), OIIO::TypeDesc::UINT8, "png")) throw IOError("bake: cannot encode PNG: " + out.geterror());
+    std::ifstream in(png, std::ios::binary);
+    res.image.encoded.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    if (res.image.encoded.empty()) throw IOError("bake: PNG encoding produced no data");
+    res.image.name = "lodbake_baseColor";
+    res.image.mimeType = "image/png";
+    res.image.width = size;
+    res.image.height = size;
+    res.image.channels = 3;
+    res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return res;
+}
+
+}  // namespace lodbake

@@ -1,0 +1,24 @@
+// Private helpers shared by the glTF reader and writer (lib/src/io only).
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+namespace lodbake::gltf_detail {
+
+// glTF enums we use by name.
+constexpr int kByte = 5120, kUnsignedByte = 5121, kShort = 5122, kUnsignedShort = 5123,
+              kUnsignedInt = 5125, kFloat = 5126;
+constexpr int kArrayBuffer = 34962, kElementArrayBuffer = 34963;
+
+constexpr const char* kMultiresExtension = "LODBAKE_multires";
+constexpr int kMultiresVersion = 1;
+
+// "image/png" / "image/jpeg" from magic bytes, "" when unknown.
+inline std::string sniffImageMime(const uint8_t* p, size_t n) {
+    if (n >= 8 && p[0] == 0x89 && p[1] == 'P' && p[2] == 'N' && p[3] == 'G') return "image/png";
+    if (n >= 3 && p[0] == 0xFF && p[1] == 0xD8 && p[2] == 0xFF) return "image/jpeg";
+    return "";
+}
+
+}  // namespace lodbake::gltf_detail

@@ -1,0 +1,497 @@
+// glTF 2.0 writer: JSON built with nlohmann::json (sorted keys, so byte-identical output for
+// identical input), binary buffer and GLB container written by hand, files replaced atomically.
+//
+// Pipeline of writeGltf:
+//   1. mesh 0 = the original, one primitive per material (vertices = distinct (vertex, wedge)
+//      corners in order of first use); meshes 1..n = the multires levels;
+//   2. materials, textures, samplers, images (embedded in the buffer);
+//   3. LODBAKE_multires extension (docs/LODBAKE_multires.md) with its arrays as accessors;
+//   4. serialise (.glb container, or .gltf + .bin) and rename into place.
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <unordered_map>
+
+#include <nlohmann/json.hpp>
+
+#include "io/gltf_internal.h"
+#include "lodbake/core/errors.h"
+#include "lodbake/io/gltf.h"
+
+namespace lodbake {
+namespace {
+
+using json = nlohmann::json;
+using namespace gltf_detail;
+
+struct Writer {
+    std::string bin;
+    json accessors = json::array();
+    json views = json::array();
+
+    int addView(const void* data, size_t bytes, int target) {
+        while (bin.size() % 4) bin.push_back('\0');
+        json v = {{"buffer", 0}, {"byteOffset", bin.size()}, {"byteLength", bytes}};
+        if (target) v["target"] = target;
+        bin.append(static_cast<const char*>(data), bytes);
+        views.push_back(v);
+        return int(views.size()) - 1;
+    }
+
+    static const char* typeName(int comps) {
+        switch (comps) {
+            case 1: return "SCALAR";
+            case 2: return "VEC2";
+            case 3: return "VEC3";
+            default: return "VEC4";
+        }
+    }
+
+    // Float accessor; `minmax` adds min/max (required for POSITION).
+    int addFloat(const std::vector<float>& v, int comps, int target, bool minmax) {
+        if (v.empty()) return -1;
+        size_t count = v.size() / size_t(comps);
+        json a = {{"bufferView", addView(v.data(), v.size() * 4, target)}, {"componentType", kFloat},
+                  {"count", count}, {"type", typeName(comps)}};
+        if (minmax) {
+            std::vector<float> lo(v.begin(), v.begin() + comps), hi = lo;
+            for (size_t i = 0; i < count; ++i)
+                for (int k = 0; k < comps; ++k) {
+                    lo[size_t(k)] = std::min(lo[size_t(k)], v[i * size_t(comps) + size_t(k)]);
+                    hi[size_t(k)] = std::max(hi[size_t(k)], v[i * size_t(comps) + size_t(k)]);
+                }
+            a["min"] = lo;
+            a["max"] = hi;
+        }
+        accessors.push_back(a);
+        return int(accessors.size()) - 1;
+    }
+
+    int addU32(const std::vector<uint32_t>& v, int comps) {
+        if (v.empty()) return -1;
+        accessors.push_back({{"bufferView", addView(v.data(), v.size() * 4, 0)}, {"componentType", kUnsignedInt},
+                             {"count", v.size() / size_t(comps)}, {"type", typeName(comps)}});
+        return int(accessors.size()) - 1;
+    }
+
+    int addIndices(const std::vector<uint32_t>& idx, size_t vertexCount) {
+        int view;
+        int ct;
+        if (vertexCount < 65536) {
+            std::vector<uint16_t> s(idx.begin(), idx.end());
+            view = addView(s.data(), s.size() * 2, kElementArrayBuffer);
+            ct = kUnsignedShort;
+        } else {
+            view = addView(idx.data(), idx.size() * 4, kElementArrayBuffer);
+            ct = kUnsignedInt;
+        }
+        accessors.push_back({{"bufferView", view}, {"componentType", ct}, {"count", idx.size()}, {"type", "SCALAR"}});
+        return int(accessors.size()) - 1;
+    }
+};
+
+// One written primitive: which (vertex, wedge) each glTF vertex is and which face each triangle is.
+struct PrimMap {
+    int material = -1;
+    std::vector<uint32_t> vertex, wedge, faces;
+};
+
+Vec3 unitOr(Vec3 n, Vec3 fallback) {
+    double l = length(n);
+    return (l > 1e-20 && std::isfinite(l)) ? n / l : fallback;
+}
+
+// Writes one mesh (triangles with welded ids and corner wedges, material per triangle).
+int writeMesh(Writer& w, json& meshes, const TriMesh& src, const std::vector<Tri>& tris, const std::vector<Tri>& corners,
+              const std::vector<int>& material, const std::string& name, std::vector<PrimMap>* maps) {
+    std::map<int, std::vector<uint32_t>> groups;
+    for (size_t f = 0; f < tris.size(); ++f) groups[material[f]].push_back(uint32_t(f));
+    json prims = json::array();
+    const Wedges& W = src.wedges;
+    for (const auto& [mat, faces] : groups) {
+        PrimMap pm;
+        pm.material = mat;
+        pm.faces = faces;
+        std::unordered_map<uint64_t, uint32_t> local;
+        std::vector<uint32_t> idx;
+        idx.reserve(faces.size() * 3);
+        for (uint32_t f : faces)
+            for (int k = 0; k < 3; ++k) {
+                uint32_t v = tris[f][size_t(k)], wd = corners[f][size_t(k)];
+                auto [it, inserted] = local.emplace((uint64_t(v) << 32) | wd, uint32_t(pm.vertex.size()));
+                if (inserted) { pm.vertex.push_back(v); pm.wedge.push_back(wd); }
+                idx.push_back(it->second);
+            }
+        size_t n = pm.vertex.size();
+        std::vector<float> pos(3 * n);
+        for (size_t i = 0; i < n; ++i) {
+            const Vec3& p = src.positions[pm.vertex[i]];
+            pos[3 * i] = float(p.x); pos[3 * i + 1] = float(p.y); pos[3 * i + 2] = float(p.z);
+        }
+        json attrs = {{"POSITION", w.addFloat(pos, 3, kArrayBuffer, true)}};
+        if (!W.normal.empty()) {
+            std::vector<float> a(3 * n);
+            for (size_t i = 0; i < n; ++i) {
+                Vec3 u = unitOr(W.normal[pm.wedge[i]], Vec3{0, 0, 1});
+                a[3 * i] = float(u.x); a[3 * i + 1] = float(u.y); a[3 * i + 2] = float(u.z);
+            }
+            attrs["NORMAL"] = w.addFloat(a, 3, kArrayBuffer, false);
+        }
+        if (!W.tangent.empty() && !W.normal.empty()) {
+            std::vector<float> a(4 * n);
+            for (size_t i = 0; i < n; ++i) {
+                const Vec4& t = W.tangent[pm.wedge[i]];
+                Vec3 u = unitOr(Vec3{t.x, t.y, t.z}, Vec3{1, 0, 0});
+                a[4 * i] = float(u.x); a[4 * i + 1] = float(u.y); a[4 * i + 2] = float(u.z); a[4 * i + 3] = t.w < 0 ? -1.f : 1.f;
+            }
+            attrs["TANGENT"] = w.addFloat(a, 4, kArrayBuffer, false);
+        }
+        auto uvs = [&](const std::vector<Vec2>& uv, const char* key) {
+            if (uv.empty()) return;
+            std::vector<float> a(2 * n);
+            for (size_t i = 0; i < n; ++i) { a[2 * i] = float(uv[pm.wedge[i]].x); a[2 * i + 1] = float(uv[pm.wedge[i]].y); }
+            attrs[key] = w.addFloat(a, 2, kArrayBuffer, false);
+        };
+        uvs(W.uv0, "TEXCOORD_0");
+        uvs(W.uv1, "TEXCOORD_1");
+        if (!W.color.empty()) {
+            std::vector<float> a(4 * n);
+            for (size_t i = 0; i < n; ++i) {
+                const Vec4& c = W.color[pm.wedge[i]];
+                double v[4] = {c.x, c.y, c.z, c.w};
+                for (int k = 0; k < 4; ++k) a[4 * i + size_t(k)] = float(std::isfinite(v[k]) ? std::clamp(v[k], 0.0, 1.0) : 1.0);
+            }
+            attrs["COLOR_0"] = w.addFloat(a, 4, kArrayBuffer, false);
+        }
+        json prim = {{"attributes", attrs}, {"indices", w.addIndices(idx, n)}, {"mode", 4}};
+        if (mat >= 0) prim["material"] = mat;
+        prims.push_back(prim);
+        if (maps) maps->push_back(std::move(pm));
+    }
+    if (prims.empty()) return -1;
+    json mesh = {{"primitives", prims}};
+    if (!name.empty()) mesh["name"] = name;
+    meshes.push_back(mesh);
+    return int(meshes.size()) - 1;
+}
+
+json textureRefJson(const TextureRef& r, const char* scaleKey, double scaleDefault, size_t textureCount, bool& usedTransform) {
+    json o = {{"index", r.texture}};
+    if (r.texCoord != 0) o["texCoord"] = r.texCoord;
+    if (scaleKey && r.scale != scaleDefault) o[scaleKey] = r.scale;
+    if (r.transform.present) {
+        const TextureTransform& t = r.transform;
+        json x = json::object();
+        if (t.offset.x != 0 || t.offset.y != 0) x["offset"] = {t.offset.x, t.offset.y};
+        if (t.rotation != 0) x["rotation"] = t.rotation;
+        if (t.scale.x != 1 || t.scale.y != 1) x["scale"] = {t.scale.x, t.scale.y};
+        if (t.texCoord >= 0) x["texCoord"] = t.texCoord;
+        o["extensions"]["KHR_texture_transform"] = x;
+        usedTransform = true;
+    }
+    (void)textureCount;
+    return o;
+}
+
+json materialJson(const Material& m, size_t textureCount, bool& usedTransform, bool& usedUnlit) {
+    auto valid = [&](const TextureRef& r) { return r.texture >= 0 && size_t(r.texture) < textureCount; };
+    json pbr = {{"baseColorFactor", {m.baseColorFactor.x, m.baseColorFactor.y, m.baseColorFactor.z, m.baseColorFactor.w}},
+                {"metallicFactor", m.metallicFactor},
+                {"roughnessFactor", m.roughnessFactor}};
+    if (valid(m.baseColor)) pbr["baseColorTexture"] = textureRefJson(m.baseColor, nullptr, 1, textureCount, usedTransform);
+    if (valid(m.metallicRoughness)) pbr["metallicRoughnessTexture"] = textureRefJson(m.metallicRoughness, nullptr, 1, textureCount, usedTransform);
+    json o = {{"pbrMetallicRoughness", pbr}};
+    if (!m.name.empty()) o["name"] = m.name;
+    if (valid(m.normal)) o["normalTexture"] = textureRefJson(m.normal, "scale", 1, textureCount, usedTransform);
+    if (valid(m.occlusion)) o["occlusionTexture"] = textureRefJson(m.occlusion, "strength", 1, textureCount, usedTransform);
+    if (valid(m.emissive)) o["emissiveTexture"] = textureRefJson(m.emissive, nullptr, 1, textureCount, usedTransform);
+    if (m.emissiveFactor.x != 0 || m.emissiveFactor.y != 0 || m.emissiveFactor.z != 0)
+        o["emissiveFactor"] = {m.emissiveFactor.x, m.emissiveFactor.y, m.emissiveFactor.z};
+    if (m.alphaMode == AlphaMode::Mask) { o["alphaMode"] = "MASK"; o["alphaCutoff"] = m.alphaCutoff; }
+    if (m.alphaMode == AlphaMode::Blend) o["alphaMode"] = "BLEND";
+    if (m.doubleSided) o["doubleSided"] = true;
+    if (m.unlit) { o["extensions"]["KHR_materials_unlit"] = json::object(); usedUnlit = true; }
+    return o;
+}
+
+std::vector<uint32_t> flatten(const std::vector<Tri>& t) {
+    std::vector<uint32_t> out;
+    out.reserve(t.size() * 3);
+    for (const Tri& x : t) out.insert(out.end(), x.begin(), x.end());
+    return out;
+}
+
+void setIfValid(json& o, const char* key, int accessor) {
+    if (accessor >= 0) o[key] = accessor;
+}
+
+json multiresJson(Writer& w, const Asset& asset, const Multires& mr, const std::vector<PrimMap>& originalPrims,
+                  int originalMesh, const std::vector<int>& levelMeshes, const WriteOptions& options) {
+    const TriMesh& mesh = asset.mesh;
+    json ext = {{"version", kMultiresVersion}, {"generator", mr.generator}, {"writer", options.generator}};
+    json orig = {{"node", 0}, {"vertexCount", mesh.vertexCount()}, {"faceCount", mesh.triangleCount()},
+                 {"wedgeCount", mesh.wedges.size()}};
+    if (originalMesh >= 0) orig["mesh"] = originalMesh;
+    setIfValid(orig, "wedgeVertex", w.addU32(mesh.wedges.vertex, 1));
+    setIfValid(orig, "faceVertices", w.addU32(flatten(mesh.triangles), 3));
+    json prims = json::array();
+    for (const PrimMap& pm : originalPrims) {
+        json p = json::object();
+        setIfValid(p, "wedges", w.addU32(pm.wedge, 1));
+        setIfValid(p, "faces", w.addU32(pm.faces, 1));
+        prims.push_back(p);
+    }
+    orig["primitives"] = prims;
+    ext["original"] = orig;
+    json levels = json::array();
+    for (size_t i = 0; i < mr.levels.size(); ++i) {
+        const Level& L = mr.levels[i];
+        json l = {{"node", i + 1}, {"targetRatio", L.targetRatio}, {"targetTriangles", L.targetTriangles},
+                  {"targetError", L.targetError}, {"stopReason", L.stopReason}, {"collapseCount", L.collapseCount},
+                  {"maxDeviation", L.maxDeviation}, {"meanDeviation", L.meanDeviation}, {"regionCount", L.regionCount},
+                  {"triangleCount", L.faces.size()}, {"pairCount", L.pairs.size()}};
+        if (levelMeshes[i] >= 0) l["mesh"] = levelMeshes[i];
+        setIfValid(l, "faces", w.addU32(L.faces, 1));
+        setIfValid(l, "triangles", w.addU32(flatten(L.triangles), 3));
+        setIfValid(l, "cornerWedges", w.addU32(flatten(L.cornerWedges), 3));
+        setIfValid(l, "faceRegion", w.addU32(L.faceRegion, 1));
+        if (!L.triangleMaterial.empty()) {  // int32 bit patterns: 4294967295 = -1 (no material)
+            std::vector<uint32_t> tm(L.triangleMaterial.begin(), L.triangleMaterial.end());
+            setIfValid(l, "triangleMaterial", w.addU32(tm, 1));
+        }
+        if (!L.pairs.empty()) {
+            size_t n = L.pairs.size();
+            std::vector<uint32_t> pv(n), pc(3 * n), pf(n);
+            std::vector<float> pb(3 * n), pd(n);
+            for (size_t k = 0; k < n; ++k) {
+                const SimplificationPair& s = L.pairs[k];
+                pv[k] = s.vertex;
+                pf[k] = s.face;
+                pd[k] = s.deviation;
+                for (int j = 0; j < 3; ++j) { pc[3 * k + size_t(j)] = s.coarse[size_t(j)]; pb[3 * k + size_t(j)] = s.bary[size_t(j)]; }
+            }
+            l["pairs"] = {{"vertex", w.addU32(pv, 1)}, {"coarse", w.addU32(pc, 3)}, {"bary", w.addFloat(pb, 3, 0, false)},
+                          {"face", w.addU32(pf, 1)}, {"deviation", w.addFloat(pd, 1, 0, false)}};
+        }
+        levels.push_back(l);
+    }
+    ext["levels"] = levels;
+    if (!mr.collapses.empty()) {
+        size_t n = mr.collapses.size();
+        std::vector<uint32_t> vk(2 * n), rg(2 * n);
+        std::vector<float> dev(n);
+        for (size_t k = 0; k < n; ++k) {
+            const CollapseRecord& c = mr.collapses[k];
+            vk[2 * k] = c.removed; vk[2 * k + 1] = c.kept;
+            rg[2 * k] = c.regionBegin; rg[2 * k + 1] = c.regionEnd;
+            dev[k] = c.deviation;
+        }
+        ext["collapses"] = {{"count", n}, {"vertices", w.addU32(vk, 2)}, {"deviation", w.addFloat(dev, 1, 0, false)},
+                            {"regions", w.addU32(rg, 2)}};
+    }
+    if (!mr.regionUpdates.empty()) {
+        std::vector<uint32_t> ru;
+        ru.reserve(3 * mr.regionUpdates.size());
+        for (const RegionUpdate& u : mr.regionUpdates) { ru.push_back(u.face); ru.push_back(u.oldRep); ru.push_back(u.newRep); }
+        ext["regionUpdates"] = w.addU32(ru, 3);
+    }
+    return ext;
+}
+
+std::string lowerExt(const std::string& path) {
+    std::string e = std::filesystem::path(path).extension().string();
+    std::transform(e.begin(), e.end(), e.begin(), [](unsigned char ch) { return char(std::tolower(ch)); });
+    return e;
+}
+
+}  // namespace
+
+void writeFileAtomic(const std::string& path, const std::string& bytes) {
+    std::string tmp = path + ".tmp-" + std::to_string(::getpid());
+    try {
+        std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
+        if (!f) throw IOError(path + ": cannot write: " + std::strerror(errno));
+        f.write(bytes.data(), std::streamsize(bytes.size()));
+        f.close();
+        if (!f) throw IOError(path + ": cannot write: " + std::strerror(errno));
+        if (std::rename(tmp.c_str(), path.c_str()) != 0) throw IOError(path + ": cannot rename temporary file: " + std::strerror(errno));
+    } catch (...) {
+        std::remove(tmp.c_str());
+        throw;
+    }
+}
+
+void writeGltf(const std::string& path, const Asset& asset, const Multires* multires, const WriteOptions& options) {
+    std::string ext = lowerExt(path);
+    bool glb = ext == ".glb";
+    if (!glb && ext != ".gltf") throw IOError(path + ": output must end in .glb or .gltf");
+    const TriMesh& mesh = asset.mesh;
+    Writer w;
+    json root;
+    root["asset"] = {{"version", "2.0"}, {"generator", options.generator}};
+    std::vector<std::string> used;
+
+    // 1. Meshes and nodes.
+    size_t nMat = asset.materials.size();
+    auto materialsOf = [&](const std::vector<uint32_t>* faces, size_t n) {
+        std::vector<int> m(n, -1);
+        for (size_t i = 0; i < n; ++i) {
+            size_t f = faces ? (*faces)[i] : i;
+            int x = f < mesh.triangleMaterial.size() ? mesh.triangleMaterial[f] : -1;
+            m[i] = (x >= 0 && size_t(x) < nMat) ? x : -1;
+        }
+        return m;
+    };
+    json meshes = json::array(), nodes = json::array(), sceneNodes = json::array();
+    std::vector<PrimMap> originalPrims;
+    int originalMesh = writeMesh(w, meshes, mesh, mesh.triangles, mesh.cornerWedges,
+                                 materialsOf(nullptr, mesh.triangleCount()), "original", &originalPrims);
+    json node0 = {{"name", "original"}};
+    if (originalMesh >= 0) node0["mesh"] = originalMesh;
+    nodes.push_back(node0);
+    sceneNodes.push_back(0);
+    std::vector<int> levelMeshes;
+    if (multires) {
+        Box3 b = bounds(mesh);
+        double width = b.empty() ? 1.0 : b.max.x - b.min.x;
+        if (!(width > 0)) width = b.longestSide() > 0 ? b.longestSide() : 1.0;
+        for (size_t i = 0; i < multires->levels.size(); ++i) {
+            const Level& L = multires->levels[i];
+            for (const Tri& t : L.triangles)
+                for (uint32_t v : t)
+                    if (v >= mesh.vertexCount()) throw InvalidInput(path + ": level " + std::to_string(i + 1) + " refers to a missing vertex");
+            for (const Tri& t : L.cornerWedges)
+                for (uint32_t v : t)
+                    if (v >= mesh.wedges.size()) throw InvalidInput(path + ": level " + std::to_string(i + 1) + " refers to a missing wedge");
+            if (L.cornerWedges.size() != L.triangles.size() || L.faces.size() != L.triangles.size())
+                throw InvalidInput(path + ": level " + std::to_string(i + 1) + ": faces/triangles/cornerWedges sizes differ");
+            std::string name = "level" + std::to_string(i + 1);
+            std::vector<int> levelMaterials = materialsOf(&L.faces, L.faces.size());
+            if (L.triangleMaterial.size() == L.triangles.size())  // per-level override (parameterize's atlas material)
+                for (size_t t = 0; t < levelMaterials.size(); ++t) {
+                    int x = L.triangleMaterial[t];
+                    levelMaterials[t] = (x >= 0 && size_t(x) < nMat) ? x : -1;
+                }
+            int mi = writeMesh(w, meshes, mesh, L.triangles, L.cornerWedges, levelMaterials, name, nullptr);
+            levelMeshes.push_back(mi);
+            json n = {{"name", name}, {"translation", {double(i + 1) * 1.25 * width, 0.0, 0.0}}};
+            if (mi >= 0) n["mesh"] = mi;
+            nodes.push_back(n);
+            sceneNodes.push_back(i + 1);
+        }
+    }
+    root["scene"] = 0;
+    root["scenes"] = json::array({json{{"nodes", sceneNodes}}});
+    root["nodes"] = nodes;
+    if (!meshes.empty()) root["meshes"] = meshes;
+
+    // 2. Materials, textures, samplers, images.
+    bool usedTransform = false, usedUnlit = false;
+    if (!asset.materials.empty()) {
+        json mats = json::array();
+        for (const Material& m : asset.materials) mats.push_back(materialJson(m, asset.textures.size(), usedTransform, usedUnlit));
+        root["materials"] = mats;
+    }
+    if (!asset.textures.empty()) {
+        json texs = json::array();
+        for (const Texture& t : asset.textures) {
+            json o = json::object();
+            if (t.image >= 0 && size_t(t.image) < asset.images.size()) o["source"] = t.image;
+            if (t.sampler >= 0 && size_t(t.sampler) < asset.samplers.size()) o["sampler"] = t.sampler;
+            texs.push_back(o);
+        }
+        root["textures"] = texs;
+    }
+    if (!asset.samplers.empty()) {
+        json smps = json::array();
+        for (const Sampler& s : asset.samplers) {
+            json o = {{"wrapS", s.wrapS}, {"wrapT", s.wrapT}};
+            if (s.magFilter) o["magFilter"] = s.magFilter;
+            if (s.minFilter) o["minFilter"] = s.minFilter;
+            smps.push_back(o);
+        }
+        root["samplers"] = smps;
+    }
+    std::vector<std::pair<std::string, const Image*>> sideImages;
+    if (!asset.images.empty()) {
+        json imgs = json::array();
+        for (size_t i = 0; i < asset.images.size(); ++i) {
+            const Image& img = asset.images[i];
+            std::string mime = sniffImageMime(img.encoded.data(), img.encoded.size());
+            if (mime.empty()) mime = img.mimeType.empty() ? "image/png" : img.mimeType;
+            json o = json::object();
+            if (!img.name.empty()) o["name"] = img.name;
+            if (options.embedImages || img.encoded.empty()) {
+                o["bufferView"] = w.addView(img.encoded.data(), img.encoded.size(), 0);
+                o["mimeType"] = mime;
+            } else {
+                std::string file = std::filesystem::path(path).stem().string() + "_image" + std::to_string(i) +
+                                   (mime == "image/jpeg" ? ".jpg" : ".png");
+                o["uri"] = file;
+                sideImages.emplace_back(file, &img);
+            }
+            imgs.push_back(o);
+        }
+        root["images"] = imgs;
+    }
+    if (usedTransform) used.push_back("KHR_texture_transform");
+    if (usedUnlit) used.push_back("KHR_materials_unlit");
+
+    // 3. LODBAKE_multires.
+    if (multires) {
+        root["extensions"][kMultiresExtension] = multiresJson(w, asset, *multires, originalPrims, originalMesh, levelMeshes, options);
+        used.push_back(kMultiresExtension);
+    }
+    if (!used.empty()) {
+        std::sort(used.begin(), used.end());
+        root["extensionsUsed"] = used;
+    }
+
+    // 4. Buffer and container.
+    while (w.bin.size() % 4) w.bin.push_back('\0');
+    std::string binName = std::filesystem::path(path).stem().string() + ".bin";
+    if (!w.bin.empty()) {
+        json buf = {{"byteLength", w.bin.size()}};
+        if (!glb) buf["uri"] = binName;
+        root["buffers"] = json::array({buf});
+        root["bufferViews"] = w.views;
+        if (!w.accessors.empty()) root["accessors"] = w.accessors;
+    }
+    std::string text = root.dump();
+    std::filesystem::path dir = std::filesystem::path(path).parent_path();
+    for (const auto& [file, img] : sideImages)
+        writeFileAtomic((dir / file).string(), std::string(img->encoded.begin(), img->encoded.end()));
+    if (glb) {
+        while (text.size() % 4) text.push_back(' ');
+        auto u32 = [](std::string& s, uint32_t v) { s.append(reinterpret_cast<const char*>(&v), 4); };
+        std::string out;
+        size_t total = 12 + 8 + text.size() + (w.bin.empty() ? 0 : 8 + w.bin.size());
+        if (total > 0xFFFFFFFFull) throw IOError(path + ": GLB would exceed 4 GiB");
+        out.reserve(total);
+        u32(out, 0x46546C67u);
+        u32(out, 2);
+        u32(out, uint32_t(total));
+        u32(out, uint32_t(text.size()));
+        u32(out, 0x4E4F534Au);
+        out += text;
+        if (!w.bin.empty()) {
+            u32(out, uint32_t(w.bin.size()));
+            u32(out, 0x004E4942u);
+            out += w.bin;
+        }
+        writeFileAtomic(path, out);
+    } else {
+        if (!w.bin.empty()) writeFileAtomic((dir / binName).string(), w.bin);
+        writeFileAtomic(path, text);
+    }
+}
+
+}  // namespace lodbake

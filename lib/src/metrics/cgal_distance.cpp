@@ -1,0 +1,152 @@
+// Geometric distance (distance.h). The only translation unit of lodbake that includes CGAL.
+//
+// Method (Metro, Cignoni, Rocchini, Scopigno 1998): draw area-weighted samples on surface X,
+// find each sample's nearest point on surface Y with an AABB tree, and accumulate max, mean and
+// RMS; do it both ways. Sampling is stratified along the cumulative area (sample i sits at
+// (i + offset) / N of the total area), and the point inside the chosen triangle comes from the R2
+// low-discrepancy sequence, so the result is deterministic and converges fast.
+#include "lodbake/metrics/distance.h"
+
+#include <algorithm>
+#include <cmath>
+#include <list>
+#include <vector>
+
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/AABB_triangle_primitive.h>
+#include <CGAL/Simple_cartesian.h>
+
+#include "lodbake/core/errors.h"
+#include "metrics/parallel.h"
+
+namespace lodbake {
+namespace {
+
+using Kernel = CGAL::Simple_cartesian<double>;
+using Point = Kernel::Point_3;
+using Triangle = Kernel::Triangle_3;
+using TriangleList = std::vector<Triangle>;
+using Primitive = CGAL::AABB_triangle_primitive<Kernel, TriangleList::const_iterator>;
+using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
+
+constexpr size_t kChunk = 4096;  // queries per parallel work item (fixed: results never depend on threads)
+
+Point toPoint(Vec3 p) { return Point(p.x, p.y, p.z); }
+
+// Non-degenerate triangles of a mesh, as CGAL triangles, with their areas.
+struct Surface {
+    TriangleList triangles;
+    std::vector<double> cumulativeArea;  // inclusive prefix sums
+    std::vector<Vec3> corners;           // 3 per triangle, for sampling
+    std::vector<Vec3> vertices;          // referenced welded positions
+};
+
+Surface collectSurface(const TriMesh& m) {
+    Surface s;
+    std::vector<uint8_t> used(m.positions.size(), 0);
+    double total = 0;
+    for (const Tri& t : m.triangles) {
+        for (uint32_t v : t) used[v] = 1;
+        Vec3 a = m.positions[t[0]], b = m.positions[t[1]], c = m.positions[t[2]];
+        double area = 0.5 * length(cross(b - a, c - a));
+        if (!(area > 0) || !std::isfinite(area)) continue;
+        Triangle tri(toPoint(a), toPoint(b), toPoint(c));
+        if (tri.is_degenerate()) continue;
+        s.triangles.push_back(tri);
+        s.corners.insert(s.corners.end(), {a, b, c});
+        total += area;
+        s.cumulativeArea.push_back(total);
+    }
+    for (size_t v = 0; v < used.size(); ++v)
+        if (used[v]) s.vertices.push_back(m.positions[v]);
+    return s;
+}
+
+// The i-th of n stratified area samples.
+Vec3 samplePoint(const Surface& s, size_t i, size_t n, double offset) {
+    double total = s.cumulativeArea.back();
+    double target = (static_cast<double>(i) + offset) / static_cast<double>(n) * total;
+    size_t t = std::upper_bound(s.cumulativeArea.begin(), s.cumulativeArea.end(), target) - s.cumulativeArea.begin();
+    if (t >= s.triangles.size()) t = s.triangles.size() - 1;
+    // R2 sequence (Roberts 2018) for the point inside the triangle, folded into the triangle.
+    const double g = 1.32471795724474602596;
+    double u = std::fmod(0.5 + (i + 1) / g, 1.0);
+    double v = std::fmod(0.5 + (i + 1) / (g * g), 1.0);
+    if (u + v > 1) {
+        u = 1 - u;
+        v = 1 - v;
+    }
+    Vec3 a = s.corners[3 * t], b = s.corners[3 * t + 1], c = s.corners[3 * t + 2];
+    return a + (b - a) * u + (c - a) * v;
+}
+
+OneSidedDistance oneSided(const Surface& from, const Tree& to, const DistanceOptions& o) {
+    const size_t n = o.samplesPerSide;
+    const size_t total = n + from.vertices.size();
+    const double offset = std::fmod(0.5 + 0.6180339887498949 * static_cast<double>(o.seed % 1000003), 1.0);
+    const size_t chunks = (total + kChunk - 1) / kChunk;
+    struct Partial {
+        double max = 0, sum = 0, sum2 = 0;
+    };
+    std::vector<Partial> partial(chunks);
+    metrics_detail::parallelFor(chunks, o.threads, [&](size_t c) {
+        Partial p;
+        size_t end = std::min(total, (c + 1) * kChunk);
+        for (size_t i = c * kChunk; i < end; ++i) {
+            Vec3 q = i < n ? samplePoint(from, i, n, offset) : from.vertices[i - n];
+            double d = std::sqrt(to.squared_distance(toPoint(q)));
+            p.max = std::max(p.max, d);
+            if (i < n) {
+                p.sum += d;
+                p.sum2 += d * d;
+            }
+        }
+        partial[c] = p;
+    });
+    OneSidedDistance r;
+    double sum = 0, sum2 = 0;
+    for (const Partial& p : partial) {  // fixed order: deterministic
+        r.max = std::max(r.max, p.max);
+        sum += p.sum;
+        sum2 += p.sum2;
+    }
+    if (n > 0) {
+        r.mean = sum / static_cast<double>(n);
+        r.rms = std::sqrt(sum2 / static_cast<double>(n));
+    }
+    r.samples = total;
+    return r;
+}
+
+}  // namespace
+
+GeometricDistance surfaceDistance(const TriMesh& a, const TriMesh& b, const DistanceOptions& options) {
+    Surface sa = collectSurface(a), sb = collectSurface(b);
+    if (sa.triangles.empty()) throw Impossible("first mesh has no triangle with non-zero area");
+    if (sb.triangles.empty()) throw Impossible("second mesh has no triangle with non-zero area");
+
+    Tree treeA(sa.triangles.begin(), sa.triangles.end());
+    Tree treeB(sb.triangles.begin(), sb.triangles.end());
+    treeA.accelerate_distance_queries();
+    treeB.accelerate_distance_queries();
+    // Build the trees now, before the parallel queries (the lazy build is not thread-safe).
+    treeA.squared_distance(toPoint(sa.corners[0]));
+    treeB.squared_distance(toPoint(sb.corners[0]));
+
+    GeometricDistance r;
+    r.aToB = oneSided(sa, treeB, options);
+    r.bToA = oneSided(sb, treeA, options);
+    r.hausdorff = std::max(r.aToB.max, r.bToA.max);
+    r.mean = 0.5 * (r.aToB.mean + r.bToA.mean);
+    r.rms = std::sqrt(0.5 * (r.aToB.rms * r.aToB.rms + r.bToA.rms * r.bToA.rms));
+    r.diagonal = bounds(a).diagonal();
+    if (r.diagonal > 0) {
+        r.relHausdorff = r.hausdorff / r.diagonal;
+        r.relMean = r.mean / r.diagonal;
+        r.relRms = r.rms / r.diagonal;
+    }
+    return r;
+}
+
+}  // namespace lodbake

@@ -1,0 +1,161 @@
+// applyAtlas: puts a parameterize() result into the asset and its levels (point-consistent
+// mapping: a level vertex is an original vertex, so it takes its UV in the chart of the face).
+//
+// Choice for corners that are not vertices of their face's chart (a collapse moved the corner
+// across a chart boundary): the corner takes the UV of the closest point of that chart's surface
+// (brute force over the chart's faces; such corners are rare and are counted).
+#include <algorithm>
+#include <map>
+#include <tuple>
+#include <unordered_map>
+
+#include "lodbake/core/errors.h"
+#include "lodbake/param/parameterize.h"
+
+namespace lodbake {
+namespace {
+
+// Closest point on triangle abc to p (Ericson, Real-Time Collision Detection 5.1.5), barycentrics.
+std::array<double, 3> closestOnTriangle(Vec3 p, Vec3 a, Vec3 b, Vec3 c) {
+    Vec3 ab = b - a, ac = c - a, ap = p - a;
+    double d1 = dot(ab, ap), d2 = dot(ac, ap);
+    if (d1 <= 0 && d2 <= 0) return {1, 0, 0};
+    Vec3 bp = p - b;
+    double d3 = dot(ab, bp), d4 = dot(ac, bp);
+    if (d3 >= 0 && d4 <= d3) return {0, 1, 0};
+    double vc = d1 * d4 - d3 * d2;
+    if (vc <= 0 && d1 >= 0 && d3 <= 0) {
+        double v = d1 / (d1 - d3);
+        return {1 - v, v, 0};
+    }
+    Vec3 cp = p - c;
+    double d5 = dot(ab, cp), d6 = dot(ac, cp);
+    if (d6 >= 0 && d5 <= d6) return {0, 0, 1};
+    double vb = d5 * d2 - d1 * d6;
+    if (vb <= 0 && d2 >= 0 && d6 <= 0) {
+        double w = d2 / (d2 - d6);
+        return {1 - w, 0, w};
+    }
+    double va = d3 * d6 - d5 * d4;
+    if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+        double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+        return {0, 1 - w, w};
+    }
+    double den = va + vb + vc;
+    if (!(den > 0)) return {1, 0, 0};
+    double v = vb / den, w = vc / den;
+    return {1 - v - w, v, w};
+}
+
+uint64_t key2(uint32_t a, uint32_t b) { return (uint64_t(a) << 32) | b; }
+
+}  // namespace
+
+AtlasApplyStats applyAtlas(Asset& asset, Multires& multires, const ParameterizeResult& param, const Image& bakedImage) {
+    TriMesh& mesh = asset.mesh;
+    const size_t nf = mesh.triangleCount();
+    if (param.cornerUV.size() != nf || param.charts.faceChart.size() != nf)
+        throw InvalidInput("applyAtlas: parameterization does not match the mesh");
+    AtlasApplyStats stats;
+
+    // UV of (chart, vertex) from the original faces' corners; faces per chart for projection.
+    std::unordered_map<uint64_t, Vec2> chartVertexUV;
+    std::vector<std::vector<uint32_t>> chartFaces(param.charts.chartCount);
+    for (uint32_t f = 0; f < nf; ++f) {
+        int32_t c = param.charts.faceChart[f];
+        if (c < 0) continue;
+        chartFaces[size_t(c)].push_back(f);
+        for (int k = 0; k < 3; ++k) chartVertexUV.emplace(key2(uint32_t(c), mesh.triangles[f][size_t(k)]), param.cornerUV[f][size_t(k)]);
+    }
+    auto projectedUV = [&](uint32_t c, uint32_t v) {
+        Vec3 p = mesh.positions[v];
+        double best = 1e300;
+        Vec2 uv{};
+        for (uint32_t f : chartFaces[c]) {
+            const Tri& t = mesh.triangles[f];
+            auto b = closestOnTriangle(p, mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]);
+            Vec3 q = mesh.positions[t[0]] * b[0] + mesh.positions[t[1]] * b[1] + mesh.positions[t[2]] * b[2];
+            double d = length2(q - p);
+            if (d < best) {
+                best = d;
+                uv = param.cornerUV[f][0] * b[0] + param.cornerUV[f][1] * b[1] + param.cornerUV[f][2] * b[2];
+            }
+        }
+        return uv;
+    };
+
+    // Original wedges keep their attributes; make uv0 present if it was not.
+    Wedges& W = mesh.wedges;
+    const size_t originalWedges = W.size();
+    if (W.uv0.empty()) W.uv0.assign(originalWedges, Vec2{0, 0});
+    std::vector<uint32_t> anyWedge(mesh.vertexCount(), UINT32_MAX);
+    for (uint32_t w = 0; w < originalWedges; ++w)
+        if (anyWedge[W.vertex[w]] == UINT32_MAX) anyWedge[W.vertex[w]] = w;
+
+    // New wedge per (chart, source wedge, uv): keyed map, created in level order (deterministic).
+    std::map<std::tuple<uint32_t, uint32_t, double, double>, uint32_t> made;
+    auto wedgeFor = [&](uint32_t chart, uint32_t vertex, uint32_t source, Vec2 uv) {
+        auto key = std::make_tuple(chart, source, uv.x, uv.y);
+        auto it = made.find(key);
+        if (it != made.end()) return it->second;
+        uint32_t id = uint32_t(W.vertex.size());
+        W.vertex.push_back(vertex);
+        if (!W.normal.empty()) W.normal.push_back(W.normal[source]);
+        if (!W.tangent.empty()) W.tangent.push_back(W.tangent[source]);
+        W.uv0.push_back(uv);
+        if (!W.uv1.empty()) W.uv1.push_back(W.uv1[source]);
+        if (!W.color.empty()) W.color.push_back(Vec4{1, 1, 1, 1});  // colour is baked into the texture
+        made.emplace(key, id);
+        return id;
+    };
+
+    // The baked material: PBR factors of the most used original material.
+    std::vector<size_t> use(asset.materials.size() + 1, 0);
+    for (int32_t m : mesh.triangleMaterial) ++use[size_t(m + 1)];
+    int top = int(std::max_element(use.begin(), use.end()) - use.begin()) - 1;
+    Material baked;
+    baked.name = "lodbake_atlas";
+    if (top >= 0) {
+        const Material& src = asset.materials[size_t(top)];
+        baked.metallicFactor = src.metallicRoughness.texture >= 0 ? 0 : src.metallicFactor;
+        baked.roughnessFactor = src.metallicRoughness.texture >= 0 ? 1 : src.roughnessFactor;
+        baked.emissiveFactor = src.emissive.texture >= 0 ? Vec3{} : src.emissiveFactor;
+    }
+    for (const Material& m : asset.materials) baked.doubleSided = baked.doubleSided || m.doubleSided;
+    asset.images.push_back(bakedImage);
+    asset.textures.push_back({int(asset.images.size()) - 1, -1});
+    baked.baseColor.texture = int(asset.textures.size()) - 1;
+    baked.baseColor.texCoord = 0;
+    asset.materials.push_back(baked);
+    stats.material = int(asset.materials.size()) - 1;
+
+    for (Level& L : multires.levels) {
+        if (L.faces.size() != L.triangles.size()) throw InvalidInput("level faces and triangles differ in size");
+        std::vector<Tri> corners(L.triangles.size());
+        for (size_t t = 0; t < L.triangles.size(); ++t) {
+            uint32_t f = L.faces[t];
+            if (f >= nf) throw InvalidInput("level face id out of range");
+            int32_t c = std::max(param.charts.faceChart[f], 0);
+            for (int k = 0; k < 3; ++k) {
+                uint32_t v = L.triangles[t][size_t(k)];
+                uint32_t source = t < L.cornerWedges.size() ? L.cornerWedges[t][size_t(k)] : anyWedge[v];
+                if (source >= originalWedges) source = anyWedge[v];
+                auto it = chartVertexUV.find(key2(uint32_t(c), v));
+                Vec2 uv;
+                if (it != chartVertexUV.end()) {
+                    uv = it->second;
+                } else {
+                    uv = projectedUV(uint32_t(c), v);
+                    ++stats.projectedCorners;
+                }
+                corners[t][size_t(k)] = wedgeFor(uint32_t(c), v, source, uv);
+            }
+        }
+        L.cornerWedges = std::move(corners);
+        L.triangleMaterial.assign(L.triangles.size(), stats.material);
+    }
+    stats.newWedges = W.size() - originalWedges;
+    return stats;
+}
+
+}  // namespace lodbake

@@ -1,0 +1,178 @@
+// Ceres bridge: minimises E = beta E_pixel + (1 - beta) E_poly over a chart's UVs (thesis 3.3.2;
+// Maillot et al. 1993 for E_l / E_s). The only translation unit that includes Ceres.
+//
+// Every term is a small analytic cost function (residual = sqrt(weight) x the term's root); the
+// area residual refuses to evaluate (returns false) when a triangle's UV determinant is <= 0, so
+// the trust-region step that would fold it is rejected and the map stays locally injective.
+// Coordinates are scaled by 1/sqrt(3D area) for conditioning; every term is scale-free.
+#include <algorithm>
+#include <cmath>
+
+#include <ceres/ceres.h>
+
+#include "lodbake/core/errors.h"
+#include "lodbake/param/chart_uv.h"
+#include "param/chart_energy_terms.h"
+
+namespace lodbake {
+namespace {
+
+using param_detail::EnergyTerms;
+
+// r = s (|v_i - v_j|^2 - L2) / L2
+class EdgeCost final : public ceres::SizedCostFunction<1, 2, 2> {
+public:
+    EdgeCost(double s, double l2) : s_(s), l2_(l2) {}
+    bool Evaluate(double const* const* p, double* r, double** J) const override {
+        double dx = p[0][0] - p[1][0], dy = p[0][1] - p[1][1];
+        r[0] = s_ * (dx * dx + dy * dy - l2_) / l2_;
+        double g = 2 * s_ / l2_;
+        if (J) {
+            if (J[0]) { J[0][0] = g * dx; J[0][1] = g * dy; }
+            if (J[1]) { J[1][0] = -g * dx; J[1][1] = -g * dy; }
+        }
+        return true;
+    }
+
+private:
+    double s_, l2_;
+};
+
+// r = s (det(v_j - v_i, v_k - v_i) - A2) / A2; infeasible when det <= 0.
+class AreaCost final : public ceres::SizedCostFunction<1, 2, 2, 2> {
+public:
+    AreaCost(double s, double a2) : s_(s), a2_(a2) {}
+    bool Evaluate(double const* const* p, double* r, double** J) const override {
+        double e1x = p[1][0] - p[0][0], e1y = p[1][1] - p[0][1];
+        double e2x = p[2][0] - p[0][0], e2y = p[2][1] - p[0][1];
+        double det = e1x * e2y - e1y * e2x;
+        if (!(det > 0)) return false;
+        r[0] = s_ * (det - a2_) / a2_;
+        double g = s_ / a2_;
+        if (J) {
+            // d det / d v_j = (e2y, -e2x), d det / d v_k = (-e1y, e1x), d det / d v_i = -(sum).
+            if (J[1]) { J[1][0] = g * e2y; J[1][1] = -g * e2x; }
+            if (J[2]) { J[2][0] = -g * e1y; J[2][1] = g * e1x; }
+            if (J[0]) { J[0][0] = -g * (e2y - e1y); J[0][1] = -g * (e1x - e2x); }
+        }
+        return true;
+    }
+
+private:
+    double s_, a2_;
+};
+
+// r = s sum_b c_b v_b (linear), over distinct parameter blocks.
+class PolyCost final : public ceres::CostFunction {
+public:
+    PolyCost(double s, std::vector<double> coef) : s_(s), coef_(std::move(coef)) {
+        set_num_residuals(2);
+        for (size_t i = 0; i < coef_.size(); ++i) mutable_parameter_block_sizes()->push_back(2);
+    }
+    bool Evaluate(double const* const* p, double* r, double** J) const override {
+        r[0] = r[1] = 0;
+        for (size_t b = 0; b < coef_.size(); ++b) {
+            r[0] += s_ * coef_[b] * p[b][0];
+            r[1] += s_ * coef_[b] * p[b][1];
+        }
+        if (J)
+            for (size_t b = 0; b < coef_.size(); ++b)
+                if (J[b]) {
+                    J[b][0] = s_ * coef_[b]; J[b][1] = 0;
+                    J[b][2] = 0; J[b][3] = s_ * coef_[b];
+                }
+        return true;
+    }
+
+private:
+    double s_;
+    std::vector<double> coef_;
+};
+
+}  // namespace
+
+ChartSolveResult optimizeChartUV(const ChartMesh& chart, const std::vector<ChartPair>& pairs,
+                                 const std::vector<Vec2>& initial, const ChartSolveOptions& options) {
+    ChartSolveResult res;
+    res.uv = initial;
+    res.before = chartEnergy(chart, pairs, initial, options.energy);
+    res.after = res.before;
+    if (options.maxIterations <= 0 || chart.triangles.empty() || countFlips(chart, initial) > 0) return res;
+
+    // Work in coordinates scaled to unit 3D area (all terms are scale-free).
+    ChartMesh scaled = chart;
+    std::vector<ChartPair> spairs = pairs;
+    double area = 0;
+    for (const Tri& t : chart.triangles)
+        area += 0.5 * length(cross(chart.positions[t[1]] - chart.positions[t[0]], chart.positions[t[2]] - chart.positions[t[0]]));
+    double k = area > 0 ? 1 / std::sqrt(area) : 1;
+    for (Vec3& p : scaled.positions) p = p * k;
+    for (ChartPair& p : spairs) p.deviation *= k;
+    EnergyTerms terms = param_detail::buildEnergyTerms(scaled, spairs, options.energy);
+
+    std::vector<double> x(2 * initial.size());
+    for (size_t i = 0; i < initial.size(); ++i) {
+        x[2 * i] = initial[i].x * k;
+        x[2 * i + 1] = initial[i].y * k;
+    }
+    auto block = [&](uint32_t v) { return x.data() + 2 * size_t(v); };
+
+    ceres::Problem problem;
+    // Parameter blocks in vertex order (deterministic).
+    for (size_t i = 0; i < initial.size(); ++i) problem.AddParameterBlock(block(uint32_t(i)), 2);
+    if (terms.edgeWeight > 0)
+        for (const auto& e : terms.edges)
+            problem.AddResidualBlock(new EdgeCost(std::sqrt(terms.edgeWeight), e.l2), nullptr, block(e.i), block(e.j));
+    // Area blocks are always present (weight floor) because they guard against folding.
+    double aw = std::sqrt(std::max(terms.areaWeight, 1e-9));
+    for (const auto& t : terms.tris)
+        problem.AddResidualBlock(new AreaCost(aw, t.a2), nullptr, block(t.v[0]), block(t.v[1]), block(t.v[2]));
+    if (terms.polyWeight > 0)
+        for (const auto& p : terms.pairs) {
+            std::vector<uint32_t> verts{p.pair.vertex};
+            std::vector<double> coef{1.0};
+            for (int c = 0; c < 3; ++c) {
+                if (p.pair.bary[c] == 0) continue;
+                auto it = std::find(verts.begin(), verts.end(), p.pair.coarse[c]);
+                if (it == verts.end()) {
+                    verts.push_back(p.pair.coarse[c]);
+                    coef.push_back(-p.pair.bary[c]);
+                } else {
+                    coef[size_t(it - verts.begin())] -= p.pair.bary[c];
+                }
+            }
+            std::vector<double*> blocks;
+            for (uint32_t v : verts) blocks.push_back(block(v));
+            problem.AddResidualBlock(new PolyCost(std::sqrt(terms.polyWeight) / p.dev, coef), nullptr, blocks);
+        }
+
+    ceres::Solver::Options so;
+    so.minimizer_type = ceres::TRUST_REGION;
+    so.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+    const bool small = x.size() <= 200;
+    if (small) so.linear_solver_type = ceres::DENSE_QR;
+    else if (ceres::IsSparseLinearAlgebraLibraryTypeAvailable(ceres::SUITE_SPARSE))
+        so.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+    else so.linear_solver_type = ceres::CGNR;
+    so.max_num_iterations = options.maxIterations;
+    so.num_threads = 1;
+    so.logging_type = ceres::SILENT;
+    so.minimizer_progress_to_stdout = false;
+    so.function_tolerance = 1e-7;
+    ceres::Solver::Summary summary;
+    ceres::Solve(so, &problem, &summary);
+    res.iterations = int(summary.iterations.size());
+
+    if (summary.termination_type == ceres::FAILURE || !std::isfinite(summary.final_cost)) return res;
+    std::vector<Vec2> uv(initial.size());
+    for (size_t i = 0; i < uv.size(); ++i) uv[i] = {x[2 * i] / k, x[2 * i + 1] / k};
+    ChartEnergy after = chartEnergy(chart, pairs, uv, options.energy);
+    if (std::isfinite(after.E) && after.E < res.before.E && countFlips(chart, uv) == 0) {
+        res.uv = std::move(uv);
+        res.after = after;
+        res.improved = true;
+    }
+    return res;
+}
+
+}  // namespace lodbake

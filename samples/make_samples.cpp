@@ -1,0 +1,366 @@
+// make-samples OUTDIR: writes the sample assets lodbake generates itself (deterministic, small):
+//
+//   hemisphere9.glb  open hemisphere, 9 materials (3 longitude sectors x 3 latitude bands), each
+//                    with its own patterned 128x128 image; ~9.5k triangles
+//   wall5.glb        wavy wall, 5 vertical strips each with its own image; 5,000 triangles
+//   colors.glb       closed sphere banded into 6 colour-only materials; ~5.1k triangles
+//   seamball.glb     closed cube-sphere, 6 separate UV islands in one 384x256 texture; 4,800 triangles
+//
+// Every mesh is welded: positions shared across UV seams and material boundaries are computed
+// from the same integer lattice coordinates, so they are bit-identical and weld. Each wedge carries
+// a normal and uv0. Images are drawn procedurally (checkerboard + a 7-segment digit in distinct
+// colours) and PNG-encoded in memory with OpenImageIO.
+#include <OpenImageIO/filesystem.h>
+#include <OpenImageIO/imageio.h>
+
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <map>
+#include <tuple>
+
+#include "common/cli.h"
+#include "lodbake/core/errors.h"
+#include "lodbake/io/gltf.h"
+
+namespace lodbake {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// --- images -------------------------------------------------------------------------------
+
+struct Rgb {
+    uint8_t r, g, b;
+};
+
+// Distinct, saturated colours (index mod 12).
+Rgb palette(int i) {
+    static const Rgb k[12] = {{230, 60, 50},  {60, 170, 75},  {50, 100, 220}, {240, 200, 40},
+                              {150, 70, 200}, {40, 190, 200}, {240, 130, 40}, {200, 60, 150},
+                              {130, 200, 50}, {90, 90, 90},   {160, 110, 60}, {250, 250, 250}};
+    return k[((i % 12) + 12) % 12];
+}
+
+// 7-segment digit test: is (x, y) in [0,1]^2 (y down) inside digit d's lit segments?
+bool digitCovers(int d, double x, double y) {
+    static const uint8_t kSeg[10] = {0x3f, 0x06, 0x5b, 0x4f, 0x66, 0x6d, 0x7d, 0x07, 0x7f, 0x6f};
+    const double t = 0.14;  // stroke thickness
+    auto hbar = [&](double cy) { return x >= 0.1 && x <= 0.9 && std::fabs(y - cy) <= t / 2; };
+    auto vbar = [&](double cx, double y0, double y1) { return std::fabs(x - cx) <= t / 2 && y >= y0 && y <= y1; };
+    uint8_t s = kSeg[((d % 10) + 10) % 10];
+    return ((s & 1) && hbar(0.07)) || ((s & 2) && vbar(0.9, 0.07, 0.5)) || ((s & 4) && vbar(0.9, 0.5, 0.93)) ||
+           ((s & 8) && hbar(0.93)) || ((s & 16) && vbar(0.1, 0.5, 0.93)) || ((s & 32) && vbar(0.1, 0.07, 0.5)) ||
+           ((s & 64) && hbar(0.5));
+}
+
+// Fills the cell [x0, x0+w) x [y0, y0+h) of an RGB image with a checkerboard of colour `c` and a
+// lighter tint, plus digit `digit` in the centre, a gradient along x and a dark border.
+void drawCell(std::vector<uint8_t>& px, int width, int x0, int y0, int w, int h, int c, int digit) {
+    Rgb a = palette(c), b = palette(c + 5);
+    for (int y = y0; y < y0 + h; ++y)
+        for (int x = x0; x < x0 + w; ++x) {
+            double u = (x - x0 + 0.5) / w, v = (y - y0 + 0.5) / h;
+            bool check = (static_cast<int>(u * 8) + static_cast<int>(v * 8)) % 2 == 0;
+            Rgb col = check ? a : Rgb{static_cast<uint8_t>((a.r + 255) / 2), static_cast<uint8_t>((a.g + 255) / 2),
+                                      static_cast<uint8_t>((a.b + 255) / 2)};
+            double shade = 0.75 + 0.25 * u;
+            col = {static_cast<uint8_t>(col.r * shade), static_cast<uint8_t>(col.g * shade),
+                   static_cast<uint8_t>(col.b * shade)};
+            if (u > 0.25 && u < 0.75 && v > 0.2 && v < 0.8 && digitCovers(digit, (u - 0.25) / 0.5, (v - 0.2) / 0.6))
+                col = b;
+            if (u < 0.03 || u > 0.97 || v < 0.03 || v > 0.97) col = {20, 20, 20};
+            uint8_t* p = &px[(static_cast<size_t>(y) * width + x) * 3];
+            p[0] = col.r;
+            p[1] = col.g;
+            p[2] = col.b;
+        }
+}
+
+Image encodePng(const std::string& name, int width, int height, const std::vector<uint8_t>& rgb) {
+    std::vector<unsigned char> bytes;
+    OIIO::Filesystem::IOVecOutput proxy(bytes);
+    auto out = OIIO::ImageOutput::create("image.png", &proxy);
+    OIIO::ImageSpec spec(width, height, 3, OIIO::TypeDesc::UINT8);
+    if (!out || !out->open("image.png", spec) || !out->write_image(OIIO::TypeDesc::UINT8, rgb.data()) || !out->close())
+        throw SolverError("cannot encode PNG for " + name + ": " + (out ? out->geterror() : OIIO::geterror()));
+    Image img;
+    img.name = name;
+    img.mimeType = "image/png";
+    img.encoded.assign(bytes.begin(), bytes.end());
+    img.width = width;
+    img.height = height;
+    img.channels = 3;
+    return img;
+}
+
+// Adds an image, a texture using it and a material using the texture; returns the material index.
+int addTexturedMaterial(Asset& asset, const std::string& name, Image image) {
+    asset.images.push_back(std::move(image));
+    Texture t;
+    t.image = static_cast<int>(asset.images.size()) - 1;
+    t.sampler = 0;
+    asset.textures.push_back(t);
+    Material m;
+    m.name = name;
+    m.baseColor.texture = static_cast<int>(asset.textures.size()) - 1;
+    m.metallicFactor = 0;
+    m.roughnessFactor = 0.8;
+    asset.materials.push_back(m);
+    return static_cast<int>(asset.materials.size()) - 1;
+}
+
+// --- meshes -------------------------------------------------------------------------------
+
+// Builds a welded TriMesh: vertices are keyed by an integer lattice key (so seams weld exactly),
+// wedges by (vertex, material, uv, normal).
+class MeshBuilder {
+public:
+    using Key = std::tuple<int64_t, int64_t, int64_t>;
+    uint32_t vertex(const Key& key, Vec3 position) {
+        auto it = vertexIndex_.find(key);
+        if (it != vertexIndex_.end()) return it->second;
+        uint32_t i = static_cast<uint32_t>(mesh_.positions.size());
+        mesh_.positions.push_back(position);
+        vertexIndex_.emplace(key, i);
+        return i;
+    }
+    uint32_t wedge(uint32_t v, int material, Vec2 uv, Vec3 normal) {
+        auto key = std::make_tuple(v, material, uv.x, uv.y, normal.x, normal.y, normal.z);
+        auto it = wedgeIndex_.find(key);
+        if (it != wedgeIndex_.end()) return it->second;
+        uint32_t i = static_cast<uint32_t>(mesh_.wedges.vertex.size());
+        mesh_.wedges.vertex.push_back(v);
+        mesh_.wedges.uv0.push_back(uv);
+        mesh_.wedges.normal.push_back(normal);
+        wedgeIndex_.emplace(key, i);
+        return i;
+    }
+    // A triangle from three (vertex, wedge) corners, counter-clockwise seen from outside.
+    void triangle(int material, std::array<uint32_t, 3> w) {
+        Tri t{mesh_.wedges.vertex[w[0]], mesh_.wedges.vertex[w[1]], mesh_.wedges.vertex[w[2]]};
+        if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) return;  // collapsed at a pole
+        mesh_.triangles.push_back(t);
+        mesh_.cornerWedges.push_back(w);
+        mesh_.triangleMaterial.push_back(material);
+    }
+    TriMesh take() { return std::move(mesh_); }
+
+private:
+    TriMesh mesh_;
+    std::map<Key, uint32_t> vertexIndex_;
+    std::map<std::tuple<uint32_t, int, double, double, double, double, double>, uint32_t> wedgeIndex_;
+};
+
+Asset newAsset(const std::string& name) {
+    Asset a;
+    a.sourcePath = name;
+    a.samplers.push_back(Sampler{9729, 9987, 10497, 10497});  // linear, linear-mipmap-linear, repeat
+    return a;
+}
+
+// Point on the unit sphere at latitude index i of nLat (0 = south pole .. nLat = north pole)
+// and longitude index j of nLon (wrapping, so j = nLon welds with j = 0).
+Vec3 spherePoint(int i, int nLat, int j, int nLon) {
+    double theta = kPi * i / nLat - kPi / 2;  // latitude
+    double phi = 2 * kPi * (j % nLon) / nLon;
+    if (i == 0) return {0, -1, 0};
+    if (i == nLat) return {0, 1, 0};
+    return {std::cos(theta) * std::cos(phi), std::sin(theta), -std::cos(theta) * std::sin(phi)};
+}
+
+MeshBuilder::Key sphereKey(int i, int nLat, int j, int nLon) {
+    if (i == 0 || i == nLat) return {i, 0, 0};
+    return {i, j % nLon, 0};
+}
+
+// hemisphere9: latitude from the equator (i = nLat/2) to the north pole, 3 sectors x 3 bands.
+Asset makeHemisphere9() {
+    Asset asset = newAsset("hemisphere9");
+    for (int m = 0; m < 9; ++m) {
+        const int S = 128;
+        std::vector<uint8_t> px(S * S * 3);
+        drawCell(px, S, 0, 0, S, S, m, m + 1);
+        addTexturedMaterial(asset, "patch" + std::to_string(m + 1), encodePng("patch" + std::to_string(m + 1), S, S, px));
+    }
+    const int nLat = 80, nLon = 120;  // full-sphere counts; the hemisphere uses 40 rings
+    const int i0 = nLat / 2, rings = nLat - i0;
+    MeshBuilder mb;
+    for (int i = i0; i < nLat; ++i)
+        for (int j = 0; j < nLon; ++j) {
+            int sector = j * 3 / nLon, band = (i - i0) * 3 / rings;
+            int mat = band * 3 + sector;
+            // Local UVs: the block spans [j0, j1) x [b0, b1) in (longitude, ring) steps.
+            int j0 = sector * nLon / 3, j1 = (sector + 1) * nLon / 3;
+            int b0 = i0 + band * rings / 3, b1 = i0 + (band + 1) * rings / 3;
+            auto corner = [&](int ii, int jj) {
+                Vec3 p = spherePoint(ii, nLat, jj, nLon);
+                uint32_t v = mb.vertex(sphereKey(ii, nLat, jj, nLon), p);
+                double u = static_cast<double>(jj - j0) / (j1 - j0);
+                if (ii == nLat) u = (j + 0.5 - j0) / (j1 - j0);
+                double vv = 1.0 - static_cast<double>(ii - b0) / (b1 - b0);
+                return mb.wedge(v, mat, {u, vv}, p);
+            };
+            uint32_t a = corner(i, j), b = corner(i, j + 1), c = corner(i + 1, j + 1), d = corner(i + 1, j);
+            mb.triangle(mat, {a, b, c});
+            mb.triangle(mat, {a, c, d});
+        }
+    asset.mesh = mb.take();
+    return asset;
+}
+
+// wall5: a wavy wall 2 x 1 (x, y) with z = bumps, 50 x 50 quads, 5 strips of 10 columns.
+Asset makeWall5() {
+    Asset asset = newAsset("wall5");
+    for (int m = 0; m < 5; ++m) {
+        const int S = 128;
+        std::vector<uint8_t> px(S * S * 3);
+        drawCell(px, S, 0, 0, S, S, 2 * m + 1, m + 1);
+        addTexturedMaterial(asset, "strip" + std::to_string(m + 1), encodePng("strip" + std::to_string(m + 1), S, S, px));
+    }
+    const int nx = 50, ny = 50;
+    auto height = [](double x, double y) { return 0.04 * std::sin(3 * kPi * x) * std::cos(2 * kPi * y) + 0.02 * std::sin(7 * x + 5 * y); };
+    auto normalAt = [&](double x, double y) {
+        double e = 1e-4;
+        double dx = (height(x + e, y) - height(x - e, y)) / (2 * e);
+        double dy = (height(x, y + e) - height(x, y - e)) / (2 * e);
+        return normalize(Vec3{-dx, -dy, 1});
+    };
+    MeshBuilder mb;
+    for (int i = 0; i < ny; ++i)
+        for (int j = 0; j < nx; ++j) {
+            int mat = j / 10;
+            auto corner = [&](int ii, int jj) {
+                double x = 2.0 * jj / nx, y = 1.0 * ii / ny;
+                uint32_t v = mb.vertex({ii, jj, 0}, {x, y, height(x, y)});
+                Vec2 uv{(jj - mat * 10) / 10.0, 1.0 - ii / static_cast<double>(ny)};
+                return mb.wedge(v, mat, uv, normalAt(x, y));
+            };
+            uint32_t a = corner(i, j), b = corner(i, j + 1), c = corner(i + 1, j + 1), d = corner(i + 1, j);
+            mb.triangle(mat, {a, b, c});
+            mb.triangle(mat, {a, c, d});
+        }
+    asset.mesh = mb.take();
+    return asset;
+}
+
+// colors: a closed sphere, 6 latitude bands with colour-only materials; uv0 = (longitude, latitude).
+Asset makeColors() {
+    Asset asset = newAsset("colors");
+    asset.samplers.clear();
+    for (int m = 0; m < 6; ++m) {
+        Material mat;
+        mat.name = "band" + std::to_string(m + 1);
+        Rgb c = palette(m);
+        auto lin = [](uint8_t v) {
+            double s = v / 255.0;
+            return s <= 0.04045 ? s / 12.92 : std::pow((s + 0.055) / 1.055, 2.4);
+        };
+        mat.baseColorFactor = {lin(c.r), lin(c.g), lin(c.b), 1};
+        mat.metallicFactor = 0;
+        mat.roughnessFactor = 0.6;
+        asset.materials.push_back(mat);
+    }
+    const int nLat = 50, nLon = 52;
+    MeshBuilder mb;
+    for (int i = 0; i < nLat; ++i)
+        for (int j = 0; j < nLon; ++j) {
+            int mat = i * 6 / nLat;
+            auto corner = [&](int ii, int jj) {
+                Vec3 p = spherePoint(ii, nLat, jj, nLon);
+                uint32_t v = mb.vertex(sphereKey(ii, nLat, jj, nLon), p);
+                double u = static_cast<double>(jj) / nLon;
+                if (ii == 0 || ii == nLat) u = (j + 0.5) / nLon;
+                return mb.wedge(v, mat, {u, 1.0 - static_cast<double>(ii) / nLat}, p);
+            };
+            uint32_t a = corner(i, j), b = corner(i, j + 1), c = corner(i + 1, j + 1), d = corner(i + 1, j);
+            mb.triangle(mat, {a, b, c});
+            mb.triangle(mat, {a, c, d});
+        }
+    asset.mesh = mb.take();
+    return asset;
+}
+
+// seamball: cube-sphere; face f is an n x n grid on the cube [-n/2, n/2]^3 (integer lattice keys),
+// projected to the unit sphere; its UV island is cell (f % 3, f / 3) of a 3 x 2 atlas, inset 4 texels.
+Asset makeSeamball() {
+    Asset asset = newAsset("seamball");
+    const int C = 128, W = 3 * C, H = 2 * C;
+    std::vector<uint8_t> px(static_cast<size_t>(W) * H * 3);
+    for (int f = 0; f < 6; ++f) drawCell(px, W, (f % 3) * C, (f / 3) * C, C, C, f * 2, f + 1);
+    int mat = addTexturedMaterial(asset, "seamball", encodePng("seamball", W, H, px));
+    asset.samplers[0].wrapS = asset.samplers[0].wrapT = 33071;  // clamp: islands must not bleed across
+    const int n = 20, h = n / 2;
+    // Face frames: origin corner + two axes on the integer lattice; normal = cross(du, dv) outward.
+    struct Face {
+        std::array<int, 3> origin, du, dv;
+    };
+    const Face faces[6] = {
+        {{h, -h, h}, {0, 0, -1}, {0, 1, 0}},    // +x
+        {{-h, -h, -h}, {0, 0, 1}, {0, 1, 0}},   // -x
+        {{-h, h, h}, {1, 0, 0}, {0, 0, -1}},    // +y
+        {{-h, -h, -h}, {1, 0, 0}, {0, 0, 1}},   // -y
+        {{-h, -h, h}, {1, 0, 0}, {0, 1, 0}},    // +z
+        {{h, -h, -h}, {-1, 0, 0}, {0, 1, 0}},   // -z
+    };
+    MeshBuilder mb;
+    for (int f = 0; f < 6; ++f) {
+        const Face& F = faces[f];
+        double cu0 = (f % 3) * C + 4, cv0 = (f / 3) * C + 4, cs = C - 8;
+        auto corner = [&](int a, int b) {
+            std::array<int64_t, 3> q;
+            for (int k = 0; k < 3; ++k) q[k] = F.origin[k] + a * F.du[k] + b * F.dv[k];
+            Vec3 p = normalize(Vec3{static_cast<double>(q[0]), static_cast<double>(q[1]), static_cast<double>(q[2])});
+            uint32_t v = mb.vertex({q[0], q[1], q[2]}, p);
+            Vec2 uv{(cu0 + cs * a / n) / W, (cv0 + cs * (n - b) / n) / H};
+            return mb.wedge(v, mat, uv, p);
+        };
+        for (int b = 0; b < n; ++b)
+            for (int a = 0; a < n; ++a) {
+                uint32_t w0 = corner(a, b), w1 = corner(a + 1, b), w2 = corner(a + 1, b + 1), w3 = corner(a, b + 1);
+                mb.triangle(mat, {w0, w1, w2});
+                mb.triangle(mat, {w0, w2, w3});
+            }
+    }
+    asset.mesh = mb.take();
+    return asset;
+}
+
+}  // namespace
+}  // namespace lodbake
+
+int main(int argc, char** argv) {
+    using namespace lodbake;
+    return cli::runTool("make-samples", [&]() -> int {
+        std::vector<std::string> dirs;
+        bool verbose = false;
+        cli::ArgParser p("make-samples", "OUTDIR\n\nWrites hemisphere9.glb, wall5.glb, colors.glb and seamball.glb into OUTDIR\n"
+                                         "(created if missing). Output is byte-identical on every run.");
+        p.positionals("OUTDIR", [&](const std::string& v) { dirs.push_back(v); });
+        p.flag("-v", "print one line per sample", [&] { verbose = true; });
+        if (!p.parse(argc, argv)) return cli::kOk;
+        if (dirs.size() != 1) throw UsageError("expected one OUTDIR");
+        std::error_code ec;
+        std::filesystem::create_directories(dirs[0], ec);
+        if (!std::filesystem::is_directory(dirs[0])) throw IOError(dirs[0] + ": cannot create folder");
+        struct Sample {
+            const char* file;
+            Asset (*make)();
+        };
+        const Sample samples[] = {{"hemisphere9.glb", makeHemisphere9},
+                                  {"wall5.glb", makeWall5},
+                                  {"colors.glb", makeColors},
+                                  {"seamball.glb", makeSeamball}};
+        for (const Sample& s : samples) {
+            Asset a = s.make();
+            std::string path = (std::filesystem::path(dirs[0]) / s.file).string();
+            a.sourcePath = path;
+            writeGltf(path, a);
+            if (verbose)
+                std::cout << path << ": " << a.mesh.triangleCount() << " triangles, " << a.mesh.vertexCount()
+                          << " vertices, " << a.mesh.wedges.size() << " wedges, " << a.materials.size()
+                          << " materials, " << a.images.size() << " images\n";
+        }
+        return cli::kOk;
+    });
+}

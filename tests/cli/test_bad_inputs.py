@@ -1,0 +1,143 @@
+"""Every tool rejects bad input with a one-line error naming the file, a documented non-zero exit
+code, no crash, no hang and no output file. Also the usage-error table of the CLI kit."""
+import array
+import base64
+import json
+import os
+import struct
+import unittest
+
+import lodbake_test as lt
+
+TOOLS_WITH_IO = ["simplify"]  # later tools join this list as they land
+
+
+def minimal_gltf(positions, indices, extra=None):
+    """A one-triangle-list glTF with an embedded data-URI buffer."""
+    p = array.array("f", positions).tobytes()
+    i = array.array("I", indices).tobytes()
+    doc = {
+        "asset": {"version": "2.0"},
+        "scenes": [{"nodes": [0]}], "scene": 0, "nodes": [{"mesh": 0}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
+        "accessors": [
+            {"bufferView": 0, "componentType": 5126, "count": len(positions) // 3, "type": "VEC3",
+             "min": [0, 0, 0], "max": [1, 1, 1]},
+            {"bufferView": 1, "componentType": 5125, "count": len(indices), "type": "SCALAR"}],
+        "bufferViews": [{"buffer": 0, "byteLength": len(p)}, {"buffer": 0, "byteOffset": len(p), "byteLength": len(i)}],
+        "buffers": [{"byteLength": len(p) + len(i),
+                     "uri": "data:application/octet-stream;base64," + base64.b64encode(p + i).decode()}],
+    }
+    if extra:
+        doc.update(extra)
+    return json.dumps(doc)
+
+
+class BadInputs(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.dir = lt.work_dir("bad")
+        cls.cases = {}  # name -> path
+        quad = [0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0]
+
+        def put(name, data, mode="w"):
+            path = os.path.join(cls.dir, name)
+            with open(path, mode) as f:
+                f.write(data)
+            cls.cases[name] = path
+
+        put("empty.glb", b"", "wb")
+        put("empty.gltf", "")
+        put("not-json.gltf", "this is not json {")
+        put("nan.gltf", minimal_gltf([0, 0, 0, float("nan"), 0, 0, 1, 1, 0], [0, 1, 2]))
+        put("inf.gltf", minimal_gltf([0, 0, 0, float("inf"), 0, 0, 1, 1, 0], [0, 1, 2]))
+        put("index-out-of-range.gltf", minimal_gltf(quad, [0, 1, 2, 0, 2, 7]))
+        put("required-extension.gltf", minimal_gltf(quad, [0, 1, 2, 0, 2, 3],
+                                                    {"extensionsUsed": ["EXT_lodbake_nonexistent"],
+                                                     "extensionsRequired": ["EXT_lodbake_nonexistent"]}))
+        put("no-triangles.gltf", json.dumps({"asset": {"version": "2.0"}, "scenes": [{"nodes": []}], "scene": 0}))
+        # A valid GLB of our own, then truncated at several places.
+        good = os.path.join(cls.dir, "good.gltf")
+        with open(good, "w") as f:
+            f.write(minimal_gltf(quad, [0, 1, 2, 0, 2, 3]))
+        glb = os.path.join(cls.dir, "good.glb")
+        lt.run([lt.tool("simplify"), "-i", good, "-o", glb, "--ratio", "0.5", "--quiet"])
+        with open(glb, "rb") as f:
+            data = f.read()
+        for frac in (0.1, 0.5, 0.9):
+            put("truncated-%d.glb" % int(frac * 100), data[: int(len(data) * frac)], "wb")
+        put("bad-magic-length.glb", struct.pack("<III", 0x46546C67, 2, 10 ** 9) + data[12:], "wb")
+        if os.path.isdir(lt.BAD_INPUTS):
+            for name in sorted(os.listdir(lt.BAD_INPUTS)):
+                if name.endswith((".gltf", ".glb")):
+                    cls.cases["shared/" + name] = os.path.join(lt.BAD_INPUTS, name)
+        else:
+            print("note: ../shared/bad-inputs absent; testing only the files this test makes")
+
+    def check_rejected(self, tool, name, path):
+        out = os.path.join(self.dir, "out-%s-%s.glb" % (tool, name.replace("/", "_")))
+        p = lt.run([lt.tool(tool), "-i", path, "-o", out, "--ratio", "0.5"], check=False, timeout=120)
+        self.assertIn(p.returncode, (2, 3), "%s %s: exit %d, stderr %r" % (tool, name, p.returncode, p.stderr))
+        lines = p.stderr.strip().splitlines()
+        self.assertEqual(len(lines), 1, "%s %s: expected one line, got %r" % (tool, name, p.stderr))
+        self.assertIn(os.path.basename(path), lines[0], "error must name the file: %r" % lines[0])
+        self.assertTrue(lines[0].startswith(tool + " error: "), lines[0])
+        self.assertFalse(os.path.exists(out), "no output file on failure")
+        leftovers = [f for f in os.listdir(self.dir) if ".tmp" in f]
+        self.assertEqual(leftovers, [], "no temporary files left behind")
+
+    def test_every_bad_input_is_rejected(self):
+        for tool in TOOLS_WITH_IO:
+            for name, path in sorted(self.cases.items()):
+                with self.subTest(tool=tool, case=name):
+                    self.check_rejected(tool, name, path)
+
+    def test_specific_messages(self):
+        cases = {
+            "required-extension.gltf": "EXT_lodbake_nonexistent",
+            "nan.gltf": "NaN",
+            "index-out-of-range.gltf": "out of range",
+        }
+        for name, needle in cases.items():
+            p = lt.run([lt.tool("simplify"), "-i", self.cases[name], "-o", os.path.join(self.dir, "x.glb"),
+                        "--ratio", "0.5"], check=False)
+            self.assertIn(needle.lower(), p.stderr.lower(), p.stderr)
+
+
+class Usage(unittest.TestCase):
+    """Table-driven CLI contract: args -> exit code and the start of the message."""
+
+    def test_table(self):
+        d = lt.work_dir("usage")
+        good = os.path.join(d, "good.gltf")
+        with open(good, "w") as f:
+            f.write(minimal_gltf([0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0], [0, 1, 2, 0, 2, 3]))
+        out = os.path.join(d, "o.glb")
+        table = [
+            (["--help"], 0, ""),
+            (["--version"], 0, ""),
+            (["--bogus"], 1, "simplify error: unrecognized option '--bogus'"),
+            (["-i", good, "-o", out], 1, "simplify error: give at least one level"),
+            (["-i", good, "-o", out, "--ratio", "abc"], 1, "simplify error: --ratio: 'abc' is not a number"),
+            (["-i", good, "-o", out, "--ratio", "1.5"], 1, "simplify error: --ratio values must be in (0, 1]"),
+            (["-i", good, "-o", os.path.join(d, "o.obj"), "--ratio", "0.5"], 1, "simplify error: output"),
+            (["-o", out, "--ratio", "0.5"], 1, "simplify error: missing input"),
+            (["-i", os.path.join(d, "missing.glb"), "-o", out, "--ratio", "0.5"], 2, "simplify error: "),
+            (["-i", good, "-o", os.path.join(d, "no-such-dir", "o.glb"), "--ratio", "0.5"], 2, "simplify error: "),
+            (["-i", good, "-o", out, "--ratio", "0.5", "--threads", "-2"], 1, "simplify error: --threads"),
+        ]
+        for args, code, start in table:
+            with self.subTest(args=args):
+                p = lt.run([lt.tool("simplify")] + args, check=False)
+                self.assertEqual(p.returncode, code, p.stderr)
+                if start:
+                    self.assertTrue(p.stderr.startswith(start), p.stderr)
+                    self.assertEqual(len(p.stderr.strip().splitlines()), 1)
+                    if code == 1:
+                        self.assertIn("See 'simplify --help'", p.stderr)
+        self.assertIn("Exit codes", lt.run([lt.tool("simplify"), "--help"]).stdout)
+        self.assertFalse(os.path.exists(out))
+
+
+if __name__ == "__main__":
+    lt.main([BadInputs, Usage])

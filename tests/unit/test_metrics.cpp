@@ -1,0 +1,237 @@
+// Unit tests of the metrics module on tiny synthetic meshes built in code.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "lodbake/core/errors.h"
+#include "lodbake/metrics/compare.h"
+#include "lodbake/metrics/distance.h"
+#include "lodbake/metrics/image_metrics.h"
+#include "lodbake/metrics/render.h"
+
+using namespace lodbake;
+
+namespace {
+
+// An axis-aligned box [0,sx] x [0,sy] x [0,sz], 12 triangles, outward CCW, one wedge per corner
+// with uv0 (per face [0,1]^2) and the face normal.
+TriMesh box(Vec3 size, Vec3 offset = {}) {
+    TriMesh m;
+    for (int i = 0; i < 8; ++i)
+        m.positions.push_back(Vec3{(i & 1) * size.x, ((i >> 1) & 1) * size.y, ((i >> 2) & 1) * size.z} + offset);
+    //   quads as (v0 v1 v2 v3) CCW from outside
+    const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+    const Vec2 uvs[4] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+    for (const auto& q : quads) {
+        Vec3 n = normalize(cross(m.positions[q[1]] - m.positions[q[0]], m.positions[q[2]] - m.positions[q[0]]));
+        uint32_t w0 = static_cast<uint32_t>(m.wedges.size());
+        for (int k = 0; k < 4; ++k) {
+            m.wedges.vertex.push_back(q[k]);
+            m.wedges.uv0.push_back(uvs[k]);
+            m.wedges.normal.push_back(n);
+        }
+        m.triangles.push_back({uint32_t(q[0]), uint32_t(q[1]), uint32_t(q[2])});
+        m.cornerWedges.push_back({w0, w0 + 1, w0 + 2});
+        m.triangles.push_back({uint32_t(q[0]), uint32_t(q[2]), uint32_t(q[3])});
+        m.cornerWedges.push_back({w0, w0 + 2, w0 + 3});
+        m.triangleMaterial.push_back(0);
+        m.triangleMaterial.push_back(0);
+    }
+    return m;
+}
+
+// A unit square in the plane z = h:
+//   (0,1)---(1,1)
+//     |   /   |
+//   (0,0)---(1,0)
+TriMesh square(double h) {
+    TriMesh m;
+    m.positions = {{0, 0, h}, {1, 0, h}, {1, 1, h}, {0, 1, h}};
+    m.triangles = {{0, 1, 2}, {0, 2, 3}};
+    m.cornerWedges = m.triangles;
+    m.wedges.vertex = {0, 1, 2, 3};
+    m.wedges.uv0 = {{0, 1}, {1, 1}, {1, 0}, {0, 0}};
+    m.triangleMaterial = {0, 0};
+    return m;
+}
+
+// An asset with one material whose base colour texture is image 0 (decoded pyramid given by hand).
+Asset texturedAsset(const TriMesh& mesh) {
+    Asset a;
+    a.mesh = mesh;
+    Material mat;
+    mat.baseColor.texture = 0;
+    a.materials.push_back(mat);
+    a.textures.push_back(Texture{0, -1});
+    Image img;
+    img.width = img.height = 16;
+    a.images.push_back(img);
+    return a;
+}
+
+// A 16x16 linear-RGBA checkerboard (red/blue, 4x4 texel squares) or flat grey, with its pyramid.
+MipImage pyramid(bool checker) {
+    MipImage mip;
+    for (int s = 16; s >= 1; s /= 2) {
+        MipImage::Level l;
+        l.width = l.height = s;
+        for (int y = 0; y < s; ++y)
+            for (int x = 0; x < s; ++x) {
+                bool red = ((x * 16 / s) / 4 + (y * 16 / s) / 4) % 2 == 0;
+                if (!checker || s < 8) red = false;
+                float g = checker && s >= 8 ? 0.f : 0.25f;
+                if (checker && s < 8) l.rgba.insert(l.rgba.end(), {0.5f, 0.f, 0.5f, 1.f});
+                else if (checker) l.rgba.insert(l.rgba.end(), {red ? 1.f : 0.f, g, red ? 0.f : 1.f, 1.f});
+                else l.rgba.insert(l.rgba.end(), {0.25f, 0.25f, 0.25f, 1.f});
+            }
+        mip.levels.push_back(l);
+    }
+    return mip;
+}
+
+RenderScene sceneOf(const Asset& a, bool checker) {
+    RenderScene s;
+    s.asset = &a;
+    s.mesh = &a.mesh;
+    s.images = {pyramid(checker)};
+    return s;
+}
+
+}  // namespace
+
+// --- geometric distance -------------------------------------------------------------------
+
+TEST(SurfaceDistance, IdenticalMeshesAreAtZero) {
+    TriMesh m = box({1, 2, 3});
+    GeometricDistance d = surfaceDistance(m, m, DistanceOptions{20000});
+    EXPECT_EQ(d.hausdorff, 0.0);
+    EXPECT_EQ(d.rms, 0.0);
+    EXPECT_NEAR(d.diagonal, std::sqrt(14.0), 1e-12);
+    EXPECT_EQ(d.aToB.samples, 20000u + 8u);  // area samples + vertices
+}
+
+TEST(SurfaceDistance, ParallelSquaresAreTheirSeparationApart) {
+    GeometricDistance d = surfaceDistance(square(0), square(0.25), DistanceOptions{5000});
+    EXPECT_NEAR(d.hausdorff, 0.25, 1e-12);
+    EXPECT_NEAR(d.mean, 0.25, 1e-12);
+    EXPECT_NEAR(d.rms, 0.25, 1e-12);
+    EXPECT_NEAR(d.relHausdorff, 0.25 / std::sqrt(2.0), 1e-12);
+}
+
+TEST(SurfaceDistance, ShiftByOnePercentOfDiagonalGivesOnePercentHausdorff) {
+    TriMesh a = box({1, 2, 3});
+    double shift = 0.01 * std::sqrt(14.0);
+    TriMesh b = box({1, 2, 3}, {shift, 0, 0});
+    GeometricDistance d = surfaceDistance(a, b, DistanceOptions{50000});
+    EXPECT_NEAR(d.relHausdorff, 0.01, 1e-9);
+    EXPECT_GT(d.rms, 0.0);
+    EXPECT_LT(d.rms, shift);  // most of the surface slides within itself
+}
+
+TEST(SurfaceDistance, ResultDoesNotDependOnThreads) {
+    TriMesh a = box({1, 2, 3});
+    TriMesh b = box({1.1, 2, 2.9}, {0.01, -0.02, 0.03});
+    DistanceOptions o1{30000}, o2{30000};
+    o1.threads = 1;
+    o2.threads = 3;
+    GeometricDistance d1 = surfaceDistance(a, b, o1), d2 = surfaceDistance(a, b, o2);
+    EXPECT_EQ(d1.hausdorff, d2.hausdorff);
+    EXPECT_EQ(d1.mean, d2.mean);
+    EXPECT_EQ(d1.rms, d2.rms);
+}
+
+TEST(SurfaceDistance, DegenerateMeshIsImpossible) {
+    TriMesh a = square(0);
+    TriMesh flat = a;
+    flat.positions = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {3, 0, 0}};  // collinear: zero area
+    EXPECT_THROW(surfaceDistance(a, flat), Impossible);
+}
+
+// --- rendering and image metrics ----------------------------------------------------------
+
+TEST(Render, SquareSeenFromAboveCoversTheCentre) {
+    Asset a = texturedAsset(square(0));
+    RenderScene s = sceneOf(a, true);
+    Camera c;
+    c.eye = {0.5, 0.5, 2};
+    c.target = {0.5, 0.5, 0};
+    Rendering r = render(s, c, RenderOptions{64, 64, RenderMode::Shaded});
+    EXPECT_EQ(r.coverage[32 * 64 + 32], 1);
+    EXPECT_EQ(r.coverage[0], 0);
+    // Headlight straight on: grey = 0.8 (linear) -> sRGB.
+    EXPECT_NEAR(r.rgb[(32 * 64 + 32) * 3], 0.9063, 1e-3);
+    // Seen from below, the single-sided square is culled.
+    c.eye = {0.5, 0.5, -2};
+    Rendering back = render(s, c, RenderOptions{64, 64, RenderMode::Shaded});
+    EXPECT_EQ(back.coverage[32 * 64 + 32], 0);
+}
+
+TEST(Render, SphereViewsAreDeterministicAndFrameTheSphere) {
+    std::vector<Camera> v = sphereViews(16, {1, 2, 3}, 2);
+    ASSERT_EQ(v.size(), 16u);
+    for (const Camera& c : v) EXPECT_NEAR(length(c.eye - Vec3{1, 2, 3}), 4.0, 1e-9);  // r / sin(30 deg)
+    EXPECT_EQ(sphereViews(16, {1, 2, 3}, 2)[5].eye.x, v[5].eye.x);
+}
+
+TEST(ImageMetrics, ModelAgainstItselfIsPerfect) {
+    Asset a = texturedAsset(box({1, 1, 1}));
+    RenderScene s = sceneOf(a, true);
+    ImageMetrics total;
+    for (const Camera& c : sphereViews(6, {0.5, 0.5, 0.5}, 0.87))
+        for (RenderMode mode : {RenderMode::BaseColor, RenderMode::Shaded}) {
+            Rendering r1 = render(s, c, RenderOptions{64, 64, mode});
+            Rendering r2 = render(s, c, RenderOptions{64, 64, mode});
+            accumulate(total, compareImages(r1, r2));
+        }
+    EXPECT_EQ(total.psnr, kMaxPsnr);
+    EXPECT_EQ(total.iou, 1.0);
+    EXPECT_NEAR(total.ssim, 1.0, 1e-12);
+    EXPECT_GT(total.unionPixels, 0u);
+}
+
+TEST(ImageMetrics, FlatGreyTextureLowersBaseColourPsnrOnly) {
+    Asset a = texturedAsset(box({1, 1, 1}));
+    RenderScene checker = sceneOf(a, true), grey = sceneOf(a, false);
+    ImageMetrics base, shaded;
+    for (const Camera& c : sphereViews(6, {0.5, 0.5, 0.5}, 0.87)) {
+        accumulate(base, compareImages(render(checker, c, {64, 64, RenderMode::BaseColor}),
+                                       render(grey, c, {64, 64, RenderMode::BaseColor})));
+        accumulate(shaded, compareImages(render(checker, c, {64, 64, RenderMode::Shaded}),
+                                         render(grey, c, {64, 64, RenderMode::Shaded})));
+    }
+    EXPECT_LT(base.psnr, 10.0);
+    EXPECT_LT(base.ssim, 0.9);
+    EXPECT_EQ(base.iou, 1.0);
+    EXPECT_EQ(shaded.psnr, kMaxPsnr);
+}
+
+TEST(ImageMetrics, DisjointSilhouettesHaveZeroIou) {
+    Rendering a, b;
+    a.width = b.width = a.height = b.height = 8;
+    a.rgb.assign(8 * 8 * 3, 0.f);
+    b.rgb = a.rgb;
+    a.coverage.assign(64, 0);
+    b.coverage.assign(64, 0);
+    a.coverage[0] = 1;
+    b.coverage[63] = 1;
+    ImageMetrics m = compareImages(a, b);
+    EXPECT_EQ(m.iou, 0.0);
+    EXPECT_EQ(m.unionPixels, 2u);
+}
+
+TEST(CompareAssets, CountsAndNoImagesWithoutViews) {
+    Asset a;
+    a.mesh = box({1, 1, 1});
+    a.materials.resize(1);
+    CompareOptions o;
+    o.views = 0;
+    o.distance.samplesPerSide = 1000;
+    CompareResult r = compareAssets(a, a.mesh, a, a.mesh, o);
+    EXPECT_EQ(r.a.triangles, 12u);
+    EXPECT_EQ(r.a.positions, 8u);
+    EXPECT_EQ(r.a.vertices, 24u);
+    EXPECT_EQ(r.a.materials, 1u);
+    EXPECT_EQ(r.a.drawCalls, 1u);
+    EXPECT_EQ(r.distance.hausdorff, 0.0);
+    EXPECT_EQ(r.baseColor.views, 0u);
+}

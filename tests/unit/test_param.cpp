@@ -1,0 +1,237 @@
+// Unit tests for charts, chart UV maps (Tutte, Ceres energy), parameterize() and bake.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "lodbake/bake/bake.h"
+#include "lodbake/core/errors.h"
+#include "lodbake/param/chart_uv.h"
+#include "lodbake/param/charts.h"
+#include "lodbake/param/parameterize.h"
+
+using namespace lodbake;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// Lat-long sphere patch: pole vertex 0 at +z, `rings` rings down to polar angle maxTheta, `seg`
+// segments per ring; maxTheta = pi/2 gives a hemisphere (a disk), with `closed` a full sphere.
+TriMesh latLong(int rings, int seg, bool closed) {
+    TriMesh m;
+    m.positions.push_back({0, 0, 1});
+    double maxTheta = closed ? kPi : kPi / 2;
+    int ringCount = closed ? rings - 1 : rings;
+    for (int r = 1; r <= ringCount; ++r) {
+        double th = maxTheta * r / rings;
+        for (int s = 0; s < seg; ++s) {
+            double ph = 2 * kPi * s / seg;
+            m.positions.push_back({std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th)});
+        }
+    }
+    auto ring = [&](int r, int s) { return uint32_t(1 + (r - 1) * seg + (s % seg)); };
+    for (int s = 0; s < seg; ++s) m.triangles.push_back({0, ring(1, s), ring(1, s + 1)});
+    for (int r = 1; r < ringCount; ++r)
+        for (int s = 0; s < seg; ++s) {
+            m.triangles.push_back({ring(r, s), ring(r + 1, s), ring(r + 1, s + 1)});
+            m.triangles.push_back({ring(r, s), ring(r + 1, s + 1), ring(r, s + 1)});
+        }
+    if (closed) {
+        uint32_t south = uint32_t(m.positions.size());
+        m.positions.push_back({0, 0, -1});
+        for (int s = 0; s < seg; ++s) m.triangles.push_back({ring(ringCount, s), south, ring(ringCount, s + 1)});
+    }
+    m.cornerWedges = m.triangles;
+    m.wedges.vertex.resize(m.positions.size());
+    for (uint32_t i = 0; i < m.positions.size(); ++i) m.wedges.vertex[i] = i;
+    m.triangleMaterial.assign(m.triangles.size(), 0);
+    return m;
+}
+
+ChartMesh asChart(const TriMesh& m) { return {m.positions, m.triangles}; }
+
+}  // namespace
+
+//      pole
+//     /|\      hemisphere: 6 rings x 16 segments, boundary = equator (one loop)
+//    /_|_\   .
+TEST(ParamTutte, HemisphereHasNoFlipsOrOverlaps) {
+    ChartMesh c = asChart(latLong(6, 16, false));
+    std::vector<Vec2> uv = tutteEmbedding(c);
+    ASSERT_EQ(uv.size(), c.positions.size());
+    EXPECT_EQ(countFlips(c, uv), 0u);
+    EXPECT_EQ(countOverlaps(c, uv), 0u);
+    // Area-matched: total UV area equals the 3D area.
+    double a2 = 0, a3 = 0;
+    for (const Tri& t : c.triangles) {
+        a2 += 0.5 * cross(uv[t[1]] - uv[t[0]], uv[t[2]] - uv[t[0]]);
+        a3 += 0.5 * length(cross(c.positions[t[1]] - c.positions[t[0]], c.positions[t[2]] - c.positions[t[0]]));
+    }
+    EXPECT_NEAR(a2, a3, 1e-9 * a3);
+}
+
+TEST(ParamTutte, ClosedSphereIsRejected) {
+    ChartMesh c = asChart(latLong(6, 8, true));
+    EXPECT_THROW(tutteEmbedding(c), Error);
+}
+
+TEST(ParamCeres, HemisphereLowersEnergyWithoutFolding) {
+    ChartMesh c = asChart(latLong(6, 16, false));
+    // Pairs: every second ring-2 vertex paired with the ring-1/ring-3 triangle around it, as a
+    // simplification would (bary mid-way), deviation 0.05.
+    std::vector<ChartPair> pairs;
+    for (uint32_t s = 0; s < 16; s += 2) {
+        ChartPair p;
+        p.vertex = 1 + 16 + s;
+        p.coarse = {1 + s, 1 + 32 + s, 1 + 32 + (s + 1) % 16};
+        p.bary = {0.5, 0.25, 0.25};
+        p.deviation = 0.05;
+        pairs.push_back(p);
+    }
+    std::vector<Vec2> tutte = tutteEmbedding(c);
+    ChartSolveOptions o;
+    ChartSolveResult r = optimizeChartUV(c, pairs, tutte, o);
+    EXPECT_TRUE(r.improved);
+    EXPECT_LT(r.after.E, r.before.E);
+    EXPECT_GT(r.iterations, 0);
+    EXPECT_EQ(countFlips(c, r.uv), 0u);
+    EXPECT_EQ(countOverlaps(c, r.uv), 0u);
+    ChartEnergy e = chartEnergy(c, pairs, r.uv, o.energy);
+    EXPECT_NEAR(e.E, r.after.E, 1e-12 + 1e-9 * e.E);
+    EXPECT_NEAR(e.E, o.energy.beta * e.pixel + (1 - o.energy.beta) * e.poly, 1e-9 * (1 + e.E));
+}
+
+TEST(ParamCharts, ClosedSphereGivesAtLeastTwoDiskCharts) {
+    TriMesh m = latLong(8, 12, true);
+    ChartResult r = buildCharts(m, {}, {});  // every face its own base region
+    ASSERT_EQ(r.faceChart.size(), m.triangleCount());
+    EXPECT_GE(r.chartCount, 2u);
+    EXPECT_LT(r.chartCount, m.triangleCount());  // merging happened
+    std::vector<std::vector<uint32_t>> faces(r.chartCount);
+    for (uint32_t f = 0; f < m.triangleCount(); ++f) {
+        ASSERT_GE(r.faceChart[f], 0);
+        faces[size_t(r.faceChart[f])].push_back(f);
+    }
+    for (const auto& fs : faces) EXPECT_TRUE(isDisk(m, fs));
+    // The whole sphere is not a disk; the hemisphere is.
+    std::vector<uint32_t> all(m.triangleCount());
+    for (uint32_t f = 0; f < all.size(); ++f) all[f] = f;
+    EXPECT_FALSE(isDisk(m, all));
+    TriMesh h = latLong(4, 8, false);
+    std::vector<uint32_t> hall(h.triangleCount());
+    for (uint32_t f = 0; f < hall.size(); ++f) hall[f] = f;
+    EXPECT_TRUE(isDisk(h, hall));
+}
+
+TEST(ParamCharts, NonDiskRegionIsSplit) {
+    // One base region holding the whole closed sphere must be split into disks.
+    TriMesh m = latLong(6, 8, true);
+    std::vector<uint32_t> region(m.triangleCount(), 0);
+    ChartResult r = buildCharts(m, region, {});
+    EXPECT_EQ(r.splitRegions, 1u);
+    EXPECT_GE(r.chartCount, 2u);
+}
+
+TEST(ParamPipeline, SphereAtlasIsInjectiveAndInsideTheUnitSquare) {
+    TriMesh m = latLong(8, 12, true);
+    Multires mr;  // no levels: every face starts as its own region
+    ParameterizeOptions o;
+    o.textureSize = 256;
+    ParameterizeResult r = parameterize(m, mr, o);
+    EXPECT_GE(r.charts.chartCount, 2u);
+    EXPECT_EQ(r.flips, 0u);
+    EXPECT_EQ(r.overlaps, 0u);
+    EXPECT_LE(r.finalTotal.E, r.tutteTotal.E + 1e-12);
+    ASSERT_EQ(r.cornerUV.size(), m.triangleCount());
+    for (const auto& c : r.cornerUV)
+        for (const Vec2& p : c) {
+            EXPECT_GT(p.x, 0);
+            EXPECT_LT(p.x, 1);
+            EXPECT_GT(p.y, 0);
+            EXPECT_LT(p.y, 1);
+        }
+    uint32_t histogramTotal = 0;
+    for (uint32_t b : r.areaRatioHistogram) histogramTotal += b;
+    EXPECT_EQ(histogramTotal, m.triangleCount());
+    EXPECT_GE(r.stretchL2, 1.0 - 1e-9);
+}
+
+namespace {
+
+// Two unit quads side by side (x in [0,1] material 0, x in [1,2] material 1), mapped to the left
+// and right thirds of the atlas:
+//   +-----+-----+
+//   | m0  | m1  |
+//   +-----+-----+
+Asset twoQuads(Vec4 c0, Vec4 c1) {
+    Asset a;
+    TriMesh& m = a.mesh;
+    m.positions = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {0, 1, 0}, {1, 1, 0}, {2, 1, 0}};
+    m.triangles = {{0, 1, 4}, {0, 4, 3}, {1, 2, 5}, {1, 5, 4}};
+    m.cornerWedges = m.triangles;
+    m.wedges.vertex = {0, 1, 2, 3, 4, 5};
+    m.triangleMaterial = {0, 0, 1, 1};
+    Material m0, m1;
+    m0.baseColorFactor = c0;
+    m1.baseColorFactor = c1;
+    a.materials = {m0, m1};
+    return a;
+}
+
+std::vector<std::array<Vec2, 3>> twoQuadsUV() {
+    // glTF UVs (v down): left quad -> u in [0.05, 0.40], right quad -> u in [0.60, 0.95].
+    auto uv = [](double x, double y) { return x <= 1 ? Vec2{0.05 + 0.35 * x, 0.95 - 0.9 * y} : Vec2{0.60 + 0.35 * (x - 1), 0.95 - 0.9 * y}; };
+    Vec2 p0 = uv(0, 0), p1 = uv(1, 0), p3 = uv(0, 1), p4 = uv(1, 1);
+    Vec2 q1{0.60, 0.95}, q2 = uv(2, 0), q4{0.60, 0.05}, q5 = uv(2, 1);
+    return {{p0, p1, p4}, {p0, p4, p3}, {q1, q2, q5}, {q1, q5, q4}};
+}
+
+}  // namespace
+
+TEST(Bake, ConstantColourFillsEveryTexel) {
+    Vec4 red{1, 0, 0, 1};
+    Asset a = twoQuads(red, red);
+    BakeOptions o;
+    o.size = 32;
+    BakeResult r = bakeBaseColor(a, twoQuadsUV(), o);
+    EXPECT_GT(r.coveredTexels, 0u);
+    EXPECT_LT(r.coveredTexels, size_t(32 * 32));  // gaps existed before pull-push
+    ASSERT_EQ(r.pixels.size(), size_t(32 * 32 * 3));
+    for (size_t i = 0; i < 32 * 32; ++i) {
+        ASSERT_NEAR(r.pixels[i * 3 + 0], 1.0, 1e-6) << "texel " << i;
+        ASSERT_NEAR(r.pixels[i * 3 + 1], 0.0, 1e-6) << "texel " << i;
+        ASSERT_NEAR(r.pixels[i * 3 + 2], 0.0, 1e-6) << "texel " << i;
+    }
+    ASSERT_GT(r.image.encoded.size(), 8u);
+    EXPECT_EQ(r.image.encoded[1], 'P');  // PNG signature
+    EXPECT_EQ(r.image.width, 32);
+}
+
+TEST(Bake, TwoMaterialsReproducePerRegion) {
+    Asset a = twoQuads({1, 0, 0, 1}, {0, 1, 0, 1});
+    BakeOptions o;
+    o.size = 40;
+    BakeResult r = bakeBaseColor(a, twoQuadsUV(), o);
+    auto px = [&](int x, int y, int c) { return r.pixels[(size_t(y) * 40 + size_t(x)) * 3 + size_t(c)]; };
+    // Texels well inside each chart.
+    for (int y = 6; y < 34; ++y) {
+        for (int x = 4; x < 15; ++x) {
+            ASSERT_NEAR(px(x, y, 0), 1.0, 1e-6);
+            ASSERT_NEAR(px(x, y, 1), 0.0, 1e-6);
+        }
+        for (int x = 26; x < 37; ++x) {
+            ASSERT_NEAR(px(x, y, 0), 0.0, 1e-6);
+            ASSERT_NEAR(px(x, y, 1), 1.0, 1e-6);
+        }
+    }
+}
+
+TEST(Bake, VertexColoursBake) {
+    Asset a = twoQuads({1, 1, 1, 1}, {1, 1, 1, 1});
+    a.mesh.wedges.color.assign(6, Vec4{0, 0, 1, 1});
+    BakeOptions o;
+    o.size = 16;
+    BakeResult r = bakeBaseColor(a, twoQuadsUV(), o);
+    for (size_t i = 0; i < 16 * 16; ++i) ASSERT_NEAR(r.pixels[i * 3 + 2], 1.0, 1e-6);
+    EXPECT_NEAR(r.pixels[0], 0.0, 1e-6);
+}

@@ -1,0 +1,408 @@
+// Unit tests of simplify(): half-edge collapse with region hierarchy, on synthetic meshes.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <functional>
+#include <map>
+#include <numeric>
+#include <set>
+
+#include "lodbake/core/errors.h"
+#include "lodbake/simplify/simplify.h"
+#include "unit/synthetic_meshes.h"
+
+namespace lodbake {
+namespace {
+
+SimplifyOptions withLevels(std::vector<LevelTarget> levels) {
+    SimplifyOptions o;
+    o.levels = std::move(levels);
+    return o;
+}
+LevelTarget ratio(double r) { return LevelTarget{r, 0, 0}; }
+LevelTarget count(uint64_t n) { return LevelTarget{0, n, 0}; }
+
+// faceRegion of `level` rebuilt from the identity by replaying the collapse records.
+std::vector<uint32_t> replayRegions(size_t faceCount, const Multires& mr, const Level& level) {
+    std::vector<uint32_t> rep(faceCount);
+    std::iota(rep.begin(), rep.end(), 0u);
+    for (uint32_t c = 0; c < level.collapseCount; ++c) {
+        const CollapseRecord& r = mr.collapses[c];
+        for (uint32_t u = r.regionBegin; u < r.regionEnd; ++u) {
+            const RegionUpdate& up = mr.regionUpdates[u];
+            EXPECT_EQ(rep[up.face], up.oldRep);
+            EXPECT_NE(up.oldRep, up.newRep);
+            rep[up.face] = up.newRep;
+        }
+    }
+    return rep;
+}
+
+using EdgeMap = std::map<std::pair<uint32_t, uint32_t>, std::vector<uint32_t>>;  // undirected edge -> level triangles
+EdgeMap edgesOf(const std::vector<Tri>& tris) {
+    EdgeMap e;
+    for (uint32_t t = 0; t < tris.size(); ++t)
+        for (int k = 0; k < 3; ++k) e[std::minmax(tris[t][k], tris[t][(k + 1) % 3])].push_back(t);
+    return e;
+}
+
+// Regions: consistent with the replay, every region keeps a surviving face and its surviving faces
+// are edge-connected in the level mesh; regionCount is the number of distinct representatives; a
+// representative is a surviving face of its own region.
+void expectValidRegions(const TriMesh& mesh, const Multires& mr, const Level& level) {
+    ASSERT_EQ(level.faceRegion.size(), mesh.triangleCount());
+    EXPECT_EQ(replayRegions(mesh.triangleCount(), mr, level), level.faceRegion);
+    std::set<uint32_t> reps(level.faceRegion.begin(), level.faceRegion.end());
+    EXPECT_EQ(reps.size(), level.regionCount);
+    std::set<uint32_t> alive(level.faces.begin(), level.faces.end());
+    for (uint32_t r : reps) {
+        EXPECT_TRUE(alive.count(r)) << "representative " << r << " is not a surviving face";
+        EXPECT_EQ(level.faceRegion[r], r);
+    }
+    // Union-find over level triangles sharing an edge inside the same region.
+    std::vector<uint32_t> parent(level.faces.size());
+    std::iota(parent.begin(), parent.end(), 0u);
+    std::function<uint32_t(uint32_t)> find = [&](uint32_t x) { return parent[x] == x ? x : parent[x] = find(parent[x]); };
+    for (const auto& [edge, ts] : edgesOf(level.triangles))
+        for (size_t a = 1; a < ts.size(); ++a)
+            if (level.faceRegion[level.faces[ts[0]]] == level.faceRegion[level.faces[ts[a]]])
+                parent[find(ts[0])] = find(ts[a]);
+    std::map<uint32_t, std::set<uint32_t>> pieces;  // region -> union-find roots
+    for (uint32_t t = 0; t < level.faces.size(); ++t) pieces[level.faceRegion[level.faces[t]]].insert(find(t));
+    EXPECT_EQ(pieces.size(), reps.size()) << "a region lost all its surviving faces";
+    for (const auto& [r, roots] : pieces) EXPECT_EQ(roots.size(), 1u) << "region " << r << " is not edge-connected";
+}
+
+Vec3 normalOf(const TriMesh& m, const Tri& t) {
+    return cross(m.positions[t[1]] - m.positions[t[0]], m.positions[t[2]] - m.positions[t[0]]);
+}
+
+// Pairs: bary sums to 1, P reproduces, deviation <= maxDeviation, pair face survives.
+void expectValidPairs(const TriMesh& mesh, const Level& level) {
+    std::map<uint32_t, Tri> tri;
+    for (size_t t = 0; t < level.faces.size(); ++t) tri[level.faces[t]] = level.triangles[t];
+    std::set<uint32_t> kept;
+    for (const Tri& t : level.triangles) kept.insert(t.begin(), t.end());
+    size_t removed = 0;
+    for (uint32_t v = 0; v < mesh.vertexCount(); ++v) removed += !kept.count(v);
+    EXPECT_EQ(level.pairs.size(), removed);
+    double sum = 0;
+    for (const SimplificationPair& p : level.pairs) {
+        EXPECT_FALSE(kept.count(p.vertex));
+        EXPECT_NEAR(p.bary[0] + p.bary[1] + p.bary[2], 1.0, 1e-5);
+        ASSERT_TRUE(tri.count(p.face));
+        const Tri& t = tri[p.face];
+        if (p.coarse[2] == p.coarse[1] && p.bary[2] == 0) {  // edge form: an edge of the face
+            EXPECT_TRUE(std::count(t.begin(), t.end(), p.coarse[0]) > 0 && std::count(t.begin(), t.end(), p.coarse[1]) > 0);
+        } else {
+            EXPECT_EQ(p.coarse, t);
+        }
+        Vec3 P = mesh.positions[p.coarse[0]] * p.bary[0] + mesh.positions[p.coarse[1]] * p.bary[1] +
+                 mesh.positions[p.coarse[2]] * p.bary[2];
+        EXPECT_NEAR(length(P - mesh.positions[p.vertex]), p.deviation, 1e-5);
+        EXPECT_LE(p.deviation, level.maxDeviation + 1e-6);
+        sum += p.deviation;
+    }
+    if (!level.pairs.empty()) {
+        EXPECT_NEAR(level.meanDeviation, sum / level.pairs.size(), 1e-6);
+    }
+}
+
+// ------------------------------------------------------------------------------------------------
+
+TEST(Simplify, NoTrianglesIsImpossible) {
+    TriMesh m;
+    m.positions = {{0, 0, 0}};
+    EXPECT_THROW(simplify(m, withLevels({ratio(0.5)})), Impossible);
+}
+
+// Collapsing the centre of the flat hexagon costs 0 (every ring collapse cuts a corner), so the
+// first collapse is 0 -> 1 (all quadric costs tie at 0; smallest id). Faces 0 (0,1,2) and
+// 5 (0,6,1) vanish; the six single-face regions merge into one whose representative is the
+// smallest surviving face, 1. Face 1 is already mapped to itself and is not recorded.
+TEST(Simplify, HexagonCentreCollapseMergesAllSixFaces) {
+    TriMesh m = test::hexagonFan();
+    SimplifyResult r = simplify(m, withLevels({count(4)}));
+    const Multires& mr = r.multires;
+    ASSERT_EQ(mr.levels.size(), 1u);
+    ASSERT_EQ(mr.collapses.size(), 1u);
+    EXPECT_EQ(mr.collapses[0].removed, 0u);
+    EXPECT_EQ(mr.collapses[0].kept, 1u);
+    EXPECT_NEAR(mr.collapses[0].deviation, 0.f, 1e-7);
+    const Level& l = mr.levels[0];
+    EXPECT_EQ(l.stopReason, "target");
+    EXPECT_EQ(l.faces, (std::vector<uint32_t>{1, 2, 3, 4}));
+    EXPECT_EQ(l.triangles, (std::vector<Tri>{{1, 2, 3}, {1, 3, 4}, {1, 4, 5}, {1, 5, 6}}));
+    EXPECT_EQ(l.regionCount, 1u);
+    EXPECT_EQ(l.faceRegion, (std::vector<uint32_t>(6, 1)));
+    ASSERT_EQ(mr.collapses[0].regionEnd - mr.collapses[0].regionBegin, 5u);
+    std::vector<uint32_t> updated;
+    for (uint32_t u = mr.collapses[0].regionBegin; u < mr.collapses[0].regionEnd; ++u) {
+        const RegionUpdate& up = mr.regionUpdates[u];
+        EXPECT_EQ(up.oldRep, up.face);
+        EXPECT_EQ(up.newRep, 1u);
+        updated.push_back(up.face);
+    }
+    EXPECT_EQ(updated, (std::vector<uint32_t>{0, 2, 3, 4, 5}));
+    // The centre projects onto the coarse surface exactly.
+    ASSERT_EQ(l.pairs.size(), 1u);
+    EXPECT_EQ(l.pairs[0].vertex, 0u);
+    EXPECT_NEAR(l.pairs[0].deviation, 0.0, 1e-7);
+    expectValidRegions(m, mr, l);
+    expectValidPairs(m, l);
+}
+
+// Rule 3 on test::splitDisk: u and w collapse first (cheapest), merging the upper five faces into
+// one region and the lower five into another. Then i (on the p-boundary k - i - j, with exactly two
+// p-boundary spokes) collapses along it. When i lies within eps (= 0.01 * longest box side = 0.04)
+// of the new edge, the edge stays a p-boundary: two regions, no merge. Lifted by 0.5 it is not:
+// the two regions merge.
+TEST(Simplify, Rule3KeepsStraightPBoundary) {
+    for (double lift : {0.01, 0.5}) {
+        SCOPED_TRACE(lift);
+        TriMesh m = test::splitDisk(lift);
+        SimplifyResult r = simplify(m, withLevels({count(4)}));
+        const Multires& mr = r.multires;
+        ASSERT_EQ(mr.collapses.size(), 3u);
+        std::set<uint32_t> first{mr.collapses[0].removed, mr.collapses[1].removed};
+        EXPECT_EQ(first, (std::set<uint32_t>{7, 8}));
+        const CollapseRecord& last = mr.collapses[2];
+        EXPECT_EQ(last.removed, 1u);
+        EXPECT_TRUE(last.kept == 0u || last.kept == 2u);
+        const Level& l = mr.levels[0];
+        ASSERT_EQ(l.triangles.size(), 4u);
+        if (lift < 0.04) {
+            // No merge. The upper region's representative (face 0 = (u, k, i)) is removed by this
+            // collapse, so its region is re-labelled to a surviving face: one old rep, one new rep.
+            for (uint32_t u = last.regionBegin; u < last.regionEnd; ++u) {
+                EXPECT_EQ(mr.regionUpdates[u].oldRep, mr.regionUpdates[last.regionBegin].oldRep);
+                EXPECT_EQ(mr.regionUpdates[u].newRep, mr.regionUpdates[last.regionBegin].newRep);
+            }
+            EXPECT_EQ(l.regionCount, 2u);
+            // Upper faces (0..4) and lower faces (5..9) form the two regions.
+            for (uint32_t f = 1; f < 5; ++f) EXPECT_EQ(l.faceRegion[f], l.faceRegion[0]);
+            for (uint32_t f = 6; f < 10; ++f) EXPECT_EQ(l.faceRegion[f], l.faceRegion[5]);
+            EXPECT_NE(l.faceRegion[0], l.faceRegion[5]);
+        } else {
+            EXPECT_GT(last.regionEnd, last.regionBegin);
+            EXPECT_EQ(l.regionCount, 1u);
+        }
+        expectValidRegions(m, mr, l);
+        expectValidPairs(m, l);
+    }
+}
+
+TEST(Simplify, GridToAFewTriangles) {
+    TriMesh m = test::grid(12, 12, [](int i, int j) { return 0.3 * std::sin(0.6 * i) * std::cos(0.4 * j); });
+    SimplifyResult r = simplify(m, withLevels({ratio(0.5), count(8), ratio(0.1)}));
+    const Multires& mr = r.multires;
+    ASSERT_EQ(mr.levels.size(), 3u);
+    EXPECT_LE(mr.levels[0].triangles.size(), 144u);  // 288 * 0.5; a collapse removes 1 or 2 faces
+    EXPECT_GE(mr.levels[0].triangles.size(), 143u);
+    EXPECT_LE(mr.levels[1].triangles.size(), 29u);
+    EXPECT_GE(mr.levels[1].triangles.size(), 28u);
+    EXPECT_LE(mr.levels[2].triangles.size(), 8u);
+    for (const Level& l : mr.levels) {
+        EXPECT_EQ(l.stopReason, "target");
+        expectValidRegions(m, mr, l);
+        expectValidPairs(m, l);
+        EXPECT_GE(l.regionCount, 1u);
+    }
+    EXPECT_EQ(mr.levels[2].collapseCount, mr.collapses.size());
+}
+
+TEST(Simplify, ClosedSphereKeepsTwoRegionsWatertightAndUnflipped) {
+    TriMesh m = test::sphere(4);  // 2048 faces
+    SimplifyResult r = simplify(m, withLevels({ratio(0.02)}));
+    const Level& l = r.multires.levels[0];
+    EXPECT_EQ(l.stopReason, "target");
+    EXPECT_LE(l.triangles.size(), 41u);
+    EXPECT_GE(l.triangles.size(), 40u);
+    EXPECT_GE(l.regionCount, 2u);
+    for (const auto& [edge, ts] : edgesOf(l.triangles)) EXPECT_EQ(ts.size(), 2u);
+    for (size_t t = 0; t < l.faces.size(); ++t) {
+        Vec3 now = normalOf(m, l.triangles[t]), before = normalOf(m, m.triangles[l.faces[t]]);
+        EXPECT_GT(dot(now, before), 0) << "face " << l.faces[t] << " flipped";
+        // And it faces outwards.
+        Vec3 c = (m.positions[l.triangles[t][0]] + m.positions[l.triangles[t][1]] + m.positions[l.triangles[t][2]]) / 3;
+        EXPECT_GT(dot(now, c), 0);
+    }
+    expectValidRegions(m, r.multires, l);
+    expectValidPairs(m, l);
+    EXPECT_LT(l.maxDeviation, 0.5);
+}
+
+TEST(Simplify, ClosedSphereToOneTriangleStopsOnAConstraint) {
+    TriMesh m = test::sphere(2);
+    SimplifyResult r = simplify(m, withLevels({count(1)}));
+    const Level& l = r.multires.levels[0];
+    EXPECT_NE(l.stopReason, "target");
+    EXPECT_GE(l.triangles.size(), 4u);
+    EXPECT_GE(l.regionCount, 2u);
+    for (const auto& [edge, ts] : edgesOf(l.triangles)) EXPECT_EQ(ts.size(), 2u);
+}
+
+TEST(Simplify, SeamsAndMaterialsDoNotBlock) {
+    TriMesh m = test::seamGrid(40);  // 3200 faces
+    SimplifyResult r = simplify(m, withLevels({ratio(0.02)}));
+    const Level& l = r.multires.levels[0];
+    EXPECT_EQ(l.stopReason, "target");
+    EXPECT_LE(l.triangles.size(), 64u);
+    EXPECT_GE(l.triangles.size(), 63u);  // within 2 % of 64
+    ASSERT_EQ(l.cornerWedges.size(), l.triangles.size());
+    for (size_t t = 0; t < l.triangles.size(); ++t)
+        for (int k = 0; k < 3; ++k) EXPECT_EQ(m.wedges.vertex[l.cornerWedges[t][k]], l.triangles[t][k]);
+    expectValidRegions(m, r.multires, l);
+    expectValidPairs(m, l);
+}
+
+TEST(Simplify, DeviationsAndPairs) {
+    TriMesh m = test::hemisphere(4);
+    SimplifyResult r = simplify(m, withLevels({ratio(0.05), ratio(0.5), ratio(0.2)}));
+    const Multires& mr = r.multires;
+    ASSERT_EQ(mr.levels.size(), 3u);
+    double prev = 0;
+    for (const Level& l : mr.levels) {
+        EXPECT_GE(l.maxDeviation, prev);
+        prev = l.maxDeviation;
+        expectValidPairs(m, l);
+        expectValidRegions(m, mr, l);
+    }
+    EXPECT_GT(mr.levels[0].targetRatio, mr.levels[2].targetRatio);  // finest first
+    float running = 0;
+    for (const CollapseRecord& c : mr.collapses) {
+        running = std::max(running, c.deviation);
+        EXPECT_LE(running, mr.levels.back().maxDeviation + 1e-9);
+    }
+    EXPECT_NEAR(r.diagonal, std::sqrt(4.0 + 4.0 + 1.0), 1e-9);
+}
+
+TEST(Simplify, MaxErrorTargetStopsBeforeTheError) {
+    TriMesh m = test::hemisphere(4);
+    LevelTarget t;
+    t.maxError = 0.01;
+    SimplifyResult r = simplify(m, withLevels({t}));
+    const Level& l = r.multires.levels[0];
+    EXPECT_LT(l.triangles.size(), m.triangleCount());
+    for (const CollapseRecord& c : r.multires.collapses) EXPECT_LE(c.deviation, 0.01 * r.diagonal * 1.0001);
+    EXPECT_LE(l.maxDeviation, 0.01 * r.diagonal * 1.0001);
+    EXPECT_EQ(l.stopReason, "target");
+}
+
+TEST(Simplify, Deterministic) {
+    TriMesh m = test::seamGrid(20);
+    SimplifyOptions o = withLevels({ratio(0.3), ratio(0.05)});
+    Multires a = simplify(m, o).multires, b = simplify(m, o).multires;
+    ASSERT_EQ(a.collapses.size(), b.collapses.size());
+    for (size_t k = 0; k < a.collapses.size(); ++k) {
+        EXPECT_EQ(a.collapses[k].removed, b.collapses[k].removed);
+        EXPECT_EQ(a.collapses[k].kept, b.collapses[k].kept);
+        EXPECT_EQ(a.collapses[k].deviation, b.collapses[k].deviation);
+        EXPECT_EQ(a.collapses[k].regionEnd, b.collapses[k].regionEnd);
+    }
+    ASSERT_EQ(a.regionUpdates.size(), b.regionUpdates.size());
+    for (size_t k = 0; k < a.regionUpdates.size(); ++k) {
+        EXPECT_EQ(a.regionUpdates[k].face, b.regionUpdates[k].face);
+        EXPECT_EQ(a.regionUpdates[k].newRep, b.regionUpdates[k].newRep);
+    }
+    for (size_t l = 0; l < a.levels.size(); ++l) {
+        EXPECT_EQ(a.levels[l].triangles, b.levels[l].triangles);
+        EXPECT_EQ(a.levels[l].cornerWedges, b.levels[l].cornerWedges);
+        EXPECT_EQ(a.levels[l].faceRegion, b.levels[l].faceRegion);
+        ASSERT_EQ(a.levels[l].pairs.size(), b.levels[l].pairs.size());
+        for (size_t p = 0; p < a.levels[l].pairs.size(); ++p) {
+            EXPECT_EQ(a.levels[l].pairs[p].face, b.levels[l].pairs[p].face);
+            EXPECT_EQ(a.levels[l].pairs[p].bary, b.levels[l].pairs[p].bary);
+        }
+    }
+}
+
+// A fin: a third triangle (v, 6, 7) on the grid's interior edge 6-7 of grid(4, 4)... with a new apex
+// above it, making edge (6, 7) non-manifold. Its vertices get locked; the rest simplifies.
+TEST(Simplify, NonManifoldEdgeIsLockedNotFatal) {
+    TriMesh m = test::grid(4, 4);
+    uint32_t apex = uint32_t(m.positions.size());
+    m.positions.push_back({1.5, 1.5, 1.0});
+    m.triangles.push_back({6, 12, apex});  // edge 6-12 is the diagonal of quad (1,1): now 3 faces
+    test::addDefaultWedges(m);
+    SimplifyResult r = simplify(m, withLevels({ratio(0.5), count(1)}));
+    ASSERT_EQ(r.multires.levels.size(), 2u);
+    const Level& fine = r.multires.levels[0];
+    EXPECT_EQ(fine.stopReason, "target");
+    const Level& coarse = r.multires.levels[1];
+    EXPECT_NE(coarse.stopReason, "target");
+    EXPECT_FALSE(coarse.stopReason.empty());
+    // The fin and its edge survive untouched.
+    std::set<uint32_t> kept;
+    for (const Tri& t : coarse.triangles) kept.insert(t.begin(), t.end());
+    EXPECT_TRUE(kept.count(6) && kept.count(12) && kept.count(apex));
+    expectValidRegions(m, r.multires, coarse);
+    expectValidPairs(m, coarse);
+}
+
+TEST(Simplify, TwoComponentsAndABowTie) {
+    TriMesh a = test::sphere(2), b = test::grid(6, 6);
+    TriMesh m = a;
+    uint32_t off = uint32_t(m.positions.size());
+    for (Vec3 p : b.positions) m.positions.push_back(p + Vec3{3, 0, 0});
+    for (Tri t : b.triangles) m.triangles.push_back({t[0] + off, t[1] + off, t[2] + off});
+    // Bow-tie: two triangles meeting only at the sphere's vertex 0.
+    uint32_t q = uint32_t(m.positions.size());
+    m.positions.push_back({1.5, 0.5, 0});
+    m.positions.push_back({1.5, -0.5, 0});
+    m.triangles.push_back({0, q, q + 1});
+    test::addDefaultWedges(m);
+    SimplifyResult r = simplify(m, withLevels({ratio(0.3), count(2)}));
+    ASSERT_EQ(r.multires.levels.size(), 2u);
+    EXPECT_EQ(r.multires.levels[0].stopReason, "target");
+    EXPECT_NE(r.multires.levels[1].stopReason, "target");
+    const Level& l = r.multires.levels[1];
+    // The sphere stays closed with >= 2 regions; every component keeps triangles.
+    std::set<uint32_t> kept;
+    for (const Tri& t : l.triangles) kept.insert(t.begin(), t.end());
+    EXPECT_TRUE(kept.count(0));
+    bool gridLeft = false;
+    for (uint32_t v : kept) gridLeft |= v >= off && v < q;
+    EXPECT_TRUE(gridLeft);
+    expectValidRegions(m, r.multires, l);
+    expectValidPairs(m, l);
+}
+
+TEST(Simplify, ProgressCanCancel) {
+    TriMesh m = test::sphere(5);
+    SimplifyOptions o = withLevels({ratio(0.01)});
+    int calls = 0;
+    o.progress = [&](double f) {
+        EXPECT_GE(f, 0.0);
+        EXPECT_LE(f, 1.0);
+        return ++calls < 1;
+    };
+    EXPECT_THROW(simplify(m, o), Impossible);
+}
+
+// Benchmark, not a test: LODBAKE_BENCH=1 to run. ~1M-triangle noisy grid to 1 %; writes
+// /tmp/lodbake_bench.obj so gltfpack can be timed on the same input.
+TEST(Simplify, Benchmark1M) {
+    if (!std::getenv("LODBAKE_BENCH")) GTEST_SKIP() << "set LODBAKE_BENCH=1";
+    int n = 708;
+    TriMesh m = test::grid(n, n, [](int i, int j) {
+        return 3.0 * std::sin(0.05 * i) * std::cos(0.07 * j) + 0.02 * std::sin(12.9898 * i + 78.233 * j);
+    });
+    auto t0 = std::chrono::steady_clock::now();
+    SimplifyResult r = simplify(m, withLevels({ratio(0.01)}));
+    double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::printf("simplify %zu -> %zu triangles in %.2f s (regions %u, maxDev %.4g)\n", m.triangleCount(),
+                r.multires.levels[0].triangles.size(), s, r.multires.levels[0].regionCount,
+                r.multires.levels[0].maxDeviation);
+    if (FILE* f = std::fopen("/tmp/lodbake_bench.obj", "w")) {
+        for (Vec3 p : m.positions) std::fprintf(f, "v %.6f %.6f %.6f\n", p.x, p.y, p.z);
+        for (Tri t : m.triangles) std::fprintf(f, "f %u %u %u\n", t[0] + 1, t[1] + 1, t[2] + 1);
+        std::fclose(f);
+    }
+}
+
+}  // namespace
+}  // namespace lodbake

@@ -1,0 +1,166 @@
+// parameterize: multiresolution glTF in, same + new atlas UVs and one baked base-colour texture
+// valid for every level (thesis 3.3).
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+
+#include "common/cli.h"
+#include "lodbake/bake/bake.h"
+#include "lodbake/core/errors.h"
+#include "lodbake/io/gltf.h"
+#include "lodbake/param/parameterize.h"
+
+using namespace lodbake;
+
+namespace {
+
+struct Settings {
+    cli::CommonSettings common;
+    int size = 1024;
+    double alpha = 0.8;
+    double beta = 0.7;
+    int maxCharts = 0;
+    int iterations = 50;
+};
+
+Settings parseArgs(int argc, char** argv, bool& proceed) {
+    Settings s;
+    cli::ArgParser p("parameterize", "-i INPUT.mr.glb -o OUTPUT.uv.glb [options]");
+    p.addCommon(s.common);
+    p.option("--size", "N", "atlas side in texels (default 1024)", [&](const std::string& v) { s.size = cli::parseInt("--size", v); });
+    p.option("--alpha", "A", "edge vs area weight in E_pixel, in [0,1] (default 0.8)",
+             [&](const std::string& v) { s.alpha = cli::parseDouble("--alpha", v); });
+    p.option("--beta", "B", "E_pixel vs E_poly weight, in [0,1] (default 0.7)",
+             [&](const std::string& v) { s.beta = cli::parseDouble("--beta", v); });
+    p.option("--max-charts", "N", "merge charts down to at most N (0 = by shape limits only)",
+             [&](const std::string& v) { s.maxCharts = cli::parseInt("--max-charts", v); });
+    p.option("--iterations", "N", "Ceres iterations per chart (0 = keep the Tutte maps; default 50)",
+             [&](const std::string& v) { s.iterations = cli::parseInt("--iterations", v); });
+    proceed = p.parse(argc, argv);
+    return s;
+}
+
+void validate(const Settings& s) {
+    if (s.size < 16 || s.size > 16384) throw UsageError("--size must be in [16, 16384]");
+    if (!(s.alpha >= 0 && s.alpha <= 1)) throw UsageError("--alpha must be in [0, 1]");
+    if (!(s.beta >= 0 && s.beta <= 1)) throw UsageError("--beta must be in [0, 1]");
+    if (s.maxCharts < 0) throw UsageError("--max-charts must be >= 0");
+    if (s.iterations < 0) throw UsageError("--iterations must be >= 0");
+    cli::checkPaths(s.common);
+}
+
+nlohmann::json energyJson(const ChartEnergy& e) {
+    return {{"E", e.E}, {"E_pixel", e.pixel}, {"E_poly", e.poly}, {"E_l", e.edge}, {"E_s", e.area}};
+}
+
+double secondsSince(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+int run(const Settings& s) {
+    validate(s);
+    auto t0 = std::chrono::steady_clock::now();
+    std::optional<Multires> multires;
+    Asset asset = readGltf(s.common.input, {}, &multires);
+    double loadSeconds = secondsSince(t0);
+    for (const std::string& w : asset.warnings) std::cerr << "parameterize warning: " << w << "\n";
+    if (!multires) throw Impossible(s.common.input + ": no LODBAKE_multires extension; run simplify first");
+
+    ParameterizeOptions opt;
+    opt.alpha = s.alpha;
+    opt.beta = s.beta;
+    opt.textureSize = s.size;
+    opt.maxIterations = s.iterations;
+    opt.charts.maxCharts = uint32_t(s.maxCharts);
+    cli::Progress progress("parameterize", cli::progressEnabled(s.common));
+    opt.progress = [&progress](double f) { return progress(f); };
+    ParameterizeResult param = parameterize(asset.mesh, *multires, opt);
+    progress.done();
+    if (param.flips > 0 || param.overlaps > 0)
+        throw SolverError(s.common.input + ": " + std::to_string(param.flips) + " flipped and " +
+                          std::to_string(param.overlaps) + " overlapping UV triangles remain");
+
+    auto t1 = std::chrono::steady_clock::now();
+    BakeOptions bo;
+    bo.size = s.size;
+    BakeResult baked = bakeBaseColor(asset, param.cornerUV, bo);
+    double bakeSeconds = secondsSince(t1);
+
+    AtlasApplyStats applied = applyAtlas(asset, *multires, param, baked.image);
+
+    auto t2 = std::chrono::steady_clock::now();
+    WriteOptions wopt;
+    wopt.generator = "lodbake parameterize 0.1.0";
+    writeGltf(s.common.output, asset, &*multires, wopt);
+    double writeSeconds = secondsSince(t2);
+
+    nlohmann::json charts = nlohmann::json::array();
+    for (size_t c = 0; c < param.chartReports.size(); ++c) {
+        const ChartReport& r = param.chartReports[c];
+        charts.push_back({{"chart", c},
+                          {"faces", r.faces},
+                          {"vertices", r.vertices},
+                          {"pairs", r.pairs},
+                          {"method", r.method},
+                          {"iterations", r.iterations},
+                          {"tutte", energyJson(r.tutte)},
+                          {"final", energyJson(r.final)},
+                          {"stretchL2", r.stretchL2},
+                          {"stretchLinf", r.stretchLinf},
+                          {"areaRatioStdDev", r.areaRatioStdDev},
+                          {"flips", r.flips},
+                          {"overlaps", r.overlaps},
+                          {"seconds", r.seconds}});
+    }
+    nlohmann::json rep;
+    rep["tool"] = "parameterize";
+    rep["input"] = {{"path", s.common.input},
+                    {"triangles", asset.mesh.triangleCount()},
+                    {"levels", multires->levels.size()}};
+    rep["output"] = s.common.output;
+    rep["options"] = {{"size", s.size}, {"alpha", s.alpha}, {"beta", s.beta}, {"maxCharts", s.maxCharts},
+                      {"iterations", s.iterations}};
+    rep["charts"] = charts;
+    rep["total"] = {{"charts", param.charts.chartCount},
+                    {"baseRegions", param.charts.baseRegions},
+                    {"splitRegions", param.charts.splitRegions},
+                    {"merges", param.charts.merges},
+                    {"tutte", energyJson(param.tutteTotal)},
+                    {"final", energyJson(param.finalTotal)},
+                    {"stretchL2", param.stretchL2},
+                    {"stretchLinf", param.stretchLinf},
+                    {"areaRatioStdDev", param.areaRatioStdDev},
+                    {"areaRatioHistogram", param.areaRatioHistogram},
+                    {"flips", param.flips},
+                    {"overlaps", param.overlaps},
+                    {"texelsPerUnit", param.texelsPerUnit},
+                    {"atlasFill", param.atlasFill},
+                    {"newWedges", applied.newWedges},
+                    {"projectedCorners", applied.projectedCorners},
+                    {"coveredTexels", baked.coveredTexels},
+                    {"texturedLookups", baked.texturedLookups}};
+    rep["warnings"] = asset.warnings;
+    rep["time"] = {{"load", loadSeconds}, {"parameterize", param.seconds}, {"bake", bakeSeconds}, {"write", writeSeconds}};
+    if (!s.common.report.empty()) cli::writeReport(s.common.report, rep);
+    if (s.common.verbose) {
+        std::printf("charts: %u (from %u base regions, %u split), flips %zu, overlaps %zu\n", param.charts.chartCount,
+                    param.charts.baseRegions, param.charts.splitRegions, param.flips, param.overlaps);
+        std::printf("E: Tutte %.6g -> final %.6g (E_pixel %.6g, E_poly %.6g)\n", param.tutteTotal.E,
+                    param.finalTotal.E, param.finalTotal.pixel, param.finalTotal.poly);
+        std::printf("stretch L2 %.4f, Linf %.4f, area-ratio std-dev %.4f, atlas fill %.1f%%\n", param.stretchL2,
+                    param.stretchLinf, param.areaRatioStdDev, 100 * param.atlasFill);
+        std::printf("projected level corners: %zu; time: parameterize %.2fs, bake %.2fs\n", applied.projectedCorners,
+                    param.seconds, bakeSeconds);
+    }
+    return cli::kOk;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    return cli::runTool("parameterize", [&] {
+        bool proceed = true;
+        Settings s = parseArgs(argc, argv, proceed);
+        return proceed ? run(s) : cli::kOk;
+    });
+}
