@@ -492,6 +492,14 @@ Multires fakeMultires(const TriMesh& m) {
     }
     mr.collapses = {{7, 0, 0.05f, 0, 2}, {6, 1, 0.25f, 2, 3}};
     mr.regionUpdates = {{1, 1, 0}, {3, 3, 2}, {5, 5, 4}};
+    // A chart layout: two charts, UVs exactly representable as float.
+    mr.charts.chartCount = 2;
+    mr.charts.material = 0;
+    mr.charts.image = -1;
+    for (uint32_t f = 0; f < m.triangleCount(); ++f) {
+        mr.charts.faceChart.push_back(f % 2);
+        mr.charts.cornerUV.push_back({Vec2{0.25 * (f % 4), 0.5}, Vec2{0.125, 0.75}, Vec2{1.0 / 1024 * f, 0.0}});
+    }
     return mr;
 }
 
@@ -557,6 +565,16 @@ void expectSameMultires(const Multires& a, const Multires& b) {
         EXPECT_EQ(a.regionUpdates[k].oldRep, b.regionUpdates[k].oldRep);
         EXPECT_EQ(a.regionUpdates[k].newRep, b.regionUpdates[k].newRep);
     }
+    EXPECT_EQ(a.charts.chartCount, b.charts.chartCount);
+    EXPECT_EQ(a.charts.material, b.charts.material);
+    EXPECT_EQ(a.charts.image, b.charts.image);
+    EXPECT_EQ(a.charts.faceChart, b.charts.faceChart);
+    ASSERT_EQ(a.charts.cornerUV.size(), b.charts.cornerUV.size());
+    for (size_t f = 0; f < a.charts.cornerUV.size(); ++f)
+        for (size_t k = 0; k < 3; ++k) {
+            EXPECT_EQ(a.charts.cornerUV[f][k].x, b.charts.cornerUV[f][k].x);
+            EXPECT_EQ(a.charts.cornerUV[f][k].y, b.charts.cornerUV[f][k].y);
+        }
 }
 
 }  // namespace

@@ -133,8 +133,8 @@ std::string ArgParser::help() const {
     }
     os << "  -h, --help                  show this help\n"
           "  --version                   print the version\n"
-          "\nExit codes: 0 success, 1 usage error, 2 unreadable or invalid input,\n"
-          "            3 valid input but the operation is impossible, 4 internal or solver failure.\n";
+          "\n"
+       << exitCodes_;
     return os.str();
 }
 

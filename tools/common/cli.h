@@ -43,6 +43,8 @@ public:
     void positionals(const std::string& names, std::function<void(const std::string&)> handler);
     // Adds -i, -o, --report, -v/-vv, --threads, --quiet bound to `s`.
     void addCommon(CommonSettings& s, bool needsOutput = true);
+    // Replaces the standard exit-code table at the end of --help (for tools whose codes differ).
+    void exitCodes(std::string text) { exitCodes_ = std::move(text); }
     // Parses argv. Returns false when --help or --version was handled (exit 0).
     bool parse(int argc, char** argv);
     std::string help() const;
@@ -58,6 +60,9 @@ private:
     std::vector<Opt> opts_;
     std::function<void(const std::string&)> positional_;
     std::string positionalNames_;
+    std::string exitCodes_ =
+        "Exit codes: 0 success, 1 usage error, 2 unreadable or invalid input,\n"
+        "            3 valid input but the operation is impossible, 4 internal or solver failure.\n";
 };
 
 // Value parsers used by option handlers; they throw UsageError naming the flag.

@@ -678,6 +678,20 @@ Multires readMultires(const Ctx& c, const json& ext, const TriMesh& mesh) {
     }
     for (const CollapseRecord& r : mr.collapses)
         if (r.regionBegin > r.regionEnd || r.regionEnd > mr.regionUpdates.size()) fail(c, what + ": collapse region range out of bounds");
+    if (ext.contains("charts")) {
+        const json& C = ext["charts"];
+        ChartLayout& ch = mr.charts;
+        ch.chartCount = uint32_t(std::max(0, jint(C, "count", 0)));
+        ch.material = jint(C, "material");
+        ch.image = jint(C, "image");
+        ch.faceChart = readU32(c, jint(C, "faceChart"), 1, what + " charts.faceChart");
+        std::vector<float> uv = readF32(c, jint(C, "cornerUV"), 2, what + " charts.cornerUV");
+        if (ch.faceChart.size() != F || uv.size() != 6 * F) fail(c, what + ": charts accessors do not match the face count");
+        checkRange(ch.faceChart, ch.chartCount, "charts.faceChart");
+        ch.cornerUV.resize(F);
+        for (size_t f = 0; f < F; ++f)
+            for (size_t k = 0; k < 3; ++k) ch.cornerUV[f][k] = {uv[6 * f + 2 * k], uv[6 * f + 2 * k + 1]};
+    }
     return mr;
 }
 

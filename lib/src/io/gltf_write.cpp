@@ -303,6 +303,17 @@ json multiresJson(Writer& w, const Asset& asset, const Multires& mr, const std::
         for (const RegionUpdate& u : mr.regionUpdates) { ru.push_back(u.face); ru.push_back(u.oldRep); ru.push_back(u.newRep); }
         ext["regionUpdates"] = w.addU32(ru, 3);
     }
+    if (!mr.charts.empty()) {
+        const ChartLayout& ch = mr.charts;
+        std::vector<float> uv;
+        uv.reserve(6 * ch.cornerUV.size());
+        for (const auto& corners : ch.cornerUV)
+            for (const Vec2& c : corners) { uv.push_back(float(c.x)); uv.push_back(float(c.y)); }
+        json charts = {{"count", ch.chartCount}, {"material", ch.material}, {"image", ch.image}};
+        setIfValid(charts, "faceChart", w.addU32(ch.faceChart, 1));
+        setIfValid(charts, "cornerUV", w.addFloat(uv, 2, 0, false));
+        ext["charts"] = charts;
+    }
     return ext;
 }
 

@@ -83,6 +83,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <cstdio>
 #include <limits>
 #include <numeric>
 #include <string>
@@ -215,8 +216,10 @@ struct Candidate {
     Reject reason = Reject::Isolated;
     uint32_t target = kNone;
     double dev = 0;
+    double devGeom = 0;  // dev before the re-projection of the removed points (rule 3's epsilon)
     float shape = 0;
     bool rule3 = false;
+    bool exact = false;  // dev includes the exact re-projection of every removed point of the fan
 };
 
 // One neighbour w of a vertex v: the faces around v containing edge (v, w).
@@ -250,7 +253,7 @@ struct State {
     // Removed points assigned to coarse faces.
     std::vector<uint32_t> pointHead, pointNext, pointFace;
     std::vector<float> pointDist, faceErr;
-    static constexpr int kTop = 4;  // the farthest points of each face, used by the cost
+    static constexpr int kTop = 1;  // the farthest points of each face, used by the cost
     std::vector<std::array<uint32_t, kTop>> faceTop;
 
     // Heap.
@@ -658,7 +661,9 @@ static Reject planRegions(State& s, uint32_t vi, const RingEntry& edge, Candidat
     return Reject::None;
 }
 
+size_t gEval=0,gCheck=0,gPop=0,gFull=0,gRef=0;
 static Candidate evaluateVertex(State& s, uint32_t vi) {
+++gEval;
     Candidate best;
     if (s.removed[vi] || s.vfaces[vi].empty()) return best;
     if (s.locked[vi]) {
@@ -690,6 +695,7 @@ static Candidate evaluateVertex(State& s, uint32_t vi) {
         RingEntry edge = s.ringI[o[k].k];
         double dev = 0;
         Reject r = checkCollapse(s, vi, edge, dev);
+++gCheck;
         if (r != Reject::None) {
             if (last == Reject::Isolated || r == Reject::Rule1) last = r;
             continue;
@@ -730,7 +736,7 @@ static void compactHeap(State& s, size_t liveVertices) {
     std::make_heap(s.heap.begin(), s.heap.end(), KeyGreater());
 }
 
-static double measureReprojection(State& s, uint32_t vi, const Candidate& c);
+static double measureReprojection(State& s, uint32_t vi, const Candidate& c, bool full);
 
 // Evaluates v completely (including the re-projection of its removed points) and stores the
 // candidate; returns false when v has no valid collapse.
@@ -739,9 +745,38 @@ static bool evaluateAndStore(State& s, uint32_t v) {
     s.lastReject[v] = c.reason;
     ++s.version[v];
     if (c.reason != Reject::None) return false;
-    c.dev = std::max(c.dev, measureReprojection(s, v, c));
+    c.devGeom = c.dev;
+    c.dev = std::max(c.dev, measureReprojection(s, v, c, false));
+    c.exact = false;
     s.cand[v] = c;
     s.pushEpoch[v] = s.epoch;
+    return true;
+}
+
+// Re-plans only the region part of v's stored candidate (the geometry and its target cannot have
+// changed: v's fan did not change since the push, and rule 1 only gets stricter, so earlier
+// outgoing edges stay rejected). Returns false when the full evaluation is needed.
+static bool refreshRegions(State& s, uint32_t v) {
+++gRef;
+    Candidate c = s.cand[v];
+    collectRing(s, v, s.ringI);
+    const RingEntry* edge = nullptr;
+    for (const RingEntry& e : s.ringI)
+        if (e.w == c.target) edge = &e;
+    if (!edge) return false;
+    double dev = c.dev;
+    c.dev = c.devGeom;
+    bool wasRule3 = c.rule3;
+    if (planRegions(s, v, *edge, c) != Reject::None) return false;
+    if (c.rule3 || wasRule3) {
+        c.dev = std::max(c.devGeom, measureReprojection(s, v, c, false));
+        c.exact = false;
+    } else {
+        c.dev = dev;
+    }
+    s.cand[v] = c;
+    s.pushEpoch[v] = s.epoch;
+    ++s.version[v];
     return true;
 }
 
@@ -883,7 +918,7 @@ static void assignPoint(State& s, uint32_t v, const std::vector<uint32_t>& faces
 
 // The largest distance the points assigned to the fan of vi (and V_i) would have after the
 // collapse, without changing anything (the exact part of the cost, computed once per pop).
-static double measureReprojection(State& s, uint32_t vi, const Candidate& c) {
+static double measureReprojection(State& s, uint32_t vi, const Candidate& c, bool full) {
     const auto& P = s.mesh.positions;
     uint32_t vj = c.target;
     double worst2 = 0;
@@ -903,11 +938,16 @@ static double measureReprojection(State& s, uint32_t vi, const Candidate& c) {
     worst2 = dist2To(vi, false);
     // Only the farthest few points of each face (the others are bounded by faceErr in the cost;
     // the recorded deviation is exact, see applyCollapse).
-    for (uint32_t f : s.vfaces[vi])
-        for (uint32_t p : s.faceTop[f]) {
-            if (p == kNone) break;
-            worst2 = std::max(worst2, dist2To(p, c.rule3));
-        }
+    if (full) {
+        for (uint32_t f : s.vfaces[vi])
+            for (uint32_t p = s.pointHead[f]; p != kNone; p = s.pointNext[p]) worst2 = std::max(worst2, dist2To(p, c.rule3));
+    } else {
+        for (uint32_t f : s.vfaces[vi])
+            for (uint32_t p : s.faceTop[f]) {
+                if (p == kNone) break;
+                worst2 = std::max(worst2, dist2To(p, c.rule3));
+            }
+    }
     return std::sqrt(worst2);
 }
 
@@ -1093,12 +1133,26 @@ SimplifyResult simplify(const TriMesh& mesh, const SimplifyOptions& options) {
                 break;
             }
             Key top = popKey(s);
+++gPop;
             uint32_t vi = top.vertex;
             if (top.version != s.version[vi]) continue;
             // Re-evaluate only when region merges since the push may have changed rule 1, rule 3
             // or the E_region key.
             if (candidateDirty(s, vi)) {
-                if (!evaluateAndStore(s, vi)) continue;
+                if (!refreshRegions(s, vi) && !evaluateAndStore(s, vi)) continue;
+                Key fresh = keyOf(s, vi);
+                if (KeyGreater()(fresh, top)) {
+                    pushKey(s, fresh);
+                    continue;
+                }
+                top = fresh;
+            }
+            if (!s.cand[vi].exact) {
+                // The key used the farthest few points per face: measure every point now.
+                Candidate& e = s.cand[vi];
+                e.dev = std::max(e.dev, measureReprojection(s, vi, e, true));++gFull;
+                e.exact = true;
+                ++s.version[vi];
                 Key fresh = keyOf(s, vi);
                 if (KeyGreater()(fresh, top)) {
                     pushKey(s, fresh);
@@ -1127,6 +1181,7 @@ SimplifyResult simplify(const TriMesh& mesh, const SimplifyOptions& options) {
         }
         auto now = Clock::now();
         snapshotLevel(s, level, stop, std::chrono::duration<double>(now - levelStart).count());
+fprintf(stderr,"eval %zu check %zu pop %zu full %zu refresh %zu coll %zu\n", gEval,gCheck,gPop,gFull,gRef,collapses);
         levelStart = Clock::now();
     }
     if (options.progress && !options.progress(1.0)) throw Impossible("simplify: cancelled");

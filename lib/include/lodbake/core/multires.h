@@ -69,10 +69,23 @@ struct RegionUpdate {
     uint32_t newRep = 0;
 };
 
+// The texture-space layout `parameterize` made: which chart each original face is in and the
+// texture coordinate of each original face corner in the baked texture. Empty (chartCount 0)
+// until the asset is parameterized. UVs follow glTF: origin top-left, v down, [0,1].
+struct ChartLayout {
+    uint32_t chartCount = 0;
+    std::vector<uint32_t> faceChart;           // per original face
+    std::vector<std::array<Vec2, 3>> cornerUV;  // per original face, per corner
+    int material = -1;  // Asset::materials index of the baked material the levels use
+    int image = -1;     // Asset::images index of the baked base-colour texture (T0)
+    bool empty() const { return chartCount == 0; }
+};
+
 struct Multires {
     std::vector<Level> levels;  // finest first (excluding the original, which is the TriMesh itself)
     std::vector<CollapseRecord> collapses;
     std::vector<RegionUpdate> regionUpdates;
+    ChartLayout charts;
     std::string generator = "simplify";  // "simplify" or "agsphere-build"
 };
 
