@@ -48,7 +48,7 @@ TriMesh latLong(int rings, int seg, bool closed) {
     return m;
 }
 
-ChartMesh asChart(const TriMesh& m) { return {m.positions, m.triangles}; }
+ChartMesh asChart(const TriMesh& m) { return {m.positions, m.triangles, {}}; }
 
 }  // namespace
 

@@ -105,13 +105,16 @@ Loaded load(const std::string& path, int lod) {
     probeImageSizes(l.asset);
     l.levels = multires ? multires->levels.size() : 0;
     l.bytes = fileBytes(path);
-    if (lod == 0) {
+    if (lod > 0 && !multires) {
+        // An MSFT_lod chain (pack's output): read level `lod` of each chain in place of LOD0.
+        ro.lod = lod;
+        l.asset = readGltf(path, ro, nullptr);
+        probeImageSizes(l.asset);
+    }
+    if (lod == 0 || !multires) {
         l.mesh = std::move(l.asset.mesh);
         l.drawCalls = l.asset.stats.primitives;
     } else {
-        if (!multires)
-            throw Impossible(path + ": --lod " + std::to_string(lod) +
-                             " asked but the file has no LODBAKE_multires levels (MSFT_lod selection is not supported yet)");
         if (static_cast<size_t>(lod) > multires->levels.size())
             throw Impossible(path + ": --lod " + std::to_string(lod) + " asked but the file has " +
                              std::to_string(multires->levels.size()) + " levels");
@@ -277,11 +280,11 @@ int main(int argc, char** argv) {
             if (d < 0) throw UsageError(flag + " must be >= 0");
             return d;
         };
-        p.option("--lod", "K", "compare level K of B (LODBAKE_multires; 0 = the original)", [&](const std::string& v) {
+        p.option("--lod", "K", "compare level K of B (LODBAKE_multires level, or MSFT_lod level; 0 = the original / LOD0)", [&](const std::string& v) {
             s.lodB = cli::parseInt("--lod", v);
             if (s.lodB < 0) throw UsageError("--lod must be >= 0");
         });
-        p.option("--lod-a", "K", "compare level K of A (default 0)", [&](const std::string& v) {
+        p.option("--lod-a", "K", "compare level K of A (LODBAKE_multires or MSFT_lod; default 0)", [&](const std::string& v) {
             s.lodA = cli::parseInt("--lod-a", v);
             if (s.lodA < 0) throw UsageError("--lod-a must be >= 0");
         });

@@ -21,6 +21,7 @@ struct Settings {
     double beta = 0.7;
     int maxCharts = 0;
     int iterations = 50;
+    bool allowLevelFolds = false;
 };
 
 Settings parseArgs(int argc, char** argv, bool& proceed) {
@@ -36,6 +37,9 @@ Settings parseArgs(int argc, char** argv, bool& proceed) {
              [&](const std::string& v) { s.maxCharts = cli::parseInt("--max-charts", v); });
     p.option("--iterations", "N", "Ceres iterations per chart (0 = keep the Tutte maps; default 50)",
              [&](const std::string& v) { s.iterations = cli::parseInt("--iterations", v); });
+    p.flag("--allow-level-folds",
+           "write the output even when a level keeps flipped/overlapping UV triangles (reported); default: exit 4",
+           [&] { s.allowLevelFolds = true; });
     proceed = p.parse(argc, argv);
     return s;
 }
@@ -88,12 +92,27 @@ int run(const Settings& s) {
 
     AtlasApplyStats applied = applyAtlas(asset, *multires, param, baked.image);
 
-    auto t2 = std::chrono::steady_clock::now();
-    WriteOptions wopt;
-    wopt.generator = "lodbake parameterize 0.1.0";
-    writeGltf(s.common.output, asset, &*multires, wopt);
-    double writeSeconds = secondsSince(t2);
-
+    // Injectivity of every level with its final UVs (level 0 = the original triangles in the atlas).
+    std::vector<UVInjectivity> levelChecks;
+    {
+        std::vector<std::array<Vec2, 3>> atlas0;
+        for (size_t f = 0; f < asset.mesh.triangleCount(); ++f) {
+            const Tri& v = asset.mesh.triangles[f];
+            if (v[0] != v[1] && v[1] != v[2] && v[0] != v[2]) atlas0.push_back(param.cornerUV[f]);
+        }
+        levelChecks.push_back(checkUVInjectivity(atlas0));
+        for (const Level& L : multires->levels) levelChecks.push_back(checkLevelUVs(asset.mesh, L.triangles, L.cornerWedges));
+    }
+    // Texture deviation of the coarsest level (what beta < 1 is meant to lower).
+    auto t3 = std::chrono::steady_clock::now();
+    TextureDeviation deviation;
+    if (!multires->levels.empty()) deviation = textureDeviation(asset.mesh, multires->levels.back(), multires->charts);
+    double deviationSeconds = secondsSince(t3);
+    size_t levelFlips = 0, levelOverlaps = 0;
+    for (const UVInjectivity& c : levelChecks) {
+        levelFlips += c.flips;
+        levelOverlaps += c.overlaps;
+    }
     nlohmann::json charts = nlohmann::json::array();
     for (size_t c = 0; c < param.chartReports.size(); ++c) {
         const ChartReport& r = param.chartReports[c];
@@ -110,6 +129,7 @@ int run(const Settings& s) {
                           {"areaRatioStdDev", r.areaRatioStdDev},
                           {"flips", r.flips},
                           {"overlaps", r.overlaps},
+                          {"levelFlips", r.levelFlips},
                           {"seconds", r.seconds}});
     }
     nlohmann::json rep;
@@ -121,6 +141,19 @@ int run(const Settings& s) {
     rep["options"] = {{"size", s.size}, {"alpha", s.alpha}, {"beta", s.beta}, {"maxCharts", s.maxCharts},
                       {"iterations", s.iterations}};
     rep["charts"] = charts;
+    nlohmann::json levels = nlohmann::json::array();
+    for (size_t k = 0; k < levelChecks.size(); ++k)
+        levels.push_back({{"level", k}, {"triangles", levelChecks[k].triangles}, {"flips", levelChecks[k].flips},
+                          {"overlaps", levelChecks[k].overlaps}});
+    rep["levels"] = levels;
+    rep["textureDeviation"] = {{"level", multires->levels.size()},
+                               {"samples", deviation.samples},
+                               {"outside", deviation.outside},
+                               {"mean", deviation.mean},
+                               {"rms", deviation.rms},
+                               {"max", deviation.max},
+                               {"meanRelative", deviation.meanRelative},
+                               {"maxRelative", deviation.maxRelative}};
     rep["total"] = {{"charts", param.charts.chartCount},
                     {"baseRegions", param.charts.baseRegions},
                     {"splitRegions", param.charts.splitRegions},
@@ -133,6 +166,9 @@ int run(const Settings& s) {
                     {"areaRatioHistogram", param.areaRatioHistogram},
                     {"flips", param.flips},
                     {"overlaps", param.overlaps},
+                    {"levelFlips", levelFlips},
+                    {"levelFlipsInSolve", param.levelFlips},
+                    {"levelOverlaps", levelOverlaps},
                     {"texelsPerUnit", param.texelsPerUnit},
                     {"atlasFill", param.atlasFill},
                     {"newWedges", applied.newWedges},
@@ -140,8 +176,27 @@ int run(const Settings& s) {
                     {"coveredTexels", baked.coveredTexels},
                     {"texturedLookups", baked.texturedLookups}};
     rep["warnings"] = asset.warnings;
-    rep["time"] = {{"load", loadSeconds}, {"parameterize", param.seconds}, {"bake", bakeSeconds}, {"write", writeSeconds}};
+    rep["time"] = {{"load", loadSeconds}, {"parameterize", param.seconds}, {"bake", bakeSeconds},
+                   {"checks", deviationSeconds}};
     if (!s.common.report.empty()) cli::writeReport(s.common.report, rep);
+    // A folded level is never shipped (the report above says where).
+    if ((levelFlips > 0 || levelOverlaps > 0) && !s.allowLevelFolds) {
+        std::string per;
+        for (size_t k = 0; k < levelChecks.size(); ++k)
+            per += (k ? ", " : "") + std::to_string(k) + ": " + std::to_string(levelChecks[k].flips) + "/" +
+                   std::to_string(levelChecks[k].overlaps);
+        throw SolverError(s.common.input + ": the levels have " + std::to_string(levelFlips) + " flipped and " +
+                          std::to_string(levelOverlaps) + " overlapping UV triangles (level: flipped/overlapping " +
+                          per + ")");
+    }
+
+    auto t2 = std::chrono::steady_clock::now();
+    WriteOptions wopt;
+    wopt.generator = "lodbake parameterize 0.1.0";
+    writeGltf(s.common.output, asset, &*multires, wopt);
+    if (s.common.verbose) std::printf("write: %.2fs\n", secondsSince(t2));
+
+
     if (s.common.verbose) {
         std::printf("charts: %u (from %u base regions, %u split), flips %zu, overlaps %zu\n", param.charts.chartCount,
                     param.charts.baseRegions, param.charts.splitRegions, param.flips, param.overlaps);
@@ -149,6 +204,11 @@ int run(const Settings& s) {
                     param.finalTotal.E, param.finalTotal.pixel, param.finalTotal.poly);
         std::printf("stretch L2 %.4f, Linf %.4f, area-ratio std-dev %.4f, atlas fill %.1f%%\n", param.stretchL2,
                     param.stretchLinf, param.areaRatioStdDev, 100 * param.atlasFill);
+        for (size_t k = 0; k < levelChecks.size(); ++k)
+            std::printf("level %zu: %zu triangles, %zu flipped, %zu overlapping in UV\n", k, levelChecks[k].triangles,
+                        levelChecks[k].flips, levelChecks[k].overlaps);
+        std::printf("texture deviation of level %zu: mean %.3g, max %.3g (x bbox diagonal)\n", multires->levels.size(),
+                    deviation.meanRelative, deviation.maxRelative);
         std::printf("projected level corners: %zu; time: parameterize %.2fs, bake %.2fs\n", applied.projectedCorners,
                     param.seconds, bakeSeconds);
     }

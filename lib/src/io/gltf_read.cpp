@@ -582,12 +582,46 @@ TriMesh rebuildOriginal(const Ctx& c, const json& ext, const json& orig, int mes
         }
     }
     for (size_t f = 0; f < F; ++f) if (!faceSeen[f]) fail(c, what + ": face " + std::to_string(f) + " is in no primitive");
+    // Wedges used only by levels (parameterize's atlas UVs): attributes from the level primitives.
+    std::vector<char> wedgeSeen(W, 0);
+    for (const Tri& cw : mesh.cornerWedges) for (uint32_t w : cw) wedgeSeen[w] = 1;
+    const json& levelsJ = ext.contains("levels") && ext["levels"].is_array() ? ext["levels"] : json::array();
+    for (size_t li = 0; li < levelsJ.size(); ++li) {
+        const json& L = levelsJ[li];
+        int lm = jint(L, "mesh");
+        if (!L.contains("primitives") || lm < 0 || size_t(lm) >= c.model->meshes.size()) continue;
+        const json& lp = L["primitives"];
+        if (!lp.is_array() || lp.size() != c.model->meshes[size_t(lm)].primitives.size())
+            fail(c, what + ": level " + std::to_string(li + 1) + " primitive maps do not match its mesh");
+        for (size_t pi = 0; pi < lp.size(); ++pi) {
+            std::vector<uint32_t> wedges = readU32(c, jint(lp[pi], "wedges"), 1, what + " level primitive wedges");
+            bool needed = false;
+            for (uint32_t w : wedges) {
+                if (w >= W) fail(c, what + ": level wedge id out of range");
+                needed |= !wedgeSeen[w];
+            }
+            if (!needed) continue;
+            PrimData p;
+            if (!decodePrimitive(c, lm, int(pi), asset, p) || wedges.size() != p.pos.size())
+                fail(c, what + ": level " + std::to_string(li + 1) + " primitive maps do not match its vertices");
+            hasN |= !p.normal.empty(); hasT |= !p.tangent.empty(); hasU0 |= !p.uv0.empty(); hasU1 |= !p.uv1.empty(); hasC |= !p.color.empty();
+            for (size_t i = 0; i < wedges.size(); ++i) {
+                uint32_t w = wedges[i];
+                if (wedgeSeen[w] == 1) continue;
+                wedgeSeen[w] = 2;
+                if (!p.normal.empty()) Wd.normal[w] = p.normal[i];  // level nodes only translate
+                if (!p.tangent.empty()) Wd.tangent[w] = p.tangent[i];
+                if (!p.uv0.empty()) Wd.uv0[w] = p.uv0[i];
+                if (!p.uv1.empty()) Wd.uv1[w] = p.uv1[i];
+                if (!p.color.empty()) Wd.color[w] = p.color[i];
+            }
+        }
+    }
     if (!hasN) Wd.normal.clear();
     if (!hasT) Wd.tangent.clear();
     if (!hasU0) Wd.uv0.clear();
     if (!hasU1) Wd.uv1.clear();
     if (!hasC) Wd.color.clear();
-    (void)ext;
     return mesh;
 }
 
@@ -789,6 +823,35 @@ std::vector<unsigned char> readFileBytes(const std::string& path) {
     return bytes;
 }
 
+// ReadOptions::lod: replaces each scene root carrying MSFT_lod by its level `lod`.
+std::vector<int> selectMsftLod(const Ctx& c, const std::vector<int>& roots, int lod, const std::string& path) {
+    std::vector<int> out;
+    bool any = false;
+    const json* nodes = c.root.contains("nodes") && c.root["nodes"].is_array() ? &c.root["nodes"] : nullptr;
+    for (int r : roots) {
+        const json* chain = nullptr;
+        if (nodes && r >= 0 && size_t(r) < nodes->size()) {
+            const json& n = (*nodes)[size_t(r)];
+            if (n.contains("extensions") && n["extensions"].is_object() && n["extensions"].contains("MSFT_lod") &&
+                n["extensions"]["MSFT_lod"].is_object() && n["extensions"]["MSFT_lod"].contains("ids") &&
+                n["extensions"]["MSFT_lod"]["ids"].is_array())
+                chain = &n["extensions"]["MSFT_lod"]["ids"];
+        }
+        if (!chain) { out.push_back(r); continue; }
+        any = true;
+        if (lod == 0) { out.push_back(r); continue; }
+        if (size_t(lod) > chain->size())
+            throw Impossible(path + ": --lod " + std::to_string(lod) + " asked but node " + std::to_string(r) + "'s MSFT_lod chain has " +
+                             std::to_string(chain->size() + 1) + " levels");
+        const json& id = (*chain)[size_t(lod) - 1];
+        if (!id.is_number_integer() || id.get<long long>() < 0 || size_t(id.get<long long>()) >= nodes->size())
+            fail(c, "node " + std::to_string(r) + ": MSFT_lod id out of range");
+        out.push_back(id.get<int>());
+    }
+    if (!any && lod > 0) throw Impossible(path + ": --lod " + std::to_string(lod) + " asked but the file has no MSFT_lod chain");
+    return out;
+}
+
 const std::vector<std::string> kSupportedRequired = {"KHR_draco_mesh_compression", "KHR_mesh_quantization",
                                                      "KHR_texture_transform", "KHR_materials_unlit"};
 
@@ -919,6 +982,8 @@ Asset readGltf(const std::string& path, const ReadOptions& options, std::optiona
         if (ext && ext->value("version", 0) > kMultiresVersion)
             throw Unsupported(path + ": " + kMultiresExtension + " version " + std::to_string(ext->value("version", 0)) +
                               " is newer than this reader (" + std::to_string(kMultiresVersion) + ")");
+
+        if (options.lod >= 0 && !ext) roots = selectMsftLod(c, roots, options.lod, path);
 
         std::vector<std::pair<int, Mat4>> nodes;
         std::vector<char> onStack(model.nodes.size(), 0);

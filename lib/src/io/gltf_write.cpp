@@ -234,7 +234,8 @@ void setIfValid(json& o, const char* key, int accessor) {
 }
 
 json multiresJson(Writer& w, const Asset& asset, const Multires& mr, const std::vector<PrimMap>& originalPrims,
-                  int originalMesh, const std::vector<int>& levelMeshes, const WriteOptions& options) {
+                  int originalMesh, const std::vector<int>& levelMeshes,
+                  const std::vector<std::vector<PrimMap>>& levelPrims, const WriteOptions& options) {
     const TriMesh& mesh = asset.mesh;
     json ext = {{"version", kMultiresVersion}, {"generator", mr.generator}, {"writer", options.generator}};
     json orig = {{"node", 0}, {"vertexCount", mesh.vertexCount()}, {"faceCount", mesh.triangleCount()},
@@ -259,6 +260,15 @@ json multiresJson(Writer& w, const Asset& asset, const Multires& mr, const std::
                   {"maxDeviation", L.maxDeviation}, {"meanDeviation", L.meanDeviation}, {"regionCount", L.regionCount},
                   {"triangleCount", L.faces.size()}, {"pairCount", L.pairs.size()}};
         if (levelMeshes[i] >= 0) l["mesh"] = levelMeshes[i];
+        // Wedge of each level vertex: levels may use wedges no original face uses (parameterize's
+        // chart-split atlas UVs); their attributes are read back from the level's primitives.
+        json lprims = json::array();
+        for (const PrimMap& pm : levelPrims[i]) {
+            json p = json::object();
+            setIfValid(p, "wedges", w.addU32(pm.wedge, 1));
+            lprims.push_back(p);
+        }
+        if (!lprims.empty()) l["primitives"] = lprims;
         setIfValid(l, "faces", w.addU32(L.faces, 1));
         setIfValid(l, "triangles", w.addU32(flatten(L.triangles), 3));
         setIfValid(l, "cornerWedges", w.addU32(flatten(L.cornerWedges), 3));
@@ -370,6 +380,7 @@ void writeGltf(const std::string& path, const Asset& asset, const Multires* mult
     nodes.push_back(node0);
     sceneNodes.push_back(0);
     std::vector<int> levelMeshes;
+    std::vector<std::vector<PrimMap>> levelPrims;
     if (multires) {
         Box3 b = bounds(mesh);
         double width = b.empty() ? 1.0 : b.max.x - b.min.x;
@@ -391,7 +402,8 @@ void writeGltf(const std::string& path, const Asset& asset, const Multires* mult
                     int x = L.triangleMaterial[t];
                     levelMaterials[t] = (x >= 0 && size_t(x) < nMat) ? x : -1;
                 }
-            int mi = writeMesh(w, meshes, mesh, L.triangles, L.cornerWedges, levelMaterials, name, nullptr);
+            levelPrims.emplace_back();
+            int mi = writeMesh(w, meshes, mesh, L.triangles, L.cornerWedges, levelMaterials, name, &levelPrims.back());
             levelMeshes.push_back(mi);
             json n = {{"name", name}, {"translation", {double(i + 1) * 1.25 * width, 0.0, 0.0}}};
             if (mi >= 0) n["mesh"] = mi;
@@ -458,7 +470,7 @@ void writeGltf(const std::string& path, const Asset& asset, const Multires* mult
 
     // 3. LODBAKE_multires.
     if (multires) {
-        root["extensions"][kMultiresExtension] = multiresJson(w, asset, *multires, originalPrims, originalMesh, levelMeshes, options);
+        root["extensions"][kMultiresExtension] = multiresJson(w, asset, *multires, originalPrims, originalMesh, levelMeshes, levelPrims, options);
         used.push_back(kMultiresExtension);
     }
     if (!used.empty()) {

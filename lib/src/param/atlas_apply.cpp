@@ -11,41 +11,12 @@
 
 #include "lodbake/core/errors.h"
 #include "lodbake/param/parameterize.h"
+#include "param/closest_point.h"
 
 namespace lodbake {
 namespace {
 
-// Closest point on triangle abc to p (Ericson, Real-Time Collision Detection 5.1.5), barycentrics.
-std::array<double, 3> closestOnTriangle(Vec3 p, Vec3 a, Vec3 b, Vec3 c) {
-    Vec3 ab = b - a, ac = c - a, ap = p - a;
-    double d1 = dot(ab, ap), d2 = dot(ac, ap);
-    if (d1 <= 0 && d2 <= 0) return {1, 0, 0};
-    Vec3 bp = p - b;
-    double d3 = dot(ab, bp), d4 = dot(ac, bp);
-    if (d3 >= 0 && d4 <= d3) return {0, 1, 0};
-    double vc = d1 * d4 - d3 * d2;
-    if (vc <= 0 && d1 >= 0 && d3 <= 0) {
-        double v = d1 / (d1 - d3);
-        return {1 - v, v, 0};
-    }
-    Vec3 cp = p - c;
-    double d5 = dot(ab, cp), d6 = dot(ac, cp);
-    if (d6 >= 0 && d5 <= d6) return {0, 0, 1};
-    double vb = d5 * d2 - d1 * d6;
-    if (vb <= 0 && d2 >= 0 && d6 <= 0) {
-        double w = d2 / (d2 - d6);
-        return {1 - w, 0, w};
-    }
-    double va = d3 * d6 - d5 * d4;
-    if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
-        double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-        return {0, 1 - w, w};
-    }
-    double den = va + vb + vc;
-    if (!(den > 0)) return {1, 0, 0};
-    double v = vb / den, w = vc / den;
-    return {1 - v - w, v, w};
-}
+using param_detail::closestOnTriangle;
 
 uint64_t key2(uint32_t a, uint32_t b) { return (uint64_t(a) << 32) | b; }
 
@@ -64,6 +35,8 @@ AtlasApplyStats applyAtlas(Asset& asset, Multires& multires, const ParameterizeR
     for (uint32_t f = 0; f < nf; ++f) {
         int32_t c = param.charts.faceChart[f];
         if (c < 0) continue;
+        const Tri& tv = mesh.triangles[f];
+        if (tv[0] == tv[1] || tv[1] == tv[2] || tv[0] == tv[2]) continue;  // as the chart meshes of parameterize
         chartFaces[size_t(c)].push_back(f);
         for (int k = 0; k < 3; ++k) chartVertexUV.emplace(key2(uint32_t(c), mesh.triangles[f][size_t(k)]), param.cornerUV[f][size_t(k)]);
     }
@@ -129,13 +102,16 @@ AtlasApplyStats applyAtlas(Asset& asset, Multires& multires, const ParameterizeR
     asset.materials.push_back(baked);
     stats.material = int(asset.materials.size()) - 1;
 
+    std::vector<uint32_t> faceChart(nf);
+    for (size_t f = 0; f < nf; ++f) faceChart[f] = uint32_t(std::max(param.charts.faceChart[f], 0));
     for (Level& L : multires.levels) {
         if (L.faces.size() != L.triangles.size()) throw InvalidInput("level faces and triangles differ in size");
+        const std::vector<uint32_t> triChart = levelTriangleCharts(mesh, faceChart, param.charts.chartCount, L);
         std::vector<Tri> corners(L.triangles.size());
         for (size_t t = 0; t < L.triangles.size(); ++t) {
             uint32_t f = L.faces[t];
             if (f >= nf) throw InvalidInput("level face id out of range");
-            int32_t c = std::max(param.charts.faceChart[f], 0);
+            int32_t c = int32_t(triChart[t]);
             for (int k = 0; k < 3; ++k) {
                 uint32_t v = L.triangles[t][size_t(k)];
                 uint32_t source = t < L.cornerWedges.size() ? L.cornerWedges[t][size_t(k)] : anyWedge[v];
@@ -155,6 +131,14 @@ AtlasApplyStats applyAtlas(Asset& asset, Multires& multires, const ParameterizeR
         L.triangleMaterial.assign(L.triangles.size(), stats.material);
     }
     stats.newWedges = W.size() - originalWedges;
+
+    // The layout itself travels in the file (LODBAKE_multires.charts) for `pack` and later tools.
+    ChartLayout& layout = multires.charts;
+    layout.chartCount = param.charts.chartCount;
+    layout.faceChart = faceChart;
+    layout.cornerUV = param.cornerUV;
+    layout.material = stats.material;
+    layout.image = int(asset.images.size()) - 1;
     return stats;
 }
 

@@ -89,6 +89,53 @@ private:
     std::vector<double> coef_;
 };
 
+// A level triangle whose corners are linear combinations of chart vertices. Guard mode: residual 0,
+// infeasible when det <= 0. Penalty mode: r = s max(0, delta a2 - det) / a2 (pulls a flipped
+// triangle back to positive orientation).
+class LevelCost final : public ceres::CostFunction {
+public:
+    // w[b] = weights of block b in corners A, B, C.
+    LevelCost(bool guard, double s, double a2, std::vector<std::array<double, 3>> w)
+        : guard_(guard), s_(s), a2_(a2), w_(std::move(w)) {
+        set_num_residuals(1);
+        for (size_t i = 0; i < w_.size(); ++i) mutable_parameter_block_sizes()->push_back(2);
+    }
+    bool Evaluate(double const* const* p, double* r, double** J) const override {
+        double A[2] = {0, 0}, B[2] = {0, 0}, C[2] = {0, 0};
+        for (size_t b = 0; b < w_.size(); ++b)
+            for (int d = 0; d < 2; ++d) {
+                A[d] += w_[b][0] * p[b][d];
+                B[d] += w_[b][1] * p[b][d];
+                C[d] += w_[b][2] * p[b][d];
+            }
+        double e1x = B[0] - A[0], e1y = B[1] - A[1], e2x = C[0] - A[0], e2y = C[1] - A[1];
+        double det = e1x * e2y - e1y * e2x;
+        if (guard_ && !(det > 0)) return false;
+        double h = kDelta * a2_ - det;
+        bool active = !guard_ && h > 0;
+        r[0] = active ? s_ * h / a2_ : 0;
+        if (J) {
+            double g = active ? -s_ / a2_ : 0;
+            double dA[2] = {-e2y + e1y, e2x - e1x}, dB[2] = {e2y, -e2x}, dC[2] = {-e1y, e1x};
+            for (size_t b = 0; b < w_.size(); ++b)
+                if (J[b])
+                    for (int d = 0; d < 2; ++d) J[b][d] = g * (w_[b][0] * dA[d] + w_[b][1] * dB[d] + w_[b][2] * dC[d]);
+        }
+        return true;
+    }
+    static constexpr double kDelta = 0.05;
+
+private:
+    bool guard_;
+    double s_, a2_;
+    std::vector<std::array<double, 3>> w_;
+};
+
+double levelDet(const ChartLevelTriangle& t, const std::vector<Vec2>& uv) {
+    Vec2 a = chartPointUV(t.corner[0], uv), b = chartPointUV(t.corner[1], uv), c = chartPointUV(t.corner[2], uv);
+    return cross(b - a, c - a);
+}
+
 }  // namespace
 
 ChartSolveResult optimizeChartUV(const ChartMesh& chart, const std::vector<ChartPair>& pairs,
@@ -117,60 +164,96 @@ ChartSolveResult optimizeChartUV(const ChartMesh& chart, const std::vector<Chart
     }
     auto block = [&](uint32_t v) { return x.data() + 2 * size_t(v); };
 
-    ceres::Problem problem;
-    // Parameter blocks in vertex order (deterministic).
-    for (size_t i = 0; i < initial.size(); ++i) problem.AddParameterBlock(block(uint32_t(i)), 2);
-    if (terms.edgeWeight > 0)
-        for (const auto& e : terms.edges)
-            problem.AddResidualBlock(new EdgeCost(std::sqrt(terms.edgeWeight), e.l2), nullptr, block(e.i), block(e.j));
-    // Area blocks are always present (weight floor) because they guard against folding.
-    double aw = std::sqrt(std::max(terms.areaWeight, 1e-9));
-    for (const auto& t : terms.tris)
-        problem.AddResidualBlock(new AreaCost(aw, t.a2), nullptr, block(t.v[0]), block(t.v[1]), block(t.v[2]));
-    if (terms.polyWeight > 0)
-        for (const auto& p : terms.pairs) {
-            std::vector<uint32_t> verts{p.pair.vertex};
-            std::vector<double> coef{1.0};
-            for (int c = 0; c < 3; ++c) {
-                if (p.pair.bary[c] == 0) continue;
-                auto it = std::find(verts.begin(), verts.end(), p.pair.coarse[c]);
-                if (it == verts.end()) {
-                    verts.push_back(p.pair.coarse[c]);
-                    coef.push_back(-p.pair.bary[c]);
-                } else {
-                    coef[size_t(it - verts.begin())] -= p.pair.bary[c];
+    const int maxRounds = chart.levelTriangles.empty() ? 1 : 4;
+    std::vector<Vec2> current = initial;
+    res.levelFlipsBefore = countLevelFlips(chart, initial);
+    res.levelFlipsAfter = res.levelFlipsBefore;
+    for (int round = 0; round < maxRounds; ++round) {
+        ceres::Problem problem;
+        // Parameter blocks in vertex order (deterministic).
+        for (size_t i = 0; i < initial.size(); ++i) problem.AddParameterBlock(block(uint32_t(i)), 2);
+        if (terms.edgeWeight > 0)
+            for (const auto& e : terms.edges)
+                problem.AddResidualBlock(new EdgeCost(std::sqrt(terms.edgeWeight), e.l2), nullptr, block(e.i), block(e.j));
+        // Area blocks are always present (weight floor) because they guard against folding.
+        double aw = std::sqrt(std::max(terms.areaWeight, 1e-9));
+        for (const auto& t : terms.tris)
+            problem.AddResidualBlock(new AreaCost(aw, t.a2), nullptr, block(t.v[0]), block(t.v[1]), block(t.v[2]));
+        if (terms.polyWeight > 0)
+            for (const auto& p : terms.pairs) {
+                std::vector<uint32_t> verts{p.pair.vertex};
+                std::vector<double> coef{1.0};
+                for (int c = 0; c < 3; ++c) {
+                    if (p.pair.bary[c] == 0) continue;
+                    auto it = std::find(verts.begin(), verts.end(), p.pair.coarse[c]);
+                    if (it == verts.end()) {
+                        verts.push_back(p.pair.coarse[c]);
+                        coef.push_back(-p.pair.bary[c]);
+                    } else {
+                        coef[size_t(it - verts.begin())] -= p.pair.bary[c];
+                    }
                 }
+                std::vector<double*> blocks;
+                for (uint32_t v : verts) blocks.push_back(block(v));
+                problem.AddResidualBlock(new PolyCost(std::sqrt(terms.polyWeight) / p.dev, coef), nullptr, blocks);
             }
+        // Level triangles: guard the positive ones, pull the flipped ones back.
+        size_t penalties = 0;
+        for (const ChartLevelTriangle& t : chart.levelTriangles) {
+            std::vector<uint32_t> verts;
+            std::vector<std::array<double, 3>> w;
+            for (int c = 0; c < 3; ++c)
+                for (int k = 0; k < 3; ++k) {
+                    double wk = t.corner[size_t(c)].weight[size_t(k)];
+                    if (wk == 0) continue;
+                    uint32_t v = t.corner[size_t(c)].vertex[size_t(k)];
+                    auto it = std::find(verts.begin(), verts.end(), v);
+                    size_t b = size_t(it - verts.begin());
+                    if (it == verts.end()) {
+                        verts.push_back(v);
+                        w.push_back({0, 0, 0});
+                    }
+                    w[b][size_t(c)] += wk;
+                }
+            if (verts.size() < 3) continue;
+            bool guard = levelDet(t, current) > 0;
+            if (!guard) ++penalties;
             std::vector<double*> blocks;
             for (uint32_t v : verts) blocks.push_back(block(v));
-            problem.AddResidualBlock(new PolyCost(std::sqrt(terms.polyWeight) / p.dev, coef), nullptr, blocks);
+            problem.AddResidualBlock(new LevelCost(guard, std::sqrt(10.0), t.area2 * k * k, w), nullptr, blocks);
         }
 
-    ceres::Solver::Options so;
-    so.minimizer_type = ceres::TRUST_REGION;
-    so.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
-    const bool small = x.size() <= 200;
-    if (small) so.linear_solver_type = ceres::DENSE_QR;
-    else if (ceres::IsSparseLinearAlgebraLibraryTypeAvailable(ceres::SUITE_SPARSE))
-        so.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
-    else so.linear_solver_type = ceres::CGNR;
-    so.max_num_iterations = options.maxIterations;
-    so.num_threads = 1;
-    so.logging_type = ceres::SILENT;
-    so.minimizer_progress_to_stdout = false;
-    so.function_tolerance = 1e-7;
-    ceres::Solver::Summary summary;
-    ceres::Solve(so, &problem, &summary);
-    res.iterations = int(summary.iterations.size());
+        ceres::Solver::Options so;
+        so.minimizer_type = ceres::TRUST_REGION;
+        so.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+        const bool small = x.size() <= 200;
+        if (small) so.linear_solver_type = ceres::DENSE_QR;
+        else if (ceres::IsSparseLinearAlgebraLibraryTypeAvailable(ceres::SUITE_SPARSE))
+            so.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+        else so.linear_solver_type = ceres::CGNR;
+        so.max_num_iterations = options.maxIterations;
+        so.num_threads = 1;
+        so.logging_type = ceres::SILENT;
+        so.minimizer_progress_to_stdout = false;
+        so.function_tolerance = 1e-7;
+        ceres::Solver::Summary summary;
+        ceres::Solve(so, &problem, &summary);
+        res.iterations += int(summary.iterations.size());
 
-    if (summary.termination_type == ceres::FAILURE || !std::isfinite(summary.final_cost)) return res;
-    std::vector<Vec2> uv(initial.size());
-    for (size_t i = 0; i < uv.size(); ++i) uv[i] = {x[2 * i] / k, x[2 * i + 1] / k};
-    ChartEnergy after = chartEnergy(chart, pairs, uv, options.energy);
-    if (std::isfinite(after.E) && after.E < res.before.E && countFlips(chart, uv) == 0) {
-        res.uv = std::move(uv);
-        res.after = after;
-        res.improved = true;
+        if (summary.termination_type == ceres::FAILURE || !std::isfinite(summary.final_cost)) break;
+        std::vector<Vec2> uv(initial.size());
+        for (size_t i = 0; i < uv.size(); ++i) uv[i] = {x[2 * i] / k, x[2 * i + 1] / k};
+        ChartEnergy after = chartEnergy(chart, pairs, uv, options.energy);
+        size_t levelFlips = countLevelFlips(chart, uv);
+        bool better = levelFlips < res.levelFlipsAfter || (levelFlips == res.levelFlipsAfter && after.E < res.after.E);
+        if (std::isfinite(after.E) && better && countFlips(chart, uv) == 0) {
+            res.uv = uv;
+            res.after = after;
+            res.levelFlipsAfter = levelFlips;
+            res.improved = true;
+        }
+        current = uv;
+        if (penalties == 0 || levelFlips == 0) break;
     }
     return res;
 }

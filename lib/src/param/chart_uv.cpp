@@ -95,6 +95,19 @@ size_t countFlips(const ChartMesh& chart, const std::vector<Vec2>& uv) {
     return n;
 }
 
+Vec2 chartPointUV(const ChartPoint& p, const std::vector<Vec2>& uv) {
+    return uv[p.vertex[0]] * p.weight[0] + uv[p.vertex[1]] * p.weight[1] + uv[p.vertex[2]] * p.weight[2];
+}
+
+size_t countLevelFlips(const ChartMesh& chart, const std::vector<Vec2>& uv) {
+    size_t n = 0;
+    for (const ChartLevelTriangle& t : chart.levelTriangles) {
+        Vec2 a = chartPointUV(t.corner[0], uv), b = chartPointUV(t.corner[1], uv), c = chartPointUV(t.corner[2], uv);
+        if (!(cross(b - a, c - a) > 0)) ++n;
+    }
+    return n;
+}
+
 size_t countOverlaps(const ChartMesh& chart, const std::vector<Vec2>& uv) {
     // Boundary half-edges: those whose twin is absent.
     std::unordered_map<uint64_t, uint32_t> half;

@@ -14,9 +14,11 @@
 #include <chrono>
 #include <cmath>
 #include <map>
+#include <set>
 #include <unordered_map>
 
 #include "lodbake/core/errors.h"
+#include "param/closest_point.h"
 
 namespace lodbake {
 namespace {
@@ -82,6 +84,54 @@ void gatherPairs(const TriMesh& mesh, const Multires& mr, std::vector<LocalChart
         }
 }
 
+// Level triangles of every level, per chart of their face (deduplicated across levels), with
+// corners that are not chart vertices projected onto the chart's surface (as applyAtlas does).
+void gatherLevelTriangles(const TriMesh& mesh, const ChartResult& cr, const Multires& mr, std::vector<LocalChart>& charts) {
+    std::vector<std::set<std::array<uint32_t, 3>>> seen(charts.size());
+    std::vector<std::map<uint32_t, ChartPoint>> projected(charts.size());
+    auto project = [&](LocalChart& ch, size_t c, uint32_t v) {
+        auto it = projected[c].find(v);
+        if (it != projected[c].end()) return it->second;
+        const Vec3 p = mesh.positions[v];
+        double best = 1e300;
+        ChartPoint cp;
+        for (size_t i = 0; i < ch.faces.size(); ++i) {
+            const Tri& t = mesh.triangles[ch.faces[i]];
+            auto b = param_detail::closestOnTriangle(p, mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]);
+            Vec3 q = mesh.positions[t[0]] * b[0] + mesh.positions[t[1]] * b[1] + mesh.positions[t[2]] * b[2];
+            double d = length2(q - p);
+            if (d < best) {
+                best = d;
+                cp.vertex = ch.mesh.triangles[i];
+                cp.weight = b;
+            }
+        }
+        projected[c].emplace(v, cp);
+        return cp;
+    };
+    std::vector<uint32_t> faceChart(cr.faceChart.size());
+    for (size_t f = 0; f < faceChart.size(); ++f) faceChart[f] = uint32_t(std::max(cr.faceChart[f], 0));
+    for (const Level& L : mr.levels) {
+        const std::vector<uint32_t> triChart = levelTriangleCharts(mesh, faceChart, cr.chartCount, L);
+        for (size_t t = 0; t < L.triangles.size() && t < L.faces.size(); ++t) {
+            const Tri& v = L.triangles[t];
+            if (v[0] == v[1] || v[1] == v[2] || v[0] == v[2] || L.faces[t] >= cr.faceChart.size()) continue;
+            int32_t c = int32_t(triChart[t]);
+            if (c < 0 || size_t(c) >= charts.size() || charts[size_t(c)].faces.empty()) continue;
+            LocalChart& ch = charts[size_t(c)];
+            if (!seen[size_t(c)].insert({v[0], v[1], v[2]}).second) continue;
+            ChartLevelTriangle lt;
+            for (size_t k = 0; k < 3; ++k) {
+                auto it = ch.local.find(v[k]);
+                if (it != ch.local.end()) lt.corner[k].vertex = {it->second, it->second, it->second};
+                else lt.corner[k] = project(ch, size_t(c), v[k]);
+            }
+            lt.area2 = length(cross(mesh.positions[v[1]] - mesh.positions[v[0]], mesh.positions[v[2]] - mesh.positions[v[0]]));
+            ch.mesh.levelTriangles.push_back(lt);
+        }
+    }
+}
+
 struct Stretch {
     double l2 = 0, linf = 0;
     std::vector<double> ratios;  // per triangle UV area / 3D area (raw), 3D-degenerate skipped
@@ -141,25 +191,32 @@ void solveChart(LocalChart& c, const ParameterizeOptions& o, double resolution, 
     auto valid = [&](const std::vector<Vec2>& uv) {
         return countFlips(c.mesh, uv) == 0 && countOverlaps(c.mesh, uv) == 0;
     };
+    // Candidates in order of preference; the first injective one without level flips wins, else
+    // the injective one with the fewest level flips (the tool reports and refuses those).
     c.uv = tutte;
     rep.method = "tutte";
+    size_t bestLevelFlips = countLevelFlips(c.mesh, tutte);
+    auto consider = [&](const ChartSolveResult& r, const char* method) {
+        if (!r.improved || !valid(r.uv)) return;
+        if (rep.method != "tutte" && r.levelFlipsAfter >= bestLevelFlips) return;
+        if (rep.method == "tutte" && r.levelFlipsAfter > bestLevelFlips) return;
+        c.uv = r.uv;
+        rep.method = method;
+        bestLevelFlips = r.levelFlipsAfter;
+    };
     if (o.maxIterations > 0) {
         ChartSolveResult r = optimizeChartUV(c.mesh, c.pairs, tutte, so);
         rep.iterations = r.iterations;
-        if (r.improved && valid(r.uv)) {
-            c.uv = r.uv;
-            rep.method = "ceres";
-        } else if (o.beta < 1) {
+        consider(r, "ceres");
+        if (o.beta < 1 && (rep.method == "tutte" || bestLevelFlips > 0)) {
             ChartSolveOptions s1 = so;
             s1.energy.beta = 1;
             ChartSolveResult r1 = optimizeChartUV(c.mesh, c.pairs, tutte, s1);
             rep.iterations += r1.iterations;
-            if (r1.improved && valid(r1.uv)) {
-                c.uv = r1.uv;
-                rep.method = "ceres-beta1";
-            }
+            consider(r1, "ceres-beta1");
         }
     }
+    rep.levelFlips = bestLevelFlips;
     rep.final = chartEnergy(c.mesh, c.pairs, c.uv, so.energy);
     rep.flips = countFlips(c.mesh, c.uv);
     rep.overlaps = countOverlaps(c.mesh, c.uv);
@@ -245,6 +302,7 @@ ParameterizeResult parameterize(const TriMesh& mesh, const Multires& multires, c
     std::vector<LocalChart> charts;
     extractCharts(mesh, res.charts, charts);
     gatherPairs(mesh, multires, charts);
+    gatherLevelTriangles(mesh, res.charts, multires, charts);
 
     // (3) Per chart: Tutte, Ceres, checks (fixed order, deterministic).
     const double resolution = (512.0 * 512.0) / (double(options.textureSize) * options.textureSize);
@@ -259,6 +317,7 @@ ParameterizeResult parameterize(const TriMesh& mesh, const Multires& multires, c
         res.finalTotal = addEnergy(res.finalTotal, rep.final);
         res.flips += rep.flips;
         res.overlaps += rep.overlaps;
+        res.levelFlips += rep.levelFlips;
         if (options.progress) options.progress(0.9 * double(c + 1) / double(charts.size()));
     }
 

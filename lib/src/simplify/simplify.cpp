@@ -33,12 +33,19 @@
 //   collapse is applied, all points assigned to the fan of v_i (and V_i itself) are re-projected
 //   onto the new fan (exactly, not capped); the recorded CollapseRecord::deviation is the max of
 //   the evaluated cost and the largest re-projected distance, so the running max of recorded
-//   deviations bounds every simplification-pair deviation. Evaluation stays O(valence): the point
-//   lists are only walked when a collapse is applied (O(F log F) total).
+//   deviations bounds every simplification-pair deviation. Each face also keeps its farthest
+//   assigned point (faceTop); the cost computed when a vertex is (re-)queued re-projects only those,
+//   a lower bound of the exact cost. The exact re-projection of every point is measured once when
+//   the candidate comes off the heap (and the candidate is re-queued if it is no longer the best).
 //
 // Collapse candidates: one heap entry per vertex (its best outgoing half-edge), lazy deletion by a
-// per-vertex version; an entry is re-evaluated when popped (region state may have changed
-// elsewhere) and re-pushed if its key got worse.
+// per-vertex version. The evaluated candidate is stored per vertex (cand) with the epoch (collapse
+// counter) of its evaluation. It stays valid until the vertex's fan changes (the vertex is then
+// re-queued) or a region of its fan merges (regionEpoch): then, when popped, only the region part
+// (rule 1, rule 3, E_region key) is re-planned (refreshRegions; the target cannot change: geometry
+// is the same and rule 1 only gets stricter); a full re-evaluation happens only when the stored
+// target is now rejected. A refreshed candidate is applied at once when it is still no worse than
+// the heap's top, else re-queued. Link condition and neighbour sets use stamp arrays, no sorting.
 //
 // Validity (see kRejectReason): both ends unlocked; a border vertex only moves along a border
 // edge; the link condition; no face of the new fan degenerates, turns by more than
@@ -46,7 +53,11 @@
 // vanish (an "ear") is kept; region rule 1.
 //
 // Regions (DESIGN.md). faceRegion[f] = representative face of f's region; region face lists are
-// intrusive linked lists merged smaller-into-larger, so relabelling is O(F log F) in total.
+// intrusive linked lists merged by union by size (the largest region keeps its label, even when its
+// representative face has been removed), so relabelling is O(F log F) in total. A removed
+// representative is replaced by the smallest surviving face of its region only when a level is
+// snapshotted (fixDeadRepresentatives; those updates are recorded with the level's last collapse),
+// so every level's representatives are surviving faces of their regions.
 //   - A spoke (v_i, w) is a p-boundary spoke when its two faces lie in different regions.
 //   - Rule 3: v_i interior with exactly two p-boundary spokes (v_i, v_j) and (v_i, v_k), the
 //     collapse goes along one of them (to v_j) and d(V_i, segment V_j V_k) <= eps with
@@ -55,9 +66,8 @@
 //   - Otherwise every region touching the fan of v_i merges into one (the collapse crosses or
 //     ends the p-boundaries through v_i).
 //   - Rule 1: on a closed component at least two regions must remain.
-//   - Representative: the surviving old rep of the largest merged region (ties: smaller id); if
-//     every old rep is removed by the collapse, the smallest-id surviving fan face of the group.
-//     Removed faces keep the rep of the region they were merged into.
+//   - Representative of a merge: the rep of the largest merged region (ties: a rep that survives
+//     the collapse, then the smaller id). Rule 3 collapses change no label.
 //   - Rule 2 is a secondary heap key: deviations are quantised into buckets of relative width
 //     similarDeviation, and within a bucket the collapse whose resulting region has the lower
 //     E_region goes first. E_region is approximated from per-region accumulated stats:
@@ -83,7 +93,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
-#include <cstdio>
 #include <limits>
 #include <numeric>
 #include <string>
@@ -661,9 +670,7 @@ static Reject planRegions(State& s, uint32_t vi, const RingEntry& edge, Candidat
     return Reject::None;
 }
 
-size_t gEval=0,gCheck=0,gPop=0,gFull=0,gRef=0;
 static Candidate evaluateVertex(State& s, uint32_t vi) {
-++gEval;
     Candidate best;
     if (s.removed[vi] || s.vfaces[vi].empty()) return best;
     if (s.locked[vi]) {
@@ -695,7 +702,6 @@ static Candidate evaluateVertex(State& s, uint32_t vi) {
         RingEntry edge = s.ringI[o[k].k];
         double dev = 0;
         Reject r = checkCollapse(s, vi, edge, dev);
-++gCheck;
         if (r != Reject::None) {
             if (last == Reject::Isolated || r == Reject::Rule1) last = r;
             continue;
@@ -757,7 +763,6 @@ static bool evaluateAndStore(State& s, uint32_t v) {
 // changed: v's fan did not change since the push, and rule 1 only gets stricter, so earlier
 // outgoing edges stay rejected). Returns false when the full evaluation is needed.
 static bool refreshRegions(State& s, uint32_t v) {
-++gRef;
     Candidate c = s.cand[v];
     collectRing(s, v, s.ringI);
     const RingEntry* edge = nullptr;
@@ -1133,7 +1138,6 @@ SimplifyResult simplify(const TriMesh& mesh, const SimplifyOptions& options) {
                 break;
             }
             Key top = popKey(s);
-++gPop;
             uint32_t vi = top.vertex;
             if (top.version != s.version[vi]) continue;
             // Re-evaluate only when region merges since the push may have changed rule 1, rule 3
@@ -1141,7 +1145,9 @@ SimplifyResult simplify(const TriMesh& mesh, const SimplifyOptions& options) {
             if (candidateDirty(s, vi)) {
                 if (!refreshRegions(s, vi) && !evaluateAndStore(s, vi)) continue;
                 Key fresh = keyOf(s, vi);
-                if (KeyGreater()(fresh, top)) {
+                // Still the best of what is left: apply now (popping it again would re-evaluate
+                // it to the same key). Otherwise re-queue it with the fresh key.
+                if (!s.heap.empty() && KeyGreater()(fresh, s.heap.front())) {
                     pushKey(s, fresh);
                     continue;
                 }
@@ -1150,11 +1156,13 @@ SimplifyResult simplify(const TriMesh& mesh, const SimplifyOptions& options) {
             if (!s.cand[vi].exact) {
                 // The key used the farthest few points per face: measure every point now.
                 Candidate& e = s.cand[vi];
-                e.dev = std::max(e.dev, measureReprojection(s, vi, e, true));++gFull;
+                e.dev = std::max(e.dev, measureReprojection(s, vi, e, true));
                 e.exact = true;
                 ++s.version[vi];
                 Key fresh = keyOf(s, vi);
-                if (KeyGreater()(fresh, top)) {
+                // Still the best of what is left: apply now (popping it again would re-evaluate
+                // it to the same key). Otherwise re-queue it with the fresh key.
+                if (!s.heap.empty() && KeyGreater()(fresh, s.heap.front())) {
                     pushKey(s, fresh);
                     continue;
                 }
@@ -1181,7 +1189,6 @@ SimplifyResult simplify(const TriMesh& mesh, const SimplifyOptions& options) {
         }
         auto now = Clock::now();
         snapshotLevel(s, level, stop, std::chrono::duration<double>(now - levelStart).count());
-fprintf(stderr,"eval %zu check %zu pop %zu full %zu refresh %zu coll %zu\n", gEval,gCheck,gPop,gFull,gRef,collapses);
         levelStart = Clock::now();
     }
     if (options.progress && !options.progress(1.0)) throw Impossible("simplify: cancelled");

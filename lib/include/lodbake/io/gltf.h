@@ -11,6 +11,11 @@ namespace lodbake {
 
 struct ReadOptions {
     bool decodeImages = true;  // decode every image with OpenImageIO to check it and fill width/height
+    // MSFT_lod level to read: -1 = the scene as it is (LOD0 of an MSFT_lod chain); K >= 0 replaces
+    // every scene root node that carries extensions.MSFT_lod by its level K (0 = the node itself,
+    // K >= 1 = ids[K-1]). Ignored for LODBAKE_multires files. \throw Impossible when K >= 1 and no
+    // root has MSFT_lod, or a root's chain is shorter than K.
+    int lod = -1;
 };
 
 // Reads a .gltf or .glb: default scene (or scene 0, or every root node when there is no scene),

@@ -15,9 +15,24 @@
 
 namespace lodbake {
 
+// A point of the chart given by up to three chart vertices: UV = sum_k weight[k] uv[vertex[k]].
+struct ChartPoint {
+    std::array<uint32_t, 3> vertex{};
+    std::array<double, 3> weight{1, 0, 0};
+};
+
+// A triangle of a simplified level that lies in the chart: its corners are chart vertices or,
+// when a collapse moved a corner across the chart boundary, the closest point of the chart
+// surface. Its UV triangle must stay positively oriented as well (every level is injective).
+struct ChartLevelTriangle {
+    std::array<ChartPoint, 3> corner{};
+    double area2 = 0;  // |(V_j - V_i) x (V_k - V_i)| of the level triangle, model units
+};
+
 struct ChartMesh {
     std::vector<Vec3> positions;
     std::vector<Tri> triangles;
+    std::vector<ChartLevelTriangle> levelTriangles;  // may be empty
 };
 
 // Tutte embedding: the boundary loop goes onto a circle by arc length, interior vertices solve the
@@ -59,18 +74,27 @@ struct ChartSolveResult {
     std::vector<Vec2> uv;
     ChartEnergy before, after;
     int iterations = 0;
-    bool improved = false;  // the solver lowered E (else uv == the initial map)
+    size_t levelFlipsBefore = 0, levelFlipsAfter = 0;  // countLevelFlips of initial and uv
+    // The solver lowered the level flip count, or kept it and lowered E (else uv == the initial map).
+    bool improved = false;
 };
 
 // Minimises E with Ceres (Levenberg-Marquardt, 1 thread) from `initial`, which must be injective
 // (every triangle's UV determinant > 0). Steps that would fold a triangle are rejected, so the
 // result has no flipped triangle; overlaps of the boundary are not prevented (check with
-// countOverlaps). Deterministic.
+// countOverlaps). Level triangles (chart.levelTriangles) positive at the start are guarded the
+// same way; flipped ones get a hinge penalty pulling their determinant above 5% of their 3D
+// area, and the solve is repeated (up to 4 rounds) while that lowers their flip count.
+// Deterministic.
 ChartSolveResult optimizeChartUV(const ChartMesh& chart, const std::vector<ChartPair>& pairs,
                                  const std::vector<Vec2>& initial, const ChartSolveOptions& options = {});
 
 // Triangles whose UV determinant is <= 0.
 size_t countFlips(const ChartMesh& chart, const std::vector<Vec2>& uv);
+// UV of a chart point.
+Vec2 chartPointUV(const ChartPoint& p, const std::vector<Vec2>& uv);
+// Level triangles (chart.levelTriangles) whose UV determinant is <= 0.
+size_t countLevelFlips(const ChartMesh& chart, const std::vector<Vec2>& uv);
 // Triangles owning a boundary edge that properly intersects another boundary edge of the chart
 // (sort-and-sweep over the boundary edges). 0 together with 0 flips means the map is injective.
 size_t countOverlaps(const ChartMesh& chart, const std::vector<Vec2>& uv);

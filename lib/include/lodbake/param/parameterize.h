@@ -31,6 +31,7 @@ struct ChartReport {
     double stretchL2 = 0, stretchLinf = 0;  // Sander et al., normalised so 1 = isometric up to scale
     double areaRatioStdDev = 0;             // std-dev of (UV area / 3D area) / (chart mean ratio)
     size_t flips = 0, overlaps = 0;
+    size_t levelFlips = 0;                  // flipped level triangles of this chart (all levels)
     int iterations = 0;
     std::string method;                     // "ceres", "ceres-beta1" or "tutte"
     double seconds = 0;
@@ -45,6 +46,7 @@ struct ParameterizeResult {
     double areaRatioStdDev = 0;                // per triangle (UV area / 3D area), normalised by the mean
     std::array<uint32_t, 10> areaRatioHistogram{};  // bins of normalised ratio over [0, 2]; the last holds >= 1.8
     size_t flips = 0, overlaps = 0;
+    size_t levelFlips = 0;                     // flipped level triangles, all charts and levels
     double texelsPerUnit = 0;                  // atlas density (texels per model unit)
     double atlasFill = 0;                      // fraction of the atlas covered by charts (UV area)
     double seconds = 0;
@@ -69,6 +71,50 @@ struct AtlasApplyStats {
 // materials; original wedges get uv0 = (0,0) when the asset had no TEXCOORD_0.
 // A level corner whose vertex is not a vertex of its face's chart (a collapse moved it across a
 // chart boundary) takes the UV of the closest point of that chart's surface (counted).
+// multires.charts receives the layout (faceChart, cornerUV, the added material and image).
 AtlasApplyStats applyAtlas(Asset& asset, Multires& multires, const ParameterizeResult& param, const Image& bakedImage);
+
+// The chart each triangle of `level` takes its UVs from: the chart of its face when the three
+// corners are vertices of that chart; else the lowest chart having all three corners (a collapse
+// moved the triangle off its face's chart, but its corners still share a chart); else the face's
+// chart, whose surface then supplies projected UVs for the corners outside it.
+// \pre faceChart has mesh.triangleCount() entries (ChartLayout::faceChart convention).
+std::vector<uint32_t> levelTriangleCharts(const TriMesh& mesh, const std::vector<uint32_t>& faceChart,
+                                          uint32_t chartCount, const Level& level);
+
+struct UVInjectivity {
+    size_t triangles = 0;  // triangles checked (index-degenerate ones are skipped)
+    size_t flips = 0;      // signed UV area <= 0 relative to the atlas orientation (CCW in 3D = CCW in UV)
+    size_t overlaps = 0;   // triangles whose UV interior intersects another checked triangle's interior
+};
+
+// Checks UV triangles given in glTF convention ([0,1], v down; a front-facing triangle is CCW with
+// v up). Flipped triangles are not tested for overlap. `tolerance` (UV units) is the overlap depth
+// below which two triangles count as touching (shared edges, vertices on an edge).
+UVInjectivity checkUVInjectivity(const std::vector<std::array<Vec2, 3>>& tris, double tolerance = 1e-9);
+
+// The same for a level's triangles with their TEXCOORD_0 taken from mesh.wedges.uv0 via cornerWedges.
+UVInjectivity checkLevelUVs(const TriMesh& mesh, const std::vector<Tri>& triangles, const std::vector<Tri>& cornerWedges,
+                            double tolerance = 1e-9);
+
+struct TextureDeviationOptions {
+    size_t samples = 200000;  // area-weighted sample points on the level's triangles (deterministic)
+};
+
+struct TextureDeviation {
+    size_t samples = 0;
+    size_t outside = 0;        // samples whose UV lies outside every original triangle of the chart
+    double mean = 0, rms = 0, max = 0;          // |p - q|, model units
+    double diagonal = 0;                        // bounding-box diagonal of the mesh
+    double meanRelative = 0, maxRelative = 0;   // mean and max / diagonal
+};
+
+// Texture deviation of `level` under `layout`: for points p on the level's triangles with UV u
+// (interpolated from mesh.wedges.uv0 through level.cornerWedges), the distance to the original
+// surface point q with atlas UV u in the same chart (layout.cornerUV of the chart's original faces).
+// \pre applyAtlas ran (level corners index wedges with atlas UVs); layout matches mesh.
+// \throw InvalidInput on size mismatches.
+TextureDeviation textureDeviation(const TriMesh& mesh, const Level& level, const ChartLayout& layout,
+                                  const TextureDeviationOptions& options = {});
 
 }  // namespace lodbake

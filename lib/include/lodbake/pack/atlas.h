@@ -1,0 +1,50 @@
+// Atlas packing: the charts of a texture layout (T0 from `parameterize`) placed into one page,
+// each chart turned to its minimum-area bounding rectangle, rotated by 90 degrees when that fits
+// better, padded by a gutter, and packed with a best-fit skyline packer (charts sorted by area).
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "lodbake/core/math.h"
+
+namespace lodbake {
+
+// One chart to place: the UV points it covers and its UV area (T0 units).
+struct AtlasChart {
+    std::vector<Vec2> points;  // every UV corner the page must show (triangle corners)
+    double uvArea = 0;         // sum of |UV triangle areas| (the chart's actual coverage)
+};
+
+struct AtlasOptions {
+    double maxTexelsPerUnit = 256;  // texels per T0 UV unit at most (the level's screen limit); > 0
+    int gutter = 4;                 // texels between two charts (each chart is padded by gutter/2); >= 0.
+                                    // Halved while it takes more than half the padded area, or the charts do not fit.
+    int maxSize = 2048;             // page width and height cap, texels
+    bool powerOfTwo = false;        // page sides powers of two (then texel density may drop below the limit)
+};
+
+// Maps T0 UV to page texel coordinates: x = m[0] u + m[1] v + m[2], y = m[3] u + m[4] v + m[5].
+struct ChartPlacement {
+    std::array<double, 6> m{};
+    bool rotated90 = false;
+    Vec2 apply(Vec2 uv) const { return {m[0] * uv.x + m[1] * uv.y + m[2], m[3] * uv.x + m[4] * uv.y + m[5]}; }
+};
+
+struct AtlasResult {
+    int width = 0, height = 0;           // page size, texels
+    double texelsPerUnit = 0;            // the density reached (<= maxTexelsPerUnit)
+    std::vector<ChartPlacement> charts;  // per input chart
+    // Chart texels / page texels, with chart texels = the charts' actual triangle coverage (UV area).
+    double utilisation = 0;
+    // The same with chart texels = each chart's (rotated) bounding rectangle, gutters excluded.
+    double boxUtilisation = 0;
+    int gutter = 0;                      // the gutter used (may be narrower than asked)
+};
+
+// \pre every chart has >= 1 point; options.maxTexelsPerUnit > 0; maxSize >= 8.
+// Never fails: when the charts do not fit at the density limit the density is lowered until they
+// fit in maxSize x maxSize.
+AtlasResult packAtlas(const std::vector<AtlasChart>& charts, const AtlasOptions& options);
+
+}  // namespace lodbake

@@ -1,0 +1,84 @@
+// pack: the final glTF LOD chain (issue 5). From a parameterized multiresolution asset, every
+// level (LOD0 = the original triangles, LOD k = multires level k) gets its own atlas page: T0's
+// charts repacked at the texel density the level can show, the ORIGINAL appearance baked into
+// it (bakeBaseColor, pull-push gap fill), one mesh / one material / one draw call per level.
+// Screen coverage thresholds come from each level's measured two-sided Hausdorff distance to
+// the original.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "lodbake/core/mesh.h"
+#include "lodbake/core/multires.h"
+#include "lodbake/io/lod_chain.h"
+
+namespace lodbake {
+
+struct PackOptions {
+    double pixelError = 1;       // a level is used while its deviation projects to <= this many pixels
+    int viewportHeight = 1080;   // pixels
+    double fovY = 60;            // vertical field of view, degrees (switch distances in the report)
+    double lod0Coverage = 1;     // the largest screen coverage LOD0's texture is sized for (1 = fills the viewport height)
+    double cutoffPixels = 2;     // the last MSFT_screencoverage value: the chain is culled below this many pixels tall
+    int maxSize = 2048;          // page side cap, texels
+    bool powerOfTwo = false;     // power-of-two pages
+    int maxMips = 4;             // gutters are sized for at most this many mip levels below the page
+    int minMipSide = 16;         // ... and never for mips whose page side is below this (texels)
+    size_t distanceSamples = 100000;  // area samples per side for the measured Hausdorff distance
+    int threads = 0;             // 0 = all cores
+    ImageFormat imageFormat = ImageFormat::Png;
+    int jpegQuality = 90;
+    std::function<bool(double)> progress;  // fraction done; may be empty
+};
+
+struct PackLevelReport {
+    std::string source;           // "original" or "level K" of the multires input
+    size_t triangles = 0, vertices = 0;
+    int width = 0, height = 0;    // atlas page, texels
+    int gutter = 0, mips = 0;     // gutter (texels) and the mip levels it was sized for
+    size_t charts = 0;            // charts on the page
+    double utilisation = 0;       // chart texels (actual triangle coverage) / page texels
+    double boxUtilisation = 0;    // chart bounding rectangles / page texels
+    double texelsPerUnit = 0;     // texels per model unit (area-averaged)
+    double texelLimit = 0;        // texels per model unit the level can show at its largest coverage
+    double hausdorff = 0, relHausdorff = 0;  // measured two-sided, model units / relative to the diagonal
+    double rms = 0, relRms = 0;
+    double maxDeviation = 0;      // simplify's own Level::maxDeviation (0 for LOD0)
+    double coverage = 0;          // MSFT_screencoverage value: the level is used at coverage >= this
+    double maxCoverage = 0;       // ... and below this (the next finer level's threshold; LOD0: lod0Coverage)
+    double switchDistance = 0;    // camera distance (model units, fovY) at which the next coarser level takes over
+    double bakeSeconds = 0;
+};
+
+struct PackResult {
+    std::vector<LodLevelData> levels;       // LOD0 first
+    std::vector<double> screenCoverage;     // one per level (= ids + 1), decreasing; the last culls the coarsest
+    std::vector<PackLevelReport> reports;   // per level
+    double radius = 0, diagonal = 0;        // bounding sphere radius (half the bbox diagonal) and the diagonal
+    double seconds = 0;
+};
+
+// \pre `multires.charts` is set (the asset went through parameterize) and matches asset.mesh.
+// \throw Impossible (no chart layout, no triangles), InvalidInput (inconsistent multires),
+//        IOError (bake temp files / image encoding).
+PackResult packLodChain(const Asset& asset, const Multires& multires, const PackOptions& options = {});
+
+struct PackWriteOptions {
+    LodChainWriteOptions chain;
+    bool split = false;  // one file per level (PATH stem + ".lodK" + ext) plus PATH stem + ".lods.json"
+};
+
+struct PackWriteStats {
+    std::vector<std::string> files;          // written files (chain or per level, then the manifest)
+    std::vector<uint64_t> levelBytes;        // geometry + image bytes per level
+    uint64_t totalBytes = 0;                 // bytes of every written file
+};
+
+// Writes the chain to `path` (MSFT_lod) or, with split, one file per level and a JSON manifest
+// {"levels": [{"file", "screenCoverage", "triangles"}...], "cutoff": value}.
+PackWriteStats writePackResult(const std::string& path, const PackResult& result, const PackWriteOptions& options);
+
+}  // namespace lodbake

@@ -1,0 +1,396 @@
+// pack: parameterized multiresolution asset -> glTF LOD chain (issue 5).
+//
+// Pipeline of packLodChain:
+//   1. measureLevels: two-sided Hausdorff / RMS distance of each level to the original
+//      (Metro-style sampling, lodbake/metrics/distance.h);
+//   2. screenCoverages: level k is good while its deviation e_k projects to <= p pixels on a
+//      viewport H pixels tall; with the bounding sphere radius R that is coverage <= 2 R p / (e_k H)
+//      (independent of the field of view: coverage = projected sphere height / viewport height);
+//   3. per level, packLevelAtlas: the charts its triangles use (T0, multires.charts) repacked at the
+//      texel density the level can show at its largest coverage, gutters sized for the mips used
+//      down to its smallest coverage; bakePage: the ORIGINAL triangles baked at the repacked UVs;
+//   4. buildLevelMesh: one indexed primitive (position, normal, atlas UV).
+#include "lodbake/pack/lod_chain.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <tuple>
+#include <unordered_map>
+
+#include <nlohmann/json.hpp>
+
+#include "lodbake/bake/bake.h"
+#include "lodbake/core/errors.h"
+#include "lodbake/io/gltf.h"
+#include "lodbake/metrics/distance.h"
+#include "lodbake/pack/atlas.h"
+
+namespace lodbake {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+double triArea2(Vec2 a, Vec2 b, Vec2 c) { return std::abs(cross(b - a, c - a)) * 0.5; }
+double triArea3(Vec3 a, Vec3 b, Vec3 c) { return length(cross(b - a, c - a)) * 0.5; }
+
+// One level's geometry in terms of original faces: triangles, corner wedges and face ids.
+struct LevelView {
+    std::vector<Tri> triangles, cornerWedges;
+    std::vector<uint32_t> faces;
+    std::string source;
+    double maxDeviation = 0;
+};
+
+std::vector<LevelView> levelViews(const Asset& asset, const Multires& mr) {
+    std::vector<LevelView> v;
+    LevelView l0;
+    l0.triangles = asset.mesh.triangles;
+    l0.cornerWedges = asset.mesh.cornerWedges;
+    l0.faces.resize(asset.mesh.triangleCount());
+    for (size_t f = 0; f < l0.faces.size(); ++f) l0.faces[f] = uint32_t(f);
+    l0.source = "original";
+    v.push_back(std::move(l0));
+    for (size_t k = 0; k < mr.levels.size(); ++k) {
+        const Level& L = mr.levels[k];
+        if (L.triangles.empty()) continue;
+        LevelView lv;
+        lv.triangles = L.triangles;
+        lv.cornerWedges = L.cornerWedges;
+        lv.faces = L.faces;
+        lv.source = "level " + std::to_string(k + 1);
+        lv.maxDeviation = L.maxDeviation;
+        v.push_back(std::move(lv));
+    }
+    return v;
+}
+
+void checkInput(const Asset& asset, const Multires& mr) {
+    const TriMesh& m = asset.mesh;
+    const ChartLayout& ch = mr.charts;
+    if (m.triangleCount() == 0) throw Impossible(asset.sourcePath + ": no triangles");
+    if (ch.empty()) throw Impossible(asset.sourcePath + ": no chart layout (LODBAKE_multires charts); run parameterize first");
+    if (ch.faceChart.size() != m.triangleCount() || ch.cornerUV.size() != m.triangleCount())
+        throw InvalidInput(asset.sourcePath + ": chart layout does not match the original mesh");
+    for (const Level& L : mr.levels) {
+        if (L.faces.size() != L.triangles.size() || L.cornerWedges.size() != L.triangles.size())
+            throw InvalidInput(asset.sourcePath + ": inconsistent multires level");
+        for (uint32_t f : L.faces)
+            if (f >= m.triangleCount()) throw InvalidInput(asset.sourcePath + ": level face out of range");
+        for (const Tri& t : L.triangles)
+            for (uint32_t x : t)
+                if (x >= m.vertexCount()) throw InvalidInput(asset.sourcePath + ": level vertex out of range");
+        for (const Tri& t : L.cornerWedges)
+            for (uint32_t x : t)
+                if (x >= m.wedges.size()) throw InvalidInput(asset.sourcePath + ": level wedge out of range");
+    }
+}
+
+// T0 UV of each (welded vertex, chart) pair, from the original faces of multires.charts.
+// Level corners look their UV up here (point-consistent mapping: every coarse vertex is an
+// original vertex); a corner whose vertex is not in its face's chart (a collapse moved it across
+// a chart boundary) takes the UV of the chart's vertex nearest in 3D.
+class ChartUV {
+public:
+    ChartUV(const TriMesh& mesh, const ChartLayout& ch) : mesh_(mesh), chartVertices_(ch.chartCount) {
+        for (size_t f = 0; f < mesh.triangleCount(); ++f)
+            for (size_t j = 0; j < 3; ++j) {
+                uint64_t key = (uint64_t(mesh.triangles[f][j]) << 32) | ch.faceChart[f];
+                if (uv_.emplace(key, ch.cornerUV[f][j]).second) chartVertices_[ch.faceChart[f]].push_back(mesh.triangles[f][j]);
+            }
+    }
+    Vec2 operator()(uint32_t vertex, uint32_t chart) const {
+        auto it = uv_.find((uint64_t(vertex) << 32) | chart);
+        if (it != uv_.end()) return it->second;
+        uint32_t best = chartVertices_[chart].front();
+        double bd = 1e300;
+        for (uint32_t v : chartVertices_[chart]) {
+            double d = length2(mesh_.positions[v] - mesh_.positions[vertex]);
+            if (d < bd) { bd = d; best = v; }
+        }
+        return uv_.at((uint64_t(best) << 32) | chart);
+    }
+
+private:
+    const TriMesh& mesh_;
+    std::unordered_map<uint64_t, Vec2> uv_;
+    std::vector<std::vector<uint32_t>> chartVertices_;
+};
+
+// T0 UV of corner j of level triangle t.
+Vec2 cornerT0(const ChartUV& lookup, const Multires& mr, const LevelView& lv, size_t t, size_t j, bool original) {
+    uint32_t f = lv.faces[t];
+    if (original) return mr.charts.cornerUV[f][j];
+    return lookup(lv.triangles[t][j], mr.charts.faceChart[f]);
+}
+
+TriMesh asTriMesh(const TriMesh& original, const LevelView& lv) {
+    TriMesh m;
+    m.positions = original.positions;
+    m.triangles = lv.triangles;
+    return m;
+}
+
+struct LevelAtlas {
+    AtlasResult atlas;
+    std::vector<int> chartSlot;  // original chart id -> index in atlas.charts, -1 if unused
+    size_t charts = 0;
+};
+
+LevelAtlas packLevelAtlas(const ChartUV& lookup, const Multires& mr, const LevelView& lv, bool original,
+                          const std::vector<std::vector<uint32_t>>& chartFaces, const std::vector<double>& chartUvArea,
+                          const AtlasOptions& ao) {
+    const ChartLayout& ch = mr.charts;
+    LevelAtlas la;
+    la.chartSlot.assign(ch.chartCount, -1);
+    std::vector<AtlasChart> charts;
+    for (size_t t = 0; t < lv.triangles.size(); ++t) {
+        uint32_t c = ch.faceChart[lv.faces[t]];
+        if (la.chartSlot[c] < 0) {
+            la.chartSlot[c] = int(charts.size());
+            AtlasChart a;
+            a.uvArea = chartUvArea[c];
+            for (uint32_t f : chartFaces[c])
+                for (const Vec2& p : ch.cornerUV[f]) a.points.push_back(p);
+            charts.push_back(std::move(a));
+        }
+        if (!original)
+            for (size_t j = 0; j < 3; ++j) charts[size_t(la.chartSlot[c])].points.push_back(cornerT0(lookup, mr, lv, t, j, original));
+    }
+    la.charts = charts.size();
+    la.atlas = packAtlas(charts, ao);
+    return la;
+}
+
+// Bakes the original triangles at the page UVs; returns RGB floats of the width x height page.
+std::vector<float> bakePage(const Asset& asset, const Multires& mr, const LevelAtlas& la, double& seconds) {
+    const ChartLayout& ch = mr.charts;
+    const AtlasResult& a = la.atlas;
+    int size = std::max(a.width, a.height);
+    std::vector<std::array<Vec2, 3>> uv(asset.mesh.triangleCount());
+    for (size_t f = 0; f < uv.size(); ++f) {
+        int slot = la.chartSlot[ch.faceChart[f]];
+        for (size_t j = 0; j < 3; ++j) {
+            if (slot < 0) { uv[f][j] = {-10, -10}; continue; }  // chart unused at this level: off the page
+            Vec2 p = a.charts[size_t(slot)].apply(ch.cornerUV[f][j]);
+            uv[f][j] = {p.x / size, p.y / size};
+        }
+    }
+    BakeOptions bo;
+    bo.size = size;
+    BakeResult baked = bakeBaseColor(asset, uv, bo);
+    seconds = baked.seconds;
+    std::vector<float> out(size_t(a.width) * size_t(a.height) * 3);
+    for (int y = 0; y < a.height; ++y)
+        std::copy_n(baked.pixels.begin() + std::ptrdiff_t((size_t(y) * size_t(size)) * 3), size_t(a.width) * 3,
+                    out.begin() + std::ptrdiff_t(size_t(y) * size_t(a.width) * 3));
+    return out;
+}
+
+void buildLevelMesh(const Asset& asset, const ChartUV& lookup, const Multires& mr, const LevelView& lv, bool original, const LevelAtlas& la,
+                    LodLevelData& out) {
+    const TriMesh& m = asset.mesh;
+    const ChartLayout& ch = mr.charts;
+    const AtlasResult& a = la.atlas;
+    // Normals: the wedges' (unit) when the asset has them, else area-weighted over this level.
+    std::vector<Vec3> vertexNormal;
+    bool wedgeNormals = !m.wedges.normal.empty();
+    if (!wedgeNormals) {
+        vertexNormal.assign(m.vertexCount(), Vec3{});
+        for (const Tri& t : lv.triangles) {
+            Vec3 n = cross(m.positions[t[1]] - m.positions[t[0]], m.positions[t[2]] - m.positions[t[0]]);
+            for (uint32_t v : t) vertexNormal[v] += n;
+        }
+    }
+    using Key = std::tuple<uint32_t, uint32_t, float, float, float>;  // vertex, chart, normal
+    std::map<Key, uint32_t> index;
+    for (size_t t = 0; t < lv.triangles.size(); ++t) {
+        uint32_t c = ch.faceChart[lv.faces[t]];
+        const ChartPlacement& P = a.charts[size_t(la.chartSlot[c])];
+        for (size_t j = 0; j < 3; ++j) {
+            uint32_t v = lv.triangles[t][j];
+            Vec3 n = wedgeNormals ? m.wedges.normal[lv.cornerWedges[t][j]] : vertexNormal[v];
+            n = normalize(n);
+            if (!(length(n) > 0.5)) {
+                Vec3 fn = normalize(cross(m.positions[lv.triangles[t][1]] - m.positions[lv.triangles[t][0]],
+                                          m.positions[lv.triangles[t][2]] - m.positions[lv.triangles[t][0]]));
+                n = length(fn) > 0.5 ? fn : Vec3{0, 0, 1};
+            }
+            Key key{v, c, float(n.x), float(n.y), float(n.z)};
+            auto [it, inserted] = index.emplace(key, uint32_t(out.positions.size() / 3));
+            if (inserted) {
+                const Vec3& p = m.positions[v];
+                out.positions.insert(out.positions.end(), {float(p.x), float(p.y), float(p.z)});
+                out.normals.insert(out.normals.end(), {float(n.x), float(n.y), float(n.z)});
+                Vec2 q = P.apply(cornerT0(lookup, mr, lv, t, j, original));
+                out.uvs.insert(out.uvs.end(), {float(q.x / a.width), float(q.y / a.height)});
+            }
+            out.indices.push_back(it->second);
+        }
+    }
+}
+
+}  // namespace
+
+PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOptions& options) {
+    auto t0 = std::chrono::steady_clock::now();
+    checkInput(asset, mr);
+    const TriMesh& mesh = asset.mesh;
+    const ChartLayout& ch = mr.charts;
+    PackResult res;
+    Box3 box = bounds(mesh);
+    res.diagonal = box.diagonal();
+    res.radius = 0.5 * res.diagonal;
+    if (!(res.radius > 0)) throw Impossible(asset.sourcePath + ": the mesh has no extent");
+    std::vector<LevelView> views = levelViews(asset, mr);
+    size_t n = views.size();
+    auto progress = [&](double f) { if (options.progress) options.progress(f); };
+
+    // Charts: faces, UV area and the UV-to-model scale (area-averaged).
+    std::vector<std::vector<uint32_t>> chartFaces(ch.chartCount);
+    std::vector<double> chartUvArea(ch.chartCount, 0);
+    double uvTotal = 0, areaTotal = 0;
+    for (size_t f = 0; f < mesh.triangleCount(); ++f) {
+        uint32_t c = ch.faceChart[f];
+        chartFaces[c].push_back(uint32_t(f));
+        double a = triArea2(ch.cornerUV[f][0], ch.cornerUV[f][1], ch.cornerUV[f][2]);
+        chartUvArea[c] += a;
+        uvTotal += a;
+        const Tri& t = mesh.triangles[f];
+        areaTotal += triArea3(mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]);
+    }
+    if (!(uvTotal > 0) || !(areaTotal > 0)) throw Impossible(asset.sourcePath + ": the chart layout has no area");
+    double uvPerUnit = std::sqrt(uvTotal / areaTotal);
+    ChartUV lookup(mesh, ch);
+
+    // 1. Measured deviation of each level.
+    res.reports.resize(n);
+    DistanceOptions dopt;
+    dopt.samplesPerSide = options.distanceSamples;
+    dopt.threads = options.threads;
+    for (size_t k = 0; k < n; ++k) {
+        PackLevelReport& r = res.reports[k];
+        r.source = views[k].source;
+        r.maxDeviation = views[k].maxDeviation;
+        if (k == 0) continue;
+        GeometricDistance d = surfaceDistance(mesh, asTriMesh(mesh, views[k]), dopt);
+        r.hausdorff = d.hausdorff;
+        r.relHausdorff = d.relHausdorff;
+        r.rms = d.rms;
+        r.relRms = d.relRms;
+        progress(0.3 * double(k) / double(n));
+    }
+
+    // 2. Screen coverage: value k = the smallest coverage at which LOD k is drawn.
+    const double H = options.viewportHeight, p = options.pixelError;
+    res.screenCoverage.assign(n, 0);
+    for (size_t k = 0; k + 1 < n; ++k) {
+        double e = res.reports[k + 1].hausdorff;
+        double c = e > 0 ? 2 * res.radius * p / (e * H) : options.lod0Coverage;
+        if (k > 0) c = std::min(c, res.screenCoverage[k - 1]);
+        res.screenCoverage[k] = c;
+    }
+    double cutoff = options.cutoffPixels / H;
+    if (n >= 2) cutoff = std::min(cutoff, 0.5 * res.screenCoverage[n - 2]);
+    res.screenCoverage[n - 1] = cutoff;
+    double tanHalf = std::tan(options.fovY * kPi / 360);
+
+    // 3-4. Per level: atlas, bake, mesh.
+    double metallic = 0, roughness = 1;
+    bool doubleSided = false;
+    if (ch.material >= 0 && size_t(ch.material) < asset.materials.size()) {
+        const Material& bm = asset.materials[size_t(ch.material)];
+        metallic = bm.metallicFactor;
+        roughness = bm.roughnessFactor;
+        doubleSided = bm.doubleSided;
+    }
+    for (const Material& om : asset.materials) doubleSided = doubleSided || om.doubleSided;
+    res.levels.resize(n);
+    for (size_t k = 0; k < n; ++k) {
+        PackLevelReport& r = res.reports[k];
+        r.coverage = res.screenCoverage[k];
+        r.maxCoverage = k == 0 ? std::max(options.lod0Coverage, r.coverage) : res.screenCoverage[k - 1];
+        r.switchDistance = res.radius / (r.coverage * tanHalf);
+        // Texel density the level can show: one texel per pixel at its largest coverage.
+        r.texelLimit = r.maxCoverage * H / (2 * res.radius);
+        double tMax = r.texelLimit / uvPerUnit;
+        // Mips used between its largest and smallest coverage, limited to pages >= minMipSide.
+        int mips = int(std::ceil(std::log2(std::max(1.0, r.maxCoverage / std::max(r.coverage, 1e-12)))));
+        double usedUv = 0;
+        {
+            std::vector<char> seen(ch.chartCount, 0);
+            for (uint32_t f : views[k].faces)
+                if (!seen[ch.faceChart[f]]) { seen[ch.faceChart[f]] = 1; usedUv += chartUvArea[ch.faceChart[f]]; }
+        }
+        double side = std::min(double(options.maxSize), std::sqrt(usedUv) * tMax / 0.8);
+        int mipLimit = side > options.minMipSide ? int(std::floor(std::log2(side / options.minMipSide))) : 0;
+        mips = std::clamp(mips, 0, std::min(options.maxMips, mipLimit));
+        AtlasOptions ao;
+        ao.maxTexelsPerUnit = tMax;
+        ao.gutter = 2 << mips;
+        ao.maxSize = options.maxSize;
+        ao.powerOfTwo = options.powerOfTwo;
+        LevelAtlas la = packLevelAtlas(lookup, mr, views[k], k == 0, chartFaces, chartUvArea, ao);
+        r.gutter = la.atlas.gutter;
+        r.mips = std::max(0, int(std::log2(std::max(2, r.gutter) / 2)));  // the packer may narrow the gutter
+        r.width = la.atlas.width;
+        r.height = la.atlas.height;
+        r.charts = la.charts;
+        r.utilisation = la.atlas.utilisation;
+        r.boxUtilisation = la.atlas.boxUtilisation;
+        r.texelsPerUnit = la.atlas.texelsPerUnit * uvPerUnit;
+        std::vector<float> pixels = bakePage(asset, mr, la, r.bakeSeconds);
+        LodLevelData& L = res.levels[k];
+        L.name = "LOD" + std::to_string(k);
+        L.metallicFactor = metallic;
+        L.roughnessFactor = roughness;
+        L.doubleSided = doubleSided;
+        L.image = encodeImage(pixels, la.atlas.width, la.atlas.height, options.imageFormat, options.jpegQuality, L.name);
+        buildLevelMesh(asset, lookup, mr, views[k], k == 0, la, L);
+        r.triangles = L.indices.size() / 3;
+        r.vertices = L.positions.size() / 3;
+        progress(0.3 + 0.7 * double(k + 1) / double(n));
+    }
+    res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return res;
+}
+
+PackWriteStats writePackResult(const std::string& path, const PackResult& result, const PackWriteOptions& options) {
+    PackWriteStats st;
+    if (!options.split) {
+        LodChainWriteStats w = writeLodChain(path, result.levels, result.screenCoverage, options.chain);
+        st.files.push_back(path);
+        for (size_t k = 0; k < result.levels.size(); ++k) st.levelBytes.push_back(w.levelGeometryBytes[k] + w.levelImageBytes[k]);
+        st.totalBytes = w.fileBytes;
+        return st;
+    }
+    namespace fs = std::filesystem;
+    fs::path p(path);
+    std::string stem = (p.parent_path() / p.stem()).string(), ext = p.extension().string();
+    nlohmann::json manifest;
+    manifest["levels"] = nlohmann::json::array();
+    for (size_t k = 0; k < result.levels.size(); ++k) {
+        std::string file = stem + ".lod" + std::to_string(k) + ext;
+        LodChainWriteStats w = writeLodChain(file, {result.levels[k]}, {}, options.chain);
+        st.files.push_back(file);
+        st.levelBytes.push_back(w.levelGeometryBytes[0] + w.levelImageBytes[0]);
+        st.totalBytes += w.fileBytes;
+        manifest["levels"].push_back({{"file", fs::path(file).filename().string()},
+                                      {"screenCoverage", result.screenCoverage[k]},
+                                      {"triangles", result.levels[k].indices.size() / 3}});
+    }
+    manifest["cutoff"] = result.screenCoverage.back();
+    manifest["screenCoverage"] = result.screenCoverage;
+    manifest["note"] = "level k is drawn while the bounding sphere's projected height / viewport height >= screenCoverage[k]; "
+                       "below the last value nothing is drawn (MSFT_screencoverage semantics)";
+    std::string mpath = stem + ".lods.json";
+    std::string text = manifest.dump(2) + "\n";
+    writeFileAtomic(mpath, text);
+    st.files.push_back(mpath);
+    st.totalBytes += text.size();
+    return st;
+}
+
+}  // namespace lodbake

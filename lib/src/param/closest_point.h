@@ -1,0 +1,43 @@
+// Private: closest point on a triangle, shared by parameterize (projected level corners) and
+// applyAtlas so both compute the same point.
+#pragma once
+
+#include <array>
+
+#include "lodbake/core/math.h"
+
+namespace lodbake::param_detail {
+
+// Closest point on triangle abc to p (Ericson, Real-Time Collision Detection 5.1.5), barycentrics.
+inline std::array<double, 3> closestOnTriangle(Vec3 p, Vec3 a, Vec3 b, Vec3 c) {
+    Vec3 ab = b - a, ac = c - a, ap = p - a;
+    double d1 = dot(ab, ap), d2 = dot(ac, ap);
+    if (d1 <= 0 && d2 <= 0) return {1, 0, 0};
+    Vec3 bp = p - b;
+    double d3 = dot(ab, bp), d4 = dot(ac, bp);
+    if (d3 >= 0 && d4 <= d3) return {0, 1, 0};
+    double vc = d1 * d4 - d3 * d2;
+    if (vc <= 0 && d1 >= 0 && d3 <= 0) {
+        double v = d1 / (d1 - d3);
+        return {1 - v, v, 0};
+    }
+    Vec3 cp = p - c;
+    double d5 = dot(ab, cp), d6 = dot(ac, cp);
+    if (d6 >= 0 && d5 <= d6) return {0, 0, 1};
+    double vb = d5 * d2 - d1 * d6;
+    if (vb <= 0 && d2 >= 0 && d6 <= 0) {
+        double w = d2 / (d2 - d6);
+        return {1 - w, 0, w};
+    }
+    double va = d3 * d6 - d5 * d4;
+    if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+        double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+        return {0, 1 - w, w};
+    }
+    double den = va + vb + vc;
+    if (!(den > 0)) return {1, 0, 0};
+    double v = vb / den, w = vc / den;
+    return {1 - v - w, v, w};
+}
+
+}  // namespace lodbake::param_detail

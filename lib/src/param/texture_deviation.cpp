@@ -1,0 +1,181 @@
+// Texture deviation of a level (thesis 3.3.2, "polygon-resolution error" measured): the distance
+// between a point p on a level triangle and the original surface point q that the same texel
+// shows in the atlas. p has the UV u interpolated from the level's corner UVs; q is the point of
+// the original faces of the same chart whose atlas UV is u (point location in the chart's UV
+// triangulation through a uniform grid; when u falls outside every original triangle of the
+// chart, the UV-closest point of the chart is used and counted as `outside`).
+//
+// Samples are area-weighted and deterministic: triangle t gets round(cumulative share) points
+// placed by the R2 low-discrepancy sequence (Roberts 2018) warped onto the triangle.
+#include <algorithm>
+#include <cmath>
+
+#include "lodbake/core/errors.h"
+#include "lodbake/param/parameterize.h"
+
+namespace lodbake {
+namespace {
+
+// Barycentric coordinates of p in UV triangle (a, b, c); false for a degenerate triangle.
+bool barycentric(Vec2 p, Vec2 a, Vec2 b, Vec2 c, std::array<double, 3>& w) {
+    double d = cross(b - a, c - a);
+    if (!(std::abs(d) > 0)) return false;
+    w[1] = cross(p - a, c - a) / d;
+    w[2] = cross(b - a, p - a) / d;
+    w[0] = 1 - w[1] - w[2];
+    return true;
+}
+
+// Closest point to p on segment ab, as the parameter along ab.
+double segmentParam(Vec2 p, Vec2 a, Vec2 b) {
+    Vec2 e = b - a;
+    double l2 = dot(e, e);
+    return l2 > 0 ? std::clamp(dot(p - a, e) / l2, 0.0, 1.0) : 0.0;
+}
+
+// UV-closest point of triangle t to p as barycentrics; returns the squared UV distance.
+double closestInTriangle(Vec2 p, const std::array<Vec2, 3>& t, std::array<double, 3>& w) {
+    if (barycentric(p, t[0], t[1], t[2], w) && w[0] >= 0 && w[1] >= 0 && w[2] >= 0) return 0;
+    double best = 1e300;
+    for (int k = 0; k < 3; ++k) {
+        Vec2 a = t[size_t(k)], b = t[size_t((k + 1) % 3)];
+        double s = segmentParam(p, a, b);
+        Vec2 q = a + (b - a) * s;
+        double d = dot(q - p, q - p);
+        if (d < best) {
+            best = d;
+            w = {0, 0, 0};
+            w[size_t(k)] = 1 - s;
+            w[size_t((k + 1) % 3)] = s;
+        }
+    }
+    return best;
+}
+
+struct UVGrid {
+    int g = 1;
+    std::vector<uint32_t> start, items;
+    int cell(double x) const { return std::clamp(int(x * g), 0, g - 1); }
+};
+
+UVGrid buildGrid(const std::vector<std::array<Vec2, 3>>& uv, const std::vector<char>& use) {
+    UVGrid grid;
+    size_t n = 0;
+    for (char u : use) n += u ? 1 : 0;
+    grid.g = std::clamp(int(std::sqrt(double(n))), 1, 1024);
+    const int g = grid.g;
+    grid.start.assign(size_t(g) * g + 1, 0);
+    auto each = [&](size_t f, auto&& fn) {
+        const auto& t = uv[f];
+        int x0 = grid.cell(std::min({t[0].x, t[1].x, t[2].x})), x1 = grid.cell(std::max({t[0].x, t[1].x, t[2].x}));
+        int y0 = grid.cell(std::min({t[0].y, t[1].y, t[2].y})), y1 = grid.cell(std::max({t[0].y, t[1].y, t[2].y}));
+        for (int y = y0; y <= y1; ++y)
+            for (int x = x0; x <= x1; ++x) fn(size_t(y) * size_t(g) + size_t(x));
+    };
+    for (size_t f = 0; f < uv.size(); ++f)
+        if (use[f]) each(f, [&](size_t c) { ++grid.start[c + 1]; });
+    for (size_t c = 1; c < grid.start.size(); ++c) grid.start[c] += grid.start[c - 1];
+    grid.items.resize(grid.start.back());
+    std::vector<uint32_t> fill(grid.start.begin(), grid.start.end() - 1);
+    for (size_t f = 0; f < uv.size(); ++f)
+        if (use[f]) each(f, [&](size_t c) { grid.items[fill[c]++] = uint32_t(f); });
+    return grid;
+}
+
+}  // namespace
+
+TextureDeviation textureDeviation(const TriMesh& mesh, const Level& level, const ChartLayout& layout,
+                                  const TextureDeviationOptions& options) {
+    const size_t nf = mesh.triangleCount();
+    if (layout.faceChart.size() != nf || layout.cornerUV.size() != nf)
+        throw InvalidInput("textureDeviation: chart layout does not match the mesh");
+    if (level.faces.size() != level.triangles.size() || level.cornerWedges.size() != level.triangles.size())
+        throw InvalidInput("textureDeviation: level faces, triangles and corners differ in size");
+    TextureDeviation res;
+    res.diagonal = bounds(mesh).diagonal();
+    std::vector<char> use(nf, 0);
+    for (size_t f = 0; f < nf; ++f) {
+        const Tri& t = mesh.triangles[f];
+        use[f] = t[0] != t[1] && t[1] != t[2] && t[0] != t[2];
+    }
+    const UVGrid grid = buildGrid(layout.cornerUV, use);
+
+    const std::vector<uint32_t> triChart = levelTriangleCharts(mesh, layout.faceChart, layout.chartCount, level);
+    // Area-weighted sample counts (cumulative rounding: deterministic, total = options.samples).
+    std::vector<double> area(level.triangles.size());
+    double total = 0;
+    for (size_t t = 0; t < area.size(); ++t) {
+        const Tri& v = level.triangles[t];
+        area[t] = 0.5 * length(cross(mesh.positions[v[1]] - mesh.positions[v[0]], mesh.positions[v[2]] - mesh.positions[v[0]]));
+        total += area[t];
+    }
+    if (!(total > 0) || options.samples == 0) return res;
+    const double g1 = 1.32471795724474602596, a1 = 1 / g1, a2 = 1 / (g1 * g1);  // R2 sequence
+    double acc = 0, sum = 0, sum2 = 0;
+    size_t emitted = 0, seq = 0;
+    for (size_t t = 0; t < area.size(); ++t) {
+        acc += area[t] / total * double(options.samples);
+        size_t n = size_t(std::llround(acc)) - emitted;
+        emitted += n;
+        const Tri& v = level.triangles[t];
+        std::array<Vec2, 3> luv{};
+        for (size_t k = 0; k < 3; ++k) {
+            uint32_t w = level.cornerWedges[t][k];
+            luv[k] = w < mesh.wedges.uv0.size() ? mesh.wedges.uv0[w] : Vec2{};
+        }
+        const uint32_t chart = triChart[t];
+        for (size_t s = 0; s < n; ++s, ++seq) {
+            double r1 = std::fmod(0.5 + a1 * double(seq + 1), 1.0), r2 = std::fmod(0.5 + a2 * double(seq + 1), 1.0);
+            double sq = std::sqrt(r1);
+            std::array<double, 3> b{1 - sq, sq * (1 - r2), sq * r2};
+            Vec3 p = mesh.positions[v[0]] * b[0] + mesh.positions[v[1]] * b[1] + mesh.positions[v[2]] * b[2];
+            Vec2 u = luv[0] * b[0] + luv[1] * b[1] + luv[2] * b[2];
+            // Point location in the chart's original triangles; else the UV-closest one nearby.
+            double best = 1e300;
+            uint32_t bestFace = UINT32_MAX;
+            std::array<double, 3> bestW{};
+            const int cx = grid.cell(u.x), cy = grid.cell(u.y);
+            int lastRing = grid.g;  // after the first hit off the chart, one more ring is searched
+            for (int ring = 0; ring < grid.g && ring <= lastRing; ++ring) {
+                for (int y = std::max(0, cy - ring); y <= std::min(grid.g - 1, cy + ring); ++y)
+                    for (int x = std::max(0, cx - ring); x <= std::min(grid.g - 1, cx + ring); ++x) {
+                        if (std::max(std::abs(x - cx), std::abs(y - cy)) != ring) continue;
+                        size_t c = size_t(y) * size_t(grid.g) + size_t(x);
+                        for (uint32_t i = grid.start[c]; i < grid.start[c + 1]; ++i) {
+                            uint32_t f = grid.items[i];
+                            if (layout.faceChart[f] != chart) continue;
+                            std::array<double, 3> w{};
+                            double d = closestInTriangle(u, layout.cornerUV[f], w);
+                            if (d < best || (d == best && f < bestFace)) {
+                                best = d;
+                                bestFace = f;
+                                bestW = w;
+                            }
+                        }
+                    }
+                if (best == 0) break;
+                if (bestFace != UINT32_MAX && lastRing == grid.g) lastRing = ring + 1;
+            }
+            if (bestFace == UINT32_MAX) continue;
+            if (best > 0) ++res.outside;
+            const Tri& o = mesh.triangles[bestFace];
+            Vec3 q = mesh.positions[o[0]] * bestW[0] + mesh.positions[o[1]] * bestW[1] + mesh.positions[o[2]] * bestW[2];
+            double d = length(p - q);
+            sum += d;
+            sum2 += d * d;
+            res.max = std::max(res.max, d);
+            ++res.samples;
+        }
+    }
+    if (res.samples > 0) {
+        res.mean = sum / double(res.samples);
+        res.rms = std::sqrt(sum2 / double(res.samples));
+    }
+    if (res.diagonal > 0) {
+        res.meanRelative = res.mean / res.diagonal;
+        res.maxRelative = res.max / res.diagonal;
+    }
+    return res;
+}
+
+}  // namespace lodbake

@@ -1,0 +1,102 @@
+// Injectivity check of UV triangles in one atlas (used for every level of a parameterized chain):
+// flipped triangles (signed UV area <= 0 relative to the atlas orientation) and triangles whose
+// UV interior overlaps another triangle's interior (uniform-grid broad phase, separating-axis
+// narrow phase with a tolerance so that triangles sharing an edge or a vertex do not count).
+#include <algorithm>
+#include <cmath>
+
+#include "lodbake/param/parameterize.h"
+
+namespace lodbake {
+namespace {
+
+// Signed area in math orientation (u right, v up) of a triangle given in glTF UVs (v down).
+double signedAreaGltf(const std::array<Vec2, 3>& t) {
+    Vec2 a{t[0].x, -t[0].y}, b{t[1].x, -t[1].y}, c{t[2].x, -t[2].y};
+    return 0.5 * cross(b - a, c - a);
+}
+
+// True when the projections of a and b on the axes of both triangles' edges all overlap by more
+// than a tolerance (interiors intersect). Both triangles are non-degenerate.
+bool interiorsOverlap(const std::array<Vec2, 3>& a, const std::array<Vec2, 3>& b, double eps) {
+    for (const auto* t : {&a, &b})
+        for (int k = 0; k < 3; ++k) {
+            Vec2 e = (*t)[size_t((k + 1) % 3)] - (*t)[size_t(k)];
+            Vec2 n{-e.y, e.x};
+            double len = std::sqrt(dot(n, n));
+            if (!(len > 0)) continue;
+            n = n * (1.0 / len);
+            double amin = 1e300, amax = -1e300, bmin = 1e300, bmax = -1e300;
+            for (const Vec2& p : a) { double d = dot(n, p); amin = std::min(amin, d); amax = std::max(amax, d); }
+            for (const Vec2& p : b) { double d = dot(n, p); bmin = std::min(bmin, d); bmax = std::max(bmax, d); }
+            if (amax <= bmin + eps || bmax <= amin + eps) return false;
+        }
+    return true;
+}
+
+}  // namespace
+
+UVInjectivity checkUVInjectivity(const std::vector<std::array<Vec2, 3>>& tris, double tolerance) {
+    UVInjectivity r;
+    r.triangles = tris.size();
+    const size_t n = tris.size();
+    if (n == 0) return r;
+    std::vector<char> flipped(n, 0), bad(n, 0);
+    Vec2 lo{1e300, 1e300}, hi{-1e300, -1e300};
+    for (size_t i = 0; i < n; ++i) {
+        if (!(signedAreaGltf(tris[i]) > 0)) flipped[i] = 1;
+        for (const Vec2& p : tris[i]) {
+            lo = {std::min(lo.x, p.x), std::min(lo.y, p.y)};
+            hi = {std::max(hi.x, p.x), std::max(hi.y, p.y)};
+        }
+    }
+    r.flips = size_t(std::count(flipped.begin(), flipped.end(), 1));
+    // Grid of about one cell per triangle.
+    const int g = std::clamp(int(std::sqrt(double(n))), 1, 2048);
+    const double w = std::max(hi.x - lo.x, 1e-30), h = std::max(hi.y - lo.y, 1e-30);
+    auto cellX = [&](double x) { return std::clamp(int((x - lo.x) / w * g), 0, g - 1); };
+    auto cellY = [&](double y) { return std::clamp(int((y - lo.y) / h * g), 0, g - 1); };
+    std::vector<uint32_t> count(size_t(g) * g + 1, 0);
+    auto forCells = [&](size_t i, auto&& fn) {
+        const auto& t = tris[i];
+        int x0 = cellX(std::min({t[0].x, t[1].x, t[2].x})), x1 = cellX(std::max({t[0].x, t[1].x, t[2].x}));
+        int y0 = cellY(std::min({t[0].y, t[1].y, t[2].y})), y1 = cellY(std::max({t[0].y, t[1].y, t[2].y}));
+        for (int y = y0; y <= y1; ++y)
+            for (int x = x0; x <= x1; ++x) fn(size_t(y) * size_t(g) + size_t(x));
+    };
+    for (size_t i = 0; i < n; ++i)
+        if (!flipped[i]) forCells(i, [&](size_t c) { ++count[c + 1]; });
+    for (size_t c = 1; c < count.size(); ++c) count[c] += count[c - 1];
+    std::vector<uint32_t> items(count.back());
+    std::vector<uint32_t> fill(count.begin(), count.end() - 1);
+    for (size_t i = 0; i < n; ++i)
+        if (!flipped[i]) forCells(i, [&](size_t c) { items[fill[c]++] = uint32_t(i); });
+    for (size_t c = 0; c + 1 < count.size(); ++c)
+        for (uint32_t a = count[c]; a < count[c + 1]; ++a)
+            for (uint32_t b = a + 1; b < count[c + 1]; ++b) {
+                uint32_t i = items[a], j = items[b];
+                if (bad[i] && bad[j]) continue;
+                if (interiorsOverlap(tris[i], tris[j], tolerance)) bad[i] = bad[j] = 1;
+            }
+    r.overlaps = size_t(std::count(bad.begin(), bad.end(), 1));
+    return r;
+}
+
+UVInjectivity checkLevelUVs(const TriMesh& mesh, const std::vector<Tri>& triangles, const std::vector<Tri>& cornerWedges,
+                            double tolerance) {
+    std::vector<std::array<Vec2, 3>> tris;
+    tris.reserve(triangles.size());
+    for (size_t t = 0; t < triangles.size(); ++t) {
+        const Tri& v = triangles[t];
+        if (v[0] == v[1] || v[1] == v[2] || v[0] == v[2]) continue;
+        std::array<Vec2, 3> uv{};
+        for (size_t k = 0; k < 3; ++k) {
+            uint32_t w = t < cornerWedges.size() ? cornerWedges[t][k] : UINT32_MAX;
+            uv[k] = w < mesh.wedges.uv0.size() ? mesh.wedges.uv0[w] : Vec2{};
+        }
+        tris.push_back(uv);
+    }
+    return checkUVInjectivity(tris, tolerance);
+}
+
+}  // namespace lodbake

@@ -1,0 +1,164 @@
+"""CLI tests for pack: simplify -> parameterize -> pack on every generated sample.
+
+Checks the MSFT_lod chain structure (LOD0 node with ids, only LOD0 in the scene, MSFT_lod used
+but never required, one more coverage value than ids, decreasing), one mesh / one primitive /
+one material per level with NORMAL and TEXCOORD_0, gltf-validator (0 errors, 0 warnings: the
+MSFT_lod notice is an info), the report, --draco (decodes back to the same triangle count within
+the quantisation error, compare --lod K on MSFT_lod files), --split, --image-format jpeg, --pot,
+usage and input errors.
+"""
+import json
+import os
+import sys
+import unittest
+
+sys.path.insert(0, os.path.dirname(__file__))
+import lodbake_test as lt  # noqa: E402
+
+SAMPLES = ["hemisphere9", "wall5", "colors", "seamball"]
+FAST = ["--max-size", "512", "--samples", "20000", "--quiet"]
+
+
+def check_chain(tc, path, report=None):
+    """Structure checks shared with test_pack_assets.py; returns the Gltf."""
+    g = lt.Gltf(path)
+    j = g.json
+    nodes = j["nodes"]
+    lod = nodes[0]["extensions"]["MSFT_lod"]
+    ids = lod["ids"]
+    tc.assertEqual(ids, list(range(1, len(nodes))))
+    tc.assertEqual(j["scenes"][j.get("scene", 0)]["nodes"], [0])
+    tc.assertIn("MSFT_lod", j["extensionsUsed"])
+    tc.assertNotIn("MSFT_lod", j.get("extensionsRequired", []))
+    cov = nodes[0]["extras"]["MSFT_screencoverage"]
+    tc.assertEqual(len(cov), len(ids) + 1)
+    for a, b in zip(cov, cov[1:]):
+        tc.assertGreaterEqual(a, b)
+    tc.assertGreater(cov[-1], 0)
+    tc.assertEqual(len(j["meshes"]), len(nodes))
+    tc.assertEqual(len(j["materials"]), len(nodes))
+    for i, n in enumerate(nodes):
+        prims = j["meshes"][n["mesh"]]["primitives"]
+        tc.assertEqual(len(prims), 1, "LOD%d: one draw call" % i)
+        tc.assertEqual(prims[0]["material"], i)
+        for a in ("POSITION", "NORMAL", "TEXCOORD_0"):
+            tc.assertIn(a, prims[0]["attributes"])
+        mat = j["materials"][i]
+        tc.assertIn("baseColorTexture", mat["pbrMetallicRoughness"])
+    if lt.validator_available():
+        v = lt.validate(path)
+        tc.assertEqual(v["errors"], 0, v)
+        tc.assertEqual(v["warnings"], 0, v)
+        for m in v["messages"]:
+            if m["code"] == "UNSUPPORTED_EXTENSION":  # an info; the validator decodes neither
+                tc.assertTrue("MSFT_lod" in m["message"] or "KHR_draco_mesh_compression" in m["message"], m)
+    if report:
+        with open(report) as f:
+            r = json.load(f)
+        tc.assertEqual(len(r["levels"]), len(nodes))
+        tris = [lv["triangles"] for lv in r["levels"]]
+        tc.assertEqual(tris, [g.mesh_triangle_count(n["mesh"]) for n in nodes])
+        for k, lv in enumerate(r["levels"]):
+            for key in ("texels", "bytes", "utilisation", "boxUtilisation", "screenCoverage"):
+                tc.assertIn(key, lv)
+            tc.assertGreater(lv["utilisation"], 0)
+            tc.assertLessEqual(lv["utilisation"], lv["boxUtilisation"] + 1e-9)
+            tc.assertLessEqual(lv["boxUtilisation"], 1.0)
+            tc.assertEqual(lv["screenCoverage"], cov[k])
+            if k > 0:
+                tc.assertGreater(lv["deviation"]["hausdorff"], 0)
+                # A coarse level never carries more texels than it can show.
+                tc.assertLessEqual(lv["texelsPerUnit"], lv["texelLimit"] * 1.0001)
+                tc.assertLessEqual(lv["texels"], r["levels"][k - 1]["texels"])
+    return g
+
+
+class PackCli(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        for t in ("simplify", "parameterize", "pack", "make-samples"):
+            if not os.path.exists(lt.tool(t)):
+                lt.skip(t + " is not built")
+        cls.dir = lt.work_dir("pack")
+        lt.make_samples(cls.dir)
+        cls.uv = {}
+        for n in SAMPLES:
+            src = os.path.join(cls.dir, n + ".glb")
+            mr = os.path.join(cls.dir, n + ".mr.glb")
+            uv = os.path.join(cls.dir, n + ".uv.glb")
+            lt.run([lt.tool("simplify"), "-i", src, "-o", mr, "--ratio", "0.5,0.1,0.02", "--quiet"])
+            lt.run([lt.tool("parameterize"), "-i", mr, "-o", uv, "--size", "256", "--quiet"])
+            cls.uv[n] = uv
+
+    def pack(self, name, out, *extra):
+        out = os.path.join(self.dir, out)
+        rep = out + ".json"
+        lt.run([lt.tool("pack"), "-i", self.uv[name], "-o", out, "--report", rep] + FAST + list(extra))
+        return out, rep
+
+    def test_every_sample(self):
+        for n in SAMPLES:
+            with self.subTest(sample=n):
+                out, rep = self.pack(n, n + ".lod.glb")
+                check_chain(self, out, rep)
+
+    def test_draco_round_trip(self):
+        plain, _ = self.pack("seamball", "ball.lod.glb")
+        draco, _ = self.pack("seamball", "ball.draco.glb", "--draco", "--qp", "16")
+        g = check_chain(self, draco)
+        self.assertIn("KHR_draco_mesh_compression", g.json["extensionsUsed"])
+        self.assertIn("KHR_draco_mesh_compression", g.json["extensionsRequired"])
+        self.assertLess(os.path.getsize(draco), os.path.getsize(plain))
+        for k in range(len(g.json["nodes"])):
+            p = lt.run([lt.tool("compare"), plain, draco, "--lod-a", str(k), "--lod", str(k), "--json",
+                        "--views", "2", "--resolution", "64", "--samples", "20000", "--max-hausdorff", "0.0005"],
+                       check=False)
+            self.assertEqual(p.returncode, 0, p.stdout[-2000:] + p.stderr)
+            c = json.loads(p.stdout)
+            self.assertEqual(c["counts"]["a"]["triangles"], c["counts"]["b"]["triangles"])
+
+    def test_split_manifest(self):
+        out, _ = self.pack("hemisphere9", "hemi.glb", "--split")
+        with open(os.path.join(self.dir, "hemi.lods.json")) as f:
+            m = json.load(f)
+        self.assertEqual(len(m["levels"]), 4)
+        for lv in m["levels"]:
+            f = os.path.join(self.dir, lv["file"])
+            g = lt.Gltf(f)
+            self.assertEqual(len(g.json["nodes"]), 1)
+            self.assertNotIn("extensionsUsed", g.json)
+            self.assertEqual(g.mesh_triangle_count(0), lv["triangles"])
+            if lt.validator_available():
+                v = lt.validate(f)
+                self.assertEqual((v["errors"], v["warnings"]), (0, 0), v)
+        self.assertFalse(os.path.exists(out))
+
+    def test_jpeg_gltf_external_pot(self):
+        out, rep = self.pack("colors", "colors.lod.gltf", "--image-format", "jpeg", "--jpeg-quality", "80",
+                             "--external-images", "--pot")
+        g = check_chain(self, out, rep)
+        for img in g.json["images"]:
+            self.assertTrue(img["uri"].endswith(".jpg"))
+            self.assertTrue(os.path.exists(os.path.join(self.dir, img["uri"])))
+        with open(rep) as f:
+            r = json.load(f)
+        for lv in r["levels"]:
+            for side in (lv["width"], lv["height"]):
+                self.assertEqual(side & (side - 1), 0, "power of two")
+
+    def test_errors(self):
+        p = lt.run([lt.tool("pack"), "-i", "x.glb", "-o", "y.glb", "--bogus"], check=False)
+        self.assertEqual(p.returncode, 1)
+        p = lt.run([lt.tool("pack"), "-i", "x.glb", "-o", "y.glb", "--pixel-error", "0"], check=False)
+        self.assertEqual(p.returncode, 1)
+        p = lt.run([lt.tool("pack"), "-i", os.path.join(self.dir, "missing.glb"), "-o", "y.glb"], check=False)
+        self.assertEqual(p.returncode, 2)
+        # Valid glTF without LODBAKE_multires / without charts: impossible (3).
+        p = lt.run([lt.tool("pack"), "-i", os.path.join(self.dir, "colors.glb"), "-o", os.path.join(self.dir, "c.glb")], check=False)
+        self.assertEqual(p.returncode, 3, p.stderr)
+        p = lt.run([lt.tool("pack"), "-i", os.path.join(self.dir, "colors.mr.glb"), "-o", os.path.join(self.dir, "c.glb")], check=False)
+        self.assertEqual(p.returncode, 3, p.stderr)
+
+
+if __name__ == "__main__":
+    lt.main([PackCli])

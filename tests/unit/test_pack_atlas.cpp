@@ -1,0 +1,116 @@
+// Unit tests for the atlas packer (lib/src/pack/atlas.cpp) on charts built in code.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "lodbake/pack/atlas.h"
+
+using namespace lodbake;
+
+namespace {
+
+// An axis-aligned w x h rectangle chart (two triangles) at (x, y).
+AtlasChart rectChart(double x, double y, double w, double h) {
+    AtlasChart c;
+    c.points = {{x, y}, {x + w, y}, {x + w, y + h}, {x, y + h}};
+    c.uvArea = w * h;
+    return c;
+}
+
+// The chart's corners on the page (texels).
+std::vector<Vec2> placed(const AtlasChart& c, const ChartPlacement& p) {
+    std::vector<Vec2> out;
+    for (const Vec2& q : c.points) out.push_back(p.apply(q));
+    return out;
+}
+
+struct Box { double x0, y0, x1, y1; };
+Box boxOf(const std::vector<Vec2>& pts) {
+    Box b{1e300, 1e300, -1e300, -1e300};
+    for (const Vec2& p : pts) { b.x0 = std::min(b.x0, p.x); b.y0 = std::min(b.y0, p.y); b.x1 = std::max(b.x1, p.x); b.y1 = std::max(b.y1, p.y); }
+    return b;
+}
+
+}  // namespace
+
+// Four 0.25 x 0.25 squares at 256 texels per unit: 64 x 64 texels each, gutter 4.
+//   +----+----+
+//   | c0 | c1 |      each chart padded by 2 texels; the page is about 136 x 136
+//   +----+----+
+//   | c2 | c3 |
+//   +----+----+
+TEST(PackAtlas, SquaresFitWithGuttersAndNoOverlap) {
+    std::vector<AtlasChart> charts;
+    for (int i = 0; i < 4; ++i) charts.push_back(rectChart(0.3 * i, 0, 0.25, 0.25));
+    AtlasOptions o;
+    o.maxTexelsPerUnit = 256;
+    o.gutter = 4;
+    AtlasResult r = packAtlas(charts, o);
+    EXPECT_DOUBLE_EQ(r.texelsPerUnit, 256);
+    EXPECT_EQ(r.gutter, 4);
+    ASSERT_EQ(r.charts.size(), 4u);
+    std::vector<Box> boxes;
+    for (size_t i = 0; i < 4; ++i) {
+        Box b = boxOf(placed(charts[i], r.charts[i]));
+        EXPECT_NEAR(b.x1 - b.x0, 64, 1e-6);
+        EXPECT_NEAR(b.y1 - b.y0, 64, 1e-6);
+        EXPECT_GE(b.x0, 2 - 1e-9);
+        EXPECT_GE(b.y0, 2 - 1e-9);
+        EXPECT_LE(b.x1, r.width - 2 + 1e-9);
+        EXPECT_LE(b.y1, r.height - 2 + 1e-9);
+        boxes.push_back(b);
+    }
+    for (size_t i = 0; i < 4; ++i)
+        for (size_t j = i + 1; j < 4; ++j) {
+            double gapX = std::max(boxes[j].x0 - boxes[i].x1, boxes[i].x0 - boxes[j].x1);
+            double gapY = std::max(boxes[j].y0 - boxes[i].y1, boxes[i].y0 - boxes[j].y1);
+            EXPECT_GE(std::max(gapX, gapY), 4 - 1e-9) << i << " " << j;  // the gutter separates them
+        }
+    EXPECT_GT(r.utilisation, 0.75);
+    EXPECT_LE(r.utilisation, 1.0);
+    EXPECT_NEAR(r.utilisation, r.boxUtilisation, 1e-12);  // rectangles: coverage = box
+}
+
+// A long thin chart turned by 30 degrees is packed along its minimum-area rectangle.
+TEST(PackAtlas, RotatedChartUsesMinimumAreaRectangle) {
+    const double a = 30 * 3.14159265358979 / 180, c = std::cos(a), s = std::sin(a);
+    AtlasChart chart;
+    for (Vec2 p : {Vec2{0, 0}, Vec2{1, 0}, Vec2{1, 0.1}, Vec2{0, 0.1}}) chart.points.push_back({c * p.x - s * p.y, s * p.x + c * p.y});
+    chart.uvArea = 0.1;
+    AtlasOptions o;
+    o.maxTexelsPerUnit = 100;
+    o.gutter = 2;
+    AtlasResult r = packAtlas({chart}, o);
+    Box b = boxOf(placed(chart, r.charts[0]));
+    double w = b.x1 - b.x0, h = b.y1 - b.y0;
+    EXPECT_NEAR(std::max(w, h), 100, 1e-6);
+    EXPECT_NEAR(std::min(w, h), 10, 1e-6);
+    EXPECT_GT(r.boxUtilisation, 0.7);
+    // Orientation preserved (no mirroring): the affine map has a positive determinant.
+    const auto& m = r.charts[0].m;
+    EXPECT_GT(m[0] * m[4] - m[1] * m[3], 0);
+}
+
+// --pot: power-of-two sides; --max-size: the density drops until the charts fit.
+TEST(PackAtlas, PowerOfTwoAndMaxSize) {
+    std::vector<AtlasChart> charts;
+    for (int i = 0; i < 10; ++i) charts.push_back(rectChart(0, 0, 0.3, 0.2));
+    AtlasOptions o;
+    o.maxTexelsPerUnit = 1000;
+    o.gutter = 8;
+    o.powerOfTwo = true;
+    o.maxSize = 256;
+    AtlasResult r = packAtlas(charts, o);
+    EXPECT_EQ(r.width & (r.width - 1), 0);
+    EXPECT_EQ(r.height & (r.height - 1), 0);
+    EXPECT_LE(r.width, 256);
+    EXPECT_LE(r.height, 256);
+    EXPECT_LT(r.texelsPerUnit, 1000);
+    for (size_t i = 0; i < charts.size(); ++i) {
+        Box b = boxOf(placed(charts[i], r.charts[i]));
+        EXPECT_GE(b.x0, 0);
+        EXPECT_GE(b.y0, 0);
+        EXPECT_LE(b.x1, r.width);
+        EXPECT_LE(b.y1, r.height);
+    }
+}
