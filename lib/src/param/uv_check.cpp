@@ -36,7 +36,11 @@ bool interiorsOverlap(const std::array<Vec2, 3>& a, const std::array<Vec2, 3>& b
 
 }  // namespace
 
-UVInjectivity checkUVInjectivity(const std::vector<std::array<Vec2, 3>>& tris, double tolerance) {
+UVInjectivity checkUVInjectivity(const std::vector<std::array<Vec2, 3>>& input, double tolerance) {
+    // Checked as written: glTF stores float UVs, and rounding can flip a sliver triangle.
+    std::vector<std::array<Vec2, 3>> tris(input);
+    for (auto& t : tris)
+        for (Vec2& p : t) p = {double(float(p.x)), double(float(p.y))};
     UVInjectivity r;
     r.triangles = tris.size();
     const size_t n = tris.size();
