@@ -3,6 +3,10 @@
 import sys
 
 import bpy
+import numpy as np
+
+if "bool" not in np.__dict__:  # Blender 3.4's glTF add-on still uses np.bool (removed in numpy 1.24)
+    np.bool = bool
 
 argv = sys.argv[sys.argv.index("--") + 1:]
 src, dst, ratio = argv[0], argv[1], float(argv[2])

@@ -87,7 +87,7 @@ class PackCli(unittest.TestCase):
             mr = os.path.join(cls.dir, n + ".mr.glb")
             uv = os.path.join(cls.dir, n + ".uv.glb")
             lt.run([lt.tool("simplify"), "-i", src, "-o", mr, "--ratio", "0.5,0.1,0.02", "--quiet"])
-            lt.run([lt.tool("parameterize"), "-i", mr, "-o", uv, "--size", "256", "--quiet"])
+            lt.run([lt.tool("parameterize"), "-i", mr, "-o", uv, "--size", "512", "--quiet"])
             cls.uv[n] = uv
 
     def pack(self, name, out, *extra):

@@ -176,4 +176,12 @@ inline TriMesh splitDisk(double lift) {
     return m;
 }
 
+// Appends mesh b to a, scaled by `scale` and moved by `offset` (vertex ids of b follow a's).
+inline void append(TriMesh& a, const TriMesh& b, double scale, Vec3 offset) {
+    uint32_t off = uint32_t(a.positions.size());
+    for (Vec3 p : b.positions) a.positions.push_back(p * scale + offset);
+    for (Tri t : b.triangles) a.triangles.push_back({t[0] + off, t[1] + off, t[2] + off});
+    addDefaultWedges(a);
+}
+
 }  // namespace lodbake::test

@@ -371,6 +371,91 @@ TEST(Simplify, TwoComponentsAndABowTie) {
     expectValidPairs(m, l);
 }
 
+// Rule 2, exact case: two flat hexagon fans, the large one first (smaller vertex ids). Both centres
+// collapse at deviation 0; the small fan's merged region has the lower E_region, so its centre (7)
+// goes first although the large fan's centre has the smaller id.
+TEST(Simplify, Rule2SmallerRegionsMergeFirst) {
+    TriMesh m = test::hexagonFan();
+    test::append(m, test::hexagonFan(), 0.5, Vec3{5, 0, 0});
+    ASSERT_EQ(m.triangleCount(), 12u);
+    SimplifyOptions o = withLevels({count(10)});
+    SimplifyResult r = simplify(m, o);
+    ASSERT_EQ(r.multires.collapses.size(), 1u);
+    EXPECT_EQ(r.multires.collapses[0].removed, 7u);
+    EXPECT_NEAR(r.multires.collapses[0].deviation, 0.f, 1e-9);
+    expectValidRegions(m, r.multires, r.multires.levels[0]);
+    expectValidPairs(m, r.multires.levels[0]);
+}
+
+// Component pruning: a big closed sphere and 12 small closed spheres. Each small sphere cannot go
+// below a tetrahedron with two regions, so 2 % is only reachable by removing them: they are pruned
+// (a CollapseRecord with kept == removed per surviving vertex; no pairs for their vertices, nor for
+// the vertices that had collapsed into them; their faces keep their regions) and the big sphere is
+// simplified to the target.
+TEST(Simplify, PrunesSmallClosedComponents) {
+    TriMesh m = test::sphere(3);  // 512 faces, radius 1
+    for (int k = 0; k < 12; ++k) test::append(m, test::sphere(1), 0.02, Vec3{3.0 + 0.2 * k, 0, 0});  // 32 faces each
+    size_t bigVertices = test::sphere(3).positions.size();
+    ASSERT_EQ(m.triangleCount(), 512u + 12 * 32);
+    SimplifyResult r = simplify(m, withLevels({ratio(0.02)}));
+    const Multires& mr = r.multires;
+    const Level& l = mr.levels[0];
+    uint64_t target = uint64_t(std::llround(0.02 * m.triangleCount()));
+    EXPECT_EQ(l.stopReason, "target");
+    EXPECT_LE(l.triangles.size(), target);
+    EXPECT_GE(l.triangles.size(), target - 1);
+    // Every surviving triangle is on the big sphere; it stays watertight with >= 2 regions.
+    std::set<uint32_t> kept, pruned;
+    for (const Tri& t : l.triangles)
+        for (uint32_t v : t) {
+            EXPECT_LT(v, bigVertices);
+            kept.insert(v);
+        }
+    for (const auto& [edge, ts] : edgesOf(l.triangles)) EXPECT_EQ(ts.size(), 2u);
+    std::set<uint32_t> bigRegions;
+    for (uint32_t f : l.faces) bigRegions.insert(l.faceRegion[f]);
+    EXPECT_GE(bigRegions.size(), 2u);
+    // Pruned vertices: kept == removed, no region updates, deviation = half the small box diagonal.
+    for (const CollapseRecord& c : mr.collapses)
+        if (c.kept == c.removed) {
+            pruned.insert(c.removed);
+            EXPECT_GE(c.removed, bigVertices);
+            EXPECT_EQ(c.regionBegin, c.regionEnd);
+            EXPECT_NEAR(c.deviation, 0.5 * 0.02 * std::sqrt(12.0), 1e-5);
+            EXPECT_LE(c.deviation, l.maxDeviation);
+        }
+    EXPECT_FALSE(pruned.empty());
+    // Regions replay; surviving faces' regions are represented by surviving faces; pruned faces
+    // keep their regions (each small sphere kept >= 2 regions, rule 1).
+    EXPECT_EQ(replayRegions(m.triangleCount(), mr, l), l.faceRegion);
+    std::set<uint32_t> alive(l.faces.begin(), l.faces.end());
+    for (uint32_t f : l.faces) EXPECT_TRUE(alive.count(l.faceRegion[f]));
+    for (int k = 0; k < 12; ++k) {
+        std::set<uint32_t> regions;
+        for (uint32_t f = 512 + 32 * uint32_t(k); f < 512 + 32 * uint32_t(k + 1); ++f) regions.insert(l.faceRegion[f]);
+        EXPECT_GE(regions.size(), 2u);
+    }
+    std::set<uint32_t> reps(l.faceRegion.begin(), l.faceRegion.end());
+    EXPECT_EQ(reps.size(), l.regionCount);
+    // Pairs: the removed vertices of the big sphere only.
+    EXPECT_EQ(l.pairs.size(), bigVertices - kept.size());
+    for (const SimplificationPair& p : l.pairs) {
+        EXPECT_LT(p.vertex, bigVertices);
+        EXPECT_TRUE(alive.count(p.face));
+        EXPECT_LE(p.deviation, l.maxDeviation + 1e-6);
+    }
+}
+
+// Without a reachable target nothing is pruned: the last faces always stay.
+TEST(Simplify, PruningKeepsTheLastComponent) {
+    TriMesh m = test::sphere(1);
+    test::append(m, test::sphere(1), 0.1, Vec3{3, 0, 0});
+    SimplifyResult r = simplify(m, withLevels({count(1)}));
+    const Level& l = r.multires.levels[0];
+    EXPECT_NE(l.stopReason, "target");
+    EXPECT_GE(l.triangles.size(), 4u);
+}
+
 TEST(Simplify, ProgressCanCancel) {
     TriMesh m = test::sphere(5);
     SimplifyOptions o = withLevels({ratio(0.01)});

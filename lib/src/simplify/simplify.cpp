@@ -3,61 +3,75 @@
 // References
 //   [Hoppe96]    H. Hoppe, "Progressive meshes", SIGGRAPH 1996 (collapse records, vertex hierarchy).
 //   [Garland97]  M. Garland, P. Heckbert, "Surface simplification using quadric error metrics",
-//                SIGGRAPH 1997 (the quadric proxy of the cost below).
+//                SIGGRAPH 1997 (the quadric part of the cost below).
 //   [Thesis]     "Multiresolution model generation of texture-geometry for the real-time
 //                rendering", ch. 2.3 (edge collapsing with region hierarchy) and ch. 3.2 (modified
 //                multiresolution geometry generation: p-boundaries, the three region rules).
-//   [meshopt]    A. Kapoulkine, meshoptimizer simplifier.cpp (kCanCollapse-style rule tables,
-//                half-edge collapse ordering by error, boundary-locking rules).
+//   [meshopt]    A. Kapoulkine, meshoptimizer simplifier.cpp (pass-based collapsing: pick the best
+//                collapse per vertex, sort, apply the non-conflicting ones under a per-pass error
+//                limit; component pruning).
 //
 // Pipeline (simplify() at the bottom reads as this script):
 //   1. validateInput        throw Impossible when there is nothing to simplify
 //   2. buildAdjacency       vertex -> incident live faces (small vectors)
 //   3. classifyVertices     lock vertices on non-manifold edges / non-manifold fans /
 //                           degenerate faces; find open-boundary vertices; label components and
-//                           mark closed ones
+//                           mark closed ones; per-component box diagonal
 //   4. initQuadrics         per-vertex area-weighted plane quadrics (+ border planes)
 //   5. initRegions          every face is its own region (rep = itself), per-region shape stats
 //   6. planLevels           sort the targets finest first
-//   7. loop: pop the best vertex, re-evaluate it, applyCollapse, re-evaluate its new one-ring;
-//            snapshotLevel whenever a target is reached or no collapse is left.
+//   7. passes (runPass) until the level's target; snapshotLevel at each target.
 //
 // Cost ("vertex deviation", model units). For a half-edge collapse v_i -> v_j:
-//     cost = max( d(V_i, new fan),                    thesis vertex deviation
-//                 max_{f in fan(v_i)} err(f),          memory: farthest removed point on the fan
-//                 sqrt(Q_i(V_j) / W_i) )               quadric proxy of the accumulated shape
-//   where "new fan" = the faces around v_i that survive, with v_i moved to v_j; err(f) = distance
-//   of the farthest previously removed original vertex currently assigned to face f; Q_i = sum of
-//   the (area-weighted) planes of the original faces merged into v_i, W_i their total weight.
-//   Every removed vertex is assigned to the coarse face it projects to (closest point). When a
-//   collapse is applied, all points assigned to the fan of v_i (and V_i itself) are re-projected
-//   onto the new fan (exactly, not capped); the recorded CollapseRecord::deviation is the max of
-//   the evaluated cost and the largest re-projected distance, so the running max of recorded
-//   deviations bounds every simplification-pair deviation. Each face also keeps its farthest
-//   assigned point (faceTop); the cost computed when a vertex is (re-)queued re-projects only those,
-//   a lower bound of the exact cost. The exact re-projection of every point is measured once when
-//   the candidate comes off the heap (and the candidate is re-queued if it is no longer the best).
+//     cost = max( d(V_i, new fan),          thesis vertex deviation: distance from V_i to the faces
+//                                           around v_i that survive, with v_i moved to v_j
+//                 d(V_far, new fan),        V_far = the farthest removed point attached to v_i
+//                                           (farPoint; one point per vertex, O(1) to carry)
+//                 sqrt(Q_i(V_j) / W_i) )    Q_i = sum of the area-weighted planes of the original
+//                                           faces around v_i (+ border planes), accumulated into
+//                                           v_j on every collapse, W_i their total weight
+//   O(valence) per outgoing half-edge; the quadric carries the shape of the earlier removed points,
+//   no per-face point lists are re-projected during simplification. A vertex's candidate is its
+//   valid outgoing half-edge first in quadric order. CollapseRecord::deviation is this cost.
+//   Under an error target (LevelTarget::maxError) every collapse is additionally measured exactly
+//   before it is applied (measureAttached: every removed point hanging under a vertex whose fan
+//   changes, against that vertex's new fan) so no simplification pair exceeds the target; this is
+//   O(attached points) per collapse and only runs for error-target levels.
 //
-// Collapse candidates: one heap entry per vertex (its best outgoing half-edge), lazy deletion by a
-// per-vertex version. The evaluated candidate is stored per vertex (cand) with the epoch (collapse
-// counter) of its evaluation. It stays valid until the vertex's fan changes (the vertex is then
-// re-queued) or a region of its fan merges (regionEpoch): then, when popped, only the region part
-// (rule 1, rule 3, E_region key) is re-planned (refreshRegions; the target cannot change: geometry
-// is the same and rule 1 only gets stricter); a full re-evaluation happens only when the stored
-// target is now rejected. A refreshed candidate is applied at once when it is still no worse than
-// the heap's top, else re-queued. Link condition and neighbour sets use stamp arrays, no sorting.
+// Passes (as meshoptimizer). Every pass
+//   a. (re-)evaluates the vertices whose candidate may have changed: vertices whose fan changed in
+//      the last pass, vertices whose target's fan changed, and rejected vertices next to one;
+//      every other vertex keeps its cached candidate;
+//   b. keeps the valid candidates whose cost is within the level's error target, and computes the
+//      pass error limit = 1.1 x the cost of the (remaining collapses / 3)-th cheapest candidate
+//      (nth_element), so each pass takes about a third of the remaining reduction in cost order;
+//   c. prunes closed components (see below) when the limit exceeds their size;
+//   d. sorts the candidates under the limit by (deviation bucket, E_region key, deviation, vertex)
+//      and walks them: a candidate is skipped when v_i or v_j already took part in a collapse of
+//      this pass (each vertex moves at most once per pass); when the fan of v_i or of v_j changed
+//      in this pass it is checked and costed again (and skipped when now invalid or above the
+//      limit); its region plan is always re-done (labels may have merged). The walk stops as soon
+//      as the live face count reaches the target (each collapse removes 1 or 2 faces, so the level
+//      lands on the target or one below it).
+//   A level that has no valid candidate left stops with the most frequent rejection reason; one
+//   whose candidates all exceed its error target stops with "target".
 //
 // Validity (see kRejectReason): both ends unlocked; a border vertex only moves along a border
-// edge; the link condition; no face of the new fan degenerates, turns by more than
-// maxNormalChangeDeg, or faces away from its own original normal; a vertex whose whole fan would
-// vanish (an "ear") is kept; region rule 1.
+// edge; the link condition (one exception: a border collapse may close a three-vertex hole
+// (v_i, v_j, b), the border flags of the ring are then refreshed) and no duplicate faces; no face
+// of the new fan degenerates, turns by more than maxNormalChangeDeg, or faces away from its own
+// original normal; a vertex whose whole fan would vanish (an "ear") is kept; region rule 1.
+// Locked vertices: those whose fan is non-manifold (an edge with 3+ faces, two faces with the same
+// directed edge, a bow-tie) or that touch a degenerate face; their manifold neighbours may still
+// collapse (never into them).
 //
 // Regions (DESIGN.md). faceRegion[f] = representative face of f's region; region face lists are
 // intrusive linked lists merged by union by size (the largest region keeps its label, even when its
 // representative face has been removed), so relabelling is O(F log F) in total. A removed
 // representative is replaced by the smallest surviving face of its region only when a level is
 // snapshotted (fixDeadRepresentatives; those updates are recorded with the level's last collapse),
-// so every level's representatives are surviving faces of their regions.
+// so every level's representatives are surviving faces of their regions (except in pruned
+// components, below).
 //   - A spoke (v_i, w) is a p-boundary spoke when its two faces lie in different regions.
 //   - Rule 3: v_i interior with exactly two p-boundary spokes (v_i, v_j) and (v_i, v_k), the
 //     collapse goes along one of them (to v_j) and d(V_i, segment V_j V_k) <= eps with
@@ -65,10 +79,11 @@
 //     (v_j, v_k) stays a p-boundary, so the two sides keep their regions (nothing merges).
 //   - Otherwise every region touching the fan of v_i merges into one (the collapse crosses or
 //     ends the p-boundaries through v_i).
-//   - Rule 1: on a closed component at least two regions must remain.
+//   - Rule 1: on a closed component (no live border or locked vertex; a component whose holes were
+//     closed becomes closed) at least two regions must remain.
 //   - Representative of a merge: the rep of the largest merged region (ties: a rep that survives
 //     the collapse, then the smaller id). Rule 3 collapses change no label.
-//   - Rule 2 is a secondary heap key: deviations are quantised into buckets of relative width
+//   - Rule 2 is a secondary sort key: deviations are quantised into buckets of relative width
 //     similarDeviation, and within a bucket the collapse whose resulting region has the lower
 //     E_region goes first. E_region is approximated from per-region accumulated stats:
 //       E = area(R)/area(M) * ( (1 - |sum a_f n_f| / area(R)) * h  +  max(0, h - sqrt(area(R)/pi)) )
@@ -79,9 +94,25 @@
 //   turns a region into an annulus on an open surface (two regions sharing two boundary runs) is
 //   not detected.
 //
-// Simplification pairs: at each level, every removed original vertex V gets the closest point P on
-// the coarse face it is assigned to (same region); when P lies on an edge of that face which is a
-// p-boundary at this level, the pair is written in edge form (coarse[2] == coarse[1]).
+// Component pruning. A closed component (no open border, no locked vertex) cannot go below a
+// tetrahedron with two regions, so assemblies of many small closed parts stall far above a low
+// target. When a level is not reached yet and the pass error limit (or, when no collapse is left,
+// the level's error target, unbounded by default) exceeds half a closed component's box diagonal,
+// the whole component is removed, smallest diagonal first, only while the live face count stays at
+// or above the target. Its faces leave the level (they keep their regions: no region update, so
+// their representatives are not surviving faces); each of its surviving vertices gets a
+// CollapseRecord with kept == removed (the vertex itself) and deviation = half the component's
+// diagonal, which also enters the level's maxDeviation. Pruned vertices, and the removed vertices
+// whose collapse chain ends in a pruned vertex, get no simplification pair. Open or non-manifold
+// components are never pruned, and the last faces are never pruned.
+//
+// Simplification pairs (computed only when a level is snapshotted). Every removed vertex keeps the
+// vertex it collapsed into; the chain is followed (memoised per snapshot) to a surviving vertex s,
+// and V_i is projected onto the faces around s, preferring the faces of V_i's region (the region of
+// a face kept by its collapse); when P lies on an edge of the chosen face that is a p-boundary at
+// this level (e.g. a rule-3 boundary), the pair is written in edge form (coarse[2] == coarse[1]).
+// Level::maxDeviation = max(previous level, running max of collapse costs, max pair deviation), so
+// it never decreases; meanDeviation = mean pair deviation.
 //
 // Corner wedges: a surviving face keeps its own wedges; a corner moving from v_i to v_j takes the
 // v_j wedge of a removed face (one containing edge v_i v_j) whose v_i corner used the same wedge,
@@ -205,30 +236,27 @@ struct RegionStats {
     float bmin[3], bmax[3];
 };
 
-struct Key {
-    int64_t bucket;
-    float shape;
-    double dev;
-    uint32_t vertex;
-    uint32_t version;
-};
-struct KeyGreater {  // min-heap order: bucket, then E_region, then deviation, then vertex id
-    bool operator()(const Key& a, const Key& b) const {
-        if (a.bucket != b.bucket) return a.bucket > b.bucket;
-        if (a.shape != b.shape) return a.shape > b.shape;
-        if (a.dev != b.dev) return a.dev > b.dev;
-        return a.vertex > b.vertex;
-    }
-};
-
 struct Candidate {
     Reject reason = Reject::Isolated;
     uint32_t target = kNone;
     double dev = 0;
-    double devGeom = 0;  // dev before the re-projection of the removed points (rule 3's epsilon)
+    float farDist = 0;  // distance of v_i's farthest attached point to the new fan
     float shape = 0;
     bool rule3 = false;
-    bool exact = false;  // dev includes the exact re-projection of every removed point of the fan
+};
+
+// A sortable candidate of one pass.
+struct PassEntry {
+    int64_t bucket;
+    float shape;
+    double dev;
+    uint32_t vertex;
+    bool operator<(const PassEntry& b) const {
+        if (bucket != b.bucket) return bucket < b.bucket;
+        if (shape != b.shape) return shape < b.shape;
+        if (dev != b.dev) return dev < b.dev;
+        return vertex < b.vertex;
+    }
 };
 
 // One neighbour w of a vertex v: the faces around v containing edge (v, w).
@@ -248,8 +276,13 @@ struct State {
     std::vector<std::vector<uint32_t>> vfaces;  // live faces around each vertex
     std::vector<uint8_t> locked, border, removed;
     std::vector<uint32_t> component;  // per vertex
-    std::vector<uint8_t> componentClosed;
+    std::vector<uint8_t> componentClosed, componentPruned;  // componentClosed: as classified (sizes)
+    std::vector<uint32_t> componentOpen;  // live border or locked vertices per component (0 = closed)
     std::vector<uint32_t> componentRegions;
+    std::vector<double> componentSize;     // half the box diagonal
+    std::vector<uint32_t> componentOrder;  // components, smallest size first
+    std::vector<uint32_t> componentFaces;  // live faces per component
+    std::vector<uint32_t> componentVertexStart, componentVertices;  // CSR: vertices per component
     std::vector<std::array<float, 3>> originalNormal;  // unit, per face (zero when degenerate)
     std::vector<Quadric> quadric;
 
@@ -259,16 +292,22 @@ struct State {
     uint32_t regionCount = 0;
     double totalArea = 0;
 
-    // Removed points assigned to coarse faces.
-    std::vector<uint32_t> pointHead, pointNext, pointFace;
-    std::vector<float> pointDist, faceErr;
-    static constexpr int kTop = 1;  // the farthest points of each face, used by the cost
-    std::vector<std::array<uint32_t, kTop>> faceTop;
+    // Collapse hierarchy: the vertex each removed vertex collapsed into (kNone: pruned) and a face
+    // its collapse kept (its region is the region V_i belongs to).
+    std::vector<uint32_t> collapsedInto, keptFace;
+    // The farthest removed point attached to each surviving vertex (kNone: none) and its distance
+    // when last measured: the cost re-projects it, a cheap stand-in for the old exact point lists.
+    std::vector<uint32_t> farPoint;
+    std::vector<float> farDist;
+    // Removed points attached to each surviving vertex (intrusive lists spliced on collapse); only
+    // read under an error target (measureAttached).
+    std::vector<uint32_t> attachHead, attachTail, attachNext;
 
-    // Heap.
-    std::vector<Key> heap;  // binary min-heap (std::push_heap with KeyGreater), lazy deletion
-    std::vector<uint32_t> version;
-    std::vector<Reject> lastReject;
+    // Candidates.
+    std::vector<Candidate> cand;
+    std::vector<uint32_t> dirtyPass, touchedPass;  // pass number of the last mark
+    uint32_t pass = 0;
+    std::vector<PassEntry> entries;
 
     size_t aliveFaces = 0;
     double diagonal = 0, longestSide = 0, cosMaxNormalChange = 0;
@@ -279,13 +318,9 @@ struct State {
 
     // Scratch.
     std::vector<RingEntry> ringI;
-    std::vector<uint32_t> ringJ, scratch, repScratch, fanScratch, keptScratch, removedScratch, pointScratch,
-        sameRegionScratch;
+    std::vector<uint32_t> scratch, repScratch, fanScratch, keptScratch, removedScratch;
     uint32_t collapseSource = kNone, collapseTarget = kNone;
     std::vector<uint32_t> markI, markJ;
-    std::vector<Candidate> cand;
-    std::vector<uint32_t> pushEpoch, regionEpoch;
-    uint32_t epoch = 0;
     uint32_t stampI = 0, stampJ = 0;
 
     State(const TriMesh& m, const SimplifyOptions& o) : mesh(m), options(o) {}
@@ -366,7 +401,7 @@ static void classifyVertices(State& s) {
         for (size_t a = 0; a < n && !bad; ++a) {
             size_t matches = 0;
             for (size_t b = 0; b < n; ++b) {
-                if (b != a && outs[b] == outs[a]) bad = true;  // two faces with the same directed edge
+                if (b != a && (outs[b] == outs[a] || ins[b] == ins[a])) bad = true;  // an edge with 3+ faces or two with the same direction
                 if (ins[b] == outs[a]) {
                     ++matches;
                     parent[findRoot(parent, uint32_t(a))] = findRoot(parent, uint32_t(b));
@@ -381,16 +416,12 @@ static void classifyVertices(State& s) {
             uint32_t root = findRoot(parent, 0);
             for (size_t a = 1; a < n; ++a) bad |= findRoot(parent, uint32_t(a)) != root;  // bow-tie
         }
-        if (bad) {
-            s.locked[v] = 1;
-            for (uint32_t f : fs)
-                for (uint32_t u : s.tri[f]) s.locked[u] |= 2;  // neighbours touch the bad edge/fan
-        }
+        if (bad) s.locked[v] = 1;
         s.border[v] = open;
     }
-    // Vertices flagged via a neighbour are only locked if they share a non-manifold edge; keeping
-    // it simple and safe: any vertex adjacent to a non-manifold vertex is locked too.
-    for (auto& l : s.locked) l = l ? 1 : 0;
+    // Only the non-manifold vertices themselves are locked (every vertex of a non-manifold edge has
+    // a non-manifold fan): a manifold neighbour may still collapse, never into a locked vertex, and
+    // the link condition keeps the non-manifold edges intact.
 
     // Components over faces (union of their vertices).
     parent.resize(s.vertexCount);
@@ -413,6 +444,9 @@ static void classifyVertices(State& s) {
     s.componentRegions.assign(count, 0);
     for (uint32_t v = 0; v < s.vertexCount; ++v)
         if (s.component[v] != kNone && (s.border[v] || s.locked[v])) s.componentClosed[s.component[v]] = 0;
+    s.componentOpen.assign(count, 0);
+    for (uint32_t v = 0; v < s.vertexCount; ++v)
+        if (s.component[v] != kNone && (s.border[v] || s.locked[v])) ++s.componentOpen[s.component[v]];
     for (const Tri& t : s.tri) ++s.componentRegions[s.component[t[0]]];
 }
 
@@ -449,7 +483,36 @@ static void initQuadrics(State& s) {
     }
 }
 
-// 5. Regions and removed-point lists.
+// Component sizes (closed components only are ever pruned), smallest first.
+static void measureComponents(State& s) {
+    size_t n = s.componentClosed.size();
+    std::vector<Box3> box(n);
+    const auto& P = s.mesh.positions;
+    for (uint32_t v = 0; v < s.vertexCount; ++v)
+        if (s.component[v] != kNone) box[s.component[v]].extend(P[v]);
+    s.componentSize.assign(n, 0);
+    s.componentPruned.assign(n, 0);
+    s.componentFaces.assign(n, 0);
+    for (const Tri& t : s.tri) ++s.componentFaces[s.component[t[0]]];
+    s.componentVertexStart.assign(n + 1, 0);
+    for (uint32_t v = 0; v < s.vertexCount; ++v)
+        if (s.component[v] != kNone) ++s.componentVertexStart[s.component[v] + 1];
+    for (size_t c = 0; c < n; ++c) s.componentVertexStart[c + 1] += s.componentVertexStart[c];
+    s.componentVertices.resize(s.componentVertexStart[n]);
+    {
+        std::vector<uint32_t> at(s.componentVertexStart.begin(), s.componentVertexStart.end() - 1);
+        for (uint32_t v = 0; v < s.vertexCount; ++v)
+            if (s.component[v] != kNone) s.componentVertices[at[s.component[v]]++] = v;
+    }
+    for (size_t c = 0; c < n; ++c) {
+        s.componentSize[c] = 0.5 * box[c].diagonal();
+        s.componentOrder.push_back(uint32_t(c));
+    }
+    std::stable_sort(s.componentOrder.begin(), s.componentOrder.end(),
+                     [&](uint32_t a, uint32_t b) { return s.componentSize[a] < s.componentSize[b]; });
+}
+
+// 5. Regions.
 
 static void initRegions(State& s) {
     const auto& P = s.mesh.positions;
@@ -473,14 +536,13 @@ static void initRegions(State& s) {
         }
     }
     s.regionCount = uint32_t(s.faceCount);
-    s.pointHead.assign(s.faceCount, kNone);
-    s.faceErr.assign(s.faceCount, 0.f);
-    std::array<uint32_t, State::kTop> none;
-    none.fill(kNone);
-    s.faceTop.assign(s.faceCount, none);
-    s.pointNext.assign(s.vertexCount, kNone);
-    s.pointFace.assign(s.vertexCount, kNone);
-    s.pointDist.assign(s.vertexCount, 0.f);
+    s.collapsedInto.assign(s.vertexCount, kNone);
+    s.keptFace.assign(s.vertexCount, kNone);
+    s.farPoint.assign(s.vertexCount, kNone);
+    s.farDist.assign(s.vertexCount, 0.f);
+    s.attachHead.assign(s.vertexCount, kNone);
+    s.attachTail.assign(s.vertexCount, kNone);
+    s.attachNext.assign(s.vertexCount, kNone);
 }
 
 static void mergeStats(RegionStats& a, const RegionStats& b) {
@@ -529,33 +591,41 @@ static std::vector<PlannedLevel> planLevels(const State& s) {
 // 7a. Candidate evaluation.
 
 static void collectRing(State& s, uint32_t v, std::vector<RingEntry>& ring) {
+    // Each neighbour w is the next corner of at most one face and the previous corner of at most
+    // one face around a manifold vertex (a non-manifold fan is locked and never evaluated).
     ring.clear();
-    for (uint32_t f : s.vfaces[v]) {
-        int c = s.corner(f, v);
-        ring.push_back({s.tri[f][(c + 1) % 3], f, kNone});
-        ring.push_back({s.tri[f][(c + 2) % 3], f, kNone});
+    const auto& fs = s.vfaces[v];
+    size_t n = fs.size();
+    uint32_t next[64], prev[64];
+    std::vector<uint32_t> bigNext, bigPrev;
+    uint32_t *nx = next, *pv = prev;
+    if (n > 64) {
+        bigNext.resize(n);
+        bigPrev.resize(n);
+        nx = bigNext.data();
+        pv = bigPrev.data();
     }
-    std::sort(ring.begin(), ring.end(), [](const RingEntry& a, const RingEntry& b) {
-        return a.w != b.w ? a.w < b.w : a.f0 < b.f0;
-    });
-    size_t o = 0;
-    for (size_t k = 0; k < ring.size(); ++k) {
-        if (o > 0 && ring[o - 1].w == ring[k].w) {
-            ring[o - 1].f1 = ring[k].f0;
-            continue;
-        }
-        ring[o++] = ring[k];
+    for (size_t k = 0; k < n; ++k) {
+        const Tri& t = s.tri[fs[k]];
+        int c = t[0] == v ? 0 : (t[1] == v ? 1 : 2);
+        nx[k] = t[(c + 1) % 3];
+        pv[k] = t[(c + 2) % 3];
     }
-    ring.resize(o);
-}
-
-static void collectNeighbours(State& s, uint32_t v, std::vector<uint32_t>& out) {
-    out.clear();
-    for (uint32_t f : s.vfaces[v])
-        for (uint32_t u : s.tri[f])
-            if (u != v) out.push_back(u);
-    std::sort(out.begin(), out.end());
-    out.erase(std::unique(out.begin(), out.end()), out.end());
+    for (size_t k = 0; k < n; ++k) {
+        RingEntry e{nx[k], fs[k], kNone};
+        for (size_t m = 0; m < n; ++m)
+            if (pv[m] == nx[k] && m != k) {
+                e.f1 = fs[m];
+                break;
+            }
+        if (e.f1 != kNone && e.f1 < e.f0) std::swap(e.f0, e.f1);
+        ring.push_back(e);
+    }
+    for (size_t k = 0; k < n; ++k) {  // neighbours that are only a previous corner (open border)
+        bool found = false;
+        for (size_t m = 0; m < n && !found; ++m) found = nx[m] == pv[k];
+        if (!found) ring.push_back({pv[k], fs[k], kNone});
+    }
 }
 
 static bool isPBoundarySpoke(const State& s, const RingEntry& e) {
@@ -570,62 +640,80 @@ static int64_t bucketOf(const State& s, double dev) {
 }
 
 // Topology and geometry of (vi -> vj); on success fills dev.
-static Reject checkCollapse(State& s, uint32_t vi, const RingEntry& edge, double& dev) {
+static Reject checkCollapse(State& s, uint32_t vi, const RingEntry& edge, double q, double& dev, float& farDist) {
     uint32_t vj = edge.w;
     if (s.locked[vj]) return Reject::Locked;
     bool borderEdge = edge.f1 == kNone;
     if (s.border[vi] && !borderEdge) return Reject::Border;
+    if (s.vfaces[vi].size() <= (borderEdge ? 1u : 2u)) return Reject::Ear;
     // Link condition: the common neighbours are exactly the opposite vertices of the edge's faces.
     // (markI[w] == stampI marks the one-ring of vi; markJ dedupes the neighbours of vj.)
     size_t common = 0;
     uint32_t stampJ = ++s.stampJ;
+    uint32_t commonV[3] = {kNone, kNone, kNone};
     for (uint32_t f : s.vfaces[vj])
         for (uint32_t u : s.tri[f]) {
             if (u == vj || s.markJ[u] == stampJ) continue;
             s.markJ[u] = stampJ;
-            common += s.markI[u] == s.stampI;
+            if (s.markI[u] == s.stampI) {
+                if (common < 3) commonV[common] = u;
+                ++common;
+            }
         }
-    if (common != (borderEdge ? 1u : 2u)) return Reject::Link;
-    if (s.vfaces[vi].size() <= (borderEdge ? 1u : 2u)) return Reject::Ear;
-    // No duplicate faces (the link condition on vertices misses the tetrahedron): a moved face
-    // (vj, x, y) must not already exist around vj.
-    for (uint32_t f : s.vfaces[vi]) {
-        if (f == edge.f0 || f == edge.f1) continue;
-        int c = s.corner(f, vi);
-        uint32_t x = s.tri[f][(c + 1) % 3], y = s.tri[f][(c + 2) % 3];
-        for (uint32_t g : s.vfaces[vj])
-            if (g != edge.f0 && g != edge.f1 && s.corner(g, x) >= 0 && s.corner(g, y) >= 0) return Reject::Link;
+    if (borderEdge && common == 2) {
+        // Closing a three-vertex hole (vi, vj, b): allowed, the edge (vj, b) gets its second face.
+        const Tri& t0 = s.tri[edge.f0];
+        uint32_t opposite = t0[0] != vi && t0[0] != vj ? t0[0] : (t0[1] != vi && t0[1] != vj ? t0[1] : t0[2]);
+        uint32_t b = commonV[0] == opposite ? commonV[1] : commonV[0];
+        bool holeI = false;
+        for (const RingEntry& e : s.ringI)
+            if (e.w == b) holeI = e.f1 == kNone;
+        size_t facesJB = 0;
+        for (uint32_t f : s.vfaces[vj]) facesJB += s.corner(f, b) >= 0;
+        if (!holeI || facesJB != 1 || s.locked[b]) return Reject::Link;
+    } else if (common != (borderEdge ? 1u : 2u)) {
+        return Reject::Link;
     }
 
     const auto& P = s.mesh.positions;
     Vec3 pi = P[vi], pj = P[vj];
-    double best2 = std::numeric_limits<double>::infinity();
-    float err = 0;
+    uint32_t far = s.farPoint[vi];
+    Vec3 pf = far != kNone ? P[far] : pi;
+    double best2 = std::numeric_limits<double>::infinity(), far2 = best2;
     for (uint32_t f : s.vfaces[vi]) {
-        err = std::max(err, s.faceErr[f]);
         if (f == edge.f0 || f == edge.f1) continue;
         const Tri& t = s.tri[f];
-        Vec3 q[3] = {P[t[0]], P[t[1]], P[t[2]]};
-        Vec3 n0 = cross(q[1] - q[0], q[2] - q[0]);
         int c = s.corner(f, vi);
-        q[c] = pj;
-        Vec3 e1 = q[1] - q[0], e2 = q[2] - q[0];
+        // No duplicate faces (the link condition on vertices misses the tetrahedron): a moved face
+        // (vj, x, y) must not already exist around vj.
+        uint32_t x = t[(c + 1) % 3], y = t[(c + 2) % 3];
+        // (Only possible when x and y are both neighbours of vj, marked by the link loop above.)
+        if (s.markJ[x] == stampJ && s.markJ[y] == stampJ)
+            for (uint32_t g : s.vfaces[vj])
+                if (g != edge.f0 && g != edge.f1 && s.corner(g, x) >= 0 && s.corner(g, y) >= 0) return Reject::Link;
+        Vec3 qv[3] = {P[t[0]], P[t[1]], P[t[2]]};
+        Vec3 n0 = cross(qv[1] - qv[0], qv[2] - qv[0]);
+        qv[c] = pj;
+        Vec3 e1 = qv[1] - qv[0], e2 = qv[2] - qv[0];
         Vec3 n1 = cross(e1, e2);
         double l1 = length(n1);
-        double scale = std::max({length2(e1), length2(e2), length2(q[2] - q[1])});
+        double scale = std::max({length2(e1), length2(e2), length2(qv[2] - qv[1])});
         if (!(l1 > 1e-12 * scale)) return Reject::Degenerate;
         double l0 = length(n0);
         if (l0 > 0 && dot(n0, n1) <= s.cosMaxNormalChange * l0 * l1) return Reject::Flip;
         const auto& on = s.originalNormal[f];
         if (n1.x * on[0] + n1.y * on[1] + n1.z * on[2] <= 0 && (on[0] != 0 || on[1] != 0 || on[2] != 0))
             return Reject::Flip;
-        best2 = std::min(best2, closestOnTriangle(pi, q[0], q[1], q[2]).dist2);
+        best2 = std::min(best2, closestOnTriangle(pi, qv[0], qv[1], qv[2]).dist2);
+        if (far != kNone) far2 = std::min(far2, closestOnTriangle(pf, qv[0], qv[1], qv[2]).dist2);
     }
-    dev = std::max({std::sqrt(best2), double(err), s.quadric[vi].distance(pj)});
+    farDist = far != kNone ? float(std::sqrt(far2)) : 0.f;
+    dev = std::max({std::sqrt(best2), double(farDist), q});
     return Reject::None;
 }
 
-// Region plan of a valid collapse: rule 3 or merge; rule 1 check; E_region key.
+// Region plan of a valid collapse: rule 3 or merge; rule 1 check; E_region key. ringI must hold
+// the ring of vi.
 static Reject planRegions(State& s, uint32_t vi, const RingEntry& edge, Candidate& c) {
     // Rule 3.
     c.rule3 = false;
@@ -663,13 +751,14 @@ static Reject planRegions(State& s, uint32_t vi, const RingEntry& edge, Candidat
     s.scratch.erase(std::unique(s.scratch.begin(), s.scratch.end()), s.scratch.end());
     uint32_t comp = s.component[vi];
     uint32_t after = s.componentRegions[comp] - uint32_t(s.scratch.size() - 1);
-    if (s.componentClosed[comp] && after < 2) return Reject::Rule1;
+    if (s.componentOpen[comp] == 0 && after < 2) return Reject::Rule1;
     RegionStats merged = s.regionStats[s.scratch[0]];
     for (size_t k = 1; k < s.scratch.size(); ++k) mergeStats(merged, s.regionStats[s.scratch[k]]);
     c.shape = regionShape(s, merged);
     return Reject::None;
 }
 
+// The best collapse of vi: its outgoing half-edges in quadric order, the first valid one.
 static Candidate evaluateVertex(State& s, uint32_t vi) {
     Candidate best;
     if (s.removed[vi] || s.vfaces[vi].empty()) return best;
@@ -680,7 +769,6 @@ static Candidate evaluateVertex(State& s, uint32_t vi) {
     collectRing(s, vi, s.ringI);
     ++s.stampI;
     for (const RingEntry& e : s.ringI) s.markI[e.w] = s.stampI;
-    // Order the outgoing half-edges by the quadric proxy; the first valid one is the candidate.
     struct Option {
         double q;
         uint32_t k;
@@ -693,15 +781,20 @@ static Candidate evaluateVertex(State& s, uint32_t vi) {
         big.resize(n);
         o = big.data();
     }
-    for (size_t k = 0; k < n; ++k) o[k] = {s.quadric[vi].distance(s.mesh.positions[s.ringI[k].w]), uint32_t(k)};
+    const Quadric& Q = s.quadric[vi];
+    for (size_t k = 0; k < n; ++k) o[k] = {Q.distance(s.mesh.positions[s.ringI[k].w]), uint32_t(k)};
     std::sort(o, o + n, [&](const Option& a, const Option& b) {
         return a.q != b.q ? a.q < b.q : s.ringI[a.k].w < s.ringI[b.k].w;
     });
     Reject last = Reject::Isolated;
+    best.reason = Reject::Isolated;
+    bool found = false;
     for (size_t k = 0; k < n; ++k) {
-        RingEntry edge = s.ringI[o[k].k];
+        if (found && o[k].q >= best.dev) break;  // the cost is at least the quadric term
+        const RingEntry& edge = s.ringI[o[k].k];
         double dev = 0;
-        Reject r = checkCollapse(s, vi, edge, dev);
+        float farDist = 0;
+        Reject r = checkCollapse(s, vi, edge, o[k].q, dev, farDist);
         if (r != Reject::None) {
             if (last == Reject::Isolated || r == Reject::Rule1) last = r;
             continue;
@@ -709,99 +802,18 @@ static Candidate evaluateVertex(State& s, uint32_t vi) {
         Candidate c;
         c.target = edge.w;
         c.dev = dev;
+        c.farDist = farDist;
         r = planRegions(s, vi, edge, c);
         if (r != Reject::None) {
             last = r;
             continue;
         }
         c.reason = Reject::None;
-        return c;
+        if (!found || c.dev < best.dev) best = c;
+        found = true;
     }
-    best.reason = last;
+    if (!found) best.reason = last;
     return best;
-}
-
-static void pushKey(State& s, const Key& k) {
-    s.heap.push_back(k);
-    std::push_heap(s.heap.begin(), s.heap.end(), KeyGreater());
-}
-
-static Key popKey(State& s) {
-    std::pop_heap(s.heap.begin(), s.heap.end(), KeyGreater());
-    Key k = s.heap.back();
-    s.heap.pop_back();
-    return k;
-}
-
-// Drop stale entries once they outnumber the live ones (keeps the heap small and cache-friendly).
-static void compactHeap(State& s, size_t liveVertices) {
-    if (s.heap.size() < 2 * liveVertices + 4096) return;
-    s.heap.erase(std::remove_if(s.heap.begin(), s.heap.end(),
-                                [&](const Key& k) { return k.version != s.version[k.vertex]; }),
-                 s.heap.end());
-    std::make_heap(s.heap.begin(), s.heap.end(), KeyGreater());
-}
-
-static double measureReprojection(State& s, uint32_t vi, const Candidate& c, bool full);
-
-// Evaluates v completely (including the re-projection of its removed points) and stores the
-// candidate; returns false when v has no valid collapse.
-static bool evaluateAndStore(State& s, uint32_t v) {
-    Candidate c = evaluateVertex(s, v);
-    s.lastReject[v] = c.reason;
-    ++s.version[v];
-    if (c.reason != Reject::None) return false;
-    c.devGeom = c.dev;
-    c.dev = std::max(c.dev, measureReprojection(s, v, c, false));
-    c.exact = false;
-    s.cand[v] = c;
-    s.pushEpoch[v] = s.epoch;
-    return true;
-}
-
-// Re-plans only the region part of v's stored candidate (the geometry and its target cannot have
-// changed: v's fan did not change since the push, and rule 1 only gets stricter, so earlier
-// outgoing edges stay rejected). Returns false when the full evaluation is needed.
-static bool refreshRegions(State& s, uint32_t v) {
-    Candidate c = s.cand[v];
-    collectRing(s, v, s.ringI);
-    const RingEntry* edge = nullptr;
-    for (const RingEntry& e : s.ringI)
-        if (e.w == c.target) edge = &e;
-    if (!edge) return false;
-    double dev = c.dev;
-    c.dev = c.devGeom;
-    bool wasRule3 = c.rule3;
-    if (planRegions(s, v, *edge, c) != Reject::None) return false;
-    if (c.rule3 || wasRule3) {
-        c.dev = std::max(c.devGeom, measureReprojection(s, v, c, false));
-        c.exact = false;
-    } else {
-        c.dev = dev;
-    }
-    s.cand[v] = c;
-    s.pushEpoch[v] = s.epoch;
-    ++s.version[v];
-    return true;
-}
-
-static Key keyOf(const State& s, uint32_t v) {
-    const Candidate& c = s.cand[v];
-    return {bucketOf(s, c.dev), c.shape, c.dev, v, s.version[v]};
-}
-
-static void pushVertex(State& s, uint32_t v) {
-    if (evaluateAndStore(s, v)) pushKey(s, keyOf(s, v));
-}
-
-// A stored candidate stays exact until the vertex's fan changes (then it is re-pushed) or a region
-// of its fan changes (merge: regionEpoch) or rule 1 may start to bite on its component.
-static bool candidateDirty(const State& s, uint32_t v) {
-    uint32_t e = s.pushEpoch[v];
-    for (uint32_t f : s.vfaces[v])
-        if (s.regionEpoch[s.faceRegion[f]] > e) return true;
-    uint32_t comp = s.component[v];
-    return s.componentClosed[comp] && s.componentRegions[comp] < 256;
 }
 
 // 7b. Applying a collapse.
@@ -833,7 +845,6 @@ static void mergeRegionGroup(State& s, const std::vector<uint32_t>& reps) {
         mergeStats(s.regionStats[newRep], s.regionStats[r]);
         s.regionSize[r] = 0;
     }
-    s.regionEpoch[newRep] = s.epoch;
     s.regionCount -= uint32_t(reps.size() - 1);
 }
 
@@ -854,7 +865,6 @@ static void updateRegions(State& s, uint32_t vi, const Candidate& c, const std::
 // updates are recorded with the last collapse (so a replay up to any level sees surviving reps).
 static void fixDeadRepresentatives(State& s) {
     if (s.out.collapses.empty()) return;
-    ++s.epoch;
     for (uint32_t r = 0; r < s.faceCount; ++r) {
         if (s.faceAlive[r] || s.regionSize[r] == 0 || s.faceRegion[r] != r) continue;
         uint32_t m = kNone;
@@ -870,7 +880,6 @@ static void fixDeadRepresentatives(State& s) {
         s.regionSize[m] = s.regionSize[r];
         s.regionStats[m] = s.regionStats[r];
         s.regionSize[r] = 0;
-        s.regionEpoch[m] = s.epoch;
     }
     s.out.collapses.back().regionEnd = uint32_t(s.out.regionUpdates.size());
 }
@@ -893,71 +902,8 @@ static uint32_t chooseWedge(const State& s, uint32_t f, int c, uint32_t vi, uint
     return s.wedge[g][s.corner(g, vj)];
 }
 
-static void assignPoint(State& s, uint32_t v, const std::vector<uint32_t>& faces, double& maxDist) {
-    const auto& P = s.mesh.positions;
-    double best = std::numeric_limits<double>::infinity();
-    uint32_t bestFace = faces.front();
-    for (uint32_t f : faces) {
-        const Tri& t = s.tri[f];
-        double d2 = closestOnTriangle(P[v], P[t[0]], P[t[1]], P[t[2]]).dist2;
-        if (d2 < best) best = d2, bestFace = f;
-    }
-    float d = float(std::sqrt(best));
-    s.pointFace[v] = bestFace;
-    s.pointDist[v] = d;
-    s.pointNext[v] = s.pointHead[bestFace];
-    s.pointHead[bestFace] = v;
-    s.faceErr[bestFace] = std::max(s.faceErr[bestFace], d);
-    // Keep the kTop farthest points of the face, farthest first.
-    auto& top = s.faceTop[bestFace];
-    uint32_t p = v;
-    for (int k = 0; k < State::kTop; ++k) {
-        if (top[k] == kNone) {
-            top[k] = p;
-            break;
-        }
-        if (s.pointDist[p] > s.pointDist[top[k]]) std::swap(p, top[k]);
-    }
-    maxDist = std::max(maxDist, double(d));
-}
-
-// The largest distance the points assigned to the fan of vi (and V_i) would have after the
-// collapse, without changing anything (the exact part of the cost, computed once per pop).
-static double measureReprojection(State& s, uint32_t vi, const Candidate& c, bool full) {
-    const auto& P = s.mesh.positions;
-    uint32_t vj = c.target;
-    double worst2 = 0;
-    auto dist2To = [&](uint32_t p, bool sameRegionOnly) {
-        double best = std::numeric_limits<double>::infinity();
-        uint32_t r = p == vi ? kNone : s.faceRegion[s.pointFace[p]];
-        for (int pass = 0; pass < 2 && !std::isfinite(best); ++pass)
-            for (uint32_t f : s.vfaces[vi]) {
-                if (s.corner(f, vj) >= 0) continue;
-                if (pass == 0 && sameRegionOnly && r != kNone && s.faceRegion[f] != r) continue;
-                Tri t = s.tri[f];
-                t[s.corner(f, vi)] = vj;
-                best = std::min(best, closestOnTriangle(P[p], P[t[0]], P[t[1]], P[t[2]]).dist2);
-            }
-        return best;
-    };
-    worst2 = dist2To(vi, false);
-    // Only the farthest few points of each face (the others are bounded by faceErr in the cost;
-    // the recorded deviation is exact, see applyCollapse).
-    if (full) {
-        for (uint32_t f : s.vfaces[vi])
-            for (uint32_t p = s.pointHead[f]; p != kNone; p = s.pointNext[p]) worst2 = std::max(worst2, dist2To(p, c.rule3));
-    } else {
-        for (uint32_t f : s.vfaces[vi])
-            for (uint32_t p : s.faceTop[f]) {
-                if (p == kNone) break;
-                worst2 = std::max(worst2, dist2To(p, c.rule3));
-            }
-    }
-    return std::sqrt(worst2);
-}
-
-// Returns the largest distance of a re-projected point.
-static double applyCollapse(State& s, uint32_t vi, const Candidate& c) {
+// Applies the collapse (its region plan c must be current).
+static void applyCollapse(State& s, uint32_t vi, const Candidate& c) {
     uint32_t vj = c.target;
     std::vector<uint32_t>& fan = s.fanScratch;
     std::vector<uint32_t>& kept = s.keptScratch;
@@ -988,46 +934,103 @@ static double applyCollapse(State& s, uint32_t vi, const Candidate& c) {
         }
     }
     for (uint32_t f : kept) s.vfaces[vj].push_back(f);
+    if (s.border[vi]) {
+        // A border collapse may close a three-vertex hole: refresh the border flags of the ring.
+        uint32_t comp = s.component[vi];
+        --s.componentOpen[comp];
+        s.border[vi] = 0;
+        std::vector<uint32_t>& ring = s.repScratch;
+        ring.clear();
+        for (uint32_t f : fan)
+            for (uint32_t u : s.tri[f])
+                if (u != vi && !s.locked[u]) ring.push_back(u);
+        std::sort(ring.begin(), ring.end());
+        ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
+        std::vector<RingEntry> ru;
+        for (uint32_t u : ring) {
+            if (s.vfaces[u].empty()) continue;
+            collectRing(s, u, ru);
+            uint8_t open = 0;
+            for (const RingEntry& e : ru) open |= e.f1 == kNone;
+            if (open != s.border[u]) {
+                if (open) ++s.componentOpen[comp]; else --s.componentOpen[comp];
+                s.border[u] = open;
+            }
+        }
+    }
     s.vfaces[vi].clear();
     s.vfaces[vi].shrink_to_fit();
     s.removed[vi] = 1;
+    s.collapsedInto[vi] = vj;
+    s.keptFace[vi] = kept.empty() ? kNone : kept.front();
     s.aliveFaces -= removedFaces.size();
+    s.componentFaces[s.component[vi]] -= uint32_t(removedFaces.size());
     s.quadric[vj].add(s.quadric[vi]);
-
-    // Re-project the removed points of the fan (and V_i) onto the new fan, within their region.
-    std::vector<uint32_t>& points = s.pointScratch;
-    points.assign(1, vi);
-    for (uint32_t f : fan) {
-        for (uint32_t p = s.pointHead[f]; p != kNone; p = s.pointNext[p]) points.push_back(p);
-        s.pointHead[f] = kNone;
-        s.faceErr[f] = 0;
-        s.faceTop[f].fill(kNone);
-    }
-    double maxDist = 0;
-    std::vector<uint32_t>& sameRegion = s.sameRegionScratch;
-    for (uint32_t p : points) {
-        const std::vector<uint32_t>* target = &kept;
-        if (c.rule3 && p != vi) {
-            uint32_t r = s.faceRegion[s.pointFace[p]];
-            sameRegion.clear();
-            for (uint32_t f : kept)
-                if (s.faceRegion[f] == r) sameRegion.push_back(f);
-            if (!sameRegion.empty()) target = &sameRegion;
-        }
-        assignPoint(s, p, *target, maxDist);
-    }
-    double dev = std::max(c.dev, maxDist);
-    s.out.collapses.push_back({vi, vj, float(dev), begin, end});
-    s.runningMax = std::max(s.runningMax, double(float(dev)));
-    return dev;
+    // The farthest attached point of vj: vi itself, vi's farthest point or vj's own.
+    std::pair<float, uint32_t> far = {s.farDist[vj], s.farPoint[vj]};
+    far = std::max(far, {float(c.dev), vi});
+    if (s.farPoint[vi] != kNone) far = std::max(far, {c.farDist, s.farPoint[vi]});
+    s.farDist[vj] = far.first;
+    s.farPoint[vj] = far.second;
+    // vi and its attached points now hang under vj.
+    s.attachNext[vi] = s.attachHead[vi];
+    uint32_t tail = s.attachTail[vi] == kNone ? vi : s.attachTail[vi];
+    s.attachNext[tail] = s.attachHead[vj];
+    if (s.attachHead[vj] == kNone) s.attachTail[vj] = tail;
+    s.attachHead[vj] = vi;
+    s.attachHead[vi] = s.attachTail[vi] = kNone;
+    s.out.collapses.push_back({vi, vj, float(c.dev), begin, end});
+    s.runningMax = std::max(s.runningMax, double(float(c.dev)));
 }
 
-// 7c. Levels.
+// Removes closed component `comp` entirely (see the header comment).
+static void pruneComponent(State& s, uint32_t comp) {
+    s.componentPruned[comp] = 1;
+    float dev = float(s.componentSize[comp]);
+    uint32_t at = uint32_t(s.out.regionUpdates.size());
+    for (uint32_t k = s.componentVertexStart[comp]; k < s.componentVertexStart[comp + 1]; ++k) {
+        uint32_t v = s.componentVertices[k];
+        if (s.removed[v] || s.vfaces[v].empty()) continue;
+        for (uint32_t f : s.vfaces[v])
+            if (s.faceAlive[f]) {
+                s.faceAlive[f] = 0;
+                --s.aliveFaces;
+            }
+    }
+    for (uint32_t k = s.componentVertexStart[comp]; k < s.componentVertexStart[comp + 1]; ++k) {
+        uint32_t v = s.componentVertices[k];
+        if (s.removed[v] || s.vfaces[v].empty()) continue;
+        s.vfaces[v].clear();
+        s.vfaces[v].shrink_to_fit();
+        s.removed[v] = 1;
+        s.collapsedInto[v] = kNone;
+        s.cand[v] = Candidate{};
+        s.out.collapses.push_back({v, v, dev, at, at});
+    }
+    s.componentFaces[comp] = 0;
+    s.runningMax = std::max(s.runningMax, double(dev));
+}
+
+// Prunes components (closed ones only when closedOnly) whose size is below `limit`, smallest first,
+// while the live count stays at or above `target`. Returns whether anything was pruned.
+static bool pruneComponents(State& s, double limit, uint64_t target, bool closedOnly) {
+    bool any = false;
+    for (uint32_t comp : s.componentOrder) {
+        if (s.aliveFaces <= target) break;
+        if (!(s.componentSize[comp] < limit)) break;
+        if (s.componentPruned[comp] || (closedOnly && s.componentOpen[comp] != 0)) continue;
+        // Never undershoot the target, never prune the last faces.
+        if (s.aliveFaces - s.componentFaces[comp] < std::max<uint64_t>(target, 1)) continue;
+        pruneComponent(s, comp);
+        any = true;
+    }
+    return any;
+}
 
 static const char* summariseStop(const State& s) {
     size_t counts[size_t(Reject::Count)] = {};
     for (uint32_t v = 0; v < s.vertexCount; ++v)
-        if (!s.removed[v] && !s.vfaces[v].empty()) ++counts[size_t(s.lastReject[v])];
+        if (!s.removed[v] && !s.vfaces[v].empty()) ++counts[size_t(s.cand[v].reason)];
     // Rule 1 and locks are what the user can act on: name them when they block anything.
     if (counts[size_t(Reject::Rule1)]) return kRejectReason[size_t(Reject::Rule1)];
     size_t best = size_t(Reject::Isolated);
@@ -1036,14 +1039,65 @@ static const char* summariseStop(const State& s) {
     return kRejectReason[best];
 }
 
+
+// Root of the collapse chain of removed vertex v (kNone when it ends in a pruned vertex), memoised
+// for one snapshot in root[].
+static uint32_t chainRoot(const State& s, uint32_t v, std::vector<uint32_t>& root) {
+    uint32_t u = v;
+    while (s.removed[u] && root[u] == kNone - 1) {
+        uint32_t next = s.collapsedInto[u];
+        if (next == kNone) break;
+        u = next;
+    }
+    uint32_t r = !s.removed[u] ? u : (root[u] != kNone - 1 ? root[u] : kNone);
+    for (uint32_t w = v; w != u && s.removed[w];) {  // path compression
+        uint32_t next = s.collapsedInto[w];
+        root[w] = r;
+        if (next == kNone) break;
+        w = next;
+    }
+    if (s.removed[u]) root[u] = r;
+    return r;
+}
+
 static void computePairs(State& s, Level& level) {
     const auto& P = s.mesh.positions;
     double sum = 0, maxPair = 0;
+    std::vector<uint32_t> root(s.vertexCount, kNone - 1);
+    std::vector<uint32_t> faceMark(s.faceCount, 0);
+    uint32_t stamp = 0;
+    double runningMax2 = s.runningMax * s.runningMax;
     for (uint32_t v = 0; v < s.vertexCount; ++v) {
-        if (!s.removed[v]) continue;
-        uint32_t f = s.pointFace[v];
+        if (!s.removed[v] || s.collapsedInto[v] == kNone) continue;
+        uint32_t r = chainRoot(s, v, root);
+        if (r == kNone || s.vfaces[r].empty()) continue;
+        uint32_t region = s.keptFace[v] == kNone ? kNone : s.faceRegion[s.keptFace[v]];
+        double bestAny = std::numeric_limits<double>::infinity(), bestRegion = bestAny;
+        uint32_t fAny = kNone, fRegion = kNone;
+        Closest cAny{}, cRegion{};
+        auto consider = [&](uint32_t f) {
+            const Tri& t = s.tri[f];
+            Closest cp = closestOnTriangle(P[v], P[t[0]], P[t[1]], P[t[2]]);
+            if (cp.dist2 < bestAny) bestAny = cp.dist2, fAny = f, cAny = cp;
+            if (s.faceRegion[f] == region && cp.dist2 < bestRegion) bestRegion = cp.dist2, fRegion = f, cRegion = cp;
+        };
+        for (uint32_t f : s.vfaces[r]) consider(f);
+        // Farther than any collapse cost: the closest point may lie one ring out.
+        double found = fRegion != kNone ? bestRegion : bestAny;
+        if (found > runningMax2) {
+            ++stamp;
+            for (uint32_t f : s.vfaces[r]) faceMark[f] = stamp;
+            for (uint32_t f : s.vfaces[r])
+                for (uint32_t u : s.tri[f])
+                    for (uint32_t g : s.vfaces[u])
+                        if (faceMark[g] != stamp) {
+                            faceMark[g] = stamp;
+                            consider(g);
+                        }
+        }
+        uint32_t f = fRegion != kNone ? fRegion : fAny;
+        const Closest& cp = fRegion != kNone ? cRegion : cAny;
         const Tri& t = s.tri[f];
-        Closest cp = closestOnTriangle(P[v], P[t[0]], P[t[1]], P[t[2]]);
         SimplificationPair pair;
         pair.vertex = v;
         pair.face = f;
@@ -1097,11 +1151,156 @@ static void snapshotLevel(State& s, const PlannedLevel& plan, const std::string&
     s.out.levels.push_back(std::move(level));
 }
 
+// 7c. Passes.
+
+// Whether v's cached candidate may be stale after the previous pass (see the header comment).
+static bool needsEvaluation(const State& s, uint32_t v) {
+    uint32_t prev = s.pass - 1;
+    if (s.pass == 1 || s.dirtyPass[v] == prev) return true;
+    const Candidate& c = s.cand[v];
+    if (c.reason == Reject::None) return s.dirtyPass[c.target] == prev;
+    if (c.reason == Reject::Locked) return false;
+    for (uint32_t f : s.vfaces[v])
+        for (uint32_t u : s.tri[f])
+            if (s.dirtyPass[u] == prev) return true;
+    return false;
+}
+
+// Under an error target: the largest distance, after collapse (vi -> vj), of every removed point
+// attached to a vertex whose fan changes (and of V_i), to the new fan of the vertex it then hangs
+// under. Pairs are projected onto (at least) that fan, so a collapse measured here within the
+// target keeps every pair within it.
+static double measureAttached(State& s, uint32_t vi, uint32_t vj) {
+    const auto& P = s.mesh.positions;
+    auto newCorners = [&](uint32_t f, Tri& t) {  // false when f vanishes
+        t = s.tri[f];
+        int ci = s.corner(f, vi);
+        if (ci < 0) return true;
+        if (s.corner(f, vj) >= 0) return false;
+        t[ci] = vj;
+        return true;
+    };
+    auto dist2ToFan = [&](uint32_t p, uint32_t x) {
+        double best = std::numeric_limits<double>::infinity();
+        Tri t;
+        for (uint32_t f : s.vfaces[x])
+            if (newCorners(f, t)) best = std::min(best, closestOnTriangle(P[p], P[t[0]], P[t[1]], P[t[2]]).dist2);
+        if (x == vj)
+            for (uint32_t f : s.vfaces[vi])
+                if (s.corner(f, vj) < 0 && newCorners(f, t))
+                    best = std::min(best, closestOnTriangle(P[p], P[t[0]], P[t[1]], P[t[2]]).dist2);
+        return best;
+    };
+    double worst = dist2ToFan(vi, vj);
+    for (uint32_t p = s.attachHead[vi]; p != kNone; p = s.attachNext[p]) worst = std::max(worst, dist2ToFan(p, vj));
+    ++s.stampJ;
+    for (uint32_t f : s.vfaces[vi])
+        for (uint32_t x : s.tri[f]) {
+            if (x == vi || s.markJ[x] == s.stampJ) continue;
+            s.markJ[x] = s.stampJ;
+            for (uint32_t p = s.attachHead[x]; p != kNone; p = s.attachNext[p]) worst = std::max(worst, dist2ToFan(p, x));
+        }
+    return std::sqrt(worst);
+}
+
+enum class PassResult { Progress, Idle, NoCandidate, ErrorReached };
+
+// One pass toward `plan` (see the header comment).
+static PassResult runPass(State& s, const PlannedLevel& plan) {
+    ++s.pass;
+    s.entries.clear();
+    double maxCost = plan.error;
+    bool anyValid = false;
+    for (uint32_t v = 0; v < s.vertexCount; ++v) {
+        if (s.removed[v] || s.vfaces[v].empty()) continue;
+        if (needsEvaluation(s, v)) s.cand[v] = evaluateVertex(s, v);
+        const Candidate& c = s.cand[v];
+        if (c.reason != Reject::None) continue;
+        anyValid = true;
+        if (c.dev > maxCost) continue;
+        s.entries.push_back({0, s.options.similarDeviation > 0 ? c.shape : 0.f, c.dev, v});
+    }
+    uint64_t target = plan.triangles;
+    // Pass error limit: 1.1 x the cost of the (remaining collapses / 3)-th cheapest candidate.
+    double limit = maxCost;
+    if (!s.entries.empty()) {
+        size_t need = size_t((s.aliveFaces - target + 1) / 2);
+        size_t goal = std::min(s.entries.size() - 1, need / 3);
+        std::nth_element(s.entries.begin(), s.entries.begin() + goal, s.entries.end(),
+                         [](const PassEntry& a, const PassEntry& b) { return a.dev < b.dev; });
+        limit = std::min(maxCost, s.entries[goal].dev * 1.1);
+    }
+    // Component pruning when the limit exceeds a closed component's size (or nothing else is left).
+    if (pruneComponents(s, limit, target, true)) {
+        // Candidates of pruned vertices are gone.
+        s.entries.erase(std::remove_if(s.entries.begin(), s.entries.end(),
+                                       [&](const PassEntry& e) { return s.removed[e.vertex] != 0; }),
+                        s.entries.end());
+        if (s.aliveFaces <= target) return PassResult::Progress;
+    }
+    if (s.entries.empty()) return anyValid ? PassResult::ErrorReached : PassResult::NoCandidate;
+    // Candidates under the limit, in (bucket, E_region, deviation, vertex) order.
+    size_t o = 0;
+    for (const PassEntry& e : s.entries)
+        if (e.dev <= limit) s.entries[o++] = {bucketOf(s, e.dev), e.shape, e.dev, e.vertex};
+    s.entries.resize(o);
+    std::sort(s.entries.begin(), s.entries.end());
+
+    size_t applied = 0;
+    for (const PassEntry& e : s.entries) {
+        if (s.aliveFaces <= target) break;
+        uint32_t vi = e.vertex;
+        if (s.removed[vi] || s.touchedPass[vi] == s.pass) continue;
+        Candidate c = s.cand[vi];
+        uint32_t vj = c.target;
+        if (s.touchedPass[vj] == s.pass) continue;
+        collectRing(s, vi, s.ringI);
+        const RingEntry* edge = nullptr;
+        for (const RingEntry& r : s.ringI)
+            if (r.w == vj) edge = &r;
+        if (!edge) {
+            s.dirtyPass[vi] = s.pass;  // re-evaluate next pass
+            continue;
+        }
+        if (s.dirtyPass[vi] == s.pass || s.dirtyPass[vj] == s.pass) {
+            // The fan of vi or of vj changed in this pass: check and cost the collapse again.
+            ++s.stampI;
+            for (const RingEntry& r : s.ringI) s.markI[r.w] = s.stampI;
+            double q = s.quadric[vi].distance(s.mesh.positions[vj]);
+            if (checkCollapse(s, vi, *edge, q, c.dev, c.farDist) != Reject::None || c.dev > limit) {
+                s.dirtyPass[vi] = s.pass;
+                continue;
+            }
+        }
+        // The region plan is re-done (labels may have merged).
+        if (planRegions(s, vi, *edge, c) != Reject::None) {
+            s.dirtyPass[vi] = s.pass;  // re-evaluate next pass
+            continue;
+        }
+        if (std::isfinite(maxCost)) {
+            // Error target: measure every attached point exactly (see measureAttached).
+            double d = measureAttached(s, vi, c.target);
+            if (d > maxCost) {
+                s.cand[vi].dev = std::max(s.cand[vi].dev, d);  // out of this level until re-evaluated
+                ++applied;  // not idle: the candidate set shrank
+                continue;
+            }
+            c.dev = std::max(c.dev, d);
+        }
+        for (uint32_t f : s.vfaces[vi])
+            for (uint32_t u : s.tri[f]) s.dirtyPass[u] = s.pass;
+        s.touchedPass[vi] = s.touchedPass[vj] = s.pass;
+        applyCollapse(s, vi, c);
+        s.cand[vi] = Candidate{};
+        ++applied;
+    }
+    return applied ? PassResult::Progress : PassResult::Idle;
+}
+
 }  // namespace
 
 SimplifyResult simplify(const TriMesh& mesh, const SimplifyOptions& options) {
     using Clock = std::chrono::steady_clock;
-    auto started = Clock::now();
     validateInput(mesh);
     State s(mesh, options);
     Box3 box = bounds(mesh);
@@ -1113,78 +1312,37 @@ SimplifyResult simplify(const TriMesh& mesh, const SimplifyOptions& options) {
     s.markI.assign(s.vertexCount, 0);
     s.markJ.assign(s.vertexCount, 0);
     classifyVertices(s);
+    measureComponents(s);
     initQuadrics(s);
     initRegions(s);
     std::vector<PlannedLevel> plan = planLevels(s);
-
-    // Every vertex gets its best collapse.
-    s.version.assign(s.vertexCount, 0);
     s.cand.assign(s.vertexCount, Candidate{});
-    s.pushEpoch.assign(s.vertexCount, 0);
-    s.regionEpoch.assign(s.faceCount, 0);
-    s.lastReject.assign(s.vertexCount, Reject::Isolated);
-    for (uint32_t v = 0; v < s.vertexCount; ++v) pushVertex(s, v);
+    s.dirtyPass.assign(s.vertexCount, 0);
+    s.touchedPass.assign(s.vertexCount, 0);
 
     uint64_t finalTarget = plan.empty() ? s.faceCount : plan.back().triangles;
-    double expected = std::max(1.0, double(s.faceCount - std::min<uint64_t>(finalTarget, s.faceCount)) / 2.0);
-    size_t collapses = 0;
-    std::vector<uint32_t> ring;
+    double start = double(s.faceCount), span = std::max(1.0, start - double(std::min<uint64_t>(finalTarget, s.faceCount)));
     auto levelStart = Clock::now();
     for (const PlannedLevel& level : plan) {
         std::string stop = kRejectReason[0];
+        int idle = 0;
         while (s.aliveFaces > level.triangles) {
-            if (s.heap.empty()) {
+            PassResult r = runPass(s, level);
+            if (r == PassResult::ErrorReached) break;  // error target reached
+            if (r == PassResult::NoCandidate) {
+                // Nothing can collapse: prune what the level's error target allows, else stop.
+                // Closed components up to the level's error target (open or non-manifold
+                // components are never pruned: they are not stuck on rule 1).
+                if (pruneComponents(s, level.error, level.triangles, true)) continue;
                 stop = summariseStop(s);
                 break;
             }
-            Key top = popKey(s);
-            uint32_t vi = top.vertex;
-            if (top.version != s.version[vi]) continue;
-            // Re-evaluate only when region merges since the push may have changed rule 1, rule 3
-            // or the E_region key.
-            if (candidateDirty(s, vi)) {
-                if (!refreshRegions(s, vi) && !evaluateAndStore(s, vi)) continue;
-                Key fresh = keyOf(s, vi);
-                // Still the best of what is left: apply now (popping it again would re-evaluate
-                // it to the same key). Otherwise re-queue it with the fresh key.
-                if (!s.heap.empty() && KeyGreater()(fresh, s.heap.front())) {
-                    pushKey(s, fresh);
-                    continue;
-                }
-                top = fresh;
+            idle = r == PassResult::Idle ? idle + 1 : 0;
+            if (idle > 2) {
+                stop = summariseStop(s);
+                break;
             }
-            if (!s.cand[vi].exact) {
-                // The key used the farthest few points per face: measure every point now.
-                Candidate& e = s.cand[vi];
-                e.dev = std::max(e.dev, measureReprojection(s, vi, e, true));
-                e.exact = true;
-                ++s.version[vi];
-                Key fresh = keyOf(s, vi);
-                // Still the best of what is left: apply now (popping it again would re-evaluate
-                // it to the same key). Otherwise re-queue it with the fresh key.
-                if (!s.heap.empty() && KeyGreater()(fresh, s.heap.front())) {
-                    pushKey(s, fresh);
-                    continue;
-                }
-                top = fresh;
-            }
-            Candidate c = s.cand[vi];
-            if (c.dev > level.error) {
-                pushKey(s, top);
-                break;  // error target reached
-            }
-            ++s.version[vi];
-            ++s.epoch;
-            applyCollapse(s, vi, c);
-            // The new one-ring of v_j changed shape: re-evaluate it.
-            uint32_t vj = c.target;
-            pushVertex(s, vj);
-            collectNeighbours(s, vj, ring);
-            for (uint32_t u : ring) pushVertex(s, u);
-            ++collapses;
-            if (collapses % 1024 == 0) compactHeap(s, s.vertexCount - collapses);
-            if (collapses % 4096 == 0 && options.progress &&
-                !options.progress(std::min(1.0, double(collapses) / expected)))
+            if (options.progress && !options.progress(std::clamp((start - double(s.aliveFaces)) / span, 0.0, 1.0)))
                 throw Impossible("simplify: cancelled");
         }
         auto now = Clock::now();
@@ -1192,7 +1350,6 @@ SimplifyResult simplify(const TriMesh& mesh, const SimplifyOptions& options) {
         levelStart = Clock::now();
     }
     if (options.progress && !options.progress(1.0)) throw Impossible("simplify: cancelled");
-    (void)started;
 
     SimplifyResult result;
     result.multires = std::move(s.out);
