@@ -35,7 +35,9 @@ class PackAssets(unittest.TestCase):
         out = os.path.join(self.dir, name + ".lod.glb")
         rep = os.path.join(self.dir, name + ".lod.json")
         lt.run([lt.tool("simplify"), "-i", src, "-o", mr, "--ratio", "0.5,0.1,0.02", "--quiet"])
-        lt.run([lt.tool("parameterize"), "-i", mr, "-o", uv, "--quiet"])
+        # pack's properties are tested here; parameterize's own tests hold it to 0 folded level
+        # triangles, an open problem on some inputs (issue 4), hence --allow-level-folds.
+        lt.run([lt.tool("parameterize"), "-i", mr, "-o", uv, "--quiet", "--allow-level-folds"])
         lt.run([lt.tool("pack"), "-i", uv, "-o", out, "--samples", "50000", "--quiet", "--report", rep])
         check_chain(self, out, rep)
         with open(rep) as f:

@@ -18,6 +18,7 @@ struct Settings {
     std::vector<double> ratios;
     std::vector<double> triangles;
     std::vector<double> maxErrors;
+    double maxRegionConeDeg = SimplifyOptions{}.maxRegionConeDeg;
 };
 
 Settings parseArgs(int argc, char** argv, bool& proceed) {
@@ -30,6 +31,14 @@ Settings parseArgs(int argc, char** argv, bool& proceed) {
              [&](const std::string& v) { s.triangles = cli::parseDoubleList("--triangles", v); });
     p.option("--max-error", "E,...", "levels by maximum vertex deviation relative to the bounding-box diagonal",
              [&](const std::string& v) { s.maxErrors = cli::parseDoubleList("--max-error", v); });
+    p.option("--max-region-cone", "DEG",
+             "largest normal spread of a region (half-angle of the equivalent cap, degrees; default " +
+                 std::to_string(int(s.maxRegionConeDeg)) + ", 180 = off): regions become texture charts",
+             [&](const std::string& v) {
+                 s.maxRegionConeDeg = cli::parseDouble("--max-region-cone", v);
+                 if (!(s.maxRegionConeDeg > 0 && s.maxRegionConeDeg <= 180))
+                     throw UsageError("--max-region-cone must be in (0, 180]");
+             });
     proceed = p.parse(argc, argv);
     return s;
 }
@@ -111,6 +120,7 @@ int run(const Settings& s) {
 
     SimplifyOptions opt;
     opt.levels = targets;
+    opt.maxRegionConeDeg = s.maxRegionConeDeg;
     opt.threads = cli::resolveThreads(s.common.threads);
     cli::Progress progress("simplify", cli::progressEnabled(s.common));
     opt.progress = [&progress](double f) { return progress(f); };

@@ -333,6 +333,15 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
         ao.maxSize = options.maxSize;
         ao.powerOfTwo = options.powerOfTwo;
         LevelAtlas la = packLevelAtlas(lookup, mr, views[k], k == 0, chartFaces, chartUvArea, ao);
+        // A coarser level never carries more texels than the finer one (packing of fewer, larger
+        // gutters can come out bigger at the same density): lower its density until it does not.
+        for (int tries = 0; k > 0 && tries < 8; ++tries) {
+            double previous = double(res.reports[k - 1].width) * res.reports[k - 1].height;
+            double now = double(la.atlas.width) * la.atlas.height;
+            if (now <= previous) break;
+            ao.maxTexelsPerUnit = std::min(ao.maxTexelsPerUnit, la.atlas.texelsPerUnit) * std::sqrt(previous / now) * 0.98;
+            la = packLevelAtlas(lookup, mr, views[k], false, chartFaces, chartUvArea, ao);
+        }
         r.gutter = la.atlas.gutter;
         r.mips = std::max(0, int(std::log2(std::max(2, r.gutter) / 2)));  // the packer may narrow the gutter
         r.width = la.atlas.width;

@@ -104,7 +104,8 @@
 // CollapseRecord with kept == removed (the vertex itself) and deviation = half the component's
 // diagonal, which also enters the level's maxDeviation. Pruned vertices, and the removed vertices
 // whose collapse chain ends in a pruned vertex, get no simplification pair. Open or non-manifold
-// components are never pruned, and the last faces are never pruned.
+// components are pruned only when simplification is stuck and their size is within the error
+// already accepted (the running max deviation); the last faces are never pruned.
 //
 // Simplification pairs (computed only when a level is snapshotted). Every removed vertex keeps the
 // vertex it collapsed into; the chain is followed (memoised per snapshot) to a surviving vertex s,
@@ -138,7 +139,7 @@ constexpr uint32_t kNone = 0xffffffffu;
 // ---------------------------------------------------------------------------------------------
 // Rule table: why a vertex could not collapse. The stop reason of a level that cannot reach its
 // target is the most frequent reason among the remaining vertices.
-enum class Reject : uint8_t { None, Locked, Border, Link, Flip, Degenerate, Ear, Rule1, Isolated, Count };
+enum class Reject : uint8_t { None, Locked, Border, Link, Flip, Degenerate, Ear, Rule1, Cone, Isolated, Count };
 
 constexpr const char* kRejectReason[] = {
     "target",                           // None
@@ -149,6 +150,7 @@ constexpr const char* kRejectReason[] = {
     "no valid collapse: degenerate face",  // Degenerate
     "no valid collapse: corner",        // Ear: the whole fan would vanish
     "rule1: last p-boundary",           // Rule1
+    "region: normal cone",              // Cone: the merged region would turn too far to be a chart
     "no valid collapse",                // Isolated
 };
 static_assert(sizeof(kRejectReason) / sizeof(kRejectReason[0]) == size_t(Reject::Count), "rule table");
@@ -310,7 +312,7 @@ struct State {
     std::vector<PassEntry> entries;
 
     size_t aliveFaces = 0;
-    double diagonal = 0, longestSide = 0, cosMaxNormalChange = 0;
+    double diagonal = 0, longestSide = 0, cosMaxNormalChange = 0, minRegionCoherence = 0;
     double runningMax = 0;  // running max of recorded collapse deviations
     double levelMax = 0;    // maxDeviation of the previous level
 
@@ -715,8 +717,11 @@ static Reject checkCollapse(State& s, uint32_t vi, const RingEntry& edge, double
 // Region plan of a valid collapse: rule 3 or merge; rule 1 check; E_region key. ringI must hold
 // the ring of vi.
 static Reject planRegions(State& s, uint32_t vi, const RingEntry& edge, Candidate& c) {
-    // Rule 3.
+    // Rule 3 applies to a collapse along one of exactly two p-boundary spokes of an interior vertex
+    // when each side keeps a surviving face: the new edge (v_j, v_k) stays a p-boundary.
     c.rule3 = false;
+    double chord = -1;  // distance of V_i to the new boundary edge; < 0: rule 3 does not apply
+    uint32_t rA = kNone, rB = kNone;
     if (!s.border[vi] && isPBoundarySpoke(s, edge)) {
         uint32_t spokes = 0, vk = kNone;
         for (const RingEntry& e : s.ringI)
@@ -725,35 +730,48 @@ static Reject planRegions(State& s, uint32_t vi, const RingEntry& edge, Candidat
                 if (e.w != edge.w) vk = e.w;
             }
         if (spokes == 2 && vk != kNone) {
-            const auto& P = s.mesh.positions;
-            double eps = std::max(s.options.epsilonDeviationFactor * c.dev, s.options.epsilonBoxFactor * s.longestSide);
-            if (distanceToSegment(P[vi], P[edge.w], P[vk]) <= eps) {
-                // Each side must keep a surviving face (otherwise its region would vanish here).
-                uint32_t rA = s.faceRegion[edge.f0], rB = s.faceRegion[edge.f1];
-                bool keptA = false, keptB = false;
-                for (uint32_t f : s.vfaces[vi]) {
-                    if (f == edge.f0 || f == edge.f1) continue;
-                    keptA |= s.faceRegion[f] == rA;
-                    keptB |= s.faceRegion[f] == rB;
-                }
-                if (keptA && keptB) {
-                    c.rule3 = true;
-                    c.shape = std::max(regionShape(s, s.regionStats[rA]), regionShape(s, s.regionStats[rB]));
-                    return Reject::None;
-                }
+            rA = s.faceRegion[edge.f0];
+            rB = s.faceRegion[edge.f1];
+            bool keptA = false, keptB = false;
+            for (uint32_t f : s.vfaces[vi]) {
+                if (f == edge.f0 || f == edge.f1) continue;
+                keptA |= s.faceRegion[f] == rA;
+                keptB |= s.faceRegion[f] == rB;
             }
+            const auto& P = s.mesh.positions;
+            if (keptA && keptB) chord = distanceToSegment(P[vi], P[edge.w], P[vk]);
         }
     }
-    // Merge every region of the fan.
+    auto keepBoundary = [&] {
+        c.rule3 = true;
+        c.shape = std::max(regionShape(s, s.regionStats[rA]), regionShape(s, s.regionStats[rB]));
+        return Reject::None;
+    };
+    double eps = std::max(s.options.epsilonDeviationFactor * c.dev, s.options.epsilonBoxFactor * s.longestSide);
+    if (chord >= 0 && chord <= eps) return keepBoundary();
+    // Otherwise every region of the fan merges, unless rule 1 or the normal cone forbids it. When
+    // the cone forbids it, a rule-3 collapse is still allowed, its cost raised to the boundary's
+    // displacement (the texture error of keeping the chart cut on the new edge).
     s.scratch.clear();
     for (uint32_t f : s.vfaces[vi]) s.scratch.push_back(s.faceRegion[f]);
     std::sort(s.scratch.begin(), s.scratch.end());
     s.scratch.erase(std::unique(s.scratch.begin(), s.scratch.end()), s.scratch.end());
     uint32_t comp = s.component[vi];
     uint32_t after = s.componentRegions[comp] - uint32_t(s.scratch.size() - 1);
-    if (s.componentOpen[comp] == 0 && after < 2) return Reject::Rule1;
+    Reject merge = Reject::None;
     RegionStats merged = s.regionStats[s.scratch[0]];
     for (size_t k = 1; k < s.scratch.size(); ++k) mergeStats(merged, s.regionStats[s.scratch[k]]);
+    if (s.componentOpen[comp] == 0 && after < 2)
+        merge = Reject::Rule1;
+    else if (s.scratch.size() > 1 && length(merged.normalSum) < s.minRegionCoherence * merged.area)
+        // Regions become texture charts: a merge may not turn a region further than a cap of
+        // maxRegionConeDeg half-angle (measured by the mean resultant length of its normals).
+        merge = Reject::Cone;
+    if (merge != Reject::None) {
+        if (chord < 0 || merge != Reject::Cone) return merge;
+        c.dev = std::max(c.dev, chord);
+        return keepBoundary();
+    }
     c.shape = regionShape(s, merged);
     return Reject::None;
 }
@@ -782,7 +800,13 @@ static Candidate evaluateVertex(State& s, uint32_t vi) {
         o = big.data();
     }
     const Quadric& Q = s.quadric[vi];
-    for (size_t k = 0; k < n; ++k) o[k] = {Q.distance(s.mesh.positions[s.ringI[k].w]), uint32_t(k)};
+    // Quadric distances below rounding noise (relative to the model size) tie at 0, so equal costs
+    // fall back to the smaller target id deterministically.
+    const double noise = 1e-9 * s.diagonal;
+    for (size_t k = 0; k < n; ++k) {
+        double q = Q.distance(s.mesh.positions[s.ringI[k].w]);
+        o[k] = {q > noise ? q : 0.0, uint32_t(k)};
+    }
     std::sort(o, o + n, [&](const Option& a, const Option& b) {
         return a.q != b.q ? a.q < b.q : s.ringI[a.k].w < s.ringI[b.k].w;
     });
@@ -795,8 +819,9 @@ static Candidate evaluateVertex(State& s, uint32_t vi) {
         double dev = 0;
         float farDist = 0;
         Reject r = checkCollapse(s, vi, edge, o[k].q, dev, farDist);
+        if (dev <= noise) dev = 0;  // rounding noise: ties go to the smaller target id
         if (r != Reject::None) {
-            if (last == Reject::Isolated || r == Reject::Rule1) last = r;
+            if (last == Reject::Isolated || r == Reject::Rule1 || r == Reject::Cone) last = r;
             continue;
         }
         Candidate c;
@@ -1273,7 +1298,7 @@ static PassResult runPass(State& s, const PlannedLevel& plan) {
             }
         }
         // The region plan is re-done (labels may have merged).
-        if (planRegions(s, vi, *edge, c) != Reject::None) {
+        if (planRegions(s, vi, *edge, c) != Reject::None || c.dev > limit) {
             s.dirtyPass[vi] = s.pass;  // re-evaluate next pass
             continue;
         }
@@ -1307,6 +1332,8 @@ SimplifyResult simplify(const TriMesh& mesh, const SimplifyOptions& options) {
     s.diagonal = box.diagonal();
     s.longestSide = box.longestSide();
     s.cosMaxNormalChange = std::cos(std::clamp(options.maxNormalChangeDeg, 0.0, 180.0) * M_PI / 180.0);
+    // A spherical cap of half-angle t has |sum of area-weighted normals| / area = (1 + cos t) / 2.
+    s.minRegionCoherence = 0.5 * (1 + std::cos(std::clamp(options.maxRegionConeDeg, 0.0, 180.0) * M_PI / 180.0));
 
     buildAdjacency(s);
     s.markI.assign(s.vertexCount, 0);
@@ -1329,16 +1356,20 @@ SimplifyResult simplify(const TriMesh& mesh, const SimplifyOptions& options) {
         while (s.aliveFaces > level.triangles) {
             PassResult r = runPass(s, level);
             if (r == PassResult::ErrorReached) break;  // error target reached
-            if (r == PassResult::NoCandidate) {
-                // Nothing can collapse: prune what the level's error target allows, else stop.
-                // Closed components up to the level's error target (open or non-manifold
-                // components are never pruned: they are not stuck on rule 1).
-                if (pruneComponents(s, level.error, level.triangles, true)) continue;
-                stop = summariseStop(s);
-                break;
-            }
             idle = r == PassResult::Idle ? idle + 1 : 0;
-            if (idle > 2) {
+            if (r == PassResult::NoCandidate || idle > 2) {
+                // Stuck: prune closed components up to the level's error target; then any
+                // component (open or non-manifold ones too, which are stuck on locks) no larger
+                // than the error already accepted, so pruning never raises maxDeviation; last, for
+                // a triangle target, small parts (options.pruneStuckSize of the diagonal), smallest
+                // first, whose size enters maxDeviation.
+                if (pruneComponents(s, level.error, level.triangles, true) ||
+                    pruneComponents(s, std::min(level.error, s.runningMax * (1 + 1e-9)), level.triangles, false) ||
+                    (!std::isfinite(level.error) &&
+                     pruneComponents(s, s.options.pruneStuckSize * s.diagonal, level.triangles, false))) {
+                    idle = 0;
+                    continue;
+                }
                 stop = summariseStop(s);
                 break;
             }
