@@ -22,6 +22,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "io/gltf_buffer.h"
 #include "io/gltf_internal.h"
 #include "lodbake/core/errors.h"
 #include "lodbake/io/gltf.h"
@@ -32,71 +33,7 @@ namespace {
 using json = nlohmann::json;
 using namespace gltf_detail;
 
-struct Writer {
-    std::string bin;
-    json accessors = json::array();
-    json views = json::array();
-
-    int addView(const void* data, size_t bytes, int target) {
-        while (bin.size() % 4) bin.push_back('\0');
-        json v = {{"buffer", 0}, {"byteOffset", bin.size()}, {"byteLength", bytes}};
-        if (target) v["target"] = target;
-        bin.append(static_cast<const char*>(data), bytes);
-        views.push_back(v);
-        return int(views.size()) - 1;
-    }
-
-    static const char* typeName(int comps) {
-        switch (comps) {
-            case 1: return "SCALAR";
-            case 2: return "VEC2";
-            case 3: return "VEC3";
-            default: return "VEC4";
-        }
-    }
-
-    // Float accessor; `minmax` adds min/max (required for POSITION).
-    int addFloat(const std::vector<float>& v, int comps, int target, bool minmax) {
-        if (v.empty()) return -1;
-        size_t count = v.size() / size_t(comps);
-        json a = {{"bufferView", addView(v.data(), v.size() * 4, target)}, {"componentType", kFloat},
-                  {"count", count}, {"type", typeName(comps)}};
-        if (minmax) {
-            std::vector<float> lo(v.begin(), v.begin() + comps), hi = lo;
-            for (size_t i = 0; i < count; ++i)
-                for (int k = 0; k < comps; ++k) {
-                    lo[size_t(k)] = std::min(lo[size_t(k)], v[i * size_t(comps) + size_t(k)]);
-                    hi[size_t(k)] = std::max(hi[size_t(k)], v[i * size_t(comps) + size_t(k)]);
-                }
-            a["min"] = lo;
-            a["max"] = hi;
-        }
-        accessors.push_back(a);
-        return int(accessors.size()) - 1;
-    }
-
-    int addU32(const std::vector<uint32_t>& v, int comps) {
-        if (v.empty()) return -1;
-        accessors.push_back({{"bufferView", addView(v.data(), v.size() * 4, 0)}, {"componentType", kUnsignedInt},
-                             {"count", v.size() / size_t(comps)}, {"type", typeName(comps)}});
-        return int(accessors.size()) - 1;
-    }
-
-    int addIndices(const std::vector<uint32_t>& idx, size_t vertexCount) {
-        int view;
-        int ct;
-        if (vertexCount < 65536) {
-            std::vector<uint16_t> s(idx.begin(), idx.end());
-            view = addView(s.data(), s.size() * 2, kElementArrayBuffer);
-            ct = kUnsignedShort;
-        } else {
-            view = addView(idx.data(), idx.size() * 4, kElementArrayBuffer);
-            ct = kUnsignedInt;
-        }
-        accessors.push_back({{"bufferView", view}, {"componentType", ct}, {"count", idx.size()}, {"type", "SCALAR"}});
-        return int(accessors.size()) - 1;
-    }
-};
+using Writer = BufferBuilder;
 
 // One written primitive: which (vertex, wedge) each glTF vertex is and which face each triangle is.
 struct PrimMap {
@@ -479,42 +416,10 @@ void writeGltf(const std::string& path, const Asset& asset, const Multires* mult
     }
 
     // 4. Buffer and container.
-    while (w.bin.size() % 4) w.bin.push_back('\0');
-    std::string binName = std::filesystem::path(path).stem().string() + ".bin";
-    if (!w.bin.empty()) {
-        json buf = {{"byteLength", w.bin.size()}};
-        if (!glb) buf["uri"] = binName;
-        root["buffers"] = json::array({buf});
-        root["bufferViews"] = w.views;
-        if (!w.accessors.empty()) root["accessors"] = w.accessors;
-    }
-    std::string text = root.dump();
     std::filesystem::path dir = std::filesystem::path(path).parent_path();
     for (const auto& [file, img] : sideImages)
         writeFileAtomic((dir / file).string(), std::string(img->encoded.begin(), img->encoded.end()));
-    if (glb) {
-        while (text.size() % 4) text.push_back(' ');
-        auto u32 = [](std::string& s, uint32_t v) { s.append(reinterpret_cast<const char*>(&v), 4); };
-        std::string out;
-        size_t total = 12 + 8 + text.size() + (w.bin.empty() ? 0 : 8 + w.bin.size());
-        if (total > 0xFFFFFFFFull) throw IOError(path + ": GLB would exceed 4 GiB");
-        out.reserve(total);
-        u32(out, 0x46546C67u);
-        u32(out, 2);
-        u32(out, uint32_t(total));
-        u32(out, uint32_t(text.size()));
-        u32(out, 0x4E4F534Au);
-        out += text;
-        if (!w.bin.empty()) {
-            u32(out, uint32_t(w.bin.size()));
-            u32(out, 0x004E4942u);
-            out += w.bin;
-        }
-        writeFileAtomic(path, out);
-    } else {
-        if (!w.bin.empty()) writeFileAtomic((dir / binName).string(), w.bin);
-        writeFileAtomic(path, text);
-    }
+    writeGltfFiles(path, root, w, glb);
 }
 
 }  // namespace lodbake

@@ -18,6 +18,7 @@
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
+#include "io/gltf_buffer.h"
 #include "io/gltf_internal.h"
 #include "lodbake/core/errors.h"
 #include "lodbake/io/gltf.h"
@@ -32,42 +33,7 @@ using namespace gltf_detail;
 constexpr const char* kDraco = "KHR_draco_mesh_compression";
 constexpr const char* kLod = "MSFT_lod";
 
-struct Buffer {
-    std::string bin;
-    json views = json::array();
-    json accessors = json::array();
-
-    int view(const void* data, size_t bytes, int target) {
-        while (bin.size() % 4) bin.push_back('\0');
-        json v = {{"buffer", 0}, {"byteOffset", bin.size()}, {"byteLength", bytes}};
-        if (target) v["target"] = target;
-        bin.append(static_cast<const char*>(data), bytes);
-        views.push_back(v);
-        return int(views.size()) - 1;
-    }
-    int accessor(json a) {
-        accessors.push_back(std::move(a));
-        return int(accessors.size()) - 1;
-    }
-};
-
-const char* typeName(int comps) { return comps == 2 ? "VEC2" : comps == 3 ? "VEC3" : "SCALAR"; }
-
-json floatAccessor(const std::vector<float>& v, int comps, bool minmax) {
-    size_t n = v.size() / size_t(comps);
-    json a = {{"componentType", kFloat}, {"count", n}, {"type", typeName(comps)}};
-    if (minmax && n > 0) {
-        std::vector<float> lo(v.begin(), v.begin() + comps), hi = lo;
-        for (size_t i = 0; i < n; ++i)
-            for (size_t k = 0; k < size_t(comps); ++k) {
-                lo[k] = std::min(lo[k], v[i * size_t(comps) + k]);
-                hi[k] = std::max(hi[k], v[i * size_t(comps) + k]);
-            }
-        a["min"] = lo;
-        a["max"] = hi;
-    }
-    return a;
-}
+using Buffer = BufferBuilder;
 
 void checkLevel(const std::string& path, const LodLevelData& L) {
     size_t n = L.positions.size() / 3;
@@ -79,28 +45,10 @@ void checkLevel(const std::string& path, const LodLevelData& L) {
 
 // Plain accessors for one primitive's attributes and indices.
 json plainPrimitive(Buffer& b, const LodLevelData& L) {
-    size_t n = L.positions.size() / 3;
-    json attrs;
-    json pa = floatAccessor(L.positions, 3, true);
-    pa["bufferView"] = b.view(L.positions.data(), L.positions.size() * 4, kArrayBuffer);
-    attrs["POSITION"] = b.accessor(pa);
-    json na = floatAccessor(L.normals, 3, false);
-    na["bufferView"] = b.view(L.normals.data(), L.normals.size() * 4, kArrayBuffer);
-    attrs["NORMAL"] = b.accessor(na);
-    json ta = floatAccessor(L.uvs, 2, false);
-    ta["bufferView"] = b.view(L.uvs.data(), L.uvs.size() * 4, kArrayBuffer);
-    attrs["TEXCOORD_0"] = b.accessor(ta);
-    int iv, ct;
-    if (n < 65536) {
-        std::vector<uint16_t> s(L.indices.begin(), L.indices.end());
-        iv = b.view(s.data(), s.size() * 2, kElementArrayBuffer);
-        ct = kUnsignedShort;
-    } else {
-        iv = b.view(L.indices.data(), L.indices.size() * 4, kElementArrayBuffer);
-        ct = kUnsignedInt;
-    }
-    int ia = b.accessor({{"bufferView", iv}, {"componentType", ct}, {"count", L.indices.size()}, {"type", "SCALAR"}});
-    return {{"attributes", attrs}, {"indices", ia}, {"mode", 4}};
+    json attrs = {{"POSITION", b.addFloat(L.positions, 3, kArrayBuffer, true)},
+                  {"NORMAL", b.addFloat(L.normals, 3, kArrayBuffer, false)},
+                  {"TEXCOORD_0", b.addFloat(L.uvs, 2, kArrayBuffer, false)}};
+    return {{"attributes", attrs}, {"indices", b.addIndices(L.indices, L.positions.size() / 3)}, {"mode", 4}};
 }
 
 // KHR_draco_mesh_compression: the Draco bitstream in a buffer view, accessors without views whose
@@ -136,18 +84,18 @@ json dracoPrimitive(Buffer& b, const LodLevelData& L, const LodChainWriteOptions
     draco::Status st = enc.EncodeMeshToBuffer(dm, &out);
     if (!st.ok()) throw SolverError(path + ": Draco encoding of '" + L.name + "' failed: " + st.error_msg_string());
     size_t points = enc.num_encoded_points(), faces = enc.num_encoded_faces();
-    int view = b.view(out.data(), out.size(), 0);
+    int view = b.addView(out.data(), out.size(), 0);
     json attrs;
-    json pa = floatAccessor(L.positions, 3, true);
+    json pa = floatAccessorJson(L.positions, 3, true);
     pa["count"] = points;
-    attrs["POSITION"] = b.accessor(pa);
-    json na = floatAccessor(L.normals, 3, false);
+    attrs["POSITION"] = b.addAccessor(pa);
+    json na = floatAccessorJson(L.normals, 3, false);
     na["count"] = points;
-    attrs["NORMAL"] = b.accessor(na);
-    json ta = floatAccessor(L.uvs, 2, false);
+    attrs["NORMAL"] = b.addAccessor(na);
+    json ta = floatAccessorJson(L.uvs, 2, false);
     ta["count"] = points;
-    attrs["TEXCOORD_0"] = b.accessor(ta);
-    int ia = b.accessor({{"componentType", points < 65536 ? kUnsignedShort : kUnsignedInt}, {"count", faces * 3}, {"type", "SCALAR"}});
+    attrs["TEXCOORD_0"] = b.addAccessor(ta);
+    int ia = b.addAccessor({{"componentType", points < 65536 ? kUnsignedShort : kUnsignedInt}, {"count", faces * 3}, {"type", "SCALAR"}});
     json ext = {{"bufferView", view}, {"attributes", {{"POSITION", pid}, {"NORMAL", nid}, {"TEXCOORD_0", tid}}}};
     return {{"attributes", attrs}, {"indices", ia}, {"mode", 4}, {"extensions", {{kDraco, ext}}}};
 }
@@ -194,7 +142,7 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
         if (mime.empty()) mime = "image/png";
         json img = {{"name", L.name}};
         if (glb || options.embedImages) {
-            img["bufferView"] = b.view(L.image.encoded.data(), L.image.encoded.size(), 0);
+            img["bufferView"] = b.addView(L.image.encoded.data(), L.image.encoded.size(), 0);
             img["mimeType"] = mime;
         } else {
             std::string file = stem + "_" + L.name + (mime == "image/jpeg" ? ".jpg" : ".png");
@@ -233,43 +181,12 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
     root["images"] = images;
     // Linear-mipmap-linear minification: the gutters are sized for the mip levels this uses.
     root["samplers"] = json::array({json{{"magFilter", 9729}, {"minFilter", 9987}, {"wrapS", 33071}, {"wrapT", 33071}}});
-    while (b.bin.size() % 4) b.bin.push_back('\0');
-    std::string binName = stem + ".bin";
-    json buf = {{"byteLength", b.bin.size()}};
-    if (!glb) buf["uri"] = binName;
-    root["buffers"] = json::array({buf});
-    root["bufferViews"] = b.views;
-    root["accessors"] = b.accessors;
-
-    std::string text = root.dump();
     std::filesystem::path dir = std::filesystem::path(path).parent_path();
     for (const auto& [file, img] : sideImages) {
         writeFileAtomic((dir / file).string(), std::string(img->encoded.begin(), img->encoded.end()));
         stats.fileBytes += img->encoded.size();
     }
-    if (glb) {
-        while (text.size() % 4) text.push_back(' ');
-        auto u32 = [](std::string& s, uint32_t v) { s.append(reinterpret_cast<const char*>(&v), 4); };
-        size_t total = 12 + 8 + text.size() + 8 + b.bin.size();
-        if (total > 0xFFFFFFFFull) throw IOError(path + ": GLB would exceed 4 GiB");
-        std::string out;
-        out.reserve(total);
-        u32(out, 0x46546C67u);
-        u32(out, 2);
-        u32(out, uint32_t(total));
-        u32(out, uint32_t(text.size()));
-        u32(out, 0x4E4F534Au);
-        out += text;
-        u32(out, uint32_t(b.bin.size()));
-        u32(out, 0x004E4942u);
-        out += b.bin;
-        writeFileAtomic(path, out);
-        stats.fileBytes += out.size();
-    } else {
-        writeFileAtomic((dir / binName).string(), b.bin);
-        writeFileAtomic(path, text);
-        stats.fileBytes += b.bin.size() + text.size();
-    }
+    stats.fileBytes += writeGltfFiles(path, root, b, glb);
     return stats;
 }
 

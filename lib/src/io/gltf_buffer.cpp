@@ -1,0 +1,119 @@
+#include "io/gltf_buffer.h"
+
+#include <algorithm>
+#include <filesystem>
+
+#include "io/gltf_internal.h"
+#include "lodbake/core/errors.h"
+#include "lodbake/io/gltf.h"
+
+namespace lodbake::gltf_detail {
+
+using json = nlohmann::json;
+
+const char* accessorType(int comps) {
+    switch (comps) {
+        case 1: return "SCALAR";
+        case 2: return "VEC2";
+        case 3: return "VEC3";
+        default: return "VEC4";
+    }
+}
+
+json floatAccessorJson(const std::vector<float>& v, int comps, bool minmax) {
+    size_t n = v.size() / size_t(comps);
+    json a = {{"componentType", kFloat}, {"count", n}, {"type", accessorType(comps)}};
+    if (minmax && n > 0) {
+        std::vector<float> lo(v.begin(), v.begin() + comps), hi = lo;
+        for (size_t i = 0; i < n; ++i)
+            for (size_t k = 0; k < size_t(comps); ++k) {
+                lo[k] = std::min(lo[k], v[i * size_t(comps) + k]);
+                hi[k] = std::max(hi[k], v[i * size_t(comps) + k]);
+            }
+        a["min"] = lo;
+        a["max"] = hi;
+    }
+    return a;
+}
+
+int BufferBuilder::addView(const void* data, size_t bytes, int target) {
+    while (bin.size() % 4) bin.push_back('\0');
+    json v = {{"buffer", 0}, {"byteOffset", bin.size()}, {"byteLength", bytes}};
+    if (target) v["target"] = target;
+    bin.append(static_cast<const char*>(data), bytes);
+    views.push_back(v);
+    return int(views.size()) - 1;
+}
+
+int BufferBuilder::addAccessor(json accessor) {
+    accessors.push_back(std::move(accessor));
+    return int(accessors.size()) - 1;
+}
+
+int BufferBuilder::addFloat(const std::vector<float>& v, int comps, int target, bool minmax) {
+    if (v.empty()) return -1;
+    json a = floatAccessorJson(v, comps, minmax);
+    a["bufferView"] = addView(v.data(), v.size() * 4, target);
+    return addAccessor(std::move(a));
+}
+
+int BufferBuilder::addU32(const std::vector<uint32_t>& v, int comps) {
+    if (v.empty()) return -1;
+    return addAccessor({{"bufferView", addView(v.data(), v.size() * 4, 0)}, {"componentType", kUnsignedInt},
+                        {"count", v.size() / size_t(comps)}, {"type", accessorType(comps)}});
+}
+
+int BufferBuilder::addIndices(const std::vector<uint32_t>& idx, size_t vertexCount) {
+    int view;
+    int ct;
+    if (vertexCount < 65536) {
+        std::vector<uint16_t> s(idx.begin(), idx.end());
+        view = addView(s.data(), s.size() * 2, kElementArrayBuffer);
+        ct = kUnsignedShort;
+    } else {
+        view = addView(idx.data(), idx.size() * 4, kElementArrayBuffer);
+        ct = kUnsignedInt;
+    }
+    return addAccessor({{"bufferView", view}, {"componentType", ct}, {"count", idx.size()}, {"type", "SCALAR"}});
+}
+
+size_t writeGltfFiles(const std::string& path, json& root, BufferBuilder& buffer, bool glb) {
+    std::string& bin = buffer.bin;
+    while (bin.size() % 4) bin.push_back('\0');
+    std::string binName = std::filesystem::path(path).stem().string() + ".bin";
+    if (!bin.empty()) {
+        json buf = {{"byteLength", bin.size()}};
+        if (!glb) buf["uri"] = binName;
+        root["buffers"] = json::array({buf});
+        root["bufferViews"] = buffer.views;
+        if (!buffer.accessors.empty()) root["accessors"] = buffer.accessors;
+    }
+    std::string text = root.dump();
+    if (!glb) {
+        std::filesystem::path dir = std::filesystem::path(path).parent_path();
+        if (!bin.empty()) writeFileAtomic((dir / binName).string(), bin);
+        writeFileAtomic(path, text);
+        return bin.size() + text.size();
+    }
+    while (text.size() % 4) text.push_back(' ');
+    auto u32 = [](std::string& s, uint32_t v) { s.append(reinterpret_cast<const char*>(&v), 4); };
+    size_t total = 12 + 8 + text.size() + (bin.empty() ? 0 : 8 + bin.size());
+    if (total > 0xFFFFFFFFull) throw IOError(path + ": GLB would exceed 4 GiB");
+    std::string out;
+    out.reserve(total);
+    u32(out, 0x46546C67u);  // "glTF"
+    u32(out, 2);
+    u32(out, uint32_t(total));
+    u32(out, uint32_t(text.size()));
+    u32(out, 0x4E4F534Au);  // "JSON"
+    out += text;
+    if (!bin.empty()) {
+        u32(out, uint32_t(bin.size()));
+        u32(out, 0x004E4942u);  // "BIN\0"
+        out += bin;
+    }
+    writeFileAtomic(path, out);
+    return out.size();
+}
+
+}  // namespace lodbake::gltf_detail

@@ -1,0 +1,40 @@
+// Private to lib/src/io: the binary buffer, buffer views and accessors of a glTF being written,
+// and the .glb / .gltf+.bin serialisation both writers (gltf_write.cpp, lod_chain_write.cpp) share.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace lodbake::gltf_detail {
+
+// "SCALAR", "VEC2", "VEC3", "VEC4" for 1..4 components.
+const char* accessorType(int comps);
+
+// A FLOAT accessor's JSON without its bufferView; `minmax` adds min/max (required for POSITION).
+nlohmann::json floatAccessorJson(const std::vector<float>& v, int comps, bool minmax);
+
+struct BufferBuilder {
+    std::string bin;
+    nlohmann::json views = nlohmann::json::array();
+    nlohmann::json accessors = nlohmann::json::array();
+
+    // Appends bytes 4-byte aligned as a new buffer view (target 0 = none); returns its index.
+    int addView(const void* data, size_t bytes, int target);
+    // Appends an accessor; returns its index.
+    int addAccessor(nlohmann::json accessor);
+    // FLOAT / UNSIGNED_INT accessors over new views; -1 for an empty array.
+    int addFloat(const std::vector<float>& v, int comps, int target, bool minmax);
+    int addU32(const std::vector<uint32_t>& v, int comps);
+    // Triangle indices as UNSIGNED_SHORT when vertexCount < 65536, else UNSIGNED_INT.
+    int addIndices(const std::vector<uint32_t>& idx, size_t vertexCount);
+};
+
+// Adds buffer 0 (when the buffer is non-empty), bufferViews and accessors to `root`, then writes
+// `path` atomically: a GLB container when `glb`, else the JSON plus PATH-stem.bin beside it.
+// Returns the bytes written. \throw IOError.
+size_t writeGltfFiles(const std::string& path, nlohmann::json& root, BufferBuilder& buffer, bool glb);
+
+}  // namespace lodbake::gltf_detail
