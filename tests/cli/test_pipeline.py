@@ -14,10 +14,7 @@ NAMES = ["hemisphere9", "wall5", "colors", "seamball"]
 
 
 def make(out, *extra, check=True):
-    # --allow-level-folds: this test is about make (rebuilds, determinism); parameterize's own
-    # tests hold it to 0 folded level triangles, a known open problem on some inputs (issue 4).
-    cmd = ["make", "-C", os.path.join(SOURCE, "pipelines"), "BIN=" + BIN, "OUT=" + out,
-           "PARAMETERIZE_FLAGS=--allow-level-folds"] + list(extra)
+    cmd = ["make", "-C", os.path.join(SOURCE, "pipelines"), "BIN=" + BIN, "OUT=" + out] + list(extra)
     return subprocess.run(cmd, capture_output=True, text=True, check=check)
 
 

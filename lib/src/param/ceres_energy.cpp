@@ -19,6 +19,9 @@ namespace {
 
 using param_detail::EnergyTerms;
 
+// Weight of the sliver barriers (AreaCost, guarded LevelCost); zero above kBarrier x 3D area.
+constexpr double kBarrierWeight = 0.1;
+
 // r = s (|v_i - v_j|^2 - L2) / L2
 class EdgeCost final : public ceres::SizedCostFunction<1, 2, 2> {
 public:
@@ -39,9 +42,9 @@ private:
 };
 
 // r = s (det(v_j - v_i, v_k - v_i) - A2) / A2; infeasible when det <= 0.
-class AreaCost final : public ceres::SizedCostFunction<1, 2, 2, 2> {
+class AreaCost final : public ceres::SizedCostFunction<2, 2, 2, 2> {
 public:
-    AreaCost(double s, double a2) : s_(s), a2_(a2) {}
+    AreaCost(double s, double b, double a2) : s_(s), a2_(a2), b_(b) {}
     bool Evaluate(double const* const* p, double* r, double** J) const override {
         double e1x = p[1][0] - p[0][0], e1y = p[1][1] - p[0][1];
         double e2x = p[2][0] - p[0][0], e2y = p[2][1] - p[0][1];
@@ -49,17 +52,34 @@ public:
         if (!(det > 0)) return false;
         r[0] = s_ * (det - a2_) / a2_;
         double g = s_ / a2_;
+        // Barrier below kBarrier a2: the Maillot terms are bounded as det -> 0+, so without it a
+        // non-developable chart can settle on slivers whose float UVs flip (thesis 3.3.2 asks
+        // for an injective map, not a barely-injective one).
+        if (det < kBarrier * a2_) {
+            r[1] = b_ * (kBarrier * a2_ / det - 1);
+        } else {
+            r[1] = 0;
+        }
+        double gb = det < kBarrier * a2_ ? -b_ * kBarrier * a2_ / (det * det) : 0;
         if (J) {
             // d det / d v_j = (e2y, -e2x), d det / d v_k = (-e1y, e1x), d det / d v_i = -(sum).
-            if (J[1]) { J[1][0] = g * e2y; J[1][1] = -g * e2x; }
-            if (J[2]) { J[2][0] = -g * e1y; J[2][1] = g * e1x; }
-            if (J[0]) { J[0][0] = -g * (e2y - e1y); J[0][1] = -g * (e1x - e2x); }
+            // Row-major 2 x 2 per block: row 0 = area residual, row 1 = barrier.
+            const double dB[2] = {e2y, -e2x}, dC[2] = {-e1y, e1x}, dA[2] = {-(e2y - e1y), -(e1x - e2x)};
+            double* Js[3] = {J[0], J[1], J[2]};
+            const double* dd[3] = {dA, dB, dC};
+            for (int b = 0; b < 3; ++b)
+                if (Js[b])
+                    for (int d = 0; d < 2; ++d) {
+                        Js[b][d] = g * dd[b][d];
+                        Js[b][2 + d] = gb * dd[b][d];
+                    }
         }
         return true;
     }
+    static constexpr double kBarrier = 0.02;
 
 private:
-    double s_, a2_;
+    double s_, a2_, b_;
 };
 
 // r = s sum_b c_b v_b (linear), over distinct parameter blocks.
@@ -113,9 +133,11 @@ public:
         if (guard_ && !(det > 0)) return false;
         double h = kDelta * a2_ - det;
         bool active = !guard_ && h > 0;
-        r[0] = active ? s_ * h / a2_ : 0;
+        // Guard mode: barrier below kBarrier a2 (keeps guarded level triangles away from slivers).
+        bool barrier = guard_ && det < kBarrier * a2_;
+        r[0] = active ? s_ * h / a2_ : barrier ? kBarrierWeight * (kBarrier * a2_ / det - 1) : 0;
         if (J) {
-            double g = active ? -s_ / a2_ : 0;
+            double g = active ? -s_ / a2_ : barrier ? -kBarrierWeight * kBarrier * a2_ / (det * det) : 0;
             double dA[2] = {-e2y + e1y, e2x - e1x}, dB[2] = {e2y, -e2x}, dC[2] = {-e1y, e1x};
             for (size_t b = 0; b < w_.size(); ++b)
                 if (J[b])
@@ -124,6 +146,7 @@ public:
         return true;
     }
     static constexpr double kDelta = 0.05;
+    static constexpr double kBarrier = 0.02;
 
 private:
     bool guard_;
@@ -164,7 +187,7 @@ ChartSolveResult optimizeChartUV(const ChartMesh& chart, const std::vector<Chart
     }
     auto block = [&](uint32_t v) { return x.data() + 2 * size_t(v); };
 
-    const int maxRounds = chart.levelTriangles.empty() ? 1 : 4;
+    const int maxRounds = chart.levelTriangles.empty() ? 1 : 8;
     std::vector<Vec2> current = initial;
     res.levelFlipsBefore = countLevelFlips(chart, initial);
     res.levelFlipsAfter = res.levelFlipsBefore;
@@ -178,7 +201,7 @@ ChartSolveResult optimizeChartUV(const ChartMesh& chart, const std::vector<Chart
         // Area blocks are always present (weight floor) because they guard against folding.
         double aw = std::sqrt(std::max(terms.areaWeight, 1e-9));
         for (const auto& t : terms.tris)
-            problem.AddResidualBlock(new AreaCost(aw, t.a2), nullptr, block(t.v[0]), block(t.v[1]), block(t.v[2]));
+            problem.AddResidualBlock(new AreaCost(aw, kBarrierWeight, t.a2), nullptr, block(t.v[0]), block(t.v[1]), block(t.v[2]));
         if (terms.polyWeight > 0)
             for (const auto& p : terms.pairs) {
                 std::vector<uint32_t> verts{p.pair.vertex};
