@@ -11,12 +11,11 @@
 
 #include "lodbake/core/errors.h"
 #include "lodbake/param/parameterize.h"
-#include "param/closest_point.h"
+#include "lodbake/core/closest_point.h"
 
 namespace lodbake {
 namespace {
 
-using param_detail::closestOnTriangle;
 
 uint64_t key2(uint32_t a, uint32_t b) { return (uint64_t(a) << 32) | b; }
 

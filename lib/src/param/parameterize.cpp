@@ -18,7 +18,7 @@
 #include <unordered_map>
 
 #include "lodbake/core/errors.h"
-#include "param/closest_point.h"
+#include "lodbake/core/closest_point.h"
 
 namespace lodbake {
 namespace {
@@ -97,7 +97,7 @@ void gatherLevelTriangles(const TriMesh& mesh, const ChartResult& cr, const Mult
         ChartPoint cp;
         for (size_t i = 0; i < ch.faces.size(); ++i) {
             const Tri& t = mesh.triangles[ch.faces[i]];
-            auto b = param_detail::closestOnTriangle(p, mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]);
+            auto b = closestOnTriangle(p, mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]);
             Vec3 q = mesh.positions[t[0]] * b[0] + mesh.positions[t[1]] * b[1] + mesh.positions[t[2]] * b[2];
             double d = length2(q - p);
             if (d < best) {

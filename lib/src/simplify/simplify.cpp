@@ -129,6 +129,7 @@
 #include <numeric>
 #include <string>
 
+#include "lodbake/core/closest_point.h"
 #include "lodbake/core/errors.h"
 
 namespace lodbake {
@@ -186,40 +187,10 @@ struct Closest {
     double dist2;
 };
 
-// Closest point on triangle abc to p (Ericson, Real-Time Collision Detection 5.1.5).
-Closest closestOnTriangle(Vec3 p, Vec3 a, Vec3 b, Vec3 c) {
-    auto make = [&](double u, double v, double w) {
-        Vec3 q = a * u + b * v + c * w;
-        return Closest{{u, v, w}, length2(p - q)};
-    };
-    Vec3 ab = b - a, ac = c - a, ap = p - a;
-    double d1 = dot(ab, ap), d2 = dot(ac, ap);
-    if (d1 <= 0 && d2 <= 0) return make(1, 0, 0);
-    Vec3 bp = p - b;
-    double d3 = dot(ab, bp), d4 = dot(ac, bp);
-    if (d3 >= 0 && d4 <= d3) return make(0, 1, 0);
-    double vc = d1 * d4 - d3 * d2;
-    if (vc <= 0 && d1 >= 0 && d3 <= 0) {
-        double v = d1 / (d1 - d3);
-        return make(1 - v, v, 0);
-    }
-    Vec3 cp = p - c;
-    double d5 = dot(ab, cp), d6 = dot(ac, cp);
-    if (d6 >= 0 && d5 <= d6) return make(0, 0, 1);
-    double vb = d5 * d2 - d1 * d6;
-    if (vb <= 0 && d2 >= 0 && d6 <= 0) {
-        double w = d2 / (d2 - d6);
-        return make(1 - w, 0, w);
-    }
-    double va = d3 * d6 - d5 * d4;
-    if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
-        double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-        return make(0, 1 - w, w);
-    }
-    double denom = va + vb + vc;
-    if (!(std::fabs(denom) > 0)) return make(1, 0, 0);  // degenerate triangle
-    double v = vb / denom, w = vc / denom;
-    return make(1 - v - w, v, w);
+// Closest point on triangle abc to p, with its squared distance.
+Closest closestWithDistance(Vec3 p, Vec3 a, Vec3 b, Vec3 c) {
+    std::array<double, 3> u = closestOnTriangle(p, a, b, c);
+    return Closest{{u[0], u[1], u[2]}, length2(p - (a * u[0] + b * u[1] + c * u[2]))};
 }
 
 double distanceToSegment(Vec3 p, Vec3 a, Vec3 b) {
@@ -706,8 +677,8 @@ static Reject checkCollapse(State& s, uint32_t vi, const RingEntry& edge, double
         const auto& on = s.originalNormal[f];
         if (n1.x * on[0] + n1.y * on[1] + n1.z * on[2] <= 0 && (on[0] != 0 || on[1] != 0 || on[2] != 0))
             return Reject::Flip;
-        best2 = std::min(best2, closestOnTriangle(pi, qv[0], qv[1], qv[2]).dist2);
-        if (far != kNone) far2 = std::min(far2, closestOnTriangle(pf, qv[0], qv[1], qv[2]).dist2);
+        best2 = std::min(best2, closestWithDistance(pi, qv[0], qv[1], qv[2]).dist2);
+        if (far != kNone) far2 = std::min(far2, closestWithDistance(pf, qv[0], qv[1], qv[2]).dist2);
     }
     farDist = far != kNone ? float(std::sqrt(far2)) : 0.f;
     dev = std::max({std::sqrt(best2), double(farDist), q});
@@ -1102,7 +1073,7 @@ static void computePairs(State& s, Level& level) {
         Closest cAny{}, cRegion{};
         auto consider = [&](uint32_t f) {
             const Tri& t = s.tri[f];
-            Closest cp = closestOnTriangle(P[v], P[t[0]], P[t[1]], P[t[2]]);
+            Closest cp = closestWithDistance(P[v], P[t[0]], P[t[1]], P[t[2]]);
             if (cp.dist2 < bestAny) bestAny = cp.dist2, fAny = f, cAny = cp;
             if (s.faceRegion[f] == region && cp.dist2 < bestRegion) bestRegion = cp.dist2, fRegion = f, cRegion = cp;
         };
@@ -1209,11 +1180,11 @@ static double measureAttached(State& s, uint32_t vi, uint32_t vj) {
         double best = std::numeric_limits<double>::infinity();
         Tri t;
         for (uint32_t f : s.vfaces[x])
-            if (newCorners(f, t)) best = std::min(best, closestOnTriangle(P[p], P[t[0]], P[t[1]], P[t[2]]).dist2);
+            if (newCorners(f, t)) best = std::min(best, closestWithDistance(P[p], P[t[0]], P[t[1]], P[t[2]]).dist2);
         if (x == vj)
             for (uint32_t f : s.vfaces[vi])
                 if (s.corner(f, vj) < 0 && newCorners(f, t))
-                    best = std::min(best, closestOnTriangle(P[p], P[t[0]], P[t[1]], P[t[2]]).dist2);
+                    best = std::min(best, closestWithDistance(P[p], P[t[0]], P[t[1]], P[t[2]]).dist2);
         return best;
     };
     double worst = dist2ToFan(vi, vj);

@@ -1,14 +1,16 @@
-// Private: closest point on a triangle, shared by parameterize (projected level corners) and
-// applyAtlas so both compute the same point.
+// Closest point on a triangle, shared by simplify (vertex deviation, pairs) and parameterize
+// (projected level corners, atlas application). Header-only, no dependencies.
 #pragma once
 
 #include <array>
+#include <cmath>
 
 #include "lodbake/core/math.h"
 
-namespace lodbake::param_detail {
+namespace lodbake {
 
-// Closest point on triangle abc to p (Ericson, Real-Time Collision Detection 5.1.5), barycentrics.
+// Barycentric coordinates of the point of triangle abc closest to p (Ericson, Real-Time
+// Collision Detection 5.1.5). A degenerate triangle gives {1, 0, 0}.
 inline std::array<double, 3> closestOnTriangle(Vec3 p, Vec3 a, Vec3 b, Vec3 c) {
     Vec3 ab = b - a, ac = c - a, ap = p - a;
     double d1 = dot(ab, ap), d2 = dot(ac, ap);
@@ -35,9 +37,9 @@ inline std::array<double, 3> closestOnTriangle(Vec3 p, Vec3 a, Vec3 b, Vec3 c) {
         return {0, 1 - w, w};
     }
     double den = va + vb + vc;
-    if (!(den > 0)) return {1, 0, 0};
+    if (!(std::fabs(den) > 0)) return {1, 0, 0};
     double v = vb / den, w = vc / den;
     return {1 - v - w, v, w};
 }
 
-}  // namespace lodbake::param_detail
+}  // namespace lodbake
