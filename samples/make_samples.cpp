@@ -6,6 +6,9 @@
 //   colors.glb       closed sphere banded into 6 colour-only materials; ~5.1k triangles
 //   seamball.glb     closed cube-sphere, 6 separate UV islands in one 384x256 texture; 4,800 triangles
 //
+// `--scale S` multiplies every grid's resolution by S (about S^2 times the triangles) for
+// benchmarks; S = 1 gives the samples above.
+//
 // Every mesh is welded: positions shared across UV seams and material boundaries are computed
 // from the same integer lattice coordinates, so they are bit-identical and weld. Each wedge carries
 // a normal and uv0. Images are drawn procedurally (checkerboard + a 7-segment digit in distinct
@@ -169,13 +172,16 @@ Vec3 spherePoint(int i, int nLat, int j, int nLon) {
     return {std::cos(theta) * std::cos(phi), std::sin(theta), -std::cos(theta) * std::sin(phi)};
 }
 
+// n scaled by s, rounded to a positive multiple of `multiple`.
+int scaled(int n, double s, int multiple) { return std::max(multiple, int(std::lround(n * s / multiple)) * multiple); }
+
 MeshBuilder::Key sphereKey(int i, int nLat, int j, int nLon) {
     if (i == 0 || i == nLat) return {i, 0, 0};
     return {i, j % nLon, 0};
 }
 
 // hemisphere9: latitude from the equator (i = nLat/2) to the north pole, 3 sectors x 3 bands.
-Asset makeHemisphere9() {
+Asset makeHemisphere9(double scale) {
     Asset asset = newAsset("hemisphere9");
     for (int m = 0; m < 9; ++m) {
         const int S = 128;
@@ -183,7 +189,7 @@ Asset makeHemisphere9() {
         drawCell(px, S, 0, 0, S, S, m, m + 1);
         addTexturedMaterial(asset, "patch" + std::to_string(m + 1), encodePng("patch" + std::to_string(m + 1), S, S, px));
     }
-    const int nLat = 80, nLon = 120;  // full-sphere counts; the hemisphere uses 40 rings
+    const int nLat = scaled(80, scale, 2), nLon = scaled(120, scale, 3);  // full-sphere counts; the hemisphere uses half the rings
     const int i0 = nLat / 2, rings = nLat - i0;
     MeshBuilder mb;
     for (int i = i0; i < nLat; ++i)
@@ -210,7 +216,7 @@ Asset makeHemisphere9() {
 }
 
 // wall5: a wavy wall 2 x 1 (x, y) with z = bumps, 50 x 50 quads, 5 strips of 10 columns.
-Asset makeWall5() {
+Asset makeWall5(double scale) {
     Asset asset = newAsset("wall5");
     for (int m = 0; m < 5; ++m) {
         const int S = 128;
@@ -218,7 +224,7 @@ Asset makeWall5() {
         drawCell(px, S, 0, 0, S, S, 2 * m + 1, m + 1);
         addTexturedMaterial(asset, "strip" + std::to_string(m + 1), encodePng("strip" + std::to_string(m + 1), S, S, px));
     }
-    const int nx = 50, ny = 50;
+    const int nx = scaled(50, scale, 5), ny = scaled(50, scale, 1);
     auto height = [](double x, double y) { return 0.04 * std::sin(3 * kPi * x) * std::cos(2 * kPi * y) + 0.02 * std::sin(7 * x + 5 * y); };
     auto normalAt = [&](double x, double y) {
         double e = 1e-4;
@@ -229,11 +235,12 @@ Asset makeWall5() {
     MeshBuilder mb;
     for (int i = 0; i < ny; ++i)
         for (int j = 0; j < nx; ++j) {
-            int mat = j / 10;
+            const int strip = nx / 5;
+            int mat = j / strip;
             auto corner = [&](int ii, int jj) {
                 double x = 2.0 * jj / nx, y = 1.0 * ii / ny;
                 uint32_t v = mb.vertex({ii, jj, 0}, {x, y, height(x, y)});
-                Vec2 uv{(jj - mat * 10) / 10.0, 1.0 - ii / static_cast<double>(ny)};
+                Vec2 uv{(jj - mat * strip) / static_cast<double>(strip), 1.0 - ii / static_cast<double>(ny)};
                 return mb.wedge(v, mat, uv, normalAt(x, y));
             };
             uint32_t a = corner(i, j), b = corner(i, j + 1), c = corner(i + 1, j + 1), d = corner(i + 1, j);
@@ -245,7 +252,7 @@ Asset makeWall5() {
 }
 
 // colors: a closed sphere, 6 latitude bands with colour-only materials; uv0 = (longitude, latitude).
-Asset makeColors() {
+Asset makeColors(double scale) {
     Asset asset = newAsset("colors");
     asset.samplers.clear();
     for (int m = 0; m < 6; ++m) {
@@ -261,7 +268,7 @@ Asset makeColors() {
         mat.roughnessFactor = 0.6;
         asset.materials.push_back(mat);
     }
-    const int nLat = 50, nLon = 52;
+    const int nLat = scaled(50, scale, 1), nLon = scaled(52, scale, 1);
     MeshBuilder mb;
     for (int i = 0; i < nLat; ++i)
         for (int j = 0; j < nLon; ++j) {
@@ -283,14 +290,14 @@ Asset makeColors() {
 
 // seamball: cube-sphere; face f is an n x n grid on the cube [-n/2, n/2]^3 (integer lattice keys),
 // projected to the unit sphere; its UV island is cell (f % 3, f / 3) of a 3 x 2 atlas, inset 4 texels.
-Asset makeSeamball() {
+Asset makeSeamball(double scale) {
     Asset asset = newAsset("seamball");
     const int C = 128, W = 3 * C, H = 2 * C;
     std::vector<uint8_t> px(static_cast<size_t>(W) * H * 3);
     for (int f = 0; f < 6; ++f) drawCell(px, W, (f % 3) * C, (f / 3) * C, C, C, f * 2, f + 1);
     int mat = addTexturedMaterial(asset, "seamball", encodePng("seamball", W, H, px));
     asset.samplers[0].wrapS = asset.samplers[0].wrapT = 33071;  // clamp: islands must not bleed across
-    const int n = 20, h = n / 2;
+    const int n = scaled(20, scale, 2), h = n / 2;
     // Face frames: origin corner + two axes on the integer lattice; normal = cross(du, dv) outward.
     struct Face {
         std::array<int, 3> origin, du, dv;
@@ -334,10 +341,16 @@ int main(int argc, char** argv) {
     return cli::runTool("make-samples", [&]() -> int {
         std::vector<std::string> dirs;
         bool verbose = false;
+        double scale = 1;
         cli::ArgParser p("make-samples", "OUTDIR\n\nWrites hemisphere9.glb, wall5.glb, colors.glb and seamball.glb into OUTDIR\n"
                                          "(created if missing). Output is byte-identical on every run.");
         p.positionals("OUTDIR", [&](const std::string& v) { dirs.push_back(v); });
         p.flag("-v", "print one line per sample", [&] { verbose = true; });
+        p.option("--scale", "S", "multiply every grid's resolution by S (about S^2 times the triangles; default 1)",
+                 [&](const std::string& v) {
+                     scale = cli::parseDouble("--scale", v);
+                     if (!(scale > 0 && scale <= 64)) throw UsageError("--scale must be in (0, 64]");
+                 });
         if (!p.parse(argc, argv)) return cli::kOk;
         if (dirs.size() != 1) throw UsageError("expected one OUTDIR");
         std::error_code ec;
@@ -345,14 +358,14 @@ int main(int argc, char** argv) {
         if (!std::filesystem::is_directory(dirs[0])) throw IOError(dirs[0] + ": cannot create folder");
         struct Sample {
             const char* file;
-            Asset (*make)();
+            Asset (*make)(double);
         };
         const Sample samples[] = {{"hemisphere9.glb", makeHemisphere9},
                                   {"wall5.glb", makeWall5},
                                   {"colors.glb", makeColors},
                                   {"seamball.glb", makeSeamball}};
         for (const Sample& s : samples) {
-            Asset a = s.make();
+            Asset a = s.make(scale);
             std::string path = (std::filesystem::path(dirs[0]) / s.file).string();
             a.sourcePath = path;
             writeGltf(path, a);

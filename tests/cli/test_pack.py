@@ -63,7 +63,6 @@ def check_chain(tc, path, report=None):
                 tc.assertIn(key, lv)
             tc.assertGreater(lv["utilisation"], 0)
             tc.assertLessEqual(lv["utilisation"], lv["boxUtilisation"] + 1e-9)
-            tc.assertLessEqual(lv["boxUtilisation"], 1.0)
             tc.assertEqual(lv["screenCoverage"], cov[k])
             if k > 0:
                 tc.assertGreater(lv["deviation"]["hausdorff"], 0)

@@ -143,6 +143,26 @@ class ParameterizeCli(unittest.TestCase):
         self.assertLess(d["meanRelative"], p["meanRelative"])
         self.assertLess(d["maxRelative"], p["maxRelative"])
 
+    def test_texture_deviation_beta_avocado(self):
+        # The same claim on a real scanned asset, at its 2% level (13 triangles).
+        if not os.path.isdir(lt.ASSETS):
+            self.skipTest("../shared/assets is absent")
+        src = lt.require_assets()["Avocado"]
+        mr = os.path.join(self.dir, "Avocado.mr.glb")
+        lt.run([lt.tool("simplify"), "-i", src, "-o", mr, "--ratio", "0.5,0.1,0.02", "--quiet"])
+        dev = {}
+        for beta in ("0.7", "1"):
+            rep = os.path.join(self.dir, "Avocado.beta%s.json" % beta)
+            lt.run([lt.tool("parameterize"), "-i", mr, "-o", os.path.join(self.dir, "Avocado.uv.glb"),
+                    "--beta", beta, "--quiet", "--report", rep])
+            with open(rep) as f:
+                dev[beta] = json.load(f)["textureDeviation"]
+            print("Avocado 2%%, beta %s: texture deviation mean %.5f / max %.5f of the diagonal, rms %.6f" % (
+                beta, dev[beta]["meanRelative"], dev[beta]["maxRelative"], dev[beta]["rms"]))
+        self.assertEqual(dev["0.7"]["level"], 3)
+        self.assertLess(dev["0.7"]["meanRelative"], dev["1"]["meanRelative"])
+        self.assertLess(dev["0.7"]["rms"], dev["1"]["rms"])
+
     def test_baked_beats_original_uvs_at_2_percent(self):
         # wall5's 2% level rendered with the baked atlas vs with the original UVs and textures.
         src = os.path.join(self.dir, "wall5.glb")
@@ -152,6 +172,23 @@ class ParameterizeCli(unittest.TestCase):
         for name, path in (("baked", uv), ("original", mr)):
             p = lt.run([lt.tool("compare"), src, path, "--lod", "3", "--no-geometry", "--json"])
             psnr[name] = json.loads(p.stdout)["images"]["baseColor"]["psnr"]
+        self.assertGreater(psnr["baked"], psnr["original"], psnr)
+
+    def test_baked_beats_original_uvs_duck(self):
+        # Duck's 2% level with the baked atlas vs with the original UVs and texture. Duck keeps 4
+        # overlapping level-1 UV triangles (issue 4), hence --allow-level-folds.
+        if not os.path.isdir(lt.ASSETS):
+            self.skipTest("../shared/assets is absent")
+        src = lt.require_assets()["Duck"]
+        mr = os.path.join(self.dir, "Duck.mr.glb")
+        uv = os.path.join(self.dir, "Duck.uv.glb")
+        lt.run([lt.tool("simplify"), "-i", src, "-o", mr, "--ratio", "0.5,0.1,0.02", "--quiet"])
+        lt.run([lt.tool("parameterize"), "-i", mr, "-o", uv, "--quiet", "--allow-level-folds"])
+        psnr = {}
+        for name, path in (("baked", uv), ("original", mr)):
+            p = lt.run([lt.tool("compare"), src, path, "--lod", "3", "--no-geometry", "--json"])
+            psnr[name] = json.loads(p.stdout)["images"]["baseColor"]["psnr"]
+        print("Duck 2%%: base-colour PSNR baked %.2f dB, original UVs %.2f dB" % (psnr["baked"], psnr["original"]))
         self.assertGreater(psnr["baked"], psnr["original"], psnr)
 
     def test_usage_errors(self):

@@ -114,3 +114,52 @@ TEST(PackAtlas, PowerOfTwoAndMaxSize) {
         EXPECT_LE(b.y1, r.height);
     }
 }
+
+// Shapes, not boxes: two right triangles whose bounding boxes cannot share a row or column
+// without wasting half of each box nest into one square (one turned by 180 degrees), and their
+// placed triangles stay at least the gutter apart.
+TEST(PackAtlas, TrianglesNestByShape) {
+    std::vector<AtlasChart> charts;
+    for (int i = 0; i < 2; ++i) {
+        AtlasChart c;
+        double x = 0.6 * i;
+        c.triangles = {{Vec2{x, 0}, Vec2{x + 0.5, 0}, Vec2{x, 0.5}}};
+        c.points = {c.triangles[0][0], c.triangles[0][1], c.triangles[0][2]};
+        c.uvArea = 0.125;
+        charts.push_back(c);
+    }
+    AtlasOptions o;
+    o.maxTexelsPerUnit = 256;
+    o.gutter = 2;
+    AtlasResult r = packAtlas(charts, o);
+    EXPECT_DOUBLE_EQ(r.texelsPerUnit, 256);
+    EXPECT_GT(r.utilisation, 0.7);  // two boxes side by side would give at most 0.5
+    EXPECT_GT(r.boxUtilisation, 1.0);  // the boxes overlap: only the shapes are kept apart
+    // No point of one triangle is
+    // within the gutter (2 texels) of the other (sampled on a quarter-texel grid).
+    auto inside = [](const std::array<Vec2, 3>& t, Vec2 p) {
+        double d0 = cross(t[1] - t[0], p - t[0]), d1 = cross(t[2] - t[1], p - t[1]), d2 = cross(t[0] - t[2], p - t[2]);
+        return (d0 >= 0 && d1 >= 0 && d2 >= 0) || (d0 <= 0 && d1 <= 0 && d2 <= 0);
+    };
+    std::array<std::array<Vec2, 3>, 2> placedTri;
+    for (size_t i = 0; i < 2; ++i)
+        for (size_t k = 0; k < 3; ++k) placedTri[i][k] = r.charts[i].apply(charts[i].triangles[0][k]);
+    auto distToTri = [&](const std::array<Vec2, 3>& t, Vec2 p) {
+        if (inside(t, p)) return 0.0;
+        double best = 1e300;
+        for (size_t k = 0; k < 3; ++k) {
+            Vec2 a = t[k], e = t[(k + 1) % 3] - a;
+            double u = std::clamp(dot(p - a, e) / dot(e, e), 0.0, 1.0);
+            Vec2 q{a.x + u * e.x - p.x, a.y + u * e.y - p.y};
+            best = std::min(best, std::sqrt(dot(q, q)));
+        }
+        return best;
+    };
+    for (double y = 0; y < r.height; y += 0.25)
+        for (double x = 0; x < r.width; x += 0.25) {
+            Vec2 p{x, y};
+            if (inside(placedTri[0], p)) {
+                EXPECT_GE(distToTri(placedTri[1], p), 2.0 - 1e-6) << x << " " << y;
+            }
+        }
+}

@@ -371,6 +371,69 @@ TEST(Simplify, TwoComponentsAndABowTie) {
     expectValidPairs(m, l);
 }
 
+// Inconsistent winding is not a lock: one face of a flat grid wound the other way round shares
+// each of its edges in the same direction with a neighbour. The edges still have two faces (a
+// manifold surface), so the grid simplifies to the target and the reversed face's corners may go.
+TEST(Simplify, InconsistentWindingIsNotLocked) {
+    TriMesh m = test::grid(6, 6);
+    const uint32_t flipped = 2 * (3 * 6 + 3);  // lower triangle of quad (3, 3), in the middle
+    std::swap(m.triangles[flipped][1], m.triangles[flipped][2]);
+    test::addDefaultWedges(m);
+    Tri corners = m.triangles[flipped];
+    SimplifyResult r = simplify(m, withLevels({count(8)}));
+    const Level& l = r.multires.levels[0];
+    EXPECT_EQ(l.stopReason, "target");
+    EXPECT_LE(l.triangles.size(), 8u);
+    std::set<uint32_t> kept;
+    for (const Tri& t : l.triangles) kept.insert(t.begin(), t.end());
+    EXPECT_LT(std::count_if(corners.begin(), corners.end(), [&](uint32_t v) { return kept.count(v) > 0; }), 3);
+    expectValidRegions(m, r.multires, l);
+    expectValidPairs(m, l);
+}
+
+// A pinch (bow-tie) vertex: two flat 4x4 grids touching only at one corner, vertex 24 = (4, 4).
+// The pinch itself never moves, but its manifold neighbours collapse into it, so both sheets
+// simplify down to a few triangles around it.
+TEST(Simplify, BowTieNeighboursCollapseIntoThePinch) {
+    TriMesh m = test::grid(4, 4);
+    TriMesh b = test::grid(4, 4);
+    const uint32_t pinch = 24, off = uint32_t(m.positions.size());
+    for (uint32_t v = 1; v < b.positions.size(); ++v) m.positions.push_back(b.positions[v] + Vec3{4, 4, 0});
+    auto map = [&](uint32_t v) { return v == 0 ? pinch : off + v - 1; };
+    for (const Tri& t : b.triangles) m.triangles.push_back({map(t[0]), map(t[1]), map(t[2])});
+    test::addDefaultWedges(m);
+    SimplifyResult r = simplify(m, withLevels({count(4)}));
+    const Level& l = r.multires.levels[0];
+    EXPECT_EQ(l.stopReason, "target");
+    EXPECT_LE(l.triangles.size(), 4u);
+    std::set<uint32_t> kept;
+    for (const Tri& t : l.triangles) kept.insert(t.begin(), t.end());
+    EXPECT_TRUE(kept.count(pinch));
+    bool intoPinch = false;
+    for (const CollapseRecord& c : r.multires.collapses) {
+        EXPECT_NE(c.removed, pinch);
+        intoPinch |= c.kept == pinch;
+    }
+    EXPECT_TRUE(intoPinch);
+    expectValidRegions(m, r.multires, l);
+    expectValidPairs(m, l);
+}
+
+// Rule 1 only forbids merges: a sphere with a three-vertex hole is open, so its regions may merge
+// into one; once a border collapse closes the hole the component is closed again, and collapses
+// inside its single region (which merge nothing) must still go on to the target.
+TEST(Simplify, ClosedAgainWithOneRegionKeepsSimplifying) {
+    TriMesh m = test::sphere(2);
+    m.triangles.erase(m.triangles.begin());
+    test::addDefaultWedges(m);
+    SimplifyResult r = simplify(m, withLevels({count(6)}));
+    const Level& l = r.multires.levels[0];
+    EXPECT_EQ(l.stopReason, "target");
+    EXPECT_LE(l.triangles.size(), 6u);
+    expectValidRegions(m, r.multires, l);
+    expectValidPairs(m, l);
+}
+
 // Rule 2, exact case: two flat hexagon fans, the large one first (smaller vertex ids). Both centres
 // collapse at deviation 0; the small fan's merged region has the lower E_region, so its centre (7)
 // goes first although the large fan's centre has the smaller id.

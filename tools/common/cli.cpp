@@ -68,7 +68,7 @@ void ArgParser::addCommon(CommonSettings& s, bool needsOutput) {
                s.threads = parseInt("--threads", v);
                if (s.threads < 0) throw UsageError("--threads must be >= 0");
            });
-    flag("--quiet", "no progress on stderr, even on a terminal", [&s] { s.quiet = true; });
+    flag("-q,--quiet", "no progress on stderr, even on a terminal", [&s] { s.quiet = true; });
 }
 
 bool ArgParser::parse(int argc, char** argv) {

@@ -53,6 +53,8 @@ Settings parseArgs(int argc, char** argv, bool& proceed) {
              [&](const std::string& v) { s.pack.jpegQuality = cli::parseInt("--jpeg-quality", v); });
     p.flag("--split", "one file per level (OUTPUT.lodK.glb) plus OUTPUT.lods.json with the coverage values",
            [&] { s.write.split = true; });
+    p.flag("--no-texture-hierarchy", "texture every level with T0 even when the input has texture-refine's hierarchy",
+           [&] { s.pack.useTextureHierarchy = false; });
     p.flag("--draco", "compress every level with KHR_draco_mesh_compression", [&] { s.write.chain.draco = true; });
     p.option("--qp", "BITS", "Draco position quantisation bits (default 14)",
              [&](const std::string& v) { s.write.chain.quantPosition = cli::parseInt("--qp", v); });
@@ -129,7 +131,10 @@ int run(Settings s) {
                           {"screenCoverage", r.coverage},
                           {"maxScreenCoverage", r.maxCoverage},
                           {"switchDistance", r.switchDistance},
-                          {"bakeSeconds", r.bakeSeconds}});
+                          {"bakeSeconds", r.bakeSeconds},
+                          {"textureRank", r.rank},
+                          {"pageSideNeeded", r.sideNeeded},
+                          {"hierarchyTextureSize", r.textureSize}});
     }
     nlohmann::json rep;
     rep["tool"] = "pack";
@@ -139,10 +144,10 @@ int run(Settings s) {
     rep["options"] = {{"pixelError", s.pack.pixelError}, {"viewportHeight", s.pack.viewportHeight}, {"fov", s.pack.fovY},
                       {"cutoffPixels", s.pack.cutoffPixels}, {"maxSize", s.pack.maxSize}, {"pot", s.pack.powerOfTwo},
                       {"maxMips", s.pack.maxMips}, {"imageFormat", s.imageFormat}, {"jpegQuality", s.pack.jpegQuality},
-                      {"split", s.write.split}, {"draco", s.write.chain.draco},
+                      {"split", s.write.split}, {"textureHierarchy", s.pack.useTextureHierarchy}, {"draco", s.write.chain.draco},
                       {"qp", s.write.chain.quantPosition}, {"qt", s.write.chain.quantTexcoord}, {"qn", s.write.chain.quantNormal}};
     rep["utilisationDefinition"] = "chart texels / page texels; chart texels = the charts' triangle coverage (UV area); "
-                                   "boxUtilisation uses the charts' rotated bounding rectangles";
+                                   "boxUtilisation uses the charts' rotated bounding rectangles (above 1 when charts nest)";
     rep["radius"] = res.radius;
     rep["diagonal"] = res.diagonal;
     rep["screenCoverage"] = res.screenCoverage;

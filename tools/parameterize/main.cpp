@@ -76,6 +76,7 @@ int run(const Settings& s) {
     opt.textureSize = s.size;
     opt.maxIterations = s.iterations;
     opt.charts.maxCharts = uint32_t(s.maxCharts);
+    opt.threads = s.common.threads;
     cli::Progress progress("parameterize", cli::progressEnabled(s.common));
     opt.progress = [&progress](double f) { return progress(f); };
     ParameterizeResult param = parameterize(asset.mesh, *multires, opt);

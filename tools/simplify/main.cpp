@@ -2,7 +2,7 @@
 #include <chrono>
 #include <cstdio>
 #include <iostream>
-#include <set>
+#include <vector>
 
 #include "common/cli.h"
 #include "lodbake/core/errors.h"
@@ -69,8 +69,14 @@ nlohmann::json makeReport(const Settings& s, const Asset& asset, const SimplifyR
     const TriMesh& m = asset.mesh;
     for (size_t k = 0; k < r.multires.levels.size(); ++k) {
         const Level& L = r.multires.levels[k];
-        std::set<uint32_t> used;
-        for (const Tri& t : L.triangles) used.insert(t.begin(), t.end());
+        std::vector<uint8_t> seen(m.vertexCount(), 0);
+        size_t usedVertices = 0;
+        for (const Tri& t : L.triangles)
+            for (uint32_t v : t)
+                if (v < seen.size() && !seen[v]) {
+                    seen[v] = 1;
+                    ++usedVertices;
+                }
         nlohmann::json target;
         if (L.targetRatio > 0) target["ratio"] = L.targetRatio;
         if (L.targetError > 0) target["maxError"] = L.targetError / (r.diagonal > 0 ? r.diagonal : 1);
@@ -78,7 +84,7 @@ nlohmann::json makeReport(const Settings& s, const Asset& asset, const SimplifyR
         levels.push_back({{"level", k + 1},
                           {"target", target},
                           {"triangles", L.triangles.size()},
-                          {"vertices", used.size()},
+                          {"vertices", usedVertices},
                           {"ratio", m.triangleCount() ? double(L.triangles.size()) / m.triangleCount() : 0.0},
                           {"maxDeviation", L.maxDeviation},
                           {"meanDeviation", L.meanDeviation},

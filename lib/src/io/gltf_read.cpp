@@ -452,6 +452,22 @@ struct MeshBuilder {
         hasColor |= !p.color.empty();
         std::vector<int64_t> local(p.pos.size(), -1);
         Wedges& W = mesh.wedges;
+        // Room for this primitive up front (geometric growth: many small primitives stay linear).
+        auto grow = [](auto& v, size_t more) {
+            if (v.capacity() < v.size() + more) v.reserve(std::max(v.size() + more, 2 * v.capacity()));
+        };
+        size_t nv = p.pos.size(), nt = p.tris.size();
+        if (weld.bucket_count() * weld.max_load_factor() < weld.size() + nv) weld.reserve(std::max(weld.size() + nv, 2 * weld.size()));
+        grow(mesh.positions, nv);
+        grow(W.vertex, nv);
+        grow(W.normal, nv);
+        grow(W.tangent, nv);
+        grow(W.uv0, nv);
+        grow(W.uv1, nv);
+        grow(W.color, nv);
+        grow(mesh.cornerWedges, nt);
+        grow(mesh.triangles, nt);
+        grow(mesh.triangleMaterial, nt);
         auto wedgeOf = [&](uint32_t i) -> uint32_t {
             if (local[i] >= 0) return uint32_t(local[i]);
             auto [it, inserted] = weld.emplace(keys[i], uint32_t(mesh.positions.size()));
@@ -725,6 +741,52 @@ Multires readMultires(const Ctx& c, const json& ext, const TriMesh& mesh) {
         ch.cornerUV.resize(F);
         for (size_t f = 0; f < F; ++f)
             for (size_t k = 0; k < 3; ++k) ch.cornerUV[f][k] = {uv[6 * f + 2 * k], uv[6 * f + 2 * k + 1]};
+    }
+    if (ext.contains("textureHierarchy")) {
+        // Written by texture-refine: rank layouts (same schema as charts) and the textures.
+        const json& T = ext["textureHierarchy"];
+        const std::string tw = what + " textureHierarchy";
+        if (!T.is_object()) fail(c, tw + " is not an object");
+        const size_t images = c.model ? c.model->images.size() : 0;
+        if (T.contains("ranks")) {
+            if (!T["ranks"].is_array()) fail(c, tw + ".ranks is not an array");
+            for (const json& R : T["ranks"]) {
+                ChartLayout lay;
+                lay.chartCount = uint32_t(std::max(0, jint(R, "count", 0)));
+                lay.image = jint(R, "image");
+                lay.faceChart = readU32(c, jint(R, "faceChart"), 1, tw + " faceChart");
+                std::vector<float> uv = readF32(c, jint(R, "cornerUV"), 2, tw + " cornerUV");
+                if (lay.faceChart.size() != F || uv.size() != 6 * F) fail(c, tw + ": rank accessors do not match the face count");
+                checkRange(lay.faceChart, lay.chartCount, "textureHierarchy faceChart");
+                if (lay.image >= int(images)) fail(c, tw + ": rank image out of range");
+                lay.cornerUV.resize(F);
+                for (size_t f = 0; f < F; ++f)
+                    for (size_t k = 0; k < 3; ++k) lay.cornerUV[f][k] = {uv[6 * f + 2 * k], uv[6 * f + 2 * k + 1]};
+                mr.textures.ranks.push_back(std::move(lay));
+            }
+        }
+        if (T.contains("textures")) {
+            if (!T["textures"].is_array()) fail(c, tw + ".textures is not an array");
+            for (const json& X : T["textures"]) {
+                HierarchyTexture h;
+                int rank = jint(X, "rank", 0), first = -1, last = -1;
+                if (X.contains("levels") && X["levels"].is_array() && X["levels"].size() == 2 &&
+                    X["levels"][0].is_number_integer() && X["levels"][1].is_number_integer()) {
+                    first = X["levels"][0].get<int>();
+                    last = X["levels"][1].get<int>();
+                }
+                h.image = jint(X, "image");
+                h.size = jint(X, "size", 0);
+                if (rank < 0 || size_t(rank) > mr.textures.ranks.size()) fail(c, tw + ": texture rank out of range");
+                if (first < 0 || last < first || size_t(last) > mr.levels.size()) fail(c, tw + ": texture levels out of range");
+                if (h.image < 0 || h.image >= int(images) || h.size <= 0) fail(c, tw + ": texture image or size out of range");
+                h.rank = uint32_t(rank);
+                h.firstLevel = uint32_t(first);
+                h.lastLevel = uint32_t(last);
+                mr.textures.textures.push_back(h);
+            }
+        }
+        if (!mr.textures.textures.empty() && mr.charts.empty()) fail(c, tw + " without charts");
     }
     return mr;
 }

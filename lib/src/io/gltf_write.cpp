@@ -261,6 +261,23 @@ json multiresJson(Writer& w, const Asset& asset, const Multires& mr, const std::
         setIfValid(charts, "cornerUV", w.addFloat(uv, 2, 0, false));
         ext["charts"] = charts;
     }
+    if (!mr.textures.empty()) {
+        // texture-refine's hierarchy: rank layouts (schema of charts) and the textures.
+        json ranks = json::array(), textures = json::array();
+        for (const ChartLayout& lay : mr.textures.ranks) {
+            std::vector<float> uv;
+            uv.reserve(6 * lay.cornerUV.size());
+            for (const auto& corners : lay.cornerUV)
+                for (const Vec2& c : corners) { uv.push_back(float(c.x)); uv.push_back(float(c.y)); }
+            json r = {{"count", lay.chartCount}, {"image", lay.image}};
+            setIfValid(r, "faceChart", w.addU32(lay.faceChart, 1));
+            setIfValid(r, "cornerUV", w.addFloat(uv, 2, 0, false));
+            ranks.push_back(r);
+        }
+        for (const HierarchyTexture& h : mr.textures.textures)
+            textures.push_back({{"rank", h.rank}, {"levels", {h.firstLevel, h.lastLevel}}, {"image", h.image}, {"size", h.size}});
+        ext["textureHierarchy"] = {{"ranks", ranks}, {"textures", textures}};
+    }
     return ext;
 }
 

@@ -18,7 +18,7 @@
 #include <CGAL/Simple_cartesian.h>
 
 #include "lodbake/core/errors.h"
-#include "metrics/parallel.h"
+#include "lodbake/core/parallel.h"
 
 namespace lodbake {
 namespace {
@@ -90,7 +90,7 @@ OneSidedDistance oneSided(const Surface& from, const Tree& to, const DistanceOpt
         double max = 0, sum = 0, sum2 = 0;
     };
     std::vector<Partial> partial(chunks);
-    metrics_detail::parallelFor(chunks, o.threads, [&](size_t c) {
+    parallelFor(chunks, o.threads, [&](size_t c) {
         Partial p;
         size_t end = std::min(total, (c + 1) * kChunk);
         for (size_t i = c * kChunk; i < end; ++i) {

@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <set>
 
-#include "metrics/parallel.h"
+#include "lodbake/core/parallel.h"
 
 namespace lodbake {
 
@@ -72,7 +72,7 @@ CompareResult compareAssets(const Asset& assetA, const TriMesh& meshA, const Ass
             keepA.resize(cams.size());
             keepB.resize(cams.size());
         }
-        metrics_detail::parallelFor(jobs, options.threads, [&](size_t j) {
+        parallelFor(jobs, options.threads, [&](size_t j) {
             size_t view = j / 2;
             RenderOptions ro;
             ro.width = ro.height = options.resolution;

@@ -1,17 +1,18 @@
 // Atlas packing (pack, DESIGN.md "Tools").
 //
-// References: J. Jylänki, "A Thousand Ways to Pack the Bin" (2010), skyline bottom-left with
-// best-fit (waste map omitted); Freeman & Shapira, "Determining the minimum-area encasing
-// rectangle for an arbitrary closed curve" (1975), minimum-area rectangle from a hull edge.
+// References: Freeman & Shapira, "Determining the minimum-area encasing rectangle for an
+// arbitrary closed curve" (1975), minimum-area rectangle from a hull edge; bitmap ("tetris")
+// chart packing as in Lévy et al., "Least Squares Conformal Maps" (2002), section 5.
 //
 // Pipeline of packAtlas:
 //   1. orientChart: convex hull of each chart's UV points, minimum-area bounding rectangle;
-//   2. choosePage: page size and density (strip packing at the density limit for free sizes,
-//      the largest power-of-two page not far above the need for --pot, binary search on the
-//      density when the charts do not fit);
-//   3. packSkyline: charts sorted by area, each placed where its top edge is lowest (ties: least
-//      waste), trying both 90-degree orientations;
-//   4. placementsFor: the affine UV -> texel map of each chart; utilisation figures.
+//   2. page size and density: packing at the density limit into a few strip widths for free
+//      sizes, the largest power-of-two page not far above the need for --pot, binary search on
+//      the density when the charts do not fit;
+//   3. packBitmap: charts sorted by area; chartMask rasterises each (conservatively) and grows it
+//      by the gutter radius; BitmapPage::find gives the lowest free position of each quarter
+//      turn, the lowest top edge wins;
+//   4. placementFor: the affine UV -> texel map of each chart; utilisation figures.
 #include "lodbake/pack/atlas.h"
 
 #include <algorithm>
@@ -28,6 +29,7 @@ struct Oriented {
     double c = 1, s = 0;  // cos, sin of the angle
     double minX = 0, minY = 0, w = 0, h = 0;
     double uvArea = 0;
+    std::vector<std::array<Vec2, 3>> triangles;  // in the rotated frame, [0, w] x [0, h]
 };
 
 std::vector<Vec2> convexHull(std::vector<Vec2> p) {
@@ -73,119 +75,239 @@ Oriented orientChart(const AtlasChart& chart) {
         if (l > 0) tryAngle(e.x / l, e.y / l);
     }
     if (hull.empty()) { best.w = best.h = 0; }
+    auto turn = [&](Vec2 q) { return Vec2{best.c * q.x + best.s * q.y - best.minX, -best.s * q.x + best.c * q.y - best.minY}; };
+    if (!chart.triangles.empty()) {
+        for (const auto& tri : chart.triangles) best.triangles.push_back({turn(tri[0]), turn(tri[1]), turn(tri[2])});
+    } else {
+        for (size_t i = 1; i + 1 < hull.size(); ++i) best.triangles.push_back({turn(hull[0]), turn(hull[i]), turn(hull[i + 1])});
+        if (hull.size() < 3) for (const Vec2& q : hull) best.triangles.push_back({turn(q), turn(q), turn(q)});
+    }
     return best;
 }
 
-struct Rect {
-    int x = 0, y = 0, w = 0, h = 0;
-    bool rotated = false;
+int texels(double extent, double t) { return std::max(1, int(std::ceil(extent * t - 1e-9))); }
+
+// A chart's footprint on the page at one density and rotation: the texels its triangles touch
+// (conservative rasterisation), grown by the gutter radius, as runs [a, b] per row.
+struct Footprint {
+    int w = 0, h = 0;                                  // grid size, texels
+    std::vector<std::vector<std::pair<int, int>>> rows;  // occupied runs per row, inclusive
+    std::vector<int> rowCells;                         // occupied texels per row
 };
 
-// Skyline bottom-left packer with best fit (lowest top edge, then least wasted area beneath).
-class Skyline {
-public:
-    Skyline(int width, int height) : W_(width), H_(height) { segs_.push_back({0, 0, width}); }
+// True when triangle q[0..2] and the unit cell [x, x+1] x [y, y+1] overlap by more than a hair
+// (separating axes: the two cell axes and the three edge normals).
+bool triangleTouchesCell(const std::array<Vec2, 3>& q, int x, int y) {
+    const double eps = 1e-6;
+    const Vec2 cell[4] = {{double(x), double(y)}, {x + 1.0, double(y)}, {x + 1.0, y + 1.0}, {double(x), y + 1.0}};
+    for (int k = 0; k < 3; ++k) {
+        Vec2 e = q[(k + 1) % 3] - q[k];
+        Vec2 n{-e.y, e.x};
+        double t0 = dot(n, q[0]), t1 = dot(n, q[1]), t2 = dot(n, q[2]);
+        double tMin = std::min({t0, t1, t2}), tMax = std::max({t0, t1, t2});
+        double cMin = 1e300, cMax = -1e300;
+        for (const Vec2& c : cell) { cMin = std::min(cMin, dot(n, c)); cMax = std::max(cMax, dot(n, c)); }
+        double scale = std::sqrt(dot(n, n));
+        if (scale == 0) continue;
+        if (cMax <= tMin + eps * scale || tMax <= cMin + eps * scale) return false;
+    }
+    return true;
+}
 
-    bool insert(int w, int h, Rect& out) {
-        int bestTop = INT32_MAX;
-        long long bestWaste = LLONG_MAX;
-        size_t bestI = 0;
-        int bestY = 0;
-        bool bestRot = false, found = false;
-        for (int rot = 0; rot < 2; ++rot) {
-            int rw = rot ? h : w, rh = rot ? w : h;
-            if (rot && w == h) break;
-            for (size_t i = 0; i < segs_.size(); ++i) {
-                int y;
-                long long waste;
-                if (!fits(i, rw, rh, y, waste)) continue;
-                int top = y + rh;
-                if (top < bestTop || (top == bestTop && waste < bestWaste)) {
-                    bestTop = top; bestWaste = waste; bestI = i; bestY = y; bestRot = rot; found = true;
-                }
+// The chart rasterised in its oriented frame at density t: cells [pad, pad + ceil(w t)) hold the
+// chart, pad = radius cells on each side hold its half of the gutter.
+std::vector<uint8_t> chartMask(const Oriented& c, double t, int radius, int& gw, int& gh) {
+    gw = texels(c.w, t) + 2 * radius;
+    gh = texels(c.h, t) + 2 * radius;
+    std::vector<uint8_t> mask(size_t(gw) * size_t(gh), 0);
+    auto mark = [&](int x, int y) {
+        if (x >= 0 && y >= 0 && x < gw && y < gh) mask[size_t(y) * size_t(gw) + size_t(x)] = 1;
+    };
+    auto toGrid = [&](Vec2 p) { return Vec2{p.x * t + radius, p.y * t + radius}; };
+    for (const std::array<Vec2, 3>& tri : c.triangles) {
+        std::array<Vec2, 3> q{toGrid(tri[0]), toGrid(tri[1]), toGrid(tri[2])};
+        for (const Vec2& v : q) mark(int(std::floor(v.x)), int(std::floor(v.y)));  // corners always show
+        if (std::abs(cross(q[1] - q[0], q[2] - q[0])) < 1e-12) continue;
+        int x0 = std::max(0, int(std::floor(std::min({q[0].x, q[1].x, q[2].x}))));
+        int x1 = std::min(gw - 1, int(std::floor(std::max({q[0].x, q[1].x, q[2].x}))));
+        int y0 = std::max(0, int(std::floor(std::min({q[0].y, q[1].y, q[2].y}))));
+        int y1 = std::min(gh - 1, int(std::floor(std::max({q[0].y, q[1].y, q[2].y}))));
+        for (int y = y0; y <= y1; ++y)
+            for (int x = x0; x <= x1; ++x)
+                if (!mask[size_t(y) * size_t(gw) + size_t(x)] && triangleTouchesCell(q, x, y)) mark(x, y);
+    }
+    // Grow by the gutter radius (a square, separable max filter): two footprints that do not
+    // overlap keep their charts 2 * radius texels apart.
+    if (radius > 0) {
+        std::vector<uint8_t> tmp(mask.size(), 0);
+        for (int y = 0; y < gh; ++y)
+            for (int x = 0; x < gw; ++x)
+                if (mask[size_t(y) * size_t(gw) + size_t(x)])
+                    for (int d = std::max(0, x - radius); d <= std::min(gw - 1, x + radius); ++d) tmp[size_t(y) * size_t(gw) + size_t(d)] = 1;
+        std::fill(mask.begin(), mask.end(), uint8_t(0));
+        for (int y = 0; y < gh; ++y)
+            for (int x = 0; x < gw; ++x)
+                if (tmp[size_t(y) * size_t(gw) + size_t(x)])
+                    for (int d = std::max(0, y - radius); d <= std::min(gh - 1, y + radius); ++d) mask[size_t(d) * size_t(gw) + size_t(x)] = 1;
+    }
+    return mask;
+}
+
+// Quarter turns of the grid (counter-clockwise in texel space, determinant +1). Cell (x, y) of a
+// gw x gh grid goes to rotateCell(...); continuous points use placementFor's matching formulas.
+Footprint rotatedFootprint(const std::vector<uint8_t>& mask, int gw, int gh, int rotation) {
+    Footprint f;
+    f.w = rotation % 2 ? gh : gw;
+    f.h = rotation % 2 ? gw : gh;
+    f.rows.resize(size_t(f.h));
+    f.rowCells.assign(size_t(f.h), 0);
+    auto at = [&](int x, int y) -> bool {  // (x, y) in the rotated grid -> source cell
+        int sx = x, sy = y;
+        switch (rotation) {
+            case 1: sx = y; sy = gh - 1 - x; break;
+            case 2: sx = gw - 1 - x; sy = gh - 1 - y; break;
+            case 3: sx = gw - 1 - y; sy = x; break;
+            default: break;
+        }
+        return mask[size_t(sy) * size_t(gw) + size_t(sx)] != 0;
+    };
+    for (int y = 0; y < f.h; ++y) {
+        int start = -1;
+        for (int x = 0; x <= f.w; ++x) {
+            bool on = x < f.w && at(x, y);
+            if (on && start < 0) start = x;
+            if (!on && start >= 0) {
+                f.rows[size_t(y)].push_back({start, x - 1});
+                f.rowCells[size_t(y)] += x - start;
+                start = -1;
             }
         }
-        if (!found) return false;
-        out.rotated = bestRot;
-        out.w = bestRot ? h : w;
-        out.h = bestRot ? w : h;
-        out.x = segs_[bestI].x;
-        out.y = bestY;
-        place(bestI, out);
-        usedW_ = std::max(usedW_, out.x + out.w);
-        usedH_ = std::max(usedH_, out.y + out.h);
-        return true;
+    }
+    return f;
+}
+
+// The page as one bit per texel; charts are placed where their footprint meets no set bit.
+class BitmapPage {
+public:
+    BitmapPage(int width, int height)
+        : W_(width), H_(height), words_((size_t(width) + 63) / 64), bits_(words_ * size_t(height), 0),
+          rowFree_(size_t(height), width) {}
+
+    // The lowest position (smallest top edge y + h, then smallest x) with top edge below `topLimit`.
+    bool find(const Footprint& f, int topLimit, int& outX, int& outY) const {
+        for (int y = 0; y + f.h <= H_ && y + f.h < topLimit; ++y) {
+            bool roomy = true;
+            for (int i = 0; i < f.h && roomy; ++i) roomy = rowFree_[size_t(y + i)] >= f.rowCells[size_t(i)];
+            if (!roomy) continue;
+            int x = 0;
+            while (x + f.w <= W_) {
+                int next = -1;
+                for (int i = 0; i < f.h && next < 0; ++i)
+                    for (const auto& [a, b] : f.rows[size_t(i)]) {
+                        int p = firstSet(y + i, x + a, x + b);
+                        if (p >= 0) { next = p - a + 1; break; }
+                    }
+                if (next < 0) { outX = x; outY = y; return true; }
+                x = next;
+            }
+        }
+        return false;
+    }
+
+    void place(const Footprint& f, int x, int y) {
+        for (int i = 0; i < f.h; ++i)
+            for (const auto& [a, b] : f.rows[size_t(i)]) {
+                for (int c = x + a; c <= x + b; ++c) bits_[size_t(y + i) * words_ + size_t(c) / 64] |= uint64_t(1) << (c % 64);
+                rowFree_[size_t(y + i)] -= b - a + 1;
+            }
+        usedW_ = std::max(usedW_, x + f.w);
+        usedH_ = std::max(usedH_, y + f.h);
     }
     int usedWidth() const { return usedW_; }
     int usedHeight() const { return usedH_; }
 
 private:
-    struct Seg { int x, y, w; };
-    int W_, H_, usedW_ = 0, usedH_ = 0;
-    std::vector<Seg> segs_;
+    int W_, H_;
+    size_t words_;
+    std::vector<uint64_t> bits_;
+    std::vector<int> rowFree_;
+    int usedW_ = 0, usedH_ = 0;
 
-    bool fits(size_t i, int w, int h, int& y, long long& waste) const {
-        int x = segs_[i].x;
-        if (x + w > W_) return false;
-        y = 0;
-        int left = w;
-        for (size_t j = i; left > 0 && j < segs_.size(); ++j) {
-            y = std::max(y, segs_[j].y);
-            left -= segs_[j].w;
+    // The first set bit in [a, b] of row y, or -1.
+    int firstSet(int y, int a, int b) const {
+        const uint64_t* row = bits_.data() + size_t(y) * words_;
+        for (int w = a / 64; w <= b / 64; ++w) {
+            uint64_t m = row[w];
+            if (w == a / 64) m &= ~uint64_t(0) << (a % 64);
+            if (w == b / 64 && b % 64 != 63) m &= (uint64_t(1) << (b % 64 + 1)) - 1;
+            if (m) return w * 64 + __builtin_ctzll(m);
         }
-        if (y + h > H_) return false;
-        waste = 0;
-        left = w;
-        for (size_t j = i; left > 0 && j < segs_.size(); ++j) {
-            int span = std::min(left, segs_[j].w);
-            waste += (long long)(y - segs_[j].y) * span;
-            left -= span;
-        }
-        return true;
+        return -1;
     }
+};
 
-    void place(size_t i, const Rect& r) {
-        Seg ns{r.x, r.y + r.h, r.w};
-        int end = r.x + r.w;
-        std::vector<Seg> out;
-        out.reserve(segs_.size() + 2);
-        for (size_t j = 0; j < i; ++j) out.push_back(segs_[j]);
-        out.push_back(ns);
-        for (size_t j = i; j < segs_.size(); ++j) {
-            const Seg& s = segs_[j];
-            int sEnd = s.x + s.w;
-            if (sEnd <= end) continue;  // fully covered
-            if (s.x < end) out.push_back({end, s.y, sEnd - end});
-            else out.push_back(s);
-        }
-        segs_.clear();
-        for (const Seg& s : out) {  // merge neighbours of equal height
-            if (!segs_.empty() && segs_.back().y == s.y) segs_.back().w += s.w;
-            else segs_.push_back(s);
-        }
-    }
+struct Slot {
+    int x = 0, y = 0, rotation = 0;
+    int gw = 0, gh = 0;  // the unrotated grid
 };
 
 struct Packing {
-    std::vector<Rect> rects;  // per chart
+    std::vector<Slot> slots;  // per chart
     int width = 0, height = 0;
 };
 
-int texels(double extent, double t) { return std::max(1, int(std::ceil(extent * t - 1e-9))); }
+// The mask on a grid `scale` times coarser: a coarse cell is set when any of its cells is.
+std::vector<uint8_t> coarsen(const std::vector<uint8_t>& mask, int gw, int gh, int scale, int& cw, int& ch) {
+    cw = (gw + scale - 1) / scale;
+    ch = (gh + scale - 1) / scale;
+    if (scale == 1) return mask;
+    std::vector<uint8_t> out(size_t(cw) * size_t(ch), 0);
+    for (int y = 0; y < gh; ++y)
+        for (int x = 0; x < gw; ++x)
+            if (mask[size_t(y) * size_t(gw) + size_t(x)]) out[size_t(y / scale) * size_t(cw) + size_t(x / scale)] = 1;
+    return out;
+}
 
-std::optional<Packing> packSkyline(const std::vector<Oriented>& charts, const std::vector<size_t>& order, double t,
-                                   int gutter, int binW, int binH) {
-    Skyline sky(binW, binH);
+// Placement search on large pages runs on a grid of scale x scale texel blocks (charts and their
+// gutters rounded up to whole blocks), keeping the search near 512 blocks across.
+int searchScale(double side) { return std::clamp(int(side / 512), 1, 8); }
+
+// Places the charts (in `order`) on a binW x binH page at density t, each at its lowest position
+// over the four quarter turns. Returns nothing when one does not fit.
+std::optional<Packing> packBitmap(const std::vector<Oriented>& charts, const std::vector<size_t>& order, double t,
+                                  int gutter, int binW, int binH, int scale) {
+    const int radius = (gutter + 1) / 2;
+    BitmapPage page(binW / scale, binH / scale);
     Packing p;
-    p.rects.resize(charts.size());
+    p.slots.resize(charts.size());
     for (size_t i : order) {
-        const Oriented& c = charts[i];
-        Rect r;
-        if (!sky.insert(texels(c.w, t) + gutter, texels(c.h, t) + gutter, r)) return std::nullopt;
-        p.rects[i] = r;
+        Slot& s = p.slots[i];
+        int cw, ch;
+        std::vector<uint8_t> fine = chartMask(charts[i], t, radius, s.gw, s.gh);
+        std::vector<uint8_t> mask = coarsen(fine, s.gw, s.gh, scale, cw, ch);
+        int bestTop = INT_MAX;
+        Footprint best;
+        for (int rot = 0; rot < 4; ++rot) {
+            Footprint f = rotatedFootprint(mask, cw, ch, rot);
+            int x, y;
+            if (page.find(f, bestTop, x, y)) {
+                bestTop = y + f.h;
+                s.x = x; s.y = y; s.rotation = rot;
+                best = std::move(f);
+            }
+        }
+        if (bestTop == INT_MAX) return std::nullopt;
+        page.place(best, s.x, s.y);
+        // Back to texels: the chart's grid turns inside its block-rounded footprint.
+        int fw = cw * scale, fh = ch * scale;
+        s.x *= scale;
+        s.y *= scale;
+        if (s.rotation == 1) s.x += fh - s.gh;
+        if (s.rotation == 2) { s.x += fw - s.gw; s.y += fh - s.gh; }
+        if (s.rotation == 3) s.y += fw - s.gw;
     }
-    p.width = sky.usedWidth();
-    p.height = sky.usedHeight();
+    p.width = page.usedWidth() * scale;
+    p.height = page.usedHeight() * scale;
     return p;
 }
 
@@ -198,16 +320,39 @@ double paddedArea(const std::vector<Oriented>& charts, double t, int gutter) {
 // The densest t in (lo, hi] at which the charts fit in binW x binH (lo fits or is 0).
 std::optional<std::pair<double, Packing>> densestFit(const std::vector<Oriented>& charts, const std::vector<size_t>& order,
                                                      double hi, int gutter, int binW, int binH) {
-    if (auto p = packSkyline(charts, order, hi, gutter, binW, binH)) return std::make_pair(hi, *p);
+    const int scale = searchScale(std::max(binW, binH));
+    if (auto p = packBitmap(charts, order, hi, gutter, binW, binH, scale)) return std::make_pair(hi, *p);
     double lo = 0;
-    std::optional<Packing> loPack = packSkyline(charts, order, 1e-12, gutter, binW, binH);
+    std::optional<Packing> loPack = packBitmap(charts, order, 1e-12, gutter, binW, binH, scale);
     if (!loPack) return std::nullopt;
-    for (int it = 0; it < 24; ++it) {
+    for (int it = 0; it < 16; ++it) {
         double mid = 0.5 * (lo + hi);
-        if (auto p = packSkyline(charts, order, mid, gutter, binW, binH)) { lo = mid; loPack = p; }
+        if (auto p = packBitmap(charts, order, mid, gutter, binW, binH, scale)) { lo = mid; loPack = p; }
         else hi = mid;
     }
     return std::make_pair(std::max(lo, 1e-12), *loPack);
+}
+
+// The affine UV -> page map of a chart: oriented frame, grid (density t, gutter radius), quarter
+// turn, page offset.
+std::array<double, 6> placementFor(const Oriented& c, const Slot& s, double t, int radius) {
+    // Grid coordinates before the turn: q = (A . uv + a, B . uv + b).
+    const double A[3] = {t * c.c, t * c.s, radius - t * c.minX};
+    const double B[3] = {-t * c.s, t * c.c, radius - t * c.minY};
+    std::array<double, 6> m{};
+    for (int k = 0; k < 3; ++k) {
+        double x = A[k], y = B[k], cx = k == 2 ? 1 : 0;  // constants carry the grid offsets
+        double rx = x, ry = y;
+        switch (s.rotation) {
+            case 1: rx = s.gh * cx - y; ry = x; break;
+            case 2: rx = s.gw * cx - x; ry = s.gh * cx - y; break;
+            case 3: rx = y; ry = s.gw * cx - x; break;
+            default: break;
+        }
+        m[size_t(k)] = rx + (k == 2 ? s.x : 0);
+        m[size_t(3 + k)] = ry + (k == 2 ? s.y : 0);
+    }
+    return m;
 }
 
 }  // namespace
@@ -237,14 +382,17 @@ AtlasResult packAtlas(const std::vector<AtlasChart>& input, const AtlasOptions& 
     int pageW = 0, pageH = 0;
     for (;;) {
         if (!options.powerOfTwo) {
-            // Strip packing at the density limit, a few strip widths; the smallest page wins.
-            double a = paddedArea(charts, tMax, gutter);
+            // Packing at the density limit into a few strip widths around the side of the charts'
+            // padded area (their coverage plus a gutter ring); the smallest page wins.
+            double a = 0;
+            for (const Oriented& c : charts) a += std::pow(std::sqrt(c.uvArea) * tMax + gutter, 2);
             double bestArea = 1e300;
-            for (double f : {0.85, 0.95, 1.0, 1.05, 1.15, 1.3, 1.5}) {
+            for (double f : {0.9, 1.0, 1.1, 1.25, 1.5}) {
                 int w = std::clamp(int(std::ceil(std::sqrt(a) * f)), 1, maxSize);
-                auto p = packSkyline(charts, order, tMax, gutter, w, maxSize);
+                auto p = packBitmap(charts, order, tMax, gutter, w, maxSize, searchScale(std::sqrt(a)));
                 if (!p) continue;
-                double area = double(p->width) * p->height;
+                // The smallest page wins; on equal areas the squarer one.
+                double area = double(p->width) * p->height + 1e-3 * std::max(p->width, p->height);
                 if (area < bestArea) { bestArea = area; best = std::make_pair(tMax, *p); pageW = p->width; pageH = p->height; }
             }
             if (!best) {
@@ -296,12 +444,9 @@ AtlasResult packAtlas(const std::vector<AtlasChart>& input, const AtlasOptions& 
     res.charts.resize(charts.size());
     for (size_t i = 0; i < charts.size(); ++i) {
         const Oriented& c = charts[i];
-        const Rect& r = pk.rects[i];
-        double ox = r.x + 0.5 * gutter, oy = r.y + 0.5 * gutter;
         ChartPlacement& P = res.charts[i];
-        P.rotated90 = r.rotated;
-        if (!r.rotated) P.m = {t * c.c, t * c.s, ox - t * c.minX, -t * c.s, t * c.c, oy - t * c.minY};
-        else P.m = {-t * c.s, t * c.c, ox - t * c.minY, -t * c.c, -t * c.s, oy + t * c.w + t * c.minX};
+        P.rotation = pk.slots[i].rotation;
+        P.m = placementFor(c, pk.slots[i], t, (gutter + 1) / 2);
         chartTexels += c.uvArea * t * t;
         boxTexels += c.w * c.h * t * t;
     }

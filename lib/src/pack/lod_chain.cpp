@@ -6,9 +6,12 @@
 //   2. screenCoverages: level k is good while its deviation e_k projects to <= p pixels on a
 //      viewport H pixels tall; with the bounding sphere radius R that is coverage <= 2 R p / (e_k H)
 //      (independent of the field of view: coverage = projected sphere height / viewport height);
-//   3. per level, packLevelAtlas: the charts its triangles use (T0, multires.charts) repacked at the
-//      texel density the level can show at its largest coverage, gutters sized for the mips used
-//      down to its smallest coverage; bakePage: the ORIGINAL triangles baked at the repacked UVs;
+//   3. per level, selectTexture: the layout it is textured with: T0 (multires.charts) or, when the
+//      file has a texture hierarchy (texture-refine), the highest-rank texture valid for the level;
+//      levelUVs: the layout UV of every level corner; packLevelAtlas: the charts its triangles use
+//      repacked at the texel density the level can show at its largest coverage, gutters sized for
+//      the mips used down to its smallest coverage; bakePage: the ORIGINAL triangles baked at the
+//      repacked UVs;
 //   4. buildLevelMesh: one indexed primitive (position, normal, atlas UV).
 #include "lodbake/pack/lod_chain.h"
 
@@ -17,6 +20,7 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <tuple>
 #include <unordered_map>
 
@@ -25,8 +29,10 @@
 #include "lodbake/bake/bake.h"
 #include "lodbake/core/errors.h"
 #include "lodbake/io/gltf.h"
+#include "lodbake/core/closest_point.h"
 #include "lodbake/metrics/distance.h"
 #include "lodbake/pack/atlas.h"
+#include "lodbake/param/parameterize.h"
 
 namespace lodbake {
 namespace {
@@ -42,6 +48,8 @@ struct LevelView {
     std::vector<uint32_t> faces;
     std::string source;
     double maxDeviation = 0;
+    size_t level = 0;            // multires level number (0 = the original)
+    const Level* data = nullptr;  // multires.levels[level - 1]; null for the original
 };
 
 std::vector<LevelView> levelViews(const Asset& asset, const Multires& mr) {
@@ -62,6 +70,8 @@ std::vector<LevelView> levelViews(const Asset& asset, const Multires& mr) {
         lv.faces = L.faces;
         lv.source = "level " + std::to_string(k + 1);
         lv.maxDeviation = L.maxDeviation;
+        lv.level = k + 1;
+        lv.data = &L;
         v.push_back(std::move(lv));
     }
     return v;
@@ -101,6 +111,7 @@ public:
                 if (uv_.emplace(key, ch.cornerUV[f][j]).second) chartVertices_[ch.faceChart[f]].push_back(mesh.triangles[f][j]);
             }
     }
+    bool has(uint32_t vertex, uint32_t chart) const { return uv_.count((uint64_t(vertex) << 32) | chart) > 0; }
     Vec2 operator()(uint32_t vertex, uint32_t chart) const {
         auto it = uv_.find((uint64_t(vertex) << 32) | chart);
         if (it != uv_.end()) return it->second;
@@ -119,11 +130,93 @@ private:
     std::vector<std::vector<uint32_t>> chartVertices_;
 };
 
-// T0 UV of corner j of level triangle t.
-Vec2 cornerT0(const ChartUV& lookup, const Multires& mr, const LevelView& lv, size_t t, size_t j, bool original) {
-    uint32_t f = lv.faces[t];
-    if (original) return mr.charts.cornerUV[f][j];
-    return lookup(lv.triangles[t][j], mr.charts.faceChart[f]);
+// A chart layout (T0 or a rank layout of the texture hierarchy) with what packing needs of it.
+struct LayoutData {
+    const ChartLayout* ch = nullptr;
+    uint32_t rank = 0;
+    std::vector<std::vector<uint32_t>> chartFaces;
+    std::vector<double> chartUvArea;
+    double uvPerUnit = 0;  // layout UV units per model unit (area-averaged)
+    std::unique_ptr<ChartUV> lookup;
+};
+
+LayoutData layoutData(const Asset& asset, const ChartLayout& ch, uint32_t rank) {
+    const TriMesh& mesh = asset.mesh;
+    if (ch.faceChart.size() != mesh.triangleCount() || ch.cornerUV.size() != mesh.triangleCount())
+        throw InvalidInput(asset.sourcePath + ": chart layout does not match the original mesh");
+    for (uint32_t c : ch.faceChart)
+        if (c >= ch.chartCount) throw InvalidInput(asset.sourcePath + ": chart id out of range");
+    LayoutData d;
+    d.ch = &ch;
+    d.rank = rank;
+    d.chartFaces.resize(ch.chartCount);
+    d.chartUvArea.assign(ch.chartCount, 0);
+    double uvTotal = 0, areaTotal = 0;
+    for (size_t f = 0; f < mesh.triangleCount(); ++f) {
+        uint32_t c = ch.faceChart[f];
+        d.chartFaces[c].push_back(uint32_t(f));
+        double a = triArea2(ch.cornerUV[f][0], ch.cornerUV[f][1], ch.cornerUV[f][2]);
+        d.chartUvArea[c] += a;
+        uvTotal += a;
+        const Tri& t = mesh.triangles[f];
+        areaTotal += triArea3(mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]);
+    }
+    if (!(uvTotal > 0) || !(areaTotal > 0)) throw Impossible(asset.sourcePath + ": the chart layout has no area");
+    d.uvPerUnit = std::sqrt(uvTotal / areaTotal);
+    d.lookup = std::make_unique<ChartUV>(mesh, ch);
+    return d;
+}
+
+// The chart and layout UVs of every triangle of a level.
+struct LevelUVs {
+    std::vector<uint32_t> chart;
+    std::vector<std::array<Vec2, 3>> uv;
+};
+
+// T0 (rank 0): the chart of the triangle's face; a corner takes its vertex's UV in that chart, or
+// that of the chart's nearest vertex. Rank layouts: the chart levelTriangleCharts picks (the face's,
+// or one holding all three corners), a corner outside it the UV of the closest point of the
+// chart's surface: exactly the level UVs parameterize guarded against folds for that layout.
+LevelUVs levelUVs(const TriMesh& mesh, const LayoutData& L, const LevelView& lv, const Level* level) {
+    const ChartLayout& ch = *L.ch;
+    LevelUVs out;
+    const size_t n = lv.triangles.size();
+    out.chart.resize(n);
+    out.uv.resize(n);
+    if (!level) {  // the original triangles
+        for (size_t t = 0; t < n; ++t) {
+            out.chart[t] = ch.faceChart[lv.faces[t]];
+            out.uv[t] = ch.cornerUV[lv.faces[t]];
+        }
+        return out;
+    }
+    if (L.rank == 0) {
+        for (size_t t = 0; t < n; ++t) {
+            uint32_t c = ch.faceChart[lv.faces[t]];
+            out.chart[t] = c;
+            for (size_t j = 0; j < 3; ++j) out.uv[t][j] = (*L.lookup)(lv.triangles[t][j], c);
+        }
+        return out;
+    }
+    out.chart = levelTriangleCharts(mesh, ch.faceChart, ch.chartCount, *level);
+    std::map<std::pair<uint32_t, uint32_t>, Vec2> projected;
+    for (size_t t = 0; t < n; ++t) {
+        uint32_t c = out.chart[t];
+        for (size_t j = 0; j < 3; ++j) {
+            uint32_t v = lv.triangles[t][j];
+            if (L.lookup->has(v, c)) {
+                out.uv[t][j] = (*L.lookup)(v, c);
+                continue;
+            }
+            auto it = projected.find({c, v});
+            if (it == projected.end()) {
+                Vec2 uv = closestSurfaceUV(mesh, ch.cornerUV, L.chartFaces[c], mesh.positions[v]);
+                it = projected.emplace(std::make_pair(c, v), uv).first;
+            }
+            out.uv[t][j] = it->second;
+        }
+    }
+    return out;
 }
 
 TriMesh asTriMesh(const TriMesh& original, const LevelView& lv) {
@@ -139,25 +232,30 @@ struct LevelAtlas {
     size_t charts = 0;
 };
 
-LevelAtlas packLevelAtlas(const ChartUV& lookup, const Multires& mr, const LevelView& lv, bool original,
-                          const std::vector<std::vector<uint32_t>>& chartFaces, const std::vector<double>& chartUvArea,
-                          const AtlasOptions& ao) {
-    const ChartLayout& ch = mr.charts;
+LevelAtlas packLevelAtlas(const LayoutData& L, const LevelUVs& luv, bool original, const AtlasOptions& ao) {
+    const ChartLayout& ch = *L.ch;
     LevelAtlas la;
     la.chartSlot.assign(ch.chartCount, -1);
     std::vector<AtlasChart> charts;
-    for (size_t t = 0; t < lv.triangles.size(); ++t) {
-        uint32_t c = ch.faceChart[lv.faces[t]];
+    for (size_t t = 0; t < luv.chart.size(); ++t) {
+        uint32_t c = luv.chart[t];
         if (la.chartSlot[c] < 0) {
             la.chartSlot[c] = int(charts.size());
             AtlasChart a;
-            a.uvArea = chartUvArea[c];
-            for (uint32_t f : chartFaces[c])
+            a.uvArea = L.chartUvArea[c];
+            for (uint32_t f : L.chartFaces[c]) {
                 for (const Vec2& p : ch.cornerUV[f]) a.points.push_back(p);
+                a.triangles.push_back(ch.cornerUV[f]);
+            }
             charts.push_back(std::move(a));
         }
-        if (!original)
-            for (size_t j = 0; j < 3; ++j) charts[size_t(la.chartSlot[c])].points.push_back(cornerT0(lookup, mr, lv, t, j, original));
+        if (!original) {
+            AtlasChart& a = charts[size_t(la.chartSlot[c])];
+            std::array<Vec2, 3> tri;
+            for (size_t j = 0; j < 3; ++j) tri[j] = luv.uv[t][j];
+            a.points.insert(a.points.end(), tri.begin(), tri.end());
+            a.triangles.push_back(tri);
+        }
     }
     la.charts = charts.size();
     la.atlas = packAtlas(charts, ao);
@@ -165,8 +263,7 @@ LevelAtlas packLevelAtlas(const ChartUV& lookup, const Multires& mr, const Level
 }
 
 // Bakes the original triangles at the page UVs; returns RGB floats of the width x height page.
-std::vector<float> bakePage(const Asset& asset, const Multires& mr, const LevelAtlas& la, double& seconds) {
-    const ChartLayout& ch = mr.charts;
+std::vector<float> bakePage(const Asset& asset, const ChartLayout& ch, const LevelAtlas& la, double& seconds) {
     const AtlasResult& a = la.atlas;
     int size = std::max(a.width, a.height);
     std::vector<std::array<Vec2, 3>> uv(asset.mesh.triangleCount());
@@ -189,10 +286,8 @@ std::vector<float> bakePage(const Asset& asset, const Multires& mr, const LevelA
     return out;
 }
 
-void buildLevelMesh(const Asset& asset, const ChartUV& lookup, const Multires& mr, const LevelView& lv, bool original, const LevelAtlas& la,
-                    LodLevelData& out) {
+void buildLevelMesh(const Asset& asset, const LevelView& lv, const LevelUVs& luv, const LevelAtlas& la, LodLevelData& out) {
     const TriMesh& m = asset.mesh;
-    const ChartLayout& ch = mr.charts;
     const AtlasResult& a = la.atlas;
     // Normals: the wedges' (unit) when the asset has them, else area-weighted over this level.
     std::vector<Vec3> vertexNormal;
@@ -207,7 +302,7 @@ void buildLevelMesh(const Asset& asset, const ChartUV& lookup, const Multires& m
     using Key = std::tuple<uint32_t, uint32_t, float, float, float>;  // vertex, chart, normal
     std::map<Key, uint32_t> index;
     for (size_t t = 0; t < lv.triangles.size(); ++t) {
-        uint32_t c = ch.faceChart[lv.faces[t]];
+        uint32_t c = luv.chart[t];
         const ChartPlacement& P = a.charts[size_t(la.chartSlot[c])];
         for (size_t j = 0; j < 3; ++j) {
             uint32_t v = lv.triangles[t][j];
@@ -224,7 +319,7 @@ void buildLevelMesh(const Asset& asset, const ChartUV& lookup, const Multires& m
                 const Vec3& p = m.positions[v];
                 out.positions.insert(out.positions.end(), {float(p.x), float(p.y), float(p.z)});
                 out.normals.insert(out.normals.end(), {float(n.x), float(n.y), float(n.z)});
-                Vec2 q = P.apply(cornerT0(lookup, mr, lv, t, j, original));
+                Vec2 q = P.apply(luv.uv[t][j]);
                 out.uvs.insert(out.uvs.end(), {float(q.x / a.width), float(q.y / a.height)});
             }
             out.indices.push_back(it->second);
@@ -248,22 +343,14 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
     size_t n = views.size();
     auto progress = [&](double f) { if (options.progress) options.progress(f); };
 
-    // Charts: faces, UV area and the UV-to-model scale (area-averaged).
-    std::vector<std::vector<uint32_t>> chartFaces(ch.chartCount);
-    std::vector<double> chartUvArea(ch.chartCount, 0);
-    double uvTotal = 0, areaTotal = 0;
-    for (size_t f = 0; f < mesh.triangleCount(); ++f) {
-        uint32_t c = ch.faceChart[f];
-        chartFaces[c].push_back(uint32_t(f));
-        double a = triArea2(ch.cornerUV[f][0], ch.cornerUV[f][1], ch.cornerUV[f][2]);
-        chartUvArea[c] += a;
-        uvTotal += a;
-        const Tri& t = mesh.triangles[f];
-        areaTotal += triArea3(mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]);
-    }
-    if (!(uvTotal > 0) || !(areaTotal > 0)) throw Impossible(asset.sourcePath + ": the chart layout has no area");
-    double uvPerUnit = std::sqrt(uvTotal / areaTotal);
-    ChartUV lookup(mesh, ch);
+    // Layouts: T0 and, with a texture hierarchy, every rank (faces, UV area, UV-to-model scale).
+    std::vector<LayoutData> layouts;
+    layouts.push_back(layoutData(asset, ch, 0));
+    const bool hierarchy = options.useTextureHierarchy && !mr.textures.empty();
+    double area3D = 0;
+    for (const Tri& t : mesh.triangles) area3D += triArea3(mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]);
+    if (hierarchy)
+        for (size_t j = 0; j < mr.textures.ranks.size(); ++j) layouts.push_back(layoutData(asset, mr.textures.ranks[j], uint32_t(j + 1)));
 
     // 1. Measured deviation of each level.
     res.reports.resize(n);
@@ -315,14 +402,40 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
         r.switchDistance = res.radius / (r.coverage * tanHalf);
         // Texel density the level can show: one texel per pixel at its largest coverage.
         r.texelLimit = r.maxCoverage * H / (2 * res.radius);
-        double tMax = r.texelLimit / uvPerUnit;
+        // The highest-rank texture valid for this level that the hierarchy offers at the page side
+        // the level needs (a rank whose smallest texture is larger than that page is not used: its
+        // extra chart seams and gutters only pay at the resolutions it was made for), and of its
+        // sizes the smallest that gives the density the level can show (the largest when none does).
+        // The page side estimate does not depend on the layout: sqrt(3D area) x texel limit / 0.8.
+        const double sideNeeded = std::min(double(options.maxSize), std::sqrt(area3D) * r.texelLimit / 0.8);
+        r.sideNeeded = sideNeeded;
+        r.rank = 0;
+        if (hierarchy) {
+            std::vector<int> smallest(layouts.size(), 0);
+            for (const HierarchyTexture& h : mr.textures.textures)
+                if (h.rank < layouts.size() && (smallest[h.rank] == 0 || h.size < smallest[h.rank])) smallest[h.rank] = h.size;
+            for (const HierarchyTexture& h : mr.textures.textures)
+                if (h.firstLevel <= views[k].level && views[k].level <= h.lastLevel && h.rank < layouts.size() &&
+                    smallest[h.rank] <= sideNeeded)
+                    r.rank = std::max(r.rank, h.rank);
+        }
+        const LayoutData& lay = layouts[r.rank];
+        const ChartLayout& lch = *lay.ch;
+        double tMax = r.texelLimit / lay.uvPerUnit;
+        r.textureSize = 0;
+        if (hierarchy)
+            for (const HierarchyTexture& h : mr.textures.textures)
+                if (h.rank == r.rank && (r.textureSize == 0 || (r.textureSize < tMax && h.size > r.textureSize) ||
+                                         (h.size >= tMax && h.size < r.textureSize)))
+                    r.textureSize = h.size;
+        LevelUVs luv = levelUVs(mesh, lay, views[k], views[k].data);
         // Mips used between its largest and smallest coverage, limited to pages >= minMipSide.
         int mips = int(std::ceil(std::log2(std::max(1.0, r.maxCoverage / std::max(r.coverage, 1e-12)))));
         double usedUv = 0;
         {
-            std::vector<char> seen(ch.chartCount, 0);
-            for (uint32_t f : views[k].faces)
-                if (!seen[ch.faceChart[f]]) { seen[ch.faceChart[f]] = 1; usedUv += chartUvArea[ch.faceChart[f]]; }
+            std::vector<char> seen(lch.chartCount, 0);
+            for (uint32_t c : luv.chart)
+                if (!seen[c]) { seen[c] = 1; usedUv += lay.chartUvArea[c]; }
         }
         double side = std::min(double(options.maxSize), std::sqrt(usedUv) * tMax / 0.8);
         int mipLimit = side > options.minMipSide ? int(std::floor(std::log2(side / options.minMipSide))) : 0;
@@ -332,7 +445,7 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
         ao.gutter = 2 << mips;
         ao.maxSize = options.maxSize;
         ao.powerOfTwo = options.powerOfTwo;
-        LevelAtlas la = packLevelAtlas(lookup, mr, views[k], k == 0, chartFaces, chartUvArea, ao);
+        LevelAtlas la = packLevelAtlas(lay, luv, k == 0, ao);
         // A coarser level never carries more texels than the finer one (packing of fewer, larger
         // gutters can come out bigger at the same density): lower its density until it does not.
         for (int tries = 0; k > 0 && tries < 8; ++tries) {
@@ -340,7 +453,7 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
             double now = double(la.atlas.width) * la.atlas.height;
             if (now <= previous) break;
             ao.maxTexelsPerUnit = std::min(ao.maxTexelsPerUnit, la.atlas.texelsPerUnit) * std::sqrt(previous / now) * 0.98;
-            la = packLevelAtlas(lookup, mr, views[k], false, chartFaces, chartUvArea, ao);
+            la = packLevelAtlas(lay, luv, false, ao);
         }
         r.gutter = la.atlas.gutter;
         r.mips = std::max(0, int(std::log2(std::max(2, r.gutter) / 2)));  // the packer may narrow the gutter
@@ -349,15 +462,15 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
         r.charts = la.charts;
         r.utilisation = la.atlas.utilisation;
         r.boxUtilisation = la.atlas.boxUtilisation;
-        r.texelsPerUnit = la.atlas.texelsPerUnit * uvPerUnit;
-        std::vector<float> pixels = bakePage(asset, mr, la, r.bakeSeconds);
+        r.texelsPerUnit = la.atlas.texelsPerUnit * lay.uvPerUnit;
+        std::vector<float> pixels = bakePage(asset, lch, la, r.bakeSeconds);
         LodLevelData& L = res.levels[k];
         L.name = "LOD" + std::to_string(k);
         L.metallicFactor = metallic;
         L.roughnessFactor = roughness;
         L.doubleSided = doubleSided;
         L.image = encodeImage(pixels, la.atlas.width, la.atlas.height, options.imageFormat, options.jpegQuality, L.name);
-        buildLevelMesh(asset, lookup, mr, views[k], k == 0, la, L);
+        buildLevelMesh(asset, views[k], luv, la, L);
         r.triangles = L.indices.size() / 3;
         r.vertices = L.positions.size() / 3;
         progress(0.3 + 0.7 * double(k + 1) / double(n));

@@ -40,20 +40,7 @@ AtlasApplyStats applyAtlas(Asset& asset, Multires& multires, const ParameterizeR
         for (int k = 0; k < 3; ++k) chartVertexUV.emplace(key2(uint32_t(c), mesh.triangles[f][size_t(k)]), param.cornerUV[f][size_t(k)]);
     }
     auto projectedUV = [&](uint32_t c, uint32_t v) {
-        Vec3 p = mesh.positions[v];
-        double best = 1e300;
-        Vec2 uv{};
-        for (uint32_t f : chartFaces[c]) {
-            const Tri& t = mesh.triangles[f];
-            auto b = closestOnTriangle(p, mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]);
-            Vec3 q = mesh.positions[t[0]] * b[0] + mesh.positions[t[1]] * b[1] + mesh.positions[t[2]] * b[2];
-            double d = length2(q - p);
-            if (d < best) {
-                best = d;
-                uv = param.cornerUV[f][0] * b[0] + param.cornerUV[f][1] * b[1] + param.cornerUV[f][2] * b[2];
-            }
-        }
-        return uv;
+        return closestSurfaceUV(mesh, param.cornerUV, chartFaces[c], mesh.positions[v]);
     };
 
     // Original wedges keep their attributes; make uv0 present if it was not.

@@ -11,14 +11,18 @@
 #include "lodbake/param/parameterize.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <map>
+#include <numeric>
 #include <set>
+#include <thread>
 #include <unordered_map>
 
 #include "lodbake/core/errors.h"
 #include "lodbake/core/closest_point.h"
+#include "lodbake/core/parallel.h"
 
 namespace lodbake {
 namespace {
@@ -111,7 +115,8 @@ void gatherLevelTriangles(const TriMesh& mesh, const ChartResult& cr, const Mult
     };
     std::vector<uint32_t> faceChart(cr.faceChart.size());
     for (size_t f = 0; f < faceChart.size(); ++f) faceChart[f] = uint32_t(std::max(cr.faceChart[f], 0));
-    for (const Level& L : mr.levels) {
+    for (size_t li = 0; li < mr.levels.size(); ++li) {
+        const Level& L = mr.levels[li];
         const std::vector<uint32_t> triChart = levelTriangleCharts(mesh, faceChart, cr.chartCount, L);
         for (size_t t = 0; t < L.triangles.size() && t < L.faces.size(); ++t) {
             const Tri& v = L.triangles[t];
@@ -127,6 +132,7 @@ void gatherLevelTriangles(const TriMesh& mesh, const ChartResult& cr, const Mult
                 else lt.corner[k] = project(ch, size_t(c), v[k]);
             }
             lt.area2 = length(cross(mesh.positions[v[1]] - mesh.positions[v[0]], mesh.positions[v[2]] - mesh.positions[v[0]]));
+            lt.level = uint32_t(li + 1);
             ch.mesh.levelTriangles.push_back(lt);
         }
     }
@@ -179,6 +185,33 @@ ChartEnergy addEnergy(ChartEnergy a, const ChartEnergy& b) {
     return a;
 }
 
+// Folded level triangles of a chart map: flipped or overlapping another triangle of the same
+// level (checked per level, in the chart's own UV frame scaled to a unit box).
+size_t levelFolds(const ChartMesh& chart, const std::vector<Vec2>& uv) {
+    if (chart.levelTriangles.empty() || uv.empty()) return 0;
+    Vec2 lo{1e300, 1e300}, hi{-1e300, -1e300};
+    for (Vec2 p : uv) {
+        lo = {std::min(lo.x, p.x), std::min(lo.y, p.y)};
+        hi = {std::max(hi.x, p.x), std::max(hi.y, p.y)};
+    }
+    const double scale = 1 / std::max({hi.x - lo.x, hi.y - lo.y, 1e-30});
+    std::map<uint32_t, std::vector<std::array<Vec2, 3>>> byLevel;
+    for (const ChartLevelTriangle& t : chart.levelTriangles) {
+        std::array<Vec2, 3> tri;
+        for (size_t k = 0; k < 3; ++k) {
+            Vec2 p = chartPointUV(t.corner[k], uv);
+            tri[k] = {(p.x - lo.x) * scale, -(p.y - lo.y) * scale};  // glTF convention: v down
+        }
+        byLevel[t.level].push_back(tri);
+    }
+    size_t folds = 0;
+    for (const auto& [level, tris] : byLevel) {
+        UVInjectivity r = checkUVInjectivity(tris, 1e-6);
+        folds += r.flips + r.overlaps;
+    }
+    return folds;
+}
+
 void solveChart(LocalChart& c, const ParameterizeOptions& o, double resolution, ChartReport& rep) {
     auto t0 = std::chrono::steady_clock::now();
     std::vector<Vec2> tutte = tutteEmbedding(c.mesh);
@@ -191,24 +224,27 @@ void solveChart(LocalChart& c, const ParameterizeOptions& o, double resolution, 
     auto valid = [&](const std::vector<Vec2>& uv) {
         return countFlips(c.mesh, uv) == 0 && countOverlaps(c.mesh, uv) == 0;
     };
-    // Candidates in order of preference; the first injective one without level flips wins, else
-    // the injective one with the fewest level flips (the tool reports and refuses those).
+    // Candidates in order of preference; the first injective one without folded level triangles
+    // wins, else the injective one with the fewest (the tool reports and refuses those). Tutte's
+    // convex boundary keeps every level's boundary simple, so it is the fallback when the
+    // optimised maps fold a level.
     c.uv = tutte;
     rep.method = "tutte";
-    size_t bestLevelFlips = countLevelFlips(c.mesh, tutte);
+    size_t bestFolds = levelFolds(c.mesh, tutte);
     auto consider = [&](const ChartSolveResult& r, const char* method) {
         if (!r.improved || !valid(r.uv)) return;
-        if (rep.method != "tutte" && r.levelFlipsAfter >= bestLevelFlips) return;
-        if (rep.method == "tutte" && r.levelFlipsAfter > bestLevelFlips) return;
+        size_t folds = levelFolds(c.mesh, r.uv);
+        if (rep.method != "tutte" && folds >= bestFolds) return;
+        if (rep.method == "tutte" && folds > bestFolds) return;
         c.uv = r.uv;
         rep.method = method;
-        bestLevelFlips = r.levelFlipsAfter;
+        bestFolds = folds;
     };
     if (o.maxIterations > 0) {
         ChartSolveResult r = optimizeChartUV(c.mesh, c.pairs, tutte, so);
         rep.iterations = r.iterations;
         consider(r, "ceres");
-        if (o.beta < 1 && (rep.method == "tutte" || bestLevelFlips > 0)) {
+        if (o.beta < 1 && (rep.method == "tutte" || bestFolds > 0)) {
             ChartSolveOptions s1 = so;
             s1.energy.beta = 1;
             ChartSolveResult r1 = optimizeChartUV(c.mesh, c.pairs, tutte, s1);
@@ -216,7 +252,7 @@ void solveChart(LocalChart& c, const ParameterizeOptions& o, double resolution, 
             consider(r1, "ceres-beta1");
         }
     }
-    rep.levelFlips = bestLevelFlips;
+    rep.levelFlips = countLevelFlips(c.mesh, c.uv);
     rep.final = chartEnergy(c.mesh, c.pairs, c.uv, so.energy);
     rep.flips = countFlips(c.mesh, c.uv);
     rep.overlaps = countOverlaps(c.mesh, c.uv);
@@ -306,19 +342,31 @@ ParameterizeResult parameterize(const TriMesh& mesh, const Multires& multires, c
 
     // (3) Per chart: Tutte, Ceres, checks (fixed order, deterministic).
     const double resolution = (512.0 * 512.0) / (double(options.textureSize) * options.textureSize);
+    // Charts are independent: solved on up to options.threads threads, largest first, results
+    // kept per chart and summed in chart order (identical for any thread count).
     res.chartReports.resize(charts.size());
-    for (size_t c = 0; c < charts.size(); ++c) {
+    std::vector<size_t> bySize(charts.size());
+    std::iota(bySize.begin(), bySize.end(), size_t(0));
+    std::stable_sort(bySize.begin(), bySize.end(), [&](size_t a, size_t b) { return charts[a].faces.size() > charts[b].faces.size(); });
+    std::atomic<size_t> solved{0};
+    const std::thread::id caller = std::this_thread::get_id();
+    parallelFor(charts.size(), options.threads, [&](size_t i) {
+        size_t c = bySize[i];
         ChartReport& rep = res.chartReports[c];
         rep.faces = uint32_t(charts[c].faces.size());
         rep.vertices = uint32_t(charts[c].vertices.size());
         rep.pairs = uint32_t(charts[c].pairs.size());
         if (!charts[c].faces.empty()) solveChart(charts[c], options, resolution, rep);
+        size_t done = ++solved;
+        if (options.progress && std::this_thread::get_id() == caller) options.progress(0.9 * double(done) / double(charts.size()));
+    });
+    for (size_t c = 0; c < charts.size(); ++c) {
+        const ChartReport& rep = res.chartReports[c];
         res.tutteTotal = addEnergy(res.tutteTotal, rep.tutte);
         res.finalTotal = addEnergy(res.finalTotal, rep.final);
         res.flips += rep.flips;
         res.overlaps += rep.overlaps;
         res.levelFlips += rep.levelFlips;
-        if (options.progress) options.progress(0.9 * double(c + 1) / double(charts.size()));
     }
 
     // (4) Measures: per chart and whole atlas (uniform density, so model-unit UVs compare).

@@ -13,9 +13,11 @@
 //
 // Pipeline (simplify() at the bottom reads as this script):
 //   1. validateInput        throw Impossible when there is nothing to simplify
-//   2. buildAdjacency       vertex -> incident live faces (small vectors)
-//   3. classifyVertices     lock vertices on non-manifold edges / non-manifold fans /
-//                           degenerate faces; find open-boundary vertices; label components and
+//      renumberVertices     internal vertex ids in order of first use (memory locality); ties
+//                           and outputs use the input ids (restoreInputIds at the end)
+//   2. buildAdjacency       vertex -> incident live faces (FaceList: inline up to 10 faces)
+//   3. classifyVertices     lock vertices on non-manifold edges / degenerate faces, mark pinch
+//                           (bow-tie) vertices, find open-boundary vertices; label components and
 //                           mark closed ones; per-component box diagonal
 //   4. initQuadrics         per-vertex area-weighted plane quadrics (+ border planes)
 //   5. initRegions          every face is its own region (rep = itself), per-region shape stats
@@ -41,7 +43,9 @@
 // Passes (as meshoptimizer). Every pass
 //   a. (re-)evaluates the vertices whose candidate may have changed: vertices whose fan changed in
 //      the last pass, vertices whose target's fan changed, and rejected vertices next to one;
-//      every other vertex keeps its cached candidate;
+//      every other vertex keeps its cached candidate. Evaluation only reads the state, so it runs
+//      on options.threads threads over fixed vertex chunks (per-thread scratch; the candidate
+//      list is concatenated in chunk order): the result does not depend on the thread count;
 //   b. keeps the valid candidates whose cost is within the level's error target, and computes the
 //      pass error limit = 1.1 x the cost of the (remaining collapses / 3)-th cheapest candidate
 //      (nth_element), so each pass takes about a third of the remaining reduction in cost order;
@@ -50,20 +54,31 @@
 //      and walks them: a candidate is skipped when v_i or v_j already took part in a collapse of
 //      this pass (each vertex moves at most once per pass); when the fan of v_i or of v_j changed
 //      in this pass it is checked and costed again (and skipped when now invalid or above the
-//      limit); its region plan is always re-done (labels may have merged). The walk stops as soon
+//      limit); its region plan is re-done unless nothing it reads changed since the candidate was
+//      evaluated (no fan change at v_i or v_j, no relabelled face around v_i, an open component
+//      so rule 1 is off, no normal-cone limit, no error target): then it is applied as cached,
+//      which gives the same result as re-doing it. The walk stops as soon
 //      as the live face count reaches the target (each collapse removes 1 or 2 faces, so the level
 //      lands on the target or one below it).
 //   A level that has no valid candidate left stops with the most frequent rejection reason; one
 //   whose candidates all exceed its error target stops with "target".
 //
-// Validity (see kRejectReason): both ends unlocked; a border vertex only moves along a border
-// edge; the link condition (one exception: a border collapse may close a three-vertex hole
+// Validity (see kRejectReason): v_i neither locked nor a pinch, v_j not locked; a border vertex
+// only moves along a border edge; the link condition (one exception: a border collapse may close a three-vertex hole
 // (v_i, v_j, b), the border flags of the ring are then refreshed) and no duplicate faces; no face
 // of the new fan degenerates, turns by more than maxNormalChangeDeg, or faces away from its own
 // original normal; a vertex whose whole fan would vanish (an "ear") is kept; region rule 1.
-// Locked vertices: those whose fan is non-manifold (an edge with 3+ faces, two faces with the same
-// directed edge, a bow-tie) or that touch a degenerate face; their manifold neighbours may still
-// collapse (never into them).
+// Manifoldness ignores orientation: two faces that share an edge in the same direction
+// (inconsistently wound neighbours, common in CAD exports) form a manifold edge; every geometric
+// test compares a face with its own normal.
+// Locked vertices: those on an edge with 3+ faces or that touch a degenerate face; they never
+// move and nothing collapses into them. Pinch vertices: manifold edges, but faces forming several
+// fans (a bow-tie; T-junction cracks welded by position make many). A pinch never moves (its other
+// fans would be dragged along, and merging the regions of fans that only touch at a point breaks
+// region edge-connectivity), but its manifold neighbours may collapse into it: the link condition
+// over all of its fans keeps the fans apart. The ring of every border collapse is re-classified;
+// locks and pinches are sticky (a pinch whose fans were joined by later collapses still joins
+// faces that are only vertex-connected in the original mesh). A pinch counts as open for rule 1.
 //
 // Regions (DESIGN.md). faceRegion[f] = representative face of f's region; region face lists are
 // intrusive linked lists merged by union by size (the largest region keeps its label, even when its
@@ -79,8 +94,12 @@
 //     (v_j, v_k) stays a p-boundary, so the two sides keep their regions (nothing merges).
 //   - Otherwise every region touching the fan of v_i merges into one (the collapse crosses or
 //     ends the p-boundaries through v_i).
-//   - Rule 1: on a closed component (no live border or locked vertex; a component whose holes were
-//     closed becomes closed) at least two regions must remain.
+//   - Rule 1: on a closed component (no live border, pinch or locked vertex; a component whose
+//     holes were closed becomes closed) a merge may not leave fewer than two regions. Collapses
+//     inside one region merge nothing and stay allowed (a component closed after its regions had
+//     merged into one keeps simplifying). When rule 1 (or the normal cone) forbids the merge and
+//     the rule-3 geometry applies, the boundary is kept instead, the cost raised to its
+//     displacement.
 //   - Representative of a merge: the rep of the largest merged region (ties: a rep that survives
 //     the collapse, then the smaller id). Rule 3 collapses change no label.
 //   - Rule 2 is a secondary sort key: deviations are quantised into buckets of relative width
@@ -107,7 +126,8 @@
 // components are pruned only when simplification is stuck and their size is within the error
 // already accepted (the running max deviation); the last faces are never pruned.
 //
-// Simplification pairs (computed only when a level is snapshotted). Every removed vertex keeps the
+// Simplification pairs (computed only when a level is snapshotted; the projections run in parallel
+// chunks, concatenated in input vertex order). Every removed vertex keeps the
 // vertex it collapsed into; the chain is followed (memoised per snapshot) to a surviving vertex s,
 // and V_i is projected onto the faces around s, preferring the faces of V_i's region (the region of
 // a face kept by its collapse); when P lies on an edge of the chosen face that is a p-boundary at
@@ -122,12 +142,16 @@
 #include "lodbake/simplify/simplify.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <exception>
+#include <functional>
 #include <limits>
 #include <numeric>
 #include <string>
+#include <thread>
 
 #include "lodbake/core/closest_point.h"
 #include "lodbake/core/errors.h"
@@ -216,6 +240,7 @@ struct Candidate {
     float farDist = 0;  // distance of v_i's farthest attached point to the new fan
     float shape = 0;
     bool rule3 = false;
+    uint32_t evalPass = 0;  // pass whose start evaluated this candidate
 };
 
 // A sortable candidate of one pass.
@@ -224,12 +249,88 @@ struct PassEntry {
     float shape;
     double dev;
     uint32_t vertex;
+    uint32_t key;  // the vertex's input id: ties go to the smaller input id
     bool operator<(const PassEntry& b) const {
         if (bucket != b.bucket) return bucket < b.bucket;
         if (shape != b.shape) return shape < b.shape;
         if (dev != b.dev) return dev < b.dev;
-        return vertex < b.vertex;
+        return key < b.key;
     }
+};
+
+// The live faces around one vertex: up to kInline stored in place (no pointer chase, no heap
+// block for the common valences), more on the heap. Erasing keeps the order.
+class FaceList {
+public:
+    FaceList() {}
+    FaceList(const FaceList&) = delete;
+    FaceList& operator=(const FaceList&) = delete;
+    FaceList(FaceList&& o) noexcept : n_(o.n_), cap_(o.cap_) {
+        if (o.cap_ > kInline) {
+            heap_ = o.heap_;
+            o.cap_ = kInline;
+            o.n_ = 0;
+        } else {
+            std::memcpy(in_, o.in_, sizeof in_);
+        }
+    }
+    FaceList& operator=(FaceList&&) = delete;
+    ~FaceList() { release(); }
+
+    const uint32_t* begin() const { return data(); }
+    const uint32_t* end() const { return data() + n_; }
+    size_t size() const { return n_; }
+    bool empty() const { return n_ == 0; }
+    uint32_t operator[](size_t k) const { return data()[k]; }
+    uint32_t front() const { return data()[0]; }
+    void reserve(uint32_t n) {
+        if (n > cap_) grow(n);
+    }
+    void push_back(uint32_t f) {
+        if (n_ == cap_) grow(cap_ * 2);
+        data()[n_++] = f;
+    }
+    void eraseValue(uint32_t f) {
+        uint32_t* d = data();
+        uint32_t* it = std::find(d, d + n_, f);
+        if (it == d + n_) return;
+        std::move(it + 1, d + n_, it);
+        --n_;
+    }
+    void release() {
+        if (cap_ > kInline) delete[] heap_;
+        cap_ = kInline;
+        n_ = 0;
+    }
+
+private:
+    static constexpr uint32_t kInline = 10;
+    uint32_t* data() { return cap_ > kInline ? heap_ : in_; }
+    const uint32_t* data() const { return cap_ > kInline ? heap_ : in_; }
+    void grow(uint32_t cap) {
+        uint32_t* p = new uint32_t[cap];
+        std::memcpy(p, data(), n_ * sizeof(uint32_t));
+        if (cap_ > kInline) delete[] heap_;
+        heap_ = p;
+        cap_ = cap;
+    }
+    uint32_t n_ = 0, cap_ = kInline;
+    union {
+        uint32_t in_[kInline];
+        uint32_t* heap_;
+    };
+};
+
+// Current corners of every face with its original unit normal (zero when degenerate) in the same
+// record: the validity checks read both, one cache line instead of two.
+struct FaceRec {
+    Tri t;
+    std::array<float, 3> n;
+};
+struct FaceArray {
+    std::vector<FaceRec> rec;
+    Tri& operator[](size_t f) { return rec[f].t; }
+    const Tri& operator[](size_t f) const { return rec[f].t; }
 };
 
 // One neighbour w of a vertex v: the faces around v containing edge (v, w).
@@ -238,16 +339,30 @@ struct RingEntry {
     uint32_t f0, f1;  // f1 == kNone when the edge has one face around v
 };
 
+// Per-thread scratch of candidate evaluation.
+struct Scratch {
+    std::vector<RingEntry> ring;           // ring of the vertex being evaluated
+    std::vector<uint32_t> markI, markJ;    // per-vertex stamps: one-ring of vi, neighbours of vj
+    uint32_t stampI = 0, stampJ = 0;
+    std::vector<uint32_t> regions;
+    std::vector<uint32_t> faceMark;  // per-face stamps of the pair search (sized on first use)
+    uint32_t faceStamp = 0;
+};
+
 struct State {
-    const TriMesh& mesh;
+    const TriMesh& mesh;   // positions and triangles, vertices renumbered (see renumberVertices)
+    const TriMesh& input;  // the caller's mesh: corner wedges and materials
     const SimplifyOptions& options;
+    std::vector<uint32_t> oldId;  // input id of each internal vertex id
+    std::vector<uint32_t> newId;  // internal id of each input vertex
     size_t vertexCount = 0, faceCount = 0;
 
-    std::vector<Tri> tri;             // current corners
+    FaceArray tri;                    // current corners (+ original normals)
     std::vector<Tri> wedge;           // current corner wedges (empty when the mesh has none)
     std::vector<uint8_t> faceAlive;
-    std::vector<std::vector<uint32_t>> vfaces;  // live faces around each vertex
+    std::vector<FaceList> vfaces;  // live faces around each vertex
     std::vector<uint8_t> locked, border, removed;
+    std::vector<uint8_t> pinch;  // bow-tie vertices: several manifold fans meet at one point
     std::vector<uint32_t> component;  // per vertex
     std::vector<uint8_t> componentClosed, componentPruned;  // componentClosed: as classified (sizes)
     std::vector<uint32_t> componentOpen;  // live border or locked vertices per component (0 = closed)
@@ -256,10 +371,10 @@ struct State {
     std::vector<uint32_t> componentOrder;  // components, smallest size first
     std::vector<uint32_t> componentFaces;  // live faces per component
     std::vector<uint32_t> componentVertexStart, componentVertices;  // CSR: vertices per component
-    std::vector<std::array<float, 3>> originalNormal;  // unit, per face (zero when degenerate)
     std::vector<Quadric> quadric;
 
     // Regions.
+    std::vector<uint32_t> faceRelabelPass;  // pass of each face's last relabel
     std::vector<uint32_t> faceRegion, regionNext, regionHead, regionTail, regionSize;
     std::vector<RegionStats> regionStats;
     uint32_t regionCount = 0;
@@ -281,6 +396,7 @@ struct State {
     std::vector<uint32_t> dirtyPass, touchedPass;  // pass number of the last mark
     uint32_t pass = 0;
     std::vector<PassEntry> entries;
+    std::vector<std::vector<PassEntry>> chunkEntries;  // per evaluation chunk
 
     size_t aliveFaces = 0;
     double diagonal = 0, longestSide = 0, cosMaxNormalChange = 0, minRegionCoherence = 0;
@@ -290,22 +406,56 @@ struct State {
     Multires out;
 
     // Scratch.
-    std::vector<RingEntry> ringI;
-    std::vector<uint32_t> scratch, repScratch, fanScratch, keptScratch, removedScratch;
+    std::vector<RingEntry> classRing;
+    std::vector<uint32_t> classCount, classParent;
+    std::vector<uint32_t> repScratch, fanScratch, keptScratch, removedScratch;
     uint32_t collapseSource = kNone, collapseTarget = kNone;
-    std::vector<uint32_t> markI, markJ;
-    uint32_t stampI = 0, stampJ = 0;
+    std::vector<Scratch> work;  // one per evaluation thread; work[0] also serves the collapse walk
 
-    State(const TriMesh& m, const SimplifyOptions& o) : mesh(m), options(o) {}
+    State(const TriMesh& m, const TriMesh& in, const SimplifyOptions& o) : mesh(m), input(in), options(o) {}
 
+    // Counted in componentOpen: a live vertex on an open border, a pinch or a locked vertex.
+    bool isOpen(uint32_t v) const { return border[v] || locked[v] || pinch[v]; }
     int corner(uint32_t f, uint32_t v) const {
         const Tri& t = tri[f];
         return t[0] == v ? 0 : (t[1] == v ? 1 : (t[2] == v ? 2 : -1));
     }
     int32_t material(uint32_t f) const {
-        return f < mesh.triangleMaterial.size() ? mesh.triangleMaterial[f] : -1;
+        return f < input.triangleMaterial.size() ? input.triangleMaterial[f] : -1;
     }
 };
+
+// Calls fn(begin, end, thread) over [0, count) in fixed chunks on up to `threads` threads (the
+// thread index selects the caller's scratch). Results must not depend on which thread ran a chunk.
+constexpr size_t kChunk = 4096;
+static void parallelChunks(size_t count, size_t threads, const std::function<void(size_t, size_t, size_t)>& fn) {
+    size_t chunks = (count + kChunk - 1) / kChunk;
+    size_t n = std::min(threads, chunks);
+    if (n <= 1) {
+        if (count) fn(0, count, 0);
+        return;
+    }
+    std::atomic<size_t> next{0};
+    std::exception_ptr error;
+    std::atomic<bool> failed{false};
+    auto worker = [&](size_t t) {
+        for (;;) {
+            size_t c = next.fetch_add(1);
+            if (c >= chunks || failed.load()) return;
+            try {
+                fn(c * kChunk, std::min(count, (c + 1) * kChunk), t);
+            } catch (...) {
+                if (!failed.exchange(true)) error = std::current_exception();
+                return;
+            }
+        }
+    };
+    std::vector<std::thread> pool;
+    for (size_t t = 1; t < n; ++t) pool.emplace_back(worker, t);
+    worker(0);
+    for (auto& th : pool) th.join();
+    if (error) std::rethrow_exception(error);
+}
 
 // ---------------------------------------------------------------------------------------------
 // 1. Input.
@@ -317,18 +467,67 @@ static void validateInput(const TriMesh& mesh) {
             if (v >= mesh.positions.size()) throw InvalidInput("simplify: triangle index out of range");
 }
 
+// Vertex renumbering. Inputs often list vertices far from the faces that use them (subdivided or
+// re-indexed meshes: the three corners of a face hundreds of thousands of ids apart), and every
+// per-vertex array is then read at random. Internally, vertices are numbered in order of first
+// use by the faces (unused ones last), which keeps each neighbourhood's data close in memory.
+// Every tie-break compares input ids (oldId) and every output is mapped back (restoreInputIds),
+// so the result is the same as without renumbering.
+static TriMesh renumberVertices(const TriMesh& mesh, std::vector<uint32_t>& oldId, std::vector<uint32_t>& newId) {
+    size_t n = mesh.positions.size();
+    newId.assign(n, kNone);
+    oldId.clear();
+    oldId.reserve(n);
+    for (const Tri& t : mesh.triangles)
+        for (uint32_t v : t)
+            if (newId[v] == kNone) {
+                newId[v] = uint32_t(oldId.size());
+                oldId.push_back(v);
+            }
+    for (uint32_t v = 0; v < n; ++v)
+        if (newId[v] == kNone) {
+            newId[v] = uint32_t(oldId.size());
+            oldId.push_back(v);
+        }
+    TriMesh local;
+    local.positions.resize(n);
+    for (uint32_t v = 0; v < n; ++v) local.positions[v] = mesh.positions[oldId[v]];
+    local.triangles.resize(mesh.triangles.size());
+    for (size_t f = 0; f < mesh.triangles.size(); ++f)
+        for (int k = 0; k < 3; ++k) local.triangles[f][k] = newId[mesh.triangles[f][k]];
+    return local;
+}
+
+// Maps every vertex id of the output back to the input's ids.
+static void restoreInputIds(State& s) {
+    const std::vector<uint32_t>& id = s.oldId;
+    for (CollapseRecord& c : s.out.collapses) {
+        c.removed = id[c.removed];
+        c.kept = id[c.kept];
+    }
+    for (Level& l : s.out.levels) {
+        for (Tri& t : l.triangles)
+            for (uint32_t& v : t) v = id[v];
+        for (SimplificationPair& p : l.pairs) {
+            p.vertex = id[p.vertex];
+            for (uint32_t& v : p.coarse) v = id[v];
+        }
+    }
+}
+
 // 2. Adjacency.
 
 static void buildAdjacency(State& s) {
     const TriMesh& m = s.mesh;
     s.vertexCount = m.positions.size();
     s.faceCount = m.triangles.size();
-    s.tri = m.triangles;
-    if (m.cornerWedges.size() == m.triangles.size()) s.wedge = m.cornerWedges;
+    s.tri.rec.resize(m.triangles.size());
+    for (size_t f = 0; f < m.triangles.size(); ++f) s.tri.rec[f] = {m.triangles[f], {0, 0, 0}};
+    if (s.input.cornerWedges.size() == m.triangles.size()) s.wedge = s.input.cornerWedges;
     s.faceAlive.assign(s.faceCount, 1);
     s.aliveFaces = s.faceCount;
     std::vector<uint32_t> valence(s.vertexCount, 0);
-    for (const Tri& t : s.tri)
+    for (const Tri& t : s.mesh.triangles)
         for (uint32_t v : t) ++valence[v];
     s.vfaces.resize(s.vertexCount);
     for (size_t v = 0; v < s.vertexCount; ++v) s.vfaces[v].reserve(valence[v]);
@@ -347,49 +546,65 @@ static uint32_t findRoot(std::vector<uint32_t>& parent, uint32_t x) {
     return x;
 }
 
+enum class FanKind { Manifold, Pinch, NonManifold };
+
+// A vertex is manifold when every edge around it has one or two faces and its faces form one fan
+// (connected through shared edges); a pinch (bow-tie) when its edges are manifold but its faces
+// form several fans. Orientation is not required: two faces sharing an edge in the same direction
+// (inconsistently wound neighbours) are a manifold edge like any other; every geometric test
+// compares a face with its own normal. `open`: some edge around v has one face.
+static FanKind classifyFan(State& s, uint32_t v, bool& open) {
+    const auto& fs = s.vfaces[v];
+    size_t n = fs.size();
+    std::vector<RingEntry>& ring = s.classRing;
+    std::vector<uint32_t>& faceCount = s.classCount;
+    std::vector<uint32_t>& parent = s.classParent;
+    ring.clear();
+    faceCount.clear();
+    parent.resize(n);
+    std::iota(parent.begin(), parent.end(), 0u);
+    bool bad = false;
+    open = false;
+    for (size_t k = 0; k < n; ++k) {
+        const Tri& t = s.tri[fs[k]];
+        int c = t[0] == v ? 0 : (t[1] == v ? 1 : 2);
+        for (int d = 1; d <= 2; ++d) {
+            uint32_t w = t[(c + d) % 3];
+            size_t e = 0;
+            while (e < ring.size() && ring[e].w != w) ++e;
+            if (e == ring.size()) {
+                ring.push_back({w, uint32_t(k), kNone});
+                faceCount.push_back(1);
+            } else {
+                if (++faceCount[e] > 2) bad = true;  // an edge with 3+ faces
+                parent[findRoot(parent, uint32_t(k))] = findRoot(parent, ring[e].f0);
+            }
+        }
+    }
+    for (uint32_t c : faceCount) open |= c == 1;
+    if (bad) return FanKind::NonManifold;
+    uint32_t root = findRoot(parent, 0);
+    for (size_t a = 1; a < n; ++a)
+        if (findRoot(parent, uint32_t(a)) != root) return FanKind::Pinch;
+    return FanKind::Manifold;
+}
+
 static void classifyVertices(State& s) {
     s.locked.assign(s.vertexCount, 0);
+    s.pinch.assign(s.vertexCount, 0);
     s.border.assign(s.vertexCount, 0);
     s.removed.assign(s.vertexCount, 0);
     // Faces with a repeated corner: lock their vertices (they never move).
-    for (const Tri& t : s.tri)
+    for (const Tri& t : s.mesh.triangles)
         if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2])
             for (uint32_t v : t) s.locked[v] = 1;
 
-    std::vector<uint32_t> outs, ins, parent;
     for (uint32_t v = 0; v < s.vertexCount; ++v) {
-        const auto& fs = s.vfaces[v];
-        if (fs.empty() || s.locked[v]) continue;
-        size_t n = fs.size();
-        outs.resize(n);
-        ins.resize(n);
-        for (size_t k = 0; k < n; ++k) {
-            int c = s.corner(fs[k], v);
-            outs[k] = s.tri[fs[k]][(c + 1) % 3];
-            ins[k] = s.tri[fs[k]][(c + 2) % 3];
-        }
-        bool bad = false, open = false;
-        parent.resize(n);
-        std::iota(parent.begin(), parent.end(), 0u);
-        for (size_t a = 0; a < n && !bad; ++a) {
-            size_t matches = 0;
-            for (size_t b = 0; b < n; ++b) {
-                if (b != a && (outs[b] == outs[a] || ins[b] == ins[a])) bad = true;  // an edge with 3+ faces or two with the same direction
-                if (ins[b] == outs[a]) {
-                    ++matches;
-                    parent[findRoot(parent, uint32_t(a))] = findRoot(parent, uint32_t(b));
-                }
-            }
-            if (matches == 0) open = true;
-            bool hasOut = false;
-            for (size_t b = 0; b < n; ++b) hasOut |= outs[b] == ins[a];
-            if (!hasOut) open = true;
-        }
-        if (!bad) {
-            uint32_t root = findRoot(parent, 0);
-            for (size_t a = 1; a < n; ++a) bad |= findRoot(parent, uint32_t(a)) != root;  // bow-tie
-        }
-        if (bad) s.locked[v] = 1;
+        if (s.vfaces[v].empty() || s.locked[v]) continue;
+        bool open = false;
+        FanKind k = classifyFan(s, v, open);
+        s.locked[v] = k == FanKind::NonManifold;
+        s.pinch[v] = k == FanKind::Pinch;
         s.border[v] = open;
     }
     // Only the non-manifold vertices themselves are locked (every vertex of a non-manifold edge has
@@ -397,9 +612,9 @@ static void classifyVertices(State& s) {
     // the link condition keeps the non-manifold edges intact.
 
     // Components over faces (union of their vertices).
-    parent.resize(s.vertexCount);
+    std::vector<uint32_t> parent(s.vertexCount);
     std::iota(parent.begin(), parent.end(), 0u);
-    for (const Tri& t : s.tri) {
+    for (const Tri& t : s.mesh.triangles) {
         uint32_t r0 = findRoot(parent, t[0]);
         parent[findRoot(parent, t[1])] = r0;
         parent[findRoot(parent, t[2])] = r0;
@@ -407,7 +622,8 @@ static void classifyVertices(State& s) {
     s.component.assign(s.vertexCount, kNone);
     uint32_t count = 0;
     std::vector<uint32_t> label(s.vertexCount, kNone);
-    for (uint32_t v = 0; v < s.vertexCount; ++v) {
+    for (uint32_t u = 0; u < s.vertexCount; ++u) {  // in input order: labels as without renumbering
+        uint32_t v = s.newId[u];
         if (s.vfaces[v].empty()) continue;
         uint32_t r = findRoot(parent, v);
         if (label[r] == kNone) label[r] = count++;
@@ -416,18 +632,17 @@ static void classifyVertices(State& s) {
     s.componentClosed.assign(count, 1);
     s.componentRegions.assign(count, 0);
     for (uint32_t v = 0; v < s.vertexCount; ++v)
-        if (s.component[v] != kNone && (s.border[v] || s.locked[v])) s.componentClosed[s.component[v]] = 0;
+        if (s.component[v] != kNone && s.isOpen(v)) s.componentClosed[s.component[v]] = 0;
     s.componentOpen.assign(count, 0);
     for (uint32_t v = 0; v < s.vertexCount; ++v)
-        if (s.component[v] != kNone && (s.border[v] || s.locked[v])) ++s.componentOpen[s.component[v]];
-    for (const Tri& t : s.tri) ++s.componentRegions[s.component[t[0]]];
+        if (s.component[v] != kNone && s.isOpen(v)) ++s.componentOpen[s.component[v]];
+    for (const Tri& t : s.mesh.triangles) ++s.componentRegions[s.component[t[0]]];
 }
 
 // 4. Quadrics.
 
 static void initQuadrics(State& s) {
     s.quadric.assign(s.vertexCount, Quadric{});
-    s.originalNormal.assign(s.faceCount, {0, 0, 0});
     const auto& P = s.mesh.positions;
     for (uint32_t f = 0; f < s.faceCount; ++f) {
         const Tri& t = s.tri[f];
@@ -436,7 +651,7 @@ static void initQuadrics(State& s) {
         s.totalArea += 0.5 * l;
         if (!(l > 0)) continue;
         n = n / l;
-        s.originalNormal[f] = {float(n.x), float(n.y), float(n.z)};
+        s.tri.rec[f].n = {float(n.x), float(n.y), float(n.z)};
         double d = -dot(n, P[t[0]]);
         for (uint32_t v : t) s.quadric[v].addPlane(n, d, 0.5 * l);
         // Border edges: a plane through the edge, perpendicular to the face, weighted by the
@@ -466,7 +681,7 @@ static void measureComponents(State& s) {
     s.componentSize.assign(n, 0);
     s.componentPruned.assign(n, 0);
     s.componentFaces.assign(n, 0);
-    for (const Tri& t : s.tri) ++s.componentFaces[s.component[t[0]]];
+    for (const Tri& t : s.mesh.triangles) ++s.componentFaces[s.component[t[0]]];
     s.componentVertexStart.assign(n + 1, 0);
     for (uint32_t v = 0; v < s.vertexCount; ++v)
         if (s.component[v] != kNone) ++s.componentVertexStart[s.component[v] + 1];
@@ -474,8 +689,10 @@ static void measureComponents(State& s) {
     s.componentVertices.resize(s.componentVertexStart[n]);
     {
         std::vector<uint32_t> at(s.componentVertexStart.begin(), s.componentVertexStart.end() - 1);
-        for (uint32_t v = 0; v < s.vertexCount; ++v)
+        for (uint32_t u = 0; u < s.vertexCount; ++u) {  // in input order (pruning records)
+            uint32_t v = s.newId[u];
             if (s.component[v] != kNone) s.componentVertices[at[s.component[v]]++] = v;
+        }
     }
     for (size_t c = 0; c < n; ++c) {
         s.componentSize[c] = 0.5 * box[c].diagonal();
@@ -489,6 +706,7 @@ static void measureComponents(State& s) {
 
 static void initRegions(State& s) {
     const auto& P = s.mesh.positions;
+    s.faceRelabelPass.assign(s.faceCount, 0);
     s.faceRegion.resize(s.faceCount);
     std::iota(s.faceRegion.begin(), s.faceRegion.end(), 0u);
     s.regionNext.assign(s.faceCount, kNone);
@@ -563,42 +781,28 @@ static std::vector<PlannedLevel> planLevels(const State& s) {
 
 // 7a. Candidate evaluation.
 
-static void collectRing(State& s, uint32_t v, std::vector<RingEntry>& ring) {
-    // Each neighbour w is the next corner of at most one face and the previous corner of at most
-    // one face around a manifold vertex (a non-manifold fan is locked and never evaluated).
+static void collectRing(const State& s, uint32_t v, std::vector<RingEntry>& ring) {
+    // Each neighbour w shares an edge (v, w) with one or two faces around a manifold vertex,
+    // whatever their orientations (a non-manifold fan is locked and never evaluated; a third face
+    // of an edge is ignored here). Entries are in order of first appearance.
     ring.clear();
-    const auto& fs = s.vfaces[v];
-    size_t n = fs.size();
-    uint32_t next[64], prev[64];
-    std::vector<uint32_t> bigNext, bigPrev;
-    uint32_t *nx = next, *pv = prev;
-    if (n > 64) {
-        bigNext.resize(n);
-        bigPrev.resize(n);
-        nx = bigNext.data();
-        pv = bigPrev.data();
-    }
-    for (size_t k = 0; k < n; ++k) {
-        const Tri& t = s.tri[fs[k]];
+    for (uint32_t f : s.vfaces[v]) {
+        const Tri& t = s.tri[f];
         int c = t[0] == v ? 0 : (t[1] == v ? 1 : 2);
-        nx[k] = t[(c + 1) % 3];
-        pv[k] = t[(c + 2) % 3];
+        for (int k = 1; k <= 2; ++k) {
+            uint32_t w = t[(c + k) % 3];
+            bool found = false;
+            for (RingEntry& e : ring)
+                if (e.w == w) {
+                    if (e.f1 == kNone) e.f1 = f;
+                    found = true;
+                    break;
+                }
+            if (!found) ring.push_back({w, f, kNone});
+        }
     }
-    for (size_t k = 0; k < n; ++k) {
-        RingEntry e{nx[k], fs[k], kNone};
-        for (size_t m = 0; m < n; ++m)
-            if (pv[m] == nx[k] && m != k) {
-                e.f1 = fs[m];
-                break;
-            }
+    for (RingEntry& e : ring)
         if (e.f1 != kNone && e.f1 < e.f0) std::swap(e.f0, e.f1);
-        ring.push_back(e);
-    }
-    for (size_t k = 0; k < n; ++k) {  // neighbours that are only a previous corner (open border)
-        bool found = false;
-        for (size_t m = 0; m < n && !found; ++m) found = nx[m] == pv[k];
-        if (!found) ring.push_back({pv[k], fs[k], kNone});
-    }
 }
 
 static bool isPBoundarySpoke(const State& s, const RingEntry& e) {
@@ -613,7 +817,7 @@ static int64_t bucketOf(const State& s, double dev) {
 }
 
 // Topology and geometry of (vi -> vj); on success fills dev.
-static Reject checkCollapse(State& s, uint32_t vi, const RingEntry& edge, double q, double& dev, float& farDist) {
+static Reject checkCollapse(const State& s, Scratch& w, uint32_t vi, const RingEntry& edge, double q, double& dev, float& farDist) {
     uint32_t vj = edge.w;
     if (s.locked[vj]) return Reject::Locked;
     bool borderEdge = edge.f1 == kNone;
@@ -622,13 +826,13 @@ static Reject checkCollapse(State& s, uint32_t vi, const RingEntry& edge, double
     // Link condition: the common neighbours are exactly the opposite vertices of the edge's faces.
     // (markI[w] == stampI marks the one-ring of vi; markJ dedupes the neighbours of vj.)
     size_t common = 0;
-    uint32_t stampJ = ++s.stampJ;
+    uint32_t stampJ = ++w.stampJ;
     uint32_t commonV[3] = {kNone, kNone, kNone};
     for (uint32_t f : s.vfaces[vj])
         for (uint32_t u : s.tri[f]) {
-            if (u == vj || s.markJ[u] == stampJ) continue;
-            s.markJ[u] = stampJ;
-            if (s.markI[u] == s.stampI) {
+            if (u == vj || w.markJ[u] == stampJ) continue;
+            w.markJ[u] = stampJ;
+            if (w.markI[u] == w.stampI) {
                 if (common < 3) commonV[common] = u;
                 ++common;
             }
@@ -639,7 +843,7 @@ static Reject checkCollapse(State& s, uint32_t vi, const RingEntry& edge, double
         uint32_t opposite = t0[0] != vi && t0[0] != vj ? t0[0] : (t0[1] != vi && t0[1] != vj ? t0[1] : t0[2]);
         uint32_t b = commonV[0] == opposite ? commonV[1] : commonV[0];
         bool holeI = false;
-        for (const RingEntry& e : s.ringI)
+        for (const RingEntry& e : w.ring)
             if (e.w == b) holeI = e.f1 == kNone;
         size_t facesJB = 0;
         for (uint32_t f : s.vfaces[vj]) facesJB += s.corner(f, b) >= 0;
@@ -661,7 +865,7 @@ static Reject checkCollapse(State& s, uint32_t vi, const RingEntry& edge, double
         // (vj, x, y) must not already exist around vj.
         uint32_t x = t[(c + 1) % 3], y = t[(c + 2) % 3];
         // (Only possible when x and y are both neighbours of vj, marked by the link loop above.)
-        if (s.markJ[x] == stampJ && s.markJ[y] == stampJ)
+        if (w.markJ[x] == stampJ && w.markJ[y] == stampJ)
             for (uint32_t g : s.vfaces[vj])
                 if (g != edge.f0 && g != edge.f1 && s.corner(g, x) >= 0 && s.corner(g, y) >= 0) return Reject::Link;
         Vec3 qv[3] = {P[t[0]], P[t[1]], P[t[2]]};
@@ -674,11 +878,21 @@ static Reject checkCollapse(State& s, uint32_t vi, const RingEntry& edge, double
         if (!(l1 > 1e-12 * scale)) return Reject::Degenerate;
         double l0 = length(n0);
         if (l0 > 0 && dot(n0, n1) <= s.cosMaxNormalChange * l0 * l1) return Reject::Flip;
-        const auto& on = s.originalNormal[f];
+        const auto& on = s.tri.rec[f].n;
         if (n1.x * on[0] + n1.y * on[1] + n1.z * on[2] <= 0 && (on[0] != 0 || on[1] != 0 || on[2] != 0))
             return Reject::Flip;
-        best2 = std::min(best2, closestWithDistance(pi, qv[0], qv[1], qv[2]).dist2);
-        if (far != kNone) far2 = std::min(far2, closestWithDistance(pf, qv[0], qv[1], qv[2]).dist2);
+        // The distance to the face's plane bounds the distance to the face from below: skip the
+        // exact query when the plane is already farther than the best face (with a margin far
+        // above rounding, so the minimum is the same as without the test).
+        double inv = 1.0 / (l1 * l1);
+        double dp = dot(pi - qv[0], n1);
+        if (dp * dp * inv <= best2 * (1 + 1e-6))
+            best2 = std::min(best2, closestWithDistance(pi, qv[0], qv[1], qv[2]).dist2);
+        if (far != kNone) {
+            double df = dot(pf - qv[0], n1);
+            if (df * df * inv <= far2 * (1 + 1e-6))
+                far2 = std::min(far2, closestWithDistance(pf, qv[0], qv[1], qv[2]).dist2);
+        }
     }
     farDist = far != kNone ? float(std::sqrt(far2)) : 0.f;
     dev = std::max({std::sqrt(best2), double(farDist), q});
@@ -687,7 +901,7 @@ static Reject checkCollapse(State& s, uint32_t vi, const RingEntry& edge, double
 
 // Region plan of a valid collapse: rule 3 or merge; rule 1 check; E_region key. ringI must hold
 // the ring of vi.
-static Reject planRegions(State& s, uint32_t vi, const RingEntry& edge, Candidate& c) {
+static Reject planRegions(const State& s, Scratch& w, uint32_t vi, const RingEntry& edge, Candidate& c) {
     // Rule 3 applies to a collapse along one of exactly two p-boundary spokes of an interior vertex
     // when each side keeps a surviving face: the new edge (v_j, v_k) stays a p-boundary.
     c.rule3 = false;
@@ -695,7 +909,7 @@ static Reject planRegions(State& s, uint32_t vi, const RingEntry& edge, Candidat
     uint32_t rA = kNone, rB = kNone;
     if (!s.border[vi] && isPBoundarySpoke(s, edge)) {
         uint32_t spokes = 0, vk = kNone;
-        for (const RingEntry& e : s.ringI)
+        for (const RingEntry& e : w.ring)
             if (isPBoundarySpoke(s, e)) {
                 ++spokes;
                 if (e.w != edge.w) vk = e.w;
@@ -723,23 +937,24 @@ static Reject planRegions(State& s, uint32_t vi, const RingEntry& edge, Candidat
     // Otherwise every region of the fan merges, unless rule 1 or the normal cone forbids it. When
     // the cone forbids it, a rule-3 collapse is still allowed, its cost raised to the boundary's
     // displacement (the texture error of keeping the chart cut on the new edge).
-    s.scratch.clear();
-    for (uint32_t f : s.vfaces[vi]) s.scratch.push_back(s.faceRegion[f]);
-    std::sort(s.scratch.begin(), s.scratch.end());
-    s.scratch.erase(std::unique(s.scratch.begin(), s.scratch.end()), s.scratch.end());
+    w.regions.clear();
+    for (uint32_t f : s.vfaces[vi]) w.regions.push_back(s.faceRegion[f]);
+    std::sort(w.regions.begin(), w.regions.end());
+    w.regions.erase(std::unique(w.regions.begin(), w.regions.end()), w.regions.end());
     uint32_t comp = s.component[vi];
-    uint32_t after = s.componentRegions[comp] - uint32_t(s.scratch.size() - 1);
+    uint32_t after = s.componentRegions[comp] - uint32_t(w.regions.size() - 1);
     Reject merge = Reject::None;
-    RegionStats merged = s.regionStats[s.scratch[0]];
-    for (size_t k = 1; k < s.scratch.size(); ++k) mergeStats(merged, s.regionStats[s.scratch[k]]);
-    if (s.componentOpen[comp] == 0 && after < 2)
+    RegionStats merged = s.regionStats[w.regions[0]];
+    for (size_t k = 1; k < w.regions.size(); ++k) mergeStats(merged, s.regionStats[w.regions[k]]);
+    if (s.componentOpen[comp] == 0 && after < 2 && w.regions.size() > 1)
         merge = Reject::Rule1;
-    else if (s.scratch.size() > 1 && length(merged.normalSum) < s.minRegionCoherence * merged.area)
+
+    else if (w.regions.size() > 1 && length(merged.normalSum) < s.minRegionCoherence * merged.area)
         // Regions become texture charts: a merge may not turn a region further than a cap of
         // maxRegionConeDeg half-angle (measured by the mean resultant length of its normals).
         merge = Reject::Cone;
     if (merge != Reject::None) {
-        if (chord < 0 || merge != Reject::Cone) return merge;
+        if (chord < 0) return merge;
         c.dev = std::max(c.dev, chord);
         return keepBoundary();
     }
@@ -748,16 +963,16 @@ static Reject planRegions(State& s, uint32_t vi, const RingEntry& edge, Candidat
 }
 
 // The best collapse of vi: its outgoing half-edges in quadric order, the first valid one.
-static Candidate evaluateVertex(State& s, uint32_t vi) {
+static Candidate evaluateVertex(const State& s, Scratch& w, uint32_t vi) {
     Candidate best;
     if (s.removed[vi] || s.vfaces[vi].empty()) return best;
-    if (s.locked[vi]) {
+    if (s.locked[vi] || s.pinch[vi]) {
         best.reason = Reject::Locked;
         return best;
     }
-    collectRing(s, vi, s.ringI);
-    ++s.stampI;
-    for (const RingEntry& e : s.ringI) s.markI[e.w] = s.stampI;
+    collectRing(s, vi, w.ring);
+    ++w.stampI;
+    for (const RingEntry& e : w.ring) w.markI[e.w] = w.stampI;
     struct Option {
         double q;
         uint32_t k;
@@ -765,7 +980,7 @@ static Candidate evaluateVertex(State& s, uint32_t vi) {
     Option opts[64];
     std::vector<Option> big;
     Option* o = opts;
-    size_t n = s.ringI.size();
+    size_t n = w.ring.size();
     if (n > 64) {
         big.resize(n);
         o = big.data();
@@ -775,21 +990,21 @@ static Candidate evaluateVertex(State& s, uint32_t vi) {
     // fall back to the smaller target id deterministically.
     const double noise = 1e-9 * s.diagonal;
     for (size_t k = 0; k < n; ++k) {
-        double q = Q.distance(s.mesh.positions[s.ringI[k].w]);
+        double q = Q.distance(s.mesh.positions[w.ring[k].w]);
         o[k] = {q > noise ? q : 0.0, uint32_t(k)};
     }
     std::sort(o, o + n, [&](const Option& a, const Option& b) {
-        return a.q != b.q ? a.q < b.q : s.ringI[a.k].w < s.ringI[b.k].w;
+        return a.q != b.q ? a.q < b.q : s.oldId[w.ring[a.k].w] < s.oldId[w.ring[b.k].w];
     });
     Reject last = Reject::Isolated;
     best.reason = Reject::Isolated;
     bool found = false;
     for (size_t k = 0; k < n; ++k) {
         if (found && o[k].q >= best.dev) break;  // the cost is at least the quadric term
-        const RingEntry& edge = s.ringI[o[k].k];
+        const RingEntry& edge = w.ring[o[k].k];
         double dev = 0;
         float farDist = 0;
-        Reject r = checkCollapse(s, vi, edge, o[k].q, dev, farDist);
+        Reject r = checkCollapse(s, w, vi, edge, o[k].q, dev, farDist);
         if (dev <= noise) dev = 0;  // rounding noise: ties go to the smaller target id
         if (r != Reject::None) {
             if (last == Reject::Isolated || r == Reject::Rule1 || r == Reject::Cone) last = r;
@@ -799,7 +1014,7 @@ static Candidate evaluateVertex(State& s, uint32_t vi) {
         c.target = edge.w;
         c.dev = dev;
         c.farDist = farDist;
-        r = planRegions(s, vi, edge, c);
+        r = planRegions(s, w, vi, edge, c);
         if (r != Reject::None) {
             last = r;
             continue;
@@ -809,6 +1024,7 @@ static Candidate evaluateVertex(State& s, uint32_t vi) {
         found = true;
     }
     if (!found) best.reason = last;
+    best.evalPass = s.pass;
     return best;
 }
 
@@ -834,6 +1050,7 @@ static void mergeRegionGroup(State& s, const std::vector<uint32_t>& reps) {
         for (uint32_t f = s.regionHead[r]; f != kNone; f = s.regionNext[f]) {
             s.out.regionUpdates.push_back({f, r, newRep});
             s.faceRegion[f] = newRep;
+            s.faceRelabelPass[f] = s.pass;
         }
         s.regionNext[s.regionTail[newRep]] = s.regionHead[r];
         s.regionTail[newRep] = s.regionTail[r];
@@ -870,6 +1087,7 @@ static void fixDeadRepresentatives(State& s) {
         for (uint32_t f = s.regionHead[r]; f != kNone; f = s.regionNext[f]) {
             s.out.regionUpdates.push_back({f, r, m});
             s.faceRegion[f] = m;
+            s.faceRelabelPass[f] = s.pass;
         }
         s.regionHead[m] = s.regionHead[r];
         s.regionTail[m] = s.regionTail[r];
@@ -904,7 +1122,7 @@ static void applyCollapse(State& s, uint32_t vi, const Candidate& c) {
     std::vector<uint32_t>& fan = s.fanScratch;
     std::vector<uint32_t>& kept = s.keptScratch;
     std::vector<uint32_t>& removedFaces = s.removedScratch;
-    fan = s.vfaces[vi];
+    fan.assign(s.vfaces[vi].begin(), s.vfaces[vi].end());
     kept.clear();
     removedFaces.clear();
     for (uint32_t f : fan) (s.corner(f, vj) >= 0 ? removedFaces : kept).push_back(f);
@@ -925,16 +1143,16 @@ static void applyCollapse(State& s, uint32_t vi, const Candidate& c) {
         s.faceAlive[r] = 0;
         for (uint32_t u : s.tri[r]) {
             if (u == vi) continue;
-            auto& l = s.vfaces[u];
-            l.erase(std::find(l.begin(), l.end(), r));
+            s.vfaces[u].eraseValue(r);
         }
     }
     for (uint32_t f : kept) s.vfaces[vj].push_back(f);
-    if (s.border[vi]) {
-        // A border collapse may close a three-vertex hole: refresh the border flags of the ring.
+    if (s.isOpen(vi)) {
+        // A border collapse may close a three-vertex hole: refresh the border and pinch flags of
+        // the ring.
         uint32_t comp = s.component[vi];
         --s.componentOpen[comp];
-        s.border[vi] = 0;
+        s.border[vi] = s.pinch[vi] = 0;
         std::vector<uint32_t>& ring = s.repScratch;
         ring.clear();
         for (uint32_t f : fan)
@@ -942,32 +1160,41 @@ static void applyCollapse(State& s, uint32_t vi, const Candidate& c) {
                 if (u != vi && !s.locked[u]) ring.push_back(u);
         std::sort(ring.begin(), ring.end());
         ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
-        std::vector<RingEntry> ru;
         for (uint32_t u : ring) {
             if (s.vfaces[u].empty()) continue;
-            collectRing(s, u, ru);
-            uint8_t open = 0;
-            for (const RingEntry& e : ru) open |= e.f1 == kNone;
-            if (open != s.border[u]) {
-                if (open) ++s.componentOpen[comp]; else --s.componentOpen[comp];
-                s.border[u] = open;
+            bool wasOpen = s.isOpen(u), open = false;
+            FanKind k = classifyFan(s, u, open);
+            // Locks and pinches are sticky: a pinch whose fans got joined by later collapses
+            // still has fans that are only vertex-connected in the original mesh, and merging
+            // their regions through it would break region edge-connectivity.
+            s.locked[u] |= k == FanKind::NonManifold;
+            s.pinch[u] |= k == FanKind::Pinch;
+            s.border[u] = open;
+            if (s.isOpen(u) != wasOpen) {
+                if (wasOpen) --s.componentOpen[comp]; else ++s.componentOpen[comp];
             }
         }
     }
-    s.vfaces[vi].clear();
-    s.vfaces[vi].shrink_to_fit();
+    s.vfaces[vi].release();
     s.removed[vi] = 1;
     s.collapsedInto[vi] = vj;
     s.keptFace[vi] = kept.empty() ? kNone : kept.front();
+
     s.aliveFaces -= removedFaces.size();
     s.componentFaces[s.component[vi]] -= uint32_t(removedFaces.size());
     s.quadric[vj].add(s.quadric[vi]);
     // The farthest attached point of vj: vi itself, vi's farthest point or vj's own.
-    std::pair<float, uint32_t> far = {s.farDist[vj], s.farPoint[vj]};
-    far = std::max(far, {float(c.dev), vi});
-    if (s.farPoint[vi] != kNone) far = std::max(far, {c.farDist, s.farPoint[vi]});
-    s.farDist[vj] = far.first;
-    s.farPoint[vj] = far.second;
+    // (Ties by input id; kNone ranks last.)
+    auto key = [&](uint32_t v) { return v == kNone ? kNone : s.oldId[v]; };
+    float farD = s.farDist[vj];
+    uint32_t farP = s.farPoint[vj];
+    auto offer = [&](float d, uint32_t p) {
+        if (d > farD || (d == farD && key(p) > key(farP))) farD = d, farP = p;
+    };
+    offer(float(c.dev), vi);
+    if (s.farPoint[vi] != kNone) offer(c.farDist, s.farPoint[vi]);
+    s.farDist[vj] = farD;
+    s.farPoint[vj] = farP;
     // vi and its attached points now hang under vj.
     s.attachNext[vi] = s.attachHead[vi];
     uint32_t tail = s.attachTail[vi] == kNone ? vi : s.attachTail[vi];
@@ -996,8 +1223,7 @@ static void pruneComponent(State& s, uint32_t comp) {
     for (uint32_t k = s.componentVertexStart[comp]; k < s.componentVertexStart[comp + 1]; ++k) {
         uint32_t v = s.componentVertices[k];
         if (s.removed[v] || s.vfaces[v].empty()) continue;
-        s.vfaces[v].clear();
-        s.vfaces[v].shrink_to_fit();
+        s.vfaces[v].release();
         s.removed[v] = 1;
         s.collapsedInto[v] = kNone;
         s.cand[v] = Candidate{};
@@ -1058,66 +1284,86 @@ static uint32_t chainRoot(const State& s, uint32_t v, std::vector<uint32_t>& roo
 
 static void computePairs(State& s, Level& level) {
     const auto& P = s.mesh.positions;
-    double sum = 0, maxPair = 0;
-    std::vector<uint32_t> root(s.vertexCount, kNone - 1);
-    std::vector<uint32_t> faceMark(s.faceCount, 0);
-    uint32_t stamp = 0;
+    // Chain roots first (sequential, memoised), then the projections in parallel chunks whose
+    // pairs are concatenated in vertex order.
+    std::vector<uint32_t> root(s.vertexCount, kNone - 1), rootOf(s.vertexCount, kNone);
+    for (uint32_t v = 0; v < s.vertexCount; ++v)
+        if (s.removed[v] && s.collapsedInto[v] != kNone) rootOf[v] = chainRoot(s, v, root);
+    root.clear();
+    root.shrink_to_fit();
     double runningMax2 = s.runningMax * s.runningMax;
-    for (uint32_t v = 0; v < s.vertexCount; ++v) {
-        if (!s.removed[v] || s.collapsedInto[v] == kNone) continue;
-        uint32_t r = chainRoot(s, v, root);
-        if (r == kNone || s.vfaces[r].empty()) continue;
-        uint32_t region = s.keptFace[v] == kNone ? kNone : s.faceRegion[s.keptFace[v]];
-        double bestAny = std::numeric_limits<double>::infinity(), bestRegion = bestAny;
-        uint32_t fAny = kNone, fRegion = kNone;
-        Closest cAny{}, cRegion{};
-        auto consider = [&](uint32_t f) {
+    size_t chunks = (s.vertexCount + kChunk - 1) / kChunk;
+    std::vector<std::vector<SimplificationPair>> chunkPairs(chunks);
+    parallelChunks(s.vertexCount, s.work.size(), [&](size_t begin, size_t end, size_t t) {
+        Scratch& w = s.work[t];
+        if (w.faceMark.size() != s.faceCount) w.faceMark.assign(s.faceCount, 0);
+        std::vector<SimplificationPair>& out = chunkPairs[begin / kChunk];
+        for (uint32_t u = uint32_t(begin); u < end; ++u) {  // in input order
+            uint32_t v = s.newId[u];
+            uint32_t r = rootOf[v];
+            if (r == kNone || s.vfaces[r].empty()) continue;
+            uint32_t region = s.keptFace[v] == kNone ? kNone : s.faceRegion[s.keptFace[v]];
+            double bestAny = std::numeric_limits<double>::infinity(), bestRegion = bestAny;
+            uint32_t fAny = kNone, fRegion = kNone;
+            Closest cAny{}, cRegion{};
+            auto consider = [&](uint32_t f) {
+                const Tri& t = s.tri[f];
+                Closest cp = closestWithDistance(P[v], P[t[0]], P[t[1]], P[t[2]]);
+                if (cp.dist2 < bestAny) bestAny = cp.dist2, fAny = f, cAny = cp;
+                if (s.faceRegion[f] == region && cp.dist2 < bestRegion) bestRegion = cp.dist2, fRegion = f, cRegion = cp;
+            };
+            for (uint32_t f : s.vfaces[r]) consider(f);
+            // Farther than any collapse cost: the closest point may lie one ring out.
+            double found = fRegion != kNone ? bestRegion : bestAny;
+            if (found > runningMax2) {
+                uint32_t stamp = ++w.faceStamp;
+                for (uint32_t f : s.vfaces[r]) w.faceMark[f] = stamp;
+                for (uint32_t f : s.vfaces[r])
+                    for (uint32_t u : s.tri[f])
+                        for (uint32_t g : s.vfaces[u])
+                            if (w.faceMark[g] != stamp) {
+                                w.faceMark[g] = stamp;
+                                consider(g);
+                            }
+            }
+            uint32_t f = fRegion != kNone ? fRegion : fAny;
+            const Closest& cp = fRegion != kNone ? cRegion : cAny;
             const Tri& t = s.tri[f];
-            Closest cp = closestWithDistance(P[v], P[t[0]], P[t[1]], P[t[2]]);
-            if (cp.dist2 < bestAny) bestAny = cp.dist2, fAny = f, cAny = cp;
-            if (s.faceRegion[f] == region && cp.dist2 < bestRegion) bestRegion = cp.dist2, fRegion = f, cRegion = cp;
-        };
-        for (uint32_t f : s.vfaces[r]) consider(f);
-        // Farther than any collapse cost: the closest point may lie one ring out.
-        double found = fRegion != kNone ? bestRegion : bestAny;
-        if (found > runningMax2) {
-            ++stamp;
-            for (uint32_t f : s.vfaces[r]) faceMark[f] = stamp;
-            for (uint32_t f : s.vfaces[r])
-                for (uint32_t u : s.tri[f])
-                    for (uint32_t g : s.vfaces[u])
-                        if (faceMark[g] != stamp) {
-                            faceMark[g] = stamp;
-                            consider(g);
-                        }
+            SimplificationPair pair;
+            pair.vertex = v;
+            pair.face = f;
+            pair.coarse = t;
+            for (int k = 0; k < 3; ++k) pair.bary[k] = float(cp.bary[k]);
+            // Edge form when P lies on an edge of the face that is a p-boundary at this level.
+            for (int k = 0; k < 3; ++k) {
+                if (cp.bary[k] != 0) continue;
+                uint32_t a = t[(k + 1) % 3], b = t[(k + 2) % 3];
+                bool pb = false;
+                for (uint32_t g : s.vfaces[a])
+                    if (g != f && s.corner(g, b) >= 0 && s.faceRegion[g] != s.faceRegion[f]) pb = true;
+                if (!pb) continue;
+                pair.coarse = {a, b, b};
+                pair.bary = {float(cp.bary[(k + 1) % 3]), float(cp.bary[(k + 2) % 3]), 0.f};
+                break;
+            }
+            float sumB = pair.bary[0] + pair.bary[1] + pair.bary[2];
+            for (float& b : pair.bary) b /= sumB;
+            Vec3 q = P[pair.coarse[0]] * pair.bary[0] + P[pair.coarse[1]] * pair.bary[1] + P[pair.coarse[2]] * pair.bary[2];
+            pair.deviation = float(length(P[v] - q));
+            out.push_back(pair);
         }
-        uint32_t f = fRegion != kNone ? fRegion : fAny;
-        const Closest& cp = fRegion != kNone ? cRegion : cAny;
-        const Tri& t = s.tri[f];
-        SimplificationPair pair;
-        pair.vertex = v;
-        pair.face = f;
-        pair.coarse = t;
-        for (int k = 0; k < 3; ++k) pair.bary[k] = float(cp.bary[k]);
-        // Edge form when P lies on an edge of the face that is a p-boundary at this level.
-        for (int k = 0; k < 3; ++k) {
-            if (cp.bary[k] != 0) continue;
-            uint32_t a = t[(k + 1) % 3], b = t[(k + 2) % 3];
-            bool pb = false;
-            for (uint32_t g : s.vfaces[a])
-                if (g != f && s.corner(g, b) >= 0 && s.faceRegion[g] != s.faceRegion[f]) pb = true;
-            if (!pb) continue;
-            pair.coarse = {a, b, b};
-            pair.bary = {float(cp.bary[(k + 1) % 3]), float(cp.bary[(k + 2) % 3]), 0.f};
-            break;
+    });
+    double sum = 0, maxPair = 0;
+    size_t total = 0;
+    for (const auto& c : chunkPairs) total += c.size();
+    level.pairs.reserve(total);
+    for (auto& c : chunkPairs) {
+        for (const SimplificationPair& pair : c) {
+            sum += pair.deviation;
+            maxPair = std::max(maxPair, double(pair.deviation));
         }
-        float sumB = pair.bary[0] + pair.bary[1] + pair.bary[2];
-        for (float& b : pair.bary) b /= sumB;
-        Vec3 q = P[pair.coarse[0]] * pair.bary[0] + P[pair.coarse[1]] * pair.bary[1] + P[pair.coarse[2]] * pair.bary[2];
-        pair.deviation = float(length(P[v] - q));
-        sum += pair.deviation;
-        maxPair = std::max(maxPair, double(pair.deviation));
-        level.pairs.push_back(pair);
+        level.pairs.insert(level.pairs.end(), c.begin(), c.end());
+        std::vector<SimplificationPair>().swap(c);
     }
     level.meanDeviation = level.pairs.empty() ? 0 : sum / double(level.pairs.size());
     s.levelMax = std::max({s.levelMax, s.runningMax, maxPair});
@@ -1155,7 +1401,7 @@ static bool needsEvaluation(const State& s, uint32_t v) {
     if (s.pass == 1 || s.dirtyPass[v] == prev) return true;
     const Candidate& c = s.cand[v];
     if (c.reason == Reject::None) return s.dirtyPass[c.target] == prev;
-    if (c.reason == Reject::Locked) return false;
+    if (c.reason == Reject::Locked && (s.locked[v] || s.pinch[v])) return false;
     for (uint32_t f : s.vfaces[v])
         for (uint32_t u : s.tri[f])
             if (s.dirtyPass[u] == prev) return true;
@@ -1167,6 +1413,7 @@ static bool needsEvaluation(const State& s, uint32_t v) {
 // under. Pairs are projected onto (at least) that fan, so a collapse measured here within the
 // target keeps every pair within it.
 static double measureAttached(State& s, uint32_t vi, uint32_t vj) {
+    Scratch& w = s.work[0];
     const auto& P = s.mesh.positions;
     auto newCorners = [&](uint32_t f, Tri& t) {  // false when f vanishes
         t = s.tri[f];
@@ -1189,32 +1436,68 @@ static double measureAttached(State& s, uint32_t vi, uint32_t vj) {
     };
     double worst = dist2ToFan(vi, vj);
     for (uint32_t p = s.attachHead[vi]; p != kNone; p = s.attachNext[p]) worst = std::max(worst, dist2ToFan(p, vj));
-    ++s.stampJ;
+    ++w.stampJ;
     for (uint32_t f : s.vfaces[vi])
         for (uint32_t x : s.tri[f]) {
-            if (x == vi || s.markJ[x] == s.stampJ) continue;
-            s.markJ[x] = s.stampJ;
+            if (x == vi || w.markJ[x] == w.stampJ) continue;
+            w.markJ[x] = w.stampJ;
             for (uint32_t p = s.attachHead[x]; p != kNone; p = s.attachNext[p]) worst = std::max(worst, dist2ToFan(p, x));
         }
     return std::sqrt(worst);
+}
+
+// Whether a cached candidate of vi may have changed since it was evaluated: the fans of vi or of
+// its target changed, a face of vi's fan was relabelled, rule 1 may apply (closed component), the
+// normal-cone limit reads region stats, or the pass needs exact measuring (error target).
+static bool candidateStale(const State& s, uint32_t vi, const Candidate& c) {
+    if (c.evalPass == 0 || s.dirtyPass[vi] >= c.evalPass || s.dirtyPass[c.target] >= c.evalPass) return true;
+    if (s.componentOpen[s.component[vi]] == 0 || s.minRegionCoherence > 0) return true;
+    for (uint32_t f : s.vfaces[vi])
+        if (s.faceRelabelPass[f] >= c.evalPass) return true;
+    return false;
+}
+
+static void applyCandidate(State& s, uint32_t vi, const Candidate& c) {
+    for (uint32_t f : s.vfaces[vi])
+        for (uint32_t u : s.tri[f]) s.dirtyPass[u] = s.pass;
+    s.touchedPass[vi] = s.touchedPass[c.target] = s.pass;
+    applyCollapse(s, vi, c);
+    s.cand[vi] = Candidate{};
 }
 
 enum class PassResult { Progress, Idle, NoCandidate, ErrorReached };
 
 // One pass toward `plan` (see the header comment).
 static PassResult runPass(State& s, const PlannedLevel& plan) {
+    Scratch& w = s.work[0];
     ++s.pass;
     s.entries.clear();
     double maxCost = plan.error;
     bool anyValid = false;
-    for (uint32_t v = 0; v < s.vertexCount; ++v) {
-        if (s.removed[v] || s.vfaces[v].empty()) continue;
-        if (needsEvaluation(s, v)) s.cand[v] = evaluateVertex(s, v);
-        const Candidate& c = s.cand[v];
-        if (c.reason != Reject::None) continue;
-        anyValid = true;
-        if (c.dev > maxCost) continue;
-        s.entries.push_back({0, s.options.similarDeviation > 0 ? c.shape : 0.f, c.dev, v});
+    // a. Candidates, in parallel: each depends only on the state, so the result is the same for
+    //    any thread count.
+    //    Each chunk also lists its valid candidates within the error target, concatenated in
+    //    chunk order.
+    size_t chunks = (s.vertexCount + kChunk - 1) / kChunk;
+    s.chunkEntries.resize(chunks);
+    std::vector<uint8_t> chunkValid(chunks, 0);
+    parallelChunks(s.vertexCount, s.work.size(), [&](size_t begin, size_t end, size_t t) {
+        Scratch& ws = s.work[t];
+        std::vector<PassEntry>& out = s.chunkEntries[begin / kChunk];
+        out.clear();
+        for (uint32_t v = uint32_t(begin); v < end; ++v) {
+            if (s.removed[v] || s.vfaces[v].empty()) continue;
+            if (needsEvaluation(s, v)) s.cand[v] = evaluateVertex(s, ws, v);
+            const Candidate& c = s.cand[v];
+            if (c.reason != Reject::None) continue;
+            chunkValid[begin / kChunk] = 1;
+            if (c.dev > maxCost) continue;
+            out.push_back({0, s.options.similarDeviation > 0 ? c.shape : 0.f, c.dev, v, s.oldId[v]});
+        }
+    });
+    for (size_t k = 0; k < chunks; ++k) {
+        anyValid |= chunkValid[k] != 0;
+        s.entries.insert(s.entries.end(), s.chunkEntries[k].begin(), s.chunkEntries[k].end());
     }
     uint64_t target = plan.triangles;
     // Pass error limit: 1.1 x the cost of the (remaining collapses / 3)-th cheapest candidate.
@@ -1238,21 +1521,41 @@ static PassResult runPass(State& s, const PlannedLevel& plan) {
     // Candidates under the limit, in (bucket, E_region, deviation, vertex) order.
     size_t o = 0;
     for (const PassEntry& e : s.entries)
-        if (e.dev <= limit) s.entries[o++] = {bucketOf(s, e.dev), e.shape, e.dev, e.vertex};
+        if (e.dev <= limit) s.entries[o++] = {bucketOf(s, e.dev), e.shape, e.dev, e.vertex, e.key};
     s.entries.resize(o);
     std::sort(s.entries.begin(), s.entries.end());
-
     size_t applied = 0;
-    for (const PassEntry& e : s.entries) {
+    const size_t entryCount = s.entries.size();
+    for (size_t k = 0; k < entryCount; ++k) {
+        const PassEntry& e = s.entries[k];
         if (s.aliveFaces <= target) break;
+        // The walk visits vertices in cost order, i.e. at random: fetch ahead what it reads first
+        // (the vertex's candidate and face list, then the faces of a nearer entry).
+        if (k + 16 < entryCount) {
+            uint32_t a = s.entries[k + 16].vertex;
+            __builtin_prefetch(&s.cand[a]);
+            __builtin_prefetch(&s.vfaces[a]);
+            __builtin_prefetch(&s.touchedPass[a]);
+        }
+        if (k + 8 < entryCount) {
+            uint32_t a = s.entries[k + 8].vertex;
+            for (uint32_t f : s.vfaces[a]) __builtin_prefetch(&s.tri.rec[f]);
+            __builtin_prefetch(&s.touchedPass[s.cand[a].target]);
+        }
         uint32_t vi = e.vertex;
         if (s.removed[vi] || s.touchedPass[vi] == s.pass) continue;
         Candidate c = s.cand[vi];
         uint32_t vj = c.target;
         if (s.touchedPass[vj] == s.pass) continue;
-        collectRing(s, vi, s.ringI);
+        if (!std::isfinite(maxCost) && !candidateStale(s, vi, c)) {
+            // Nothing the candidate depends on changed since it was evaluated: apply it as is.
+            applyCandidate(s, vi, c);
+            ++applied;
+            continue;
+        }
+        collectRing(s, vi, w.ring);
         const RingEntry* edge = nullptr;
-        for (const RingEntry& r : s.ringI)
+        for (const RingEntry& r : w.ring)
             if (r.w == vj) edge = &r;
         if (!edge) {
             s.dirtyPass[vi] = s.pass;  // re-evaluate next pass
@@ -1260,16 +1563,16 @@ static PassResult runPass(State& s, const PlannedLevel& plan) {
         }
         if (s.dirtyPass[vi] == s.pass || s.dirtyPass[vj] == s.pass) {
             // The fan of vi or of vj changed in this pass: check and cost the collapse again.
-            ++s.stampI;
-            for (const RingEntry& r : s.ringI) s.markI[r.w] = s.stampI;
+            ++w.stampI;
+            for (const RingEntry& r : w.ring) w.markI[r.w] = w.stampI;
             double q = s.quadric[vi].distance(s.mesh.positions[vj]);
-            if (checkCollapse(s, vi, *edge, q, c.dev, c.farDist) != Reject::None || c.dev > limit) {
+            if (checkCollapse(s, w, vi, *edge, q, c.dev, c.farDist) != Reject::None || c.dev > limit) {
                 s.dirtyPass[vi] = s.pass;
                 continue;
             }
         }
         // The region plan is re-done (labels may have merged).
-        if (planRegions(s, vi, *edge, c) != Reject::None || c.dev > limit) {
+        if (planRegions(s, w, vi, *edge, c) != Reject::None || c.dev > limit) {
             s.dirtyPass[vi] = s.pass;  // re-evaluate next pass
             continue;
         }
@@ -1283,11 +1586,7 @@ static PassResult runPass(State& s, const PlannedLevel& plan) {
             }
             c.dev = std::max(c.dev, d);
         }
-        for (uint32_t f : s.vfaces[vi])
-            for (uint32_t u : s.tri[f]) s.dirtyPass[u] = s.pass;
-        s.touchedPass[vi] = s.touchedPass[vj] = s.pass;
-        applyCollapse(s, vi, c);
-        s.cand[vi] = Candidate{};
+        applyCandidate(s, vi, c);
         ++applied;
     }
     return applied ? PassResult::Progress : PassResult::Idle;
@@ -1298,7 +1597,11 @@ static PassResult runPass(State& s, const PlannedLevel& plan) {
 SimplifyResult simplify(const TriMesh& mesh, const SimplifyOptions& options) {
     using Clock = std::chrono::steady_clock;
     validateInput(mesh);
-    State s(mesh, options);
+    std::vector<uint32_t> oldId, newId;
+    TriMesh local = renumberVertices(mesh, oldId, newId);
+    State s(local, mesh, options);
+    s.oldId = std::move(oldId);
+    s.newId = std::move(newId);
     Box3 box = bounds(mesh);
     s.diagonal = box.diagonal();
     s.longestSide = box.longestSide();
@@ -1307,8 +1610,11 @@ SimplifyResult simplify(const TriMesh& mesh, const SimplifyOptions& options) {
     s.minRegionCoherence = 0.5 * (1 + std::cos(std::clamp(options.maxRegionConeDeg, 0.0, 180.0) * M_PI / 180.0));
 
     buildAdjacency(s);
-    s.markI.assign(s.vertexCount, 0);
-    s.markJ.assign(s.vertexCount, 0);
+    s.work.resize(size_t(std::max(1, options.threads)));
+    for (Scratch& w : s.work) {
+        w.markI.assign(s.vertexCount, 0);
+        w.markJ.assign(s.vertexCount, 0);
+    }
     classifyVertices(s);
     measureComponents(s);
     initQuadrics(s);
@@ -1353,6 +1659,7 @@ SimplifyResult simplify(const TriMesh& mesh, const SimplifyOptions& options) {
     }
     if (options.progress && !options.progress(1.0)) throw Impossible("simplify: cancelled");
 
+    restoreInputIds(s);
     SimplifyResult result;
     result.multires = std::move(s.out);
     result.diagonal = s.diagonal;

@@ -1,11 +1,14 @@
-// Closest point on a triangle, shared by simplify (vertex deviation, pairs) and parameterize
-// (projected level corners, atlas application). Header-only, no dependencies.
+// Closest point on a triangle, shared by simplify (vertex deviation, pairs), parameterize
+// (projected level corners, atlas application), texture-refine and pack. Header-only.
 #pragma once
 
 #include <array>
 #include <cmath>
+#include <cstdint>
+#include <vector>
 
 #include "lodbake/core/math.h"
+#include "lodbake/core/mesh.h"
 
 namespace lodbake {
 
@@ -40,6 +43,25 @@ inline std::array<double, 3> closestOnTriangle(Vec3 p, Vec3 a, Vec3 b, Vec3 c) {
     if (!(std::fabs(den) > 0)) return {1, 0, 0};
     double v = vb / den, w = vc / den;
     return {1 - v - w, v, w};
+}
+
+// The texture coordinate of the point of `faces` (ids of mesh triangles) closest to p,
+// interpolated from the faces' per-corner UVs (cornerUV[f][k]). {0, 0} when faces is empty.
+inline Vec2 closestSurfaceUV(const TriMesh& mesh, const std::vector<std::array<Vec2, 3>>& cornerUV,
+                             const std::vector<uint32_t>& faces, Vec3 p) {
+    double best = 1e300;
+    Vec2 uv{};
+    for (uint32_t f : faces) {
+        const Tri& t = mesh.triangles[f];
+        auto b = closestOnTriangle(p, mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]);
+        Vec3 q = mesh.positions[t[0]] * b[0] + mesh.positions[t[1]] * b[1] + mesh.positions[t[2]] * b[2];
+        double d = length2(q - p);
+        if (d < best) {
+            best = d;
+            uv = cornerUV[f][0] * b[0] + cornerUV[f][1] * b[1] + cornerUV[f][2] * b[2];
+        }
+    }
+    return uv;
 }
 
 }  // namespace lodbake

@@ -1,6 +1,8 @@
-// Atlas packing: the charts of a texture layout (T0 from `parameterize`) placed into one page,
-// each chart turned to its minimum-area bounding rectangle, rotated by 90 degrees when that fits
-// better, padded by a gutter, and packed with a best-fit skyline packer (charts sorted by area).
+// Atlas packing: the charts of a texture layout (T0 from `parameterize`) placed into one page by
+// their shapes. Each chart is turned to its minimum-area bounding rectangle, rasterised at the
+// page density (the texels its triangles touch, grown by half the gutter) and placed, largest
+// first, at the lowest free position of a page bitmap over the four quarter turns, so charts nest
+// into each other's concavities.
 #pragma once
 
 #include <array>
@@ -13,6 +15,8 @@ namespace lodbake {
 // One chart to place: the UV points it covers and its UV area (T0 units).
 struct AtlasChart {
     std::vector<Vec2> points;  // every UV corner the page must show (triangle corners)
+    // The chart's UV triangles, rasterised for its shape; empty = its points' convex hull.
+    std::vector<std::array<Vec2, 3>> triangles;
     double uvArea = 0;         // sum of |UV triangle areas| (the chart's actual coverage)
 };
 
@@ -27,7 +31,7 @@ struct AtlasOptions {
 // Maps T0 UV to page texel coordinates: x = m[0] u + m[1] v + m[2], y = m[3] u + m[4] v + m[5].
 struct ChartPlacement {
     std::array<double, 6> m{};
-    bool rotated90 = false;
+    int rotation = 0;  // quarter turns (counter-clockwise in texel space) of the oriented chart
     Vec2 apply(Vec2 uv) const { return {m[0] * uv.x + m[1] * uv.y + m[2], m[3] * uv.x + m[4] * uv.y + m[5]}; }
 };
 
@@ -37,7 +41,8 @@ struct AtlasResult {
     std::vector<ChartPlacement> charts;  // per input chart
     // Chart texels / page texels, with chart texels = the charts' actual triangle coverage (UV area).
     double utilisation = 0;
-    // The same with chart texels = each chart's (rotated) bounding rectangle, gutters excluded.
+    // The same with chart texels = each chart's (rotated) bounding rectangle, gutters excluded;
+    // above 1 when charts nest into each other's rectangles.
     double boxUtilisation = 0;
     int gutter = 0;                      // the gutter used (may be narrower than asked)
 };

@@ -1,7 +1,10 @@
 // pack: the final glTF LOD chain (issue 5). From a parameterized multiresolution asset, every
-// level (LOD0 = the original triangles, LOD k = multires level k) gets its own atlas page: T0's
-// charts repacked at the texel density the level can show, the ORIGINAL appearance baked into
-// it (bakeBaseColor, pull-push gap fill), one mesh / one material / one draw call per level.
+// level (LOD0 = the original triangles, LOD k = multires level k) gets its own atlas page: the
+// charts of its layout repacked at the texel density the level can show, the ORIGINAL appearance
+// baked into it (bakeBaseColor, pull-push gap fill), one mesh / one material / one draw call per
+// level. The layout is T0 (multires.charts) or, when texture-refine added a texture hierarchy
+// (multires.textures), the highest-rank texture valid for the level that the hierarchy offers at
+// the page side the level needs (issue 7).
 // Screen coverage thresholds come from each level's measured two-sided Hausdorff distance to
 // the original.
 #pragma once
@@ -31,6 +34,7 @@ struct PackOptions {
     int threads = 0;             // 0 = all cores
     ImageFormat imageFormat = ImageFormat::Png;
     int jpegQuality = 90;
+    bool useTextureHierarchy = true;  // false: every level uses T0 even when the file has a texture hierarchy
     std::function<bool(double)> progress;  // fraction done; may be empty
 };
 
@@ -41,7 +45,7 @@ struct PackLevelReport {
     int gutter = 0, mips = 0;     // gutter (texels) and the mip levels it was sized for
     size_t charts = 0;            // charts on the page
     double utilisation = 0;       // chart texels (actual triangle coverage) / page texels
-    double boxUtilisation = 0;    // chart bounding rectangles / page texels
+    double boxUtilisation = 0;    // chart bounding rectangles / page texels (above 1 when charts nest)
     double texelsPerUnit = 0;     // texels per model unit (area-averaged)
     double texelLimit = 0;        // texels per model unit the level can show at its largest coverage
     double hausdorff = 0, relHausdorff = 0;  // measured two-sided, model units / relative to the diagonal
@@ -51,6 +55,10 @@ struct PackLevelReport {
     double maxCoverage = 0;       // ... and below this (the next finer level's threshold; LOD0: lod0Coverage)
     double switchDistance = 0;    // camera distance (model units, fovY) at which the next coarser level takes over
     double bakeSeconds = 0;
+    double sideNeeded = 0;        // page side estimate the level needs: sqrt(3D area) x texelLimit / 0.8, capped by maxSize
+    uint32_t rank = 0;            // texture hierarchy rank the level is textured with (0 = T0)
+    int textureSize = 0;          // the hierarchy texture of that rank whose resolution the level needs
+                                  // (smallest side >= its texel limit, else the largest); 0 = no hierarchy
 };
 
 struct PackResult {

@@ -27,6 +27,7 @@ struct ChartPoint {
 struct ChartLevelTriangle {
     std::array<ChartPoint, 3> corner{};
     double area2 = 0;  // |(V_j - V_i) x (V_k - V_i)| of the level triangle, model units
+    uint32_t level = 0;  // the Multires level (1-based) it belongs to
 };
 
 struct ChartMesh {

@@ -22,6 +22,7 @@ struct ParameterizeOptions {
     int maxIterations = 50;    // Ceres iterations per chart; 0 = keep the Tutte maps
     int textureSize = 1024;    // atlas side in texels (square)
     int gutter = 4;            // texels between charts and around the border (>= 4 recommended)
+    int threads = 1;           // charts solved in parallel (0 = all cores); results are identical for any value
     std::function<bool(double)> progress;  // fraction done; may be empty
 };
 

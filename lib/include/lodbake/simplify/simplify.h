@@ -3,8 +3,10 @@
 // Collapses (v_i -> v_j) keep v_j at its original position, so coarse vertices are original
 // vertices (point-consistent mapping). Collapses are ordered by vertex deviation; a collapse
 // that flips or degenerates a face, changes topology (link condition) or breaks a region rule
-// is rejected. Regions start as single faces and merge as collapses happen; the three
-// p-boundary rules of DESIGN.md are applied. Every level records its regions and its
+// is rejected. Vertices on edges with 3+ faces never move nor absorb others; pinch (bow-tie)
+// vertices never move but absorb their manifold neighbours; inconsistent winding is no lock.
+// Regions start as single faces and merge as collapses happen; the three p-boundary rules of
+// DESIGN.md are applied. Every level records its regions and its
 // simplification pairs.
 #pragma once
 
@@ -38,11 +40,13 @@ struct SimplifyOptions {
     // \bug Experimental: with limits below 180 the levels reach their targets on the real assets,
     //      but the kept boundaries' slivers give parameterize more folded level triangles.
     double maxRegionConeDeg = 180;
-    // When a triangle target cannot be reached otherwise (parts locked by non-manifold edges,
-    // rule 1), whole components whose half bounding-box diagonal is below this fraction of the
+    // When a triangle target cannot be reached otherwise (parts locked by non-manifold edges or
+    // pinch vertices, rule 1), whole components whose half bounding-box diagonal is below this fraction of the
     // model's diagonal are removed, smallest first. 0 disables.
     double pruneStuckSize = 0.1;
-    int threads = 1;                  // results are identical for any value
+    // Candidate evaluation and simplification pairs run on this many threads (the collapse walk
+    // is sequential); results are identical for any value.
+    int threads = 1;
     // Progress in [0,1]; return false to cancel (throws Impossible("cancelled")). May be empty.
     std::function<bool(double)> progress;
 };

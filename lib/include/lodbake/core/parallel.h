@@ -1,4 +1,4 @@
-// Private helper of the metrics module: a deterministic parallel-for over [0, count).
+// A deterministic parallel-for over [0, count), used by compare's metrics and parameterize's charts.
 // Work is split into fixed chunks independent of the thread count; callers write results into
 // per-index slots and reduce them in index order, so figures never depend on `threads`.
 #pragma once
@@ -11,7 +11,7 @@
 #include <thread>
 #include <vector>
 
-namespace lodbake::metrics_detail {
+namespace lodbake {
 
 inline int resolveThreads(int threads) {
     if (threads > 0) return threads;
@@ -49,4 +49,4 @@ inline void parallelFor(size_t count, int threads, const std::function<void(size
     if (error) std::rethrow_exception(error);
 }
 
-}  // namespace lodbake::metrics_detail
+}  // namespace lodbake

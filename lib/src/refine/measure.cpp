@@ -1,0 +1,188 @@
+// measureLayout: E (the energy of parameterize) and the UV-area / 3D-area ratio spread of a chart
+// layout over the geometry levels it serves, plus the UV injectivity of those levels.
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+
+#include "lodbake/core/closest_point.h"
+#include "lodbake/core/errors.h"
+#include "lodbake/refine/refine.h"
+
+namespace lodbake {
+namespace {
+
+bool degenerateIndices(const Tri& t) { return t[0] == t[1] || t[1] == t[2] || t[0] == t[2]; }
+uint64_t key2(uint32_t a, uint32_t b) { return (uint64_t(a) << 32) | b; }
+
+double triArea3(const TriMesh& m, const Tri& t) {
+    return 0.5 * length(cross(m.positions[t[1]] - m.positions[t[0]], m.positions[t[2]] - m.positions[t[0]]));
+}
+
+// UV of (chart, vertex) from the layout's original faces; the nearest chart vertex (3D) when the
+// vertex is not in the chart: the rule `pack` uses for level corners.
+class LayoutUV {
+public:
+    LayoutUV(const TriMesh& mesh, const ChartLayout& lay) : mesh_(mesh), vertices_(lay.chartCount) {
+        for (size_t f = 0; f < mesh.triangleCount(); ++f)
+            for (size_t k = 0; k < 3; ++k)
+                if (uv_.emplace(key2(mesh.triangles[f][k], lay.faceChart[f]), lay.cornerUV[f][k]).second)
+                    vertices_[lay.faceChart[f]].push_back(mesh.triangles[f][k]);
+    }
+    bool has(uint32_t vertex, uint32_t chart) const { return uv_.count(key2(vertex, chart)) > 0; }
+    Vec2 operator()(uint32_t vertex, uint32_t chart) const {
+        auto it = uv_.find(key2(vertex, chart));
+        if (it != uv_.end()) return it->second;
+        uint32_t best = vertices_[chart].front();
+        double bd = 1e300;
+        for (uint32_t v : vertices_[chart]) {
+            double d = length2(mesh_.positions[v] - mesh_.positions[vertex]);
+            if (d < bd) { bd = d; best = v; }
+        }
+        return uv_.at(key2(best, chart));
+    }
+
+private:
+    const TriMesh& mesh_;
+    std::unordered_map<uint64_t, Vec2> uv_;
+    std::vector<std::vector<uint32_t>> vertices_;
+};
+
+}  // namespace
+
+LayoutMeasure measureLayout(const TriMesh& mesh, const Multires& mr, const ChartLayout& lay, uint32_t lastLevel,
+                            const ChartEnergyOptions& eo, bool projectCorners) {
+    const size_t nf = mesh.triangleCount();
+    if (lay.faceChart.size() != nf || lay.cornerUV.size() != nf) throw InvalidInput("measureLayout: layout does not match the mesh");
+    if (lastLevel > mr.levels.size()) throw InvalidInput("measureLayout: level out of range");
+    for (uint32_t c : lay.faceChart)
+        if (c >= lay.chartCount) throw InvalidInput("measureLayout: chart id out of range");
+    LayoutMeasure m;
+    m.lastLevel = lastLevel;
+    m.charts = lay.chartCount;
+
+    // Model-unit scale of the layout: UV area = 3D area over the original faces.
+    double uvArea = 0, area3 = 0;
+    for (size_t f = 0; f < nf; ++f) {
+        if (degenerateIndices(mesh.triangles[f])) continue;
+        const auto& u = lay.cornerUV[f];
+        uvArea += 0.5 * std::abs(cross(u[1] - u[0], u[2] - u[0]));
+        area3 += triArea3(mesh, mesh.triangles[f]);
+    }
+    const double scale = uvArea > 0 ? std::sqrt(area3 / uvArea) : 1;
+
+    // Energy per chart: local chart meshes, math-orientation UVs (v up), the served levels' pairs.
+    std::vector<ChartMesh> charts(lay.chartCount);
+    std::vector<std::vector<Vec2>> uvs(lay.chartCount);
+    std::vector<std::unordered_map<uint32_t, uint32_t>> local(lay.chartCount);
+    std::vector<std::vector<uint32_t>> vertexCharts(mesh.vertexCount());
+    for (uint32_t f = 0; f < nf; ++f) {
+        const Tri& t = mesh.triangles[f];
+        if (degenerateIndices(t)) continue;
+        uint32_t c = lay.faceChart[f];
+        Tri lt{};
+        for (size_t k = 0; k < 3; ++k) {
+            auto [it, inserted] = local[c].emplace(t[k], uint32_t(charts[c].positions.size()));
+            if (inserted) {
+                charts[c].positions.push_back(mesh.positions[t[k]]);
+                Vec2 u = lay.cornerUV[f][k];
+                uvs[c].push_back(Vec2{u.x, 1.0 - u.y} * scale);
+                vertexCharts[t[k]].push_back(c);
+            }
+            lt[k] = it->second;
+        }
+        charts[c].triangles.push_back(lt);
+    }
+    std::vector<std::vector<ChartPair>> pairs(lay.chartCount);
+    for (uint32_t l = 1; l <= lastLevel; ++l)
+        for (const SimplificationPair& p : mr.levels[l - 1].pairs) {
+            if (p.vertex >= mesh.vertexCount()) throw InvalidInput("measureLayout: pair vertex out of range");
+            for (uint32_t c : vertexCharts[p.vertex]) {
+                ChartPair cp;
+                cp.vertex = local[c].at(p.vertex);
+                cp.deviation = p.deviation;
+                bool ok = true;
+                for (size_t k = 0; k < 3 && ok; ++k) {
+                    cp.bary[k] = p.bary[k];
+                    auto it = local[c].find(p.coarse[k]);
+                    if (it == local[c].end()) {
+                        if (p.bary[k] != 0) ok = false;
+                        cp.coarse[k] = cp.vertex;
+                        cp.bary[k] = 0;
+                    } else {
+                        cp.coarse[k] = it->second;
+                    }
+                }
+                if (ok) pairs[c].push_back(cp);
+            }
+        }
+    ChartEnergyOptions unit = eo;
+    unit.resolution = 1;
+    m.chartEnergies.assign(lay.chartCount, ChartEnergy{});
+    for (uint32_t c = 0; c < lay.chartCount; ++c) {
+        if (charts[c].triangles.empty()) continue;
+        ChartEnergy e = chartEnergy(charts[c], pairs[c], uvs[c], unit);
+        m.chartEnergies[c] = e;
+        m.energy.E += e.E;
+        m.energy.pixel += e.pixel;
+        m.energy.poly += e.poly;
+        m.energy.edge += e.edge;
+        m.energy.area += e.area;
+        m.pairs += pairs[c].size();
+    }
+
+    // Area ratios and injectivity of every served level, UVs as pack assigns them.
+    LayoutUV lookup(mesh, lay);
+    std::vector<std::vector<uint32_t>> chartFaces(lay.chartCount);
+    for (uint32_t f = 0; f < nf; ++f) chartFaces[lay.faceChart[f]].push_back(f);
+    std::vector<double> ratios;
+    double sumUV = 0, sum3 = 0;
+    for (uint32_t l = 0; l <= lastLevel; ++l) {
+        std::vector<std::array<Vec2, 3>> tris;
+        size_t crossing = 0;
+        const std::vector<Tri>& T = l == 0 ? mesh.triangles : mr.levels[l - 1].triangles;
+        std::vector<uint32_t> triChart;
+        if (l > 0 && projectCorners) triChart = levelTriangleCharts(mesh, lay.faceChart, lay.chartCount, mr.levels[l - 1]);
+        for (size_t t = 0; t < T.size(); ++t) {
+            if (degenerateIndices(T[t])) continue;
+            uint32_t f = l == 0 ? uint32_t(t) : mr.levels[l - 1].faces.at(t);
+            if (f >= nf) throw InvalidInput("measureLayout: level face out of range");
+            std::array<Vec2, 3> u;
+            if (l > 0) {
+                uint32_t c = projectCorners ? triChart[t] : lay.faceChart[f];
+                if (!lookup.has(T[t][0], c) || !lookup.has(T[t][1], c) || !lookup.has(T[t][2], c)) ++crossing;
+            }
+            for (size_t k = 0; k < 3; ++k) {
+                if (l == 0) u[k] = lay.cornerUV[f][k];
+                else if (!projectCorners) u[k] = lookup(T[t][k], lay.faceChart[f]);
+                else u[k] = lookup.has(T[t][k], triChart[t]) ? lookup(T[t][k], triChart[t])
+                                                             : closestSurfaceUV(mesh, lay.cornerUV, chartFaces[triChart[t]], mesh.positions[T[t][k]]);
+            }
+            tris.push_back(u);
+            double a3 = triArea3(mesh, T[t]);
+            if (!(a3 > 0)) continue;
+            double a2 = 0.5 * std::abs(cross(u[1] - u[0], u[2] - u[0]));
+            ratios.push_back(a2 / a3);
+            sumUV += a2;
+            sum3 += a3;
+        }
+        UVInjectivity inj = checkUVInjectivity(tris);
+        m.flips += inj.flips;
+        m.overlaps += inj.overlaps;
+        m.levels.push_back(inj);
+        m.crossing.push_back(crossing);
+    }
+    m.triangles = ratios.size();
+    double mean = sum3 > 0 ? sumUV / sum3 : 0;
+    if (mean > 0 && !ratios.empty()) {
+        double acc = 0;
+        for (double r : ratios) {
+            double x = r / mean;
+            acc += (x - 1) * (x - 1);
+            ++m.areaRatioHistogram[size_t(std::clamp(int(x / 0.2), 0, 9))];
+        }
+        m.areaRatioStdDev = std::sqrt(acc / double(ratios.size()));
+    }
+    return m;
+}
+
+}  // namespace lodbake

@@ -1,0 +1,344 @@
+// refineTextures: rank layouts by chart splitting + parameterize, and the MIP-style bakes.
+//
+// Pipeline, in execution order:
+//   splitCharts        per parent chart, its faces as a small mesh with the finer level's regions,
+//                      merged down to ~4 disks by buildCharts (E_region order)
+//   rankLayout         parameterize() over levels 1..n-j with the split charts as the last level's
+//                      regions (merging disabled), so the rank-j charts are exactly the split ones
+//   measureLayout      the rank layout and T0 over the same levels (measure.cpp)
+//   bake               every layout at every size with bakeBaseColor (original appearance)
+#include <algorithm>
+#include <chrono>
+#include <map>
+#include <unordered_map>
+
+#include "lodbake/bake/bake.h"
+#include "lodbake/core/errors.h"
+#include "lodbake/param/charts.h"
+#include "lodbake/refine/refine.h"
+
+namespace lodbake {
+namespace {
+
+double secondsSince(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+uint32_t countRegions(const std::vector<uint32_t>& faceRegion) {
+    std::vector<uint32_t> reps = faceRegion;
+    std::sort(reps.begin(), reps.end());
+    return uint32_t(std::unique(reps.begin(), reps.end()) - reps.begin());
+}
+
+// The rank-j layout: parameterize over levels 1..last with `charts` (faceRegion form) as the last
+// level's regions and chart merging disabled.
+// `badParents` receives the parent charts (ids of `parentChart`) whose pieces came out worse than
+// the parent: summed E above parentE[p] (r = 1), or a piece left at its Tutte map.
+ChartLayout rankLayout(const TriMesh& mesh, const Multires& mr, uint32_t last, const std::vector<uint32_t>& charts,
+                       const RefineOptions& o, const std::vector<uint32_t>& parentChart, const std::vector<ChartEnergy>& parentE,
+                       RankResult& rr, std::vector<uint32_t>& badParents) {
+    // Levels 1..last keep their pairs and triangles (guarded by the solver); for last = 0 a level
+    // without geometry carries the charts.
+    Multires sub;
+    sub.levels.assign(mr.levels.begin(), mr.levels.begin() + last);
+    if (last == 0) sub.levels.emplace_back();
+    sub.levels.back().faceRegion = charts;
+    sub.levels.back().regionCount = countRegions(charts);
+    ParameterizeOptions po;
+    po.alpha = o.alpha;
+    po.beta = o.beta;
+    po.maxIterations = o.maxIterations;
+    po.textureSize = o.size;
+    po.gutter = o.gutter;
+    po.charts.maxCharts = 0;
+    po.charts.maxRegionEnergy = 1e-300;  // refuse every merge: the split charts are final
+    ParameterizeResult pr = parameterize(mesh, sub, po);
+    rr.chartFlips = pr.flips;
+    rr.chartOverlaps = pr.overlaps;
+    rr.levelFlipsInSolve = pr.levelFlips;
+    rr.parameterizeSeconds = pr.seconds;
+    rr.methods.clear();
+    for (const ChartReport& c : pr.chartReports) ++rr.methods[c.method];
+    const double r = (512.0 * 512.0) / (double(o.size) * o.size);
+    std::vector<double> childE(parentE.size(), 0);
+    std::vector<char> tutte(parentE.size(), 0), counted(pr.charts.chartCount, 0);
+    for (size_t f = 0; f < mesh.triangleCount(); ++f) {
+        int32_t c = pr.charts.faceChart[f];
+        if (c < 0 || counted[size_t(c)]) continue;
+        counted[size_t(c)] = 1;
+        childE[parentChart[f]] += pr.chartReports[size_t(c)].final.E / r;
+        const ChartReport& cr = pr.chartReports[size_t(c)];
+        if (cr.method == "tutte" && o.maxIterations > 0) tutte[parentChart[f]] = 1;
+    }
+    badParents.clear();
+    for (uint32_t p = 0; p < parentE.size(); ++p)
+        if (tutte[p] || childE[p] > parentE[p].E) badParents.push_back(p);
+    if (pr.flips > 0 || pr.overlaps > 0)
+        throw SolverError("rank " + std::to_string(rr.rank) + ": " + std::to_string(pr.flips) + " flipped and " +
+                          std::to_string(pr.overlaps) + " overlapping UV triangles");
+    ChartLayout lay;
+    lay.chartCount = pr.charts.chartCount;
+    lay.faceChart.resize(mesh.triangleCount());
+    for (size_t f = 0; f < lay.faceChart.size(); ++f) lay.faceChart[f] = uint32_t(std::max(pr.charts.faceChart[f], 0));
+    lay.cornerUV = pr.cornerUV;
+    return lay;
+}
+
+// Level triangles of levels 1..last whose three corners are not all vertices of one chart (the
+// chart levelTriangleCharts picks), counted per parent chart of their face. `faceChart` is either
+// dense chart ids or, with `reps`, representative faces (splitCharts' form).
+std::vector<size_t> crossingPerParent(const TriMesh& mesh, const Multires& mr, uint32_t last, std::vector<uint32_t> faceChart,
+                                      bool reps, const std::vector<uint32_t>& parentChart, uint32_t parentCount) {
+    uint32_t count = 0;
+    if (reps) {
+        std::unordered_map<uint32_t, uint32_t> dense;
+        for (uint32_t& c : faceChart) c = dense.emplace(c, uint32_t(dense.size())).first->second;
+        count = uint32_t(dense.size());
+    } else {
+        for (uint32_t c : faceChart) count = std::max(count, c + 1);
+    }
+    // Vertices of each chart.
+    std::unordered_map<uint64_t, char> member;
+    for (size_t f = 0; f < mesh.triangleCount(); ++f)
+        for (uint32_t v : mesh.triangles[f]) member.emplace((uint64_t(v) << 32) | faceChart[f], 1);
+    std::vector<size_t> out(parentCount, 0);
+    for (uint32_t l = 1; l <= last; ++l) {
+        const Level& L = mr.levels[l - 1];
+        std::vector<uint32_t> tc = levelTriangleCharts(mesh, faceChart, count, L);
+        for (size_t t = 0; t < L.triangles.size(); ++t) {
+            const Tri& v = L.triangles[t];
+            if (v[0] == v[1] || v[1] == v[2] || v[0] == v[2]) continue;
+            for (uint32_t x : v)
+                if (!member.count((uint64_t(x) << 32) | tc[t])) {
+                    ++out[parentChart[L.faces[t]]];
+                    break;
+                }
+        }
+    }
+    return out;
+}
+
+}  // namespace
+
+std::vector<uint32_t> splitCharts(const TriMesh& mesh, const std::vector<uint32_t>& parentChart, uint32_t parentCount,
+                                  const std::vector<uint32_t>& faceRegion, uint32_t perChart, uint32_t& count) {
+    return splitCharts(mesh, parentChart, parentCount, faceRegion, std::vector<uint32_t>(parentCount, perChart), count);
+}
+
+std::vector<uint32_t> splitCharts(const TriMesh& mesh, const std::vector<uint32_t>& parentChart, uint32_t parentCount,
+                                  const std::vector<uint32_t>& faceRegion, const std::vector<uint32_t>& perChart,
+                                  uint32_t& count) {
+    const size_t nf = mesh.triangleCount();
+    if (perChart.size() != parentCount) throw InvalidInput("splitCharts: perChart does not match the parent charts");
+    if (parentChart.size() != nf || faceRegion.size() != nf) throw InvalidInput("splitCharts: tables do not match the mesh");
+    std::vector<std::vector<uint32_t>> faces(parentCount);
+    for (uint32_t f = 0; f < nf; ++f) {
+        if (parentChart[f] >= parentCount || faceRegion[f] >= nf) throw InvalidInput("splitCharts: entry out of range");
+        faces[parentChart[f]].push_back(f);
+    }
+    std::vector<uint32_t> out(nf);
+    for (uint32_t f = 0; f < nf; ++f) out[f] = f;
+    count = 0;
+    for (uint32_t c = 0; c < parentCount; ++c) {
+        const std::vector<uint32_t>& F = faces[c];
+        if (F.empty()) continue;
+        // The chart as its own mesh (compact vertices) with its part of every region.
+        TriMesh sub;
+        std::unordered_map<uint32_t, uint32_t> vmap;
+        std::map<uint32_t, uint32_t> regionRep;  // region representative -> first local face
+        std::vector<uint32_t> localRegion(F.size());
+        for (uint32_t i = 0; i < F.size(); ++i) {
+            Tri t{};
+            for (size_t k = 0; k < 3; ++k) {
+                auto [it, inserted] = vmap.emplace(mesh.triangles[F[i]][k], uint32_t(sub.positions.size()));
+                if (inserted) sub.positions.push_back(mesh.positions[mesh.triangles[F[i]][k]]);
+                t[k] = it->second;
+            }
+            sub.triangles.push_back(t);
+            localRegion[i] = regionRep.emplace(faceRegion[F[i]], i).first->second;
+        }
+        ChartOptions co;
+        co.maxCharts = std::max(1u, perChart[c]);
+        ChartResult cr = buildCharts(sub, localRegion, co);
+        // Representative of each new chart: its smallest face (F is ascending).
+        std::vector<uint32_t> rep(cr.chartCount, UINT32_MAX);
+        for (uint32_t i = 0; i < F.size(); ++i) {
+            int32_t s = cr.faceChart[i];
+            if (s < 0) continue;
+            if (rep[size_t(s)] == UINT32_MAX) {
+                rep[size_t(s)] = F[i];
+                ++count;
+            }
+            out[F[i]] = rep[size_t(s)];
+        }
+        // Faces buildCharts left out (index-degenerate) join the chart's first piece.
+        for (uint32_t i = 0; i < F.size(); ++i)
+            if (cr.faceChart[i] < 0) out[F[i]] = cr.chartCount > 0 && rep[0] != UINT32_MAX ? rep[0] : F[i];
+    }
+    return out;
+}
+
+RefineResult refineTextures(const Asset& asset, const Multires& mr, const RefineOptions& o) {
+    auto t0 = std::chrono::steady_clock::now();
+    const TriMesh& mesh = asset.mesh;
+    const size_t nf = mesh.triangleCount();
+    if (nf == 0) throw Impossible(asset.sourcePath + ": no triangles");
+    if (mr.charts.empty()) throw Impossible(asset.sourcePath + ": no chart layout (LODBAKE_multires charts); run parameterize first");
+    if (mr.charts.faceChart.size() != nf || mr.charts.cornerUV.size() != nf)
+        throw InvalidInput(asset.sourcePath + ": chart layout does not match the original mesh");
+    for (const Level& L : mr.levels)
+        if (L.faceRegion.size() != nf) throw InvalidInput(asset.sourcePath + ": level regions do not match the original mesh");
+    if (o.sizes.empty()) throw InvalidInput("no texture sizes");
+    const uint32_t n = uint32_t(mr.levels.size());
+    const uint32_t maxRank = std::min<uint32_t>(uint32_t(std::max(0, o.ranks)), n);
+    auto progress = [&](double f) { if (o.progress) o.progress(f); };
+    const double steps = double(maxRank + 1) * double(o.sizes.size()) + 2.0 * maxRank + 1;
+    double done = 0;
+
+    ChartEnergyOptions eo;
+    eo.alpha = o.alpha;
+    eo.beta = o.beta;
+    RefineResult res;
+    RankResult r0;
+    r0.rank = 0;
+    r0.lastLevel = n;
+    r0.layout = mr.charts;
+    r0.layout.material = -1;
+    r0.measure = measureLayout(mesh, mr, r0.layout, n, eo);
+    r0.base = r0.measure;
+    r0.regions = n > 0 ? countRegions(mr.levels.back().faceRegion) : uint32_t(nf);
+    res.ranks.push_back(std::move(r0));
+    progress(++done / steps);
+    // Rank j: the coarsest level finer than rank j-1's whose regions split its charts (levels whose
+    // regions coincide with the coarser level's add nothing); level 0 = every face its own region.
+    uint32_t source = n;
+    // A candidate is kept only when it lowers both E and the area-ratio spread of T0 over the
+    // levels it serves; else the next finer level is tried.
+    for (uint32_t j = 1; j <= maxRank && source > 0;) {
+        const ChartLayout& parent = res.ranks.back().layout;
+        std::vector<uint32_t> charts, regions;
+        uint32_t count = 0, level = source;
+        while (level > 0) {
+            --level;
+            if (level == 0) {
+                regions.resize(nf);
+                for (uint32_t f = 0; f < nf; ++f) regions[f] = f;
+            } else {
+                regions = mr.levels[level - 1].faceRegion;
+            }
+            charts = splitCharts(mesh, parent.faceChart, parent.chartCount, regions, o.splitPerChart, count);
+            if (count > parent.chartCount) break;
+        }
+        if (count <= parent.chartCount) break;
+        source = level;
+        if (measureLayout(mesh, mr, mr.charts, level, eo).areaRatioStdDev < o.minAreaRatioStdDev) {
+            res.rejected.push_back({level, count, "T0 is already near-isometric on these levels (area-ratio std-dev below the limit)"});
+            continue;
+        }
+        RankResult rr;
+        rr.rank = j;
+        rr.lastLevel = level;
+        rr.regions = level == 0 ? uint32_t(nf) : countRegions(mr.levels[level - 1].faceRegion);
+        // The parent layout's own energy per chart over the levels this rank serves.
+        const std::vector<ChartEnergy> parentE = measureLayout(mesh, mr, parent, level, eo).chartEnergies;
+        std::vector<uint32_t> per(parent.chartCount, o.splitPerChart), bad;
+        // Pieces whose new boundaries cut level triangles of the levels served (boundaries that are
+        // not p-boundaries there, e.g. from splitting a non-disk region) lose continuity where the
+        // parent had it: split such parents into fewer pieces, down to keeping them whole.
+        const std::vector<size_t> parentCrossing =
+            crossingPerParent(mesh, mr, level, parent.faceChart, false, parent.faceChart, parent.chartCount);
+        for (int round = 0; round < 3 && o.keepLevelTrianglesWhole; ++round) {
+            std::vector<size_t> crossing = crossingPerParent(mesh, mr, level, charts, true, parent.faceChart, parent.chartCount);
+            bool changed = false;
+            for (uint32_t p = 0; p < parent.chartCount; ++p)
+                if (crossing[p] > parentCrossing[p] && per[p] > 1) {
+                    per[p] = round < 2 ? std::max(2u, per[p] / 2) : 1;
+                    changed = true;
+                }
+            if (!changed) break;
+            charts = splitCharts(mesh, parent.faceChart, parent.chartCount, regions, per, count);
+        }
+        if (count <= parent.chartCount) {
+            res.rejected.push_back({level, count, "keeping level triangles whole leaves nothing to split"});
+            continue;
+        }
+        for (int attempt = 0;; ++attempt) {
+            rr.layout = rankLayout(mesh, mr, rr.lastLevel, charts, o, parent.faceChart, parentE, rr, bad);
+            if (bad.empty() || attempt == 3) break;
+            for (uint32_t p : bad) per[p] = attempt < 2 ? per[p] * 2 : 1;
+            charts = splitCharts(mesh, parent.faceChart, parent.chartCount, regions, per, count);
+            ++rr.resplits;
+        }
+        for (uint32_t p : per) rr.unsplit += p == 1 ? 1 : 0;
+        if (rr.layout.chartCount <= parent.chartCount) {
+            res.rejected.push_back({level, rr.layout.chartCount, "no piece solved better than its parent"});
+            continue;
+        }
+        progress(++done / steps);
+        rr.measure = measureLayout(mesh, mr, rr.layout, rr.lastLevel, eo, true);
+        rr.base = measureLayout(mesh, mr, mr.charts, rr.lastLevel, eo);
+        // Valid only for the levels whose triangles its chart boundaries cut no more often than
+        // T0's do (there they are p-boundaries as much as T0's are).
+        uint32_t valid = 0;
+        while (valid < rr.lastLevel && rr.measure.crossing[valid + 1] <= rr.base.crossing[valid + 1]) ++valid;
+        if (valid < rr.lastLevel) {
+            rr.lastLevel = valid;
+            rr.measure = measureLayout(mesh, mr, rr.layout, rr.lastLevel, eo, true);
+            rr.base = measureLayout(mesh, mr, mr.charts, rr.lastLevel, eo);
+        }
+        progress(++done / steps);
+        if (!(rr.measure.energy.E < rr.base.energy.E && rr.measure.areaRatioStdDev < rr.base.areaRatioStdDev)) {
+            res.rejected.push_back({level, rr.layout.chartCount, "does not lower both E and the area-ratio std-dev of T0"});
+            continue;
+        }
+        res.ranks.push_back(std::move(rr));
+        ++j;
+    }
+
+    std::vector<int> sizes = o.sizes;
+    std::sort(sizes.begin(), sizes.end());
+    sizes.erase(std::unique(sizes.begin(), sizes.end()), sizes.end());
+    for (const RankResult& rr : res.ranks)
+        for (int size : sizes) {
+            if (rr.rank > 0 && size < o.minRefinedSize && size != sizes.back()) continue;
+            BakeOptions bo;
+            bo.size = size;
+            BakeResult b = bakeBaseColor(asset, rr.layout.cornerUV, bo);
+            RefinedImage img;
+            img.rank = rr.rank;
+            img.size = size;
+            img.image = std::move(b.image);
+            img.image.name = "lodbake_T" + std::to_string(rr.rank) + "_" + std::to_string(size);
+            img.coveredTexels = b.coveredTexels;
+            img.seconds = b.seconds;
+            res.images.push_back(std::move(img));
+            progress(++done / steps);
+        }
+    res.seconds = secondsSince(t0);
+    return res;
+}
+
+void applyTextureHierarchy(Asset& asset, Multires& mr, const RefineResult& result) {
+    TextureHierarchy h;
+    for (const RankResult& rr : result.ranks)
+        if (rr.rank > 0) h.ranks.push_back(rr.layout);
+    for (const RefinedImage& img : result.images) {
+        if (img.rank > h.ranks.size()) throw InvalidInput("applyTextureHierarchy: image of an unknown rank");
+        asset.images.push_back(img.image);
+        HierarchyTexture t;
+        t.rank = img.rank;
+        t.firstLevel = 0;
+        t.lastLevel = result.ranks.at(img.rank).lastLevel;
+        t.image = int(asset.images.size()) - 1;
+        t.size = img.size;
+        h.textures.push_back(t);
+        if (img.rank > 0) {
+            ChartLayout& lay = h.ranks[img.rank - 1];
+            lay.material = -1;
+            lay.image = t.image;  // the largest size (sizes ascend)
+        }
+    }
+    mr.textures = std::move(h);
+}
+
+}  // namespace lodbake

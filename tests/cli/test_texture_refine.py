@@ -1,0 +1,219 @@
+"""CLI tests for texture-refine: simplify -> parameterize -> texture-refine -> pack.
+
+On the generated samples and on Duck and Avocado (skipped with exit 77 when ../shared/assets is
+absent): every refined rank has lower E and lower UV-area / 3D-area std-dev than T0 over the
+levels it serves at the same texel count (both measured at 512^2); the refined layouts keep the
+original triangles injective (0 flipped, 0 overlapping) and fold no more level triangles than T0;
+the file carries the textureHierarchy; pack assigns every LOD the highest-rank texture valid for
+it; with both finest LODs' pages capped at the same size (equal texel count), the packed chain
+with refined textures has a higher base-colour PSNR (compare) on LOD0 and LOD1 than the chain
+packed with T0 only; gltf-validator 0 errors on the final chain; usage errors.
+"""
+import json
+import os
+import sys
+import unittest
+
+sys.path.insert(0, os.path.dirname(__file__))
+import lodbake_test as lt  # noqa: E402
+from test_pack import check_chain  # noqa: E402
+
+SAMPLES = ["hemisphere9", "wall5", "colors", "seamball"]
+NEAR_ISOMETRIC = {"wall5"}
+REFINE = ["--size", "512", "--sizes", "256,512", "--quiet"]
+PACK = ["--samples", "20000", "--quiet"]
+COMPARE = ["--views", "8", "--resolution", "256", "--samples", "0", "--no-geometry", "--json"]
+
+
+def pipeline(tc, name, source, work):
+    """simplify -> parameterize -> texture-refine; returns (refined path, its report)."""
+    mr = os.path.join(work, name + ".mr.glb")
+    uv = os.path.join(work, name + ".uv.glb")
+    tex = os.path.join(work, name + ".tex.glb")
+    rep = os.path.join(work, name + ".tex.json")
+    lt.run([lt.tool("simplify"), "-i", source, "-o", mr, "--ratio", "0.5,0.1,0.02", "--quiet"])
+    lt.run([lt.tool("parameterize"), "-i", mr, "-o", uv, "--allow-level-folds", "--quiet"])
+    lt.run([lt.tool("texture-refine"), "-i", uv, "-o", tex, "--report", rep] + REFINE)
+    with open(rep) as f:
+        return tex, json.load(f)
+
+
+def check_report(tc, name, r):
+    ranks = r["ranks"]
+    if name in NEAR_ISOMETRIC:
+        # T0 is already near-isometric (a flat wall): no rank is made, and the report says why.
+        tc.assertEqual(len(ranks), 1, name)
+        tc.assertLess(ranks[0]["T0"]["areaRatioStdDev"], 0.05, name)
+        tc.assertTrue(any("near-isometric" in x["reason"] for x in r["rejectedCandidates"]), name)
+    else:
+        tc.assertGreaterEqual(len(ranks), 2, name + ": at least one refined rank")
+    tc.assertEqual(ranks[0]["rank"], 0)
+    tc.assertEqual(ranks[0]["validLevels"], [0, r["input"]["levels"]])
+    for j, k in enumerate(ranks):
+        tc.assertEqual(k["rank"], j)
+        if j == 0:
+            continue
+        what = "%s rank %d" % (name, j)
+        tc.assertLessEqual(k["validLevels"][1], ranks[j - 1]["validLevels"][1], what)
+        tc.assertGreater(k["charts"], ranks[j - 1]["charts"], what)
+        ref, t0 = k["refined"], k["T0"]
+        # The thesis's comparison: refined vs T0 over the levels the rank serves, same texel count.
+        tc.assertLess(ref["E"], t0["E"], what)
+        tc.assertLess(ref["areaRatioStdDev"], t0["areaRatioStdDev"], what)
+        tc.assertTrue(k["lowerE"] and k["lowerAreaRatioStdDev"], what)
+        tc.assertEqual(k["parameterize"]["flips"], 0, what)
+        tc.assertEqual(k["parameterize"]["overlaps"], 0, what)
+        # Original triangles injective; level triangles fold no more than under T0.
+        tc.assertEqual(ref["levels"][0]["flips"], 0, what)
+        tc.assertEqual(ref["levels"][0]["overlaps"], 0, what)
+        for lv, lt0 in zip(ref["levels"], t0["levels"]):
+            tc.assertLessEqual(lv["flips"] + lv["overlaps"], lt0["flips"] + lt0["overlaps"], what)
+    sizes = sorted({t["resolution"] for t in r["textures"]})
+    tc.assertEqual(sizes, [256, 512])
+    tc.assertEqual(len(r["textures"]), 2 * len(ranks))
+    for t in r["textures"]:
+        for key in ("rank", "validLevels", "resolution", "E", "E_pixel", "E_poly", "areaRatioStdDev"):
+            tc.assertIn(key, t)
+
+
+def check_file(tc, name, tex, r):
+    g = lt.Gltf(tex)
+    h = g.multires()["textureHierarchy"]
+    tc.assertEqual(len(h["ranks"]), len(r["ranks"]) - 1)
+    tc.assertEqual(len(h["textures"]), len(r["textures"]))
+    for t in h["textures"]:
+        img = g.json["images"][t["image"]]
+        tc.assertIn("bufferView", img)
+        tc.assertEqual(t["levels"], r["ranks"][t["rank"]]["validLevels"])
+    faces = g.multires()["original"]["faceCount"]
+    for lay in h["ranks"]:
+        tc.assertEqual(g.json["accessors"][lay["faceChart"]]["count"], faces)
+        tc.assertEqual(g.json["accessors"][lay["cornerUV"]]["count"], 3 * faces)
+
+
+def psnr(path, original, lod):
+    p = lt.run([lt.tool("compare"), original, path, "--lod", str(lod)] + COMPARE, check=False)
+    if p.returncode != 0:
+        raise AssertionError("compare failed: " + p.stderr)
+    r = json.loads(p.stdout)
+    return r["images"]["baseColor"]["psnr"], r["counts"]["b"]["texels"]
+
+
+def check_pack(tc, name, source, tex, r, work):
+    """Equal-texel comparison of the finest two LODs, refined vs T0 only."""
+    base = os.path.join(work, name)
+    # T0 chain at 512 first: both finest LODs' pages are then capped below what LOD1 needs, so
+    # both chains get the same page sizes for LOD0 and LOD1.
+    probe = base + ".probe.glb"
+    lt.run([lt.tool("pack"), "-i", tex, "-o", probe, "--report", probe + ".json", "--max-size", "512",
+            "--no-texture-hierarchy"] + PACK)
+    with open(probe + ".json") as f:
+        lod1 = json.load(f)["levels"][1]
+    # The thesis compares at 256^2..512^2 texels; refined ranks are not offered below 256.
+    cap = max(256, min(512, 32 * int(0.9 * min(lod1["width"], lod1["height"]) // 32)))
+    chains = {}
+    for label, extra in (("refined", []), ("t0", ["--no-texture-hierarchy"])):
+        out = "%s.%s.lod.glb" % (base, label)
+        lt.run([lt.tool("pack"), "-i", tex, "-o", out, "--report", out + ".json", "--max-size", str(cap)] + extra + PACK)
+        with open(out + ".json") as f:
+            chains[label] = (out, json.load(f))
+    out, rep = chains["refined"]
+    check_chain(tc, out, out + ".json")
+    levels = rep["levels"]
+    n = r["input"]["levels"]
+    smallest = {}
+    for t in r["textures"]:
+        smallest[t["rank"]] = min(smallest.get(t["rank"], 1 << 30), t["resolution"])
+    for k, lv in enumerate(levels):
+        # The highest rank valid for the level that the hierarchy offers at the page side it needs.
+        want = max((x["rank"] for x in r["ranks"]
+                    if x["validLevels"][0] <= k <= x["validLevels"][1] and smallest[x["rank"]] <= lv["pageSideNeeded"]),
+                   default=0)
+        tc.assertEqual(lv["textureRank"], want, "%s LOD%d" % (name, k))
+        tc.assertIn(lv["hierarchyTextureSize"], (256, 512))
+    tc.assertEqual(levels[n]["textureRank"], 0)
+    if name not in NEAR_ISOMETRIC:
+        tc.assertGreaterEqual(levels[0]["textureRank"], 1, name + ": LOD0 gets a refined texture")
+    for k in (0, 1):
+        what = "%s LOD%d (cap %d, rank %d)" % (name, k, cap, levels[k]["textureRank"])
+        p_ref, texels_ref = psnr(chains["refined"][0], source, k)
+        p_t0, texels_t0 = psnr(chains["t0"][0], source, k)
+        print("%s: base-colour PSNR refined %.3f dB (%d texels) vs T0 %.3f dB (%d texels)"
+              % (what, p_ref, texels_ref, p_t0, texels_t0))
+        # Equal texel budget: both pages are capped at the same side; the packer trims unused
+        # rows/columns, so allow 1% for its granularity (in practice the refined page is rarely larger).
+        tc.assertLessEqual(texels_ref, 1.01 * texels_t0, what + ": equal texel count")
+        if levels[k]["textureRank"] >= 1:
+            tc.assertGreater(p_ref, p_t0, what)
+        else:
+            # No refined texture is offered for this level: both chains use T0 there (the page may
+            # still differ a little: a level never gets more texels than the finer one).
+            tc.assertGreater(p_ref, p_t0 - 0.05, what)
+
+
+class TextureRefineCli(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        for t in ("simplify", "parameterize", "texture-refine", "pack", "compare", "make-samples"):
+            if not os.path.exists(lt.tool(t)):
+                lt.skip(t + " is not built")
+        cls.work = lt.work_dir("texture_refine")
+        cls.samples = lt.make_samples(os.path.join(cls.work, "samples"))
+
+    def run_one(self, name, source):
+        work = os.path.join(self.work, name)
+        os.makedirs(work, exist_ok=True)
+        tex, r = pipeline(self, name, source, work)
+        check_report(self, name, r)
+        check_file(self, name, tex, r)
+        check_pack(self, name, source, tex, r, work)
+
+    def test_samples(self):
+        for name in SAMPLES:
+            with self.subTest(sample=name):
+                self.run_one(name, os.path.join(self.samples, name + ".glb"))
+
+    def test_usage_and_input_errors(self):
+        uv = os.path.join(self.work, "plain.uv.glb")
+        mr = os.path.join(self.work, "plain.mr.glb")
+        src = os.path.join(self.samples, "wall5.glb")
+        lt.run([lt.tool("simplify"), "-i", src, "-o", mr, "--ratio", "0.5,0.1", "--quiet"])
+        out = os.path.join(self.work, "x.glb")
+        self.assertEqual(lt.run([lt.tool("texture-refine"), "-i", mr, "-o", out, "--sizes", "8"], check=False).returncode, 1)
+        self.assertEqual(lt.run([lt.tool("texture-refine"), "-i", mr, "-o", out, "--bogus"], check=False).returncode, 1)
+        p = lt.run([lt.tool("texture-refine"), "-i", mr, "-o", out], check=False)
+        self.assertEqual(p.returncode, 3, p.stderr)  # no chart layout yet
+        self.assertIn("parameterize", p.stderr)
+        self.assertFalse(os.path.exists(out))
+        p = lt.run([lt.tool("texture-refine"), "-i", os.path.join(self.work, "missing.glb"), "-o", out], check=False)
+        self.assertEqual(p.returncode, 2)
+        # A parameterized file without the hierarchy still packs (T0 everywhere).
+        lt.run([lt.tool("parameterize"), "-i", mr, "-o", uv, "--allow-level-folds", "--quiet"])
+        lod = os.path.join(self.work, "plain.lod.glb")
+        lt.run([lt.tool("pack"), "-i", uv, "-o", lod, "--report", lod + ".json"] + PACK)
+        with open(lod + ".json") as f:
+            self.assertTrue(all(lv["textureRank"] == 0 and lv["hierarchyTextureSize"] == 0 for lv in json.load(f)["levels"]))
+
+
+class TextureRefineAssets(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.assets = lt.require_assets()
+        for t in ("simplify", "parameterize", "texture-refine", "pack", "compare"):
+            if not os.path.exists(lt.tool(t)):
+                lt.skip(t + " is not built")
+        cls.work = lt.work_dir("texture_refine_assets")
+
+    def test_duck_and_avocado(self):
+        for name in ("Duck", "Avocado"):
+            with self.subTest(asset=name):
+                work = os.path.join(self.work, name)
+                os.makedirs(work, exist_ok=True)
+                tex, r = pipeline(self, name, self.assets[name], work)
+                check_report(self, name, r)
+                check_file(self, name, tex, r)
+                check_pack(self, name, self.assets[name], tex, r, work)
+
+
+if __name__ == "__main__":
+    lt.main([TextureRefineCli, TextureRefineAssets])

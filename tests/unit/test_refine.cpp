@@ -1,0 +1,179 @@
+// Unit tests for texture-refine: chart splitting, layout measures, the rank hierarchy and the
+// LODBAKE_multires textureHierarchy round trip.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <map>
+#include <set>
+
+#include "lodbake/bake/bake.h"
+#include "lodbake/io/gltf.h"
+#include "lodbake/param/charts.h"
+#include "lodbake/param/parameterize.h"
+#include "lodbake/refine/refine.h"
+#include "lodbake/simplify/simplify.h"
+#include "synthetic_meshes.h"
+
+using namespace lodbake;
+
+namespace {
+
+// hemisphere -> simplify (0.5, 0.1, 0.02) -> parameterize -> applyAtlas: a parameterized asset.
+struct Parameterized {
+    Asset asset;
+    Multires mr;
+};
+
+const Parameterized& hemisphereAsset() {
+    static const Parameterized p = [] {
+        Parameterized r;
+        r.asset.mesh = test::hemisphere(4);
+        r.asset.materials.push_back(Material{});
+        r.asset.materials[0].baseColorFactor = {0.8, 0.4, 0.2, 1};
+        SimplifyOptions so;
+        for (double ratio : {0.5, 0.1, 0.02}) so.levels.push_back({ratio, 0, 0});
+        r.mr = simplify(r.asset.mesh, so).multires;
+        ParameterizeOptions po;
+        po.textureSize = 256;
+        ParameterizeResult pr = parameterize(r.asset.mesh, r.mr, po);
+        BakeOptions bo;
+        bo.size = 64;
+        applyAtlas(r.asset, r.mr, pr, bakeBaseColor(r.asset, pr.cornerUV, bo).image);
+        return r;
+    }();
+    return p;
+}
+
+}  // namespace
+
+TEST(RefineSplit, PiecesAreDisksInsideTheirParent) {
+    const Parameterized& p = hemisphereAsset();
+    const TriMesh& m = p.asset.mesh;
+    ASSERT_GE(p.mr.levels.size(), 2u);
+    const std::vector<uint32_t>& regions = p.mr.levels[0].faceRegion;  // the finest level's regions
+    uint32_t count = 0;
+    std::vector<uint32_t> split = splitCharts(m, p.mr.charts.faceChart, p.mr.charts.chartCount, regions, 4, count);
+    ASSERT_EQ(split.size(), m.triangleCount());
+    EXPECT_GT(count, p.mr.charts.chartCount);
+    EXPECT_LE(count, 4 * p.mr.charts.chartCount + 4);  // ~4 per chart (disk rule may leave a few more)
+    std::map<uint32_t, std::vector<uint32_t>> pieces;
+    for (uint32_t f = 0; f < split.size(); ++f) pieces[split[f]].push_back(f);
+    EXPECT_EQ(pieces.size(), count);
+    for (const auto& [rep, faces] : pieces) {
+        EXPECT_EQ(rep, faces.front());  // the representative is the piece's smallest face
+        std::set<uint32_t> parents;
+        for (uint32_t f : faces) parents.insert(p.mr.charts.faceChart[f]);
+        EXPECT_EQ(parents.size(), 1u) << "a piece straddles two parent charts";
+        EXPECT_TRUE(isDisk(m, faces));
+    }
+}
+
+TEST(RefineMeasure, T0IsInjectiveOnTheOriginalAndEnergyGrowsWithLevels) {
+    const Parameterized& p = hemisphereAsset();
+    const uint32_t n = uint32_t(p.mr.levels.size());
+    LayoutMeasure all = measureLayout(p.asset.mesh, p.mr, p.mr.charts, n);
+    LayoutMeasure fine = measureLayout(p.asset.mesh, p.mr, p.mr.charts, 1);
+    ASSERT_EQ(all.levels.size(), n + 1);
+    EXPECT_EQ(all.levels[0].flips, 0u);
+    EXPECT_EQ(all.levels[0].overlaps, 0u);
+    EXPECT_GT(all.triangles, fine.triangles);
+    // E_pixel only depends on the layout; E_poly sums over more pairs with more levels.
+    EXPECT_NEAR(all.energy.pixel, fine.energy.pixel, 1e-9 * all.energy.pixel);
+    EXPECT_GT(all.pairs, fine.pairs);
+    EXPECT_GE(all.energy.poly, fine.energy.poly);
+    uint32_t histogram = 0;
+    for (uint32_t b : all.areaRatioHistogram) histogram += b;
+    EXPECT_EQ(histogram, all.triangles);
+    EXPECT_GT(all.areaRatioStdDev, 0);
+}
+
+TEST(RefineHierarchy, RanksLowerEnergyAndAreaRatioSpread) {
+    const Parameterized& p = hemisphereAsset();
+    RefineOptions o;
+    o.size = 256;
+    o.sizes = {64, 128};
+    o.minRefinedSize = 0;
+    RefineResult r = refineTextures(p.asset, p.mr, o);
+    ASSERT_GE(r.ranks.size(), 2u);
+    EXPECT_EQ(r.ranks[0].lastLevel, p.mr.levels.size());
+    for (size_t j = 1; j < r.ranks.size(); ++j) {
+        const RankResult& rr = r.ranks[j];
+        EXPECT_EQ(rr.rank, j);
+        EXPECT_LE(rr.lastLevel, r.ranks[j - 1].lastLevel);  // a higher rank serves no coarser level
+        EXPECT_GT(rr.layout.chartCount, r.ranks[j - 1].layout.chartCount);
+        EXPECT_LT(rr.measure.energy.E, rr.base.energy.E) << "rank " << j;
+        EXPECT_LT(rr.measure.areaRatioStdDev, rr.base.areaRatioStdDev) << "rank " << j;
+        EXPECT_EQ(rr.measure.levels[0].flips, 0u);
+        EXPECT_EQ(rr.measure.levels[0].overlaps, 0u);
+        for (const auto& c : rr.layout.cornerUV)
+            for (const Vec2& q : c) {
+                EXPECT_GT(q.x, 0);
+                EXPECT_LT(q.x, 1);
+                EXPECT_GT(q.y, 0);
+                EXPECT_LT(q.y, 1);
+            }
+    }
+    EXPECT_EQ(r.images.size(), r.ranks.size() * 2);
+    for (const RefinedImage& img : r.images) {
+        EXPECT_EQ(img.image.width, img.size);
+        EXPECT_GT(img.coveredTexels, 0u);
+    }
+
+    // Deterministic.
+    RefineResult again = refineTextures(p.asset, p.mr, o);
+    ASSERT_EQ(again.ranks.size(), r.ranks.size());
+    for (size_t j = 0; j < r.ranks.size(); ++j) {
+        EXPECT_EQ(again.ranks[j].layout.faceChart, r.ranks[j].layout.faceChart);
+        EXPECT_EQ(again.ranks[j].measure.energy.E, r.ranks[j].measure.energy.E);
+    }
+    for (size_t i = 0; i < r.images.size(); ++i) EXPECT_EQ(again.images[i].image.encoded, r.images[i].image.encoded);
+
+    // Round trip through the LODBAKE_multires textureHierarchy.
+    Asset a = p.asset;
+    Multires mr = p.mr;
+    applyTextureHierarchy(a, mr, r);
+    ASSERT_EQ(mr.textures.ranks.size(), r.ranks.size() - 1);
+    namespace fs = std::filesystem;
+    fs::path dir = fs::temp_directory_path() / "lodbake_test_refine";
+    fs::create_directories(dir);
+    std::string path = (dir / "refined.glb").string();
+    writeGltf(path, a, &mr);
+    std::optional<Multires> back;
+    Asset b = readGltf(path, {}, &back);
+    ASSERT_TRUE(back.has_value());
+    ASSERT_EQ(back->textures.textures.size(), mr.textures.textures.size());
+    for (size_t i = 0; i < mr.textures.textures.size(); ++i) {
+        const HierarchyTexture &x = mr.textures.textures[i], &y = back->textures.textures[i];
+        EXPECT_EQ(x.rank, y.rank);
+        EXPECT_EQ(x.firstLevel, y.firstLevel);
+        EXPECT_EQ(x.lastLevel, y.lastLevel);
+        EXPECT_EQ(x.size, y.size);
+        ASSERT_GE(y.image, 0);
+        EXPECT_EQ(b.images[size_t(y.image)].width, x.size);
+    }
+    ASSERT_EQ(back->textures.ranks.size(), mr.textures.ranks.size());
+    for (size_t j = 0; j < mr.textures.ranks.size(); ++j) {
+        EXPECT_EQ(back->textures.ranks[j].faceChart, mr.textures.ranks[j].faceChart);
+        EXPECT_EQ(back->textures.ranks[j].chartCount, mr.textures.ranks[j].chartCount);
+        for (size_t f = 0; f < mr.textures.ranks[j].cornerUV.size(); ++f)
+            for (size_t k = 0; k < 3; ++k)
+                EXPECT_NEAR(back->textures.ranks[j].cornerUV[f][k].x, mr.textures.ranks[j].cornerUV[f][k].x, 1e-6);
+    }
+    fs::remove_all(dir);
+}
+
+TEST(RefineHierarchy, FileWithoutHierarchyReadsEmpty) {
+    const Parameterized& p = hemisphereAsset();
+    namespace fs = std::filesystem;
+    fs::path dir = fs::temp_directory_path() / "lodbake_test_refine_plain";
+    fs::create_directories(dir);
+    std::string path = (dir / "plain.glb").string();
+    writeGltf(path, p.asset, &p.mr);
+    std::optional<Multires> back;
+    readGltf(path, {}, &back);
+    ASSERT_TRUE(back.has_value());
+    EXPECT_TRUE(back->textures.empty());
+    EXPECT_TRUE(back->textures.ranks.empty());
+    EXPECT_EQ(back->charts.chartCount, p.mr.charts.chartCount);
+    fs::remove_all(dir);
+}
