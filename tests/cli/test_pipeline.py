@@ -1,6 +1,7 @@
-"""pipelines/Makefile: builds samples and simplifies them from scratch; a second run does nothing
-(`make -q` is 0, "Nothing to be done", output mtimes unchanged); runs with THREADS=1 and
-THREADS=2 into different OUT folders give byte-identical outputs; changing RATIOS rebuilds."""
+"""pipelines/Makefile: builds the samples through simplify -> parameterize -> texture-refine -> pack
+from scratch; a second run does nothing (`make -q` is 0, "Nothing to be done", output mtimes
+unchanged); runs with THREADS=1 and THREADS=2 into different OUT folders give byte-identical
+outputs at every stage; changing RATIOS rebuilds."""
 import os
 import shutil
 import subprocess
@@ -11,6 +12,7 @@ BIN = os.environ.get("LODBAKE_BIN", "")
 SOURCE = os.environ.get("LODBAKE_SOURCE", "")
 WORK = os.environ.get("LODBAKE_WORK", "/tmp/lodbake-test-pipeline")
 NAMES = ["hemisphere9", "wall5", "colors", "seamball"]
+STAGES = ["mr", "uv", "tex", "lod"]
 
 
 def make(out, *extra, check=True):
@@ -19,7 +21,7 @@ def make(out, *extra, check=True):
 
 
 def outputs(out):
-    return sorted(os.path.join(out, n + ".mr.glb") for n in NAMES)
+    return sorted(os.path.join(out, "%s.%s.glb" % (n, stage)) for n in NAMES for stage in STAGES)
 
 
 class Pipeline(unittest.TestCase):
@@ -59,7 +61,8 @@ class Pipeline(unittest.TestCase):
 
 
 if __name__ == "__main__":
-    missing = [t for t in ("simplify", "compare", "make-samples") if not os.path.exists(os.path.join(BIN, t))]
+    tools = ("make-samples", "simplify", "parameterize", "texture-refine", "pack", "compare")
+    missing = [t for t in tools if not os.path.exists(os.path.join(BIN, t))]
     if not BIN or not SOURCE or missing or shutil.which("make") is None:
         print("skipped: needs LODBAKE_BIN with %s, LODBAKE_SOURCE and make" % (missing or "the tools"))
         sys.exit(77)
