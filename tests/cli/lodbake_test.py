@@ -83,6 +83,17 @@ def validate(path):
     return json.loads(p.stdout.strip().splitlines()[-1])
 
 
+def assert_no_validator_errors(tc, files):
+    """For a unittest.TestCase: glTF-Validator reports 0 errors on every file (one subTest each);
+    skips the test when the validator is not installed."""
+    if not validator_available():
+        tc.skipTest("glTF-Validator not installed (scripts/setup-debian.sh installs it)")
+    for path in files:
+        with tc.subTest(file=os.path.basename(path)):
+            r = validate(path)
+            tc.assertEqual(r["errors"], 0, r["messages"])
+
+
 class Gltf:
     """A glTF or GLB file's JSON and binary buffer 0, with accessor reading."""
 

@@ -167,15 +167,11 @@ nlohmann::json makeReport(const Settings& s, const Asset& asset, const AgsphereR
     return rep;
 }
 
-double secondsSince(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
 int run(const Settings& s) {
     std::vector<AgsphereTarget> targets = validate(s);
     auto t0 = std::chrono::steady_clock::now();
     Asset asset = readGltf(s.common.input);
-    double loadSeconds = secondsSince(t0);
+    double loadSeconds = cli::secondsSince(t0);
     for (const std::string& w : asset.warnings) std::cerr << "agsphere-build warning: " << w << "\n";
     if (asset.mesh.triangleCount() == 0) throw Impossible(s.common.input + ": the scene has no triangles");
 
@@ -196,7 +192,7 @@ int run(const Settings& s) {
     WriteOptions wopt;
     wopt.generator = "lodbake agsphere-build 0.1.0";
     writeGltf(s.common.output, asset, &result.multires, wopt);
-    double writeSeconds = secondsSince(t2);
+    double writeSeconds = cli::secondsSince(t2);
 
     nlohmann::json rep = makeReport(s, asset, result, loadSeconds, writeSeconds);
     if (!s.common.report.empty()) cli::writeReport(s.common.report, rep);
@@ -216,10 +212,4 @@ int run(const Settings& s) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-    return cli::runTool("agsphere-build", [&] {
-        bool proceed = true;
-        Settings s = parseArgs(argc, argv, proceed);
-        return proceed ? run(s) : cli::kOk;
-    });
-}
+int main(int argc, char** argv) { return cli::runMain<Settings>("agsphere-build", argc, argv, parseArgs, run); }

@@ -9,6 +9,7 @@
 //   4 internal or solver failure
 #pragma once
 
+#include <chrono>
 #include <functional>
 #include <map>
 #include <string>
@@ -74,6 +75,22 @@ std::vector<double> parseVec3(const std::string& flag, const std::string& v);
 // Runs `body` inside the single try/catch that maps lodbake errors to exit codes and prints
 // "TOOL error: message" (one line) on stderr. Usage errors add "See 'TOOL --help'.".
 int runTool(const std::string& tool, const std::function<int()>& body);
+
+// A tool's whole main: parse the arguments (parse sets proceed = false after --help/--version),
+// then run, inside runTool.
+template <class Settings, class RunFn>
+int runMain(const std::string& tool, int argc, char** argv, Settings (*parse)(int, char**, bool&), RunFn run) {
+    return runTool(tool, [&] {
+        bool proceed = true;
+        Settings s = parse(argc, argv, proceed);
+        return proceed ? run(s) : 0;
+    });
+}
+
+// Seconds of wall time since t0 (the tools' per-stage report times).
+inline double secondsSince(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
 
 // Validates -i/-o before any heavy work: input exists, output extension is .glb/.gltf (or any of
 // `allowedExt`), output folder exists. Throws UsageError / IOError.

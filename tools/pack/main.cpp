@@ -85,16 +85,12 @@ void validate(const Settings& s) {
     cli::checkPaths(s.common);
 }
 
-double secondsSince(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
 int run(Settings s) {
     validate(s);
     auto t0 = std::chrono::steady_clock::now();
     std::optional<Multires> multires;
     Asset asset = readGltf(s.common.input, {}, &multires);
-    double loadSeconds = secondsSince(t0);
+    double loadSeconds = cli::secondsSince(t0);
     for (const std::string& w : asset.warnings) std::cerr << "pack warning: " << w << "\n";
     if (!multires) throw Impossible(s.common.input + ": no LODBAKE_multires extension; run simplify and parameterize first");
 
@@ -105,7 +101,7 @@ int run(Settings s) {
 
     auto t1 = std::chrono::steady_clock::now();
     PackWriteStats ws = writePackResult(s.common.output, res, s.write);
-    double writeSeconds = secondsSince(t1);
+    double writeSeconds = cli::secondsSince(t1);
 
     nlohmann::json levels = nlohmann::json::array();
     for (size_t k = 0; k < res.reports.size(); ++k) {
@@ -170,10 +166,4 @@ int run(Settings s) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-    return cli::runTool("pack", [&] {
-        bool proceed = true;
-        Settings s = parseArgs(argc, argv, proceed);
-        return proceed ? run(s) : cli::kOk;
-    });
-}
+int main(int argc, char** argv) { return cli::runMain<Settings>("pack", argc, argv, parseArgs, run); }

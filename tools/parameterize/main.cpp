@@ -57,16 +57,12 @@ nlohmann::json energyJson(const ChartEnergy& e) {
     return {{"E", e.E}, {"E_pixel", e.pixel}, {"E_poly", e.poly}, {"E_l", e.edge}, {"E_s", e.area}};
 }
 
-double secondsSince(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
 int run(const Settings& s) {
     validate(s);
     auto t0 = std::chrono::steady_clock::now();
     std::optional<Multires> multires;
     Asset asset = readGltf(s.common.input, {}, &multires);
-    double loadSeconds = secondsSince(t0);
+    double loadSeconds = cli::secondsSince(t0);
     for (const std::string& w : asset.warnings) std::cerr << "parameterize warning: " << w << "\n";
     if (!multires) throw Impossible(s.common.input + ": no LODBAKE_multires extension; run simplify first");
 
@@ -89,7 +85,7 @@ int run(const Settings& s) {
     BakeOptions bo;
     bo.size = s.size;
     BakeResult baked = bakeBaseColor(asset, param.cornerUV, bo);
-    double bakeSeconds = secondsSince(t1);
+    double bakeSeconds = cli::secondsSince(t1);
 
     AtlasApplyStats applied = applyAtlas(asset, *multires, param, baked.image);
 
@@ -108,7 +104,7 @@ int run(const Settings& s) {
     auto t3 = std::chrono::steady_clock::now();
     TextureDeviation deviation;
     if (!multires->levels.empty()) deviation = textureDeviation(asset.mesh, multires->levels.back(), multires->charts);
-    double deviationSeconds = secondsSince(t3);
+    double deviationSeconds = cli::secondsSince(t3);
     size_t levelFlips = 0, levelOverlaps = 0;
     for (const UVInjectivity& c : levelChecks) {
         levelFlips += c.flips;
@@ -195,7 +191,7 @@ int run(const Settings& s) {
     WriteOptions wopt;
     wopt.generator = "lodbake parameterize 0.1.0";
     writeGltf(s.common.output, asset, &*multires, wopt);
-    if (s.common.verbose) std::printf("write: %.2fs\n", secondsSince(t2));
+    if (s.common.verbose) std::printf("write: %.2fs\n", cli::secondsSince(t2));
 
 
     if (s.common.verbose) {
@@ -218,10 +214,4 @@ int run(const Settings& s) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-    return cli::runTool("parameterize", [&] {
-        bool proceed = true;
-        Settings s = parseArgs(argc, argv, proceed);
-        return proceed ? run(s) : cli::kOk;
-    });
-}
+int main(int argc, char** argv) { return cli::runMain<Settings>("parameterize", argc, argv, parseArgs, run); }

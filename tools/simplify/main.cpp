@@ -112,15 +112,11 @@ nlohmann::json makeReport(const Settings& s, const Asset& asset, const SimplifyR
     return rep;
 }
 
-double secondsSince(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
 int run(const Settings& s) {
     std::vector<LevelTarget> targets = validate(s);
     auto t0 = std::chrono::steady_clock::now();
     Asset asset = readGltf(s.common.input);
-    double loadSeconds = secondsSince(t0);
+    double loadSeconds = cli::secondsSince(t0);
     for (const std::string& w : asset.warnings) std::cerr << "simplify warning: " << w << "\n";
     if (asset.mesh.triangleCount() == 0) throw Impossible(s.common.input + ": the scene has no triangles to simplify");
 
@@ -132,14 +128,14 @@ int run(const Settings& s) {
     opt.progress = [&progress](double f) { return progress(f); };
     auto t1 = std::chrono::steady_clock::now();
     SimplifyResult result = simplify(asset.mesh, opt);
-    double simplifySeconds = secondsSince(t1);
+    double simplifySeconds = cli::secondsSince(t1);
     progress.done();
 
     auto t2 = std::chrono::steady_clock::now();
     WriteOptions wopt;
     wopt.generator = "lodbake simplify 0.1.0";
     writeGltf(s.common.output, asset, &result.multires, wopt);
-    double writeSeconds = secondsSince(t2);
+    double writeSeconds = cli::secondsSince(t2);
 
     nlohmann::json rep = makeReport(s, asset, result, loadSeconds, simplifySeconds, writeSeconds);
     if (!s.common.report.empty()) cli::writeReport(s.common.report, rep);
@@ -156,10 +152,4 @@ int run(const Settings& s) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-    return cli::runTool("simplify", [&] {
-        bool proceed = true;
-        Settings s = parseArgs(argc, argv, proceed);
-        return proceed ? run(s) : cli::kOk;
-    });
-}
+int main(int argc, char** argv) { return cli::runMain<Settings>("simplify", argc, argv, parseArgs, run); }

@@ -68,10 +68,6 @@ void validate(const Settings& s) {
     cli::checkPaths(s.common);
 }
 
-double secondsSince(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
 // E and its terms at resolution modifier r (the measure is at r = 1; every term is linear in r).
 nlohmann::json energyJson(const ChartEnergy& e, double r) {
     return {{"E", e.E * r}, {"E_pixel", e.pixel * r}, {"E_poly", e.poly * r}, {"E_l", e.edge}, {"E_s", e.area}};
@@ -99,7 +95,7 @@ int run(Settings s) {
     auto t0 = std::chrono::steady_clock::now();
     std::optional<Multires> multires;
     Asset asset = readGltf(s.common.input, {}, &multires);
-    double loadSeconds = secondsSince(t0);
+    double loadSeconds = cli::secondsSince(t0);
     for (const std::string& w : asset.warnings) std::cerr << "texture-refine warning: " << w << "\n";
     if (!multires) throw Impossible(s.common.input + ": no LODBAKE_multires extension; run simplify and parameterize first");
     if (multires->charts.empty()) throw Impossible(s.common.input + ": no chart layout; run parameterize first");
@@ -157,7 +153,7 @@ int run(Settings s) {
     WriteOptions wopt;
     wopt.generator = "lodbake texture-refine 0.1.0";
     writeGltf(s.common.output, asset, &*multires, wopt);
-    double writeSeconds = secondsSince(t1);
+    double writeSeconds = cli::secondsSince(t1);
 
     nlohmann::json rep;
     rep["tool"] = "texture-refine";
@@ -194,10 +190,4 @@ int run(Settings s) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-    return cli::runTool("texture-refine", [&] {
-        bool proceed = true;
-        Settings s = parseArgs(argc, argv, proceed);
-        return proceed ? run(s) : cli::kOk;
-    });
-}
+int main(int argc, char** argv) { return cli::runMain<Settings>("texture-refine", argc, argv, parseArgs, run); }
