@@ -169,10 +169,8 @@ nlohmann::json makeReport(const Settings& s, const Asset& asset, const AgsphereR
 
 int run(const Settings& s) {
     std::vector<AgsphereTarget> targets = validate(s);
-    auto t0 = std::chrono::steady_clock::now();
-    Asset asset = readGltf(s.common.input);
-    double loadSeconds = cli::secondsSince(t0);
-    for (const std::string& w : asset.warnings) std::cerr << "agsphere-build warning: " << w << "\n";
+    double loadSeconds = 0;
+    Asset asset = cli::loadInput("agsphere-build", s.common, loadSeconds);
     if (asset.mesh.triangleCount() == 0) throw Impossible(s.common.input + ": the scene has no triangles");
 
     AgsphereOptions opt;

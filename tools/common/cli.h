@@ -12,10 +12,14 @@
 #include <chrono>
 #include <functional>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
+
+#include "lodbake/core/mesh.h"
+#include "lodbake/core/multires.h"
 
 namespace lodbake::cli {
 
@@ -86,6 +90,11 @@ int runMain(const std::string& tool, int argc, char** argv, Settings (*parse)(in
         return proceed ? run(s) : 0;
     });
 }
+
+// Reads the tool's input (-i) and, when `multires` is given, its LODBAKE_multires extension;
+// prints the reader's warnings on stderr ("TOOL warning: ..."); `seconds` gets the load time.
+Asset loadInput(const std::string& tool, const CommonSettings& s, double& seconds,
+                std::optional<Multires>* multires = nullptr);
 
 // Seconds of wall time since t0 (the tools' per-stage report times).
 inline double secondsSince(std::chrono::steady_clock::time_point t0) {

@@ -87,11 +87,9 @@ void validate(const Settings& s) {
 
 int run(Settings s) {
     validate(s);
-    auto t0 = std::chrono::steady_clock::now();
     std::optional<Multires> multires;
-    Asset asset = readGltf(s.common.input, {}, &multires);
-    double loadSeconds = cli::secondsSince(t0);
-    for (const std::string& w : asset.warnings) std::cerr << "pack warning: " << w << "\n";
+    double loadSeconds = 0;
+    Asset asset = cli::loadInput("pack", s.common, loadSeconds, &multires);
     if (!multires) throw Impossible(s.common.input + ": no LODBAKE_multires extension; run simplify and parameterize first");
 
     cli::Progress progress("pack", cli::progressEnabled(s.common));

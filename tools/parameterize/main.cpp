@@ -59,11 +59,9 @@ nlohmann::json energyJson(const ChartEnergy& e) {
 
 int run(const Settings& s) {
     validate(s);
-    auto t0 = std::chrono::steady_clock::now();
     std::optional<Multires> multires;
-    Asset asset = readGltf(s.common.input, {}, &multires);
-    double loadSeconds = cli::secondsSince(t0);
-    for (const std::string& w : asset.warnings) std::cerr << "parameterize warning: " << w << "\n";
+    double loadSeconds = 0;
+    Asset asset = cli::loadInput("parameterize", s.common, loadSeconds, &multires);
     if (!multires) throw Impossible(s.common.input + ": no LODBAKE_multires extension; run simplify first");
 
     ParameterizeOptions opt;

@@ -92,11 +92,9 @@ nlohmann::json measureJson(const LayoutMeasure& m, double r) {
 
 int run(Settings s) {
     validate(s);
-    auto t0 = std::chrono::steady_clock::now();
     std::optional<Multires> multires;
-    Asset asset = readGltf(s.common.input, {}, &multires);
-    double loadSeconds = cli::secondsSince(t0);
-    for (const std::string& w : asset.warnings) std::cerr << "texture-refine warning: " << w << "\n";
+    double loadSeconds = 0;
+    Asset asset = cli::loadInput("texture-refine", s.common, loadSeconds, &multires);
     if (!multires) throw Impossible(s.common.input + ": no LODBAKE_multires extension; run simplify and parameterize first");
     if (multires->charts.empty()) throw Impossible(s.common.input + ": no chart layout; run parameterize first");
 
