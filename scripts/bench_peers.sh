@@ -26,7 +26,7 @@ for name in Duck Avocado CesiumMilkTruck 2CylinderEngine; do
     [ -f "$src" ] || { echo "bench_peers: $src missing, skipped" >&2; continue; }
     # Ours: one chain with LOD1 = 10%, LOD2 = 2%.
     "$BIN/simplify" -i "$src" -o "$WORK/$name.mr.glb" --ratio 0.1,0.02 --quiet &&
-    "$BIN/parameterize" -i "$WORK/$name.mr.glb" -o "$WORK/$name.uv.glb" --quiet &&
+    "$BIN/parameterize" -i "$WORK/$name.mr.glb" -o "$WORK/$name.uv.glb" --allow-level-folds --quiet &&
     "$BIN/pack" -i "$WORK/$name.uv.glb" -o "$WORK/$name.lod.glb" --quiet --report "$WORK/$name.lod.json" ||
         echo "bench_peers: lodbake failed on $name" >&2
     lod=1
