@@ -29,6 +29,7 @@
 #include "lodbake/bake/bake.h"
 #include "lodbake/core/errors.h"
 #include "lodbake/io/gltf.h"
+#include "lodbake/core/chart_lookup.h"
 #include "lodbake/core/closest_point.h"
 #include "lodbake/metrics/distance.h"
 #include "lodbake/pack/atlas.h"
@@ -98,38 +99,6 @@ void checkInput(const Asset& asset, const Multires& mr) {
     }
 }
 
-// T0 UV of each (welded vertex, chart) pair, from the original faces of multires.charts.
-// Level corners look their UV up here (point-consistent mapping: every coarse vertex is an
-// original vertex); a corner whose vertex is not in its face's chart (a collapse moved it across
-// a chart boundary) takes the UV of the chart's vertex nearest in 3D.
-class ChartUV {
-public:
-    ChartUV(const TriMesh& mesh, const ChartLayout& ch) : mesh_(mesh), chartVertices_(ch.chartCount) {
-        for (size_t f = 0; f < mesh.triangleCount(); ++f)
-            for (size_t j = 0; j < 3; ++j) {
-                uint64_t key = (uint64_t(mesh.triangles[f][j]) << 32) | ch.faceChart[f];
-                if (uv_.emplace(key, ch.cornerUV[f][j]).second) chartVertices_[ch.faceChart[f]].push_back(mesh.triangles[f][j]);
-            }
-    }
-    bool has(uint32_t vertex, uint32_t chart) const { return uv_.count((uint64_t(vertex) << 32) | chart) > 0; }
-    Vec2 operator()(uint32_t vertex, uint32_t chart) const {
-        auto it = uv_.find((uint64_t(vertex) << 32) | chart);
-        if (it != uv_.end()) return it->second;
-        uint32_t best = chartVertices_[chart].front();
-        double bd = 1e300;
-        for (uint32_t v : chartVertices_[chart]) {
-            double d = length2(mesh_.positions[v] - mesh_.positions[vertex]);
-            if (d < bd) { bd = d; best = v; }
-        }
-        return uv_.at((uint64_t(best) << 32) | chart);
-    }
-
-private:
-    const TriMesh& mesh_;
-    std::unordered_map<uint64_t, Vec2> uv_;
-    std::vector<std::vector<uint32_t>> chartVertices_;
-};
-
 // A chart layout (T0 or a rank layout of the texture hierarchy) with what packing needs of it.
 struct LayoutData {
     const ChartLayout* ch = nullptr;
@@ -137,7 +106,7 @@ struct LayoutData {
     std::vector<std::vector<uint32_t>> chartFaces;
     std::vector<double> chartUvArea;
     double uvPerUnit = 0;  // layout UV units per model unit (area-averaged)
-    std::unique_ptr<ChartUV> lookup;
+    std::unique_ptr<ChartVertexUV> lookup;
 };
 
 LayoutData layoutData(const Asset& asset, const ChartLayout& ch, uint32_t rank) {
@@ -163,7 +132,7 @@ LayoutData layoutData(const Asset& asset, const ChartLayout& ch, uint32_t rank) 
     }
     if (!(uvTotal > 0) || !(areaTotal > 0)) throw Impossible(asset.sourcePath + ": the chart layout has no area");
     d.uvPerUnit = std::sqrt(uvTotal / areaTotal);
-    d.lookup = std::make_unique<ChartUV>(mesh, ch);
+    d.lookup = std::make_unique<ChartVertexUV>(mesh, ch);
     return d;
 }
 

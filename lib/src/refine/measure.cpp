@@ -4,6 +4,7 @@
 #include <cmath>
 #include <unordered_map>
 
+#include "lodbake/core/chart_lookup.h"
 #include "lodbake/core/closest_point.h"
 #include "lodbake/core/errors.h"
 #include "lodbake/refine/refine.h"
@@ -12,40 +13,10 @@ namespace lodbake {
 namespace {
 
 bool degenerateIndices(const Tri& t) { return t[0] == t[1] || t[1] == t[2] || t[0] == t[2]; }
-uint64_t key2(uint32_t a, uint32_t b) { return (uint64_t(a) << 32) | b; }
 
 double triArea3(const TriMesh& m, const Tri& t) {
     return 0.5 * length(cross(m.positions[t[1]] - m.positions[t[0]], m.positions[t[2]] - m.positions[t[0]]));
 }
-
-// UV of (chart, vertex) from the layout's original faces; the nearest chart vertex (3D) when the
-// vertex is not in the chart: the rule `pack` uses for level corners.
-class LayoutUV {
-public:
-    LayoutUV(const TriMesh& mesh, const ChartLayout& lay) : mesh_(mesh), vertices_(lay.chartCount) {
-        for (size_t f = 0; f < mesh.triangleCount(); ++f)
-            for (size_t k = 0; k < 3; ++k)
-                if (uv_.emplace(key2(mesh.triangles[f][k], lay.faceChart[f]), lay.cornerUV[f][k]).second)
-                    vertices_[lay.faceChart[f]].push_back(mesh.triangles[f][k]);
-    }
-    bool has(uint32_t vertex, uint32_t chart) const { return uv_.count(key2(vertex, chart)) > 0; }
-    Vec2 operator()(uint32_t vertex, uint32_t chart) const {
-        auto it = uv_.find(key2(vertex, chart));
-        if (it != uv_.end()) return it->second;
-        uint32_t best = vertices_[chart].front();
-        double bd = 1e300;
-        for (uint32_t v : vertices_[chart]) {
-            double d = length2(mesh_.positions[v] - mesh_.positions[vertex]);
-            if (d < bd) { bd = d; best = v; }
-        }
-        return uv_.at(key2(best, chart));
-    }
-
-private:
-    const TriMesh& mesh_;
-    std::unordered_map<uint64_t, Vec2> uv_;
-    std::vector<std::vector<uint32_t>> vertices_;
-};
 
 }  // namespace
 
@@ -131,7 +102,7 @@ LayoutMeasure measureLayout(const TriMesh& mesh, const Multires& mr, const Chart
     }
 
     // Area ratios and injectivity of every served level, UVs as pack assigns them.
-    LayoutUV lookup(mesh, lay);
+    ChartVertexUV lookup(mesh, lay);
     std::vector<std::vector<uint32_t>> chartFaces(lay.chartCount);
     for (uint32_t f = 0; f < nf; ++f) chartFaces[lay.faceChart[f]].push_back(f);
     std::vector<double> ratios;
