@@ -16,8 +16,6 @@ from collections import defaultdict
 import lodbake_test as lt
 
 RATIOS = [0.5, 0.1, 0.02]
-# Assets whose 2% level stops short of the target today, with the ratio they must still reach.
-KNOWN_SHORT = {"2CylinderEngine": 0.022}
 
 def edge_faces(face_vertices):
     """Undirected edge -> list of faces, for a flat list of triangle vertex ids."""
@@ -136,15 +134,8 @@ class SimplifyAssets(unittest.TestCase):
             print("%-16s gltfpack -si 0.02 reaches %.1f%%, simplify reaches %.2f%% (%d of %d triangles)" % (
                 name, 100 * peer_ratio, 100.0 * ours / n, ours, n))
             with self.subTest(asset=name):
-                if name in KNOWN_SHORT:
-                    # Known gap (issue 2): the engine's parts are full of pinch (bow-tie) vertices
-                    # from T-junction cracks; pinches never move (their neighbours may collapse
-                    # into them), so its 2% level stops at about 2.17%; still far below gltfpack.
-                    self.assertLessEqual(ours, KNOWN_SHORT[name] * n)
-                    self.assertLess(ours / n, 0.25 * peer_ratio)
-                else:
-                    self.assertLessEqual(ours, 0.02 * n * 1.02 + 2)
-                    self.assertLess(ours / n, peer_ratio)
+                self.assertLessEqual(ours, 0.02 * n * 1.02 + 2)
+                self.assertLess(ours / n, peer_ratio)
 
 
 if __name__ == "__main__":

@@ -391,10 +391,23 @@ TEST(Simplify, InconsistentWindingIsNotLocked) {
     expectValidPairs(m, l);
 }
 
+// Every region of the level is edge-connected in the ORIGINAL mesh (what a chart needs).
+void expectRegionsConnectedInOriginal(const TriMesh& mesh, const Level& level) {
+    std::vector<uint32_t> parent(mesh.triangleCount());
+    std::iota(parent.begin(), parent.end(), 0u);
+    std::function<uint32_t(uint32_t)> find = [&](uint32_t x) { return parent[x] == x ? x : parent[x] = find(parent[x]); };
+    for (const auto& [edge, fs] : edgesOf(mesh.triangles))
+        for (size_t a = 1; a < fs.size(); ++a)
+            if (level.faceRegion[fs[0]] == level.faceRegion[fs[a]]) parent[find(fs[0])] = find(fs[a]);
+    std::map<uint32_t, std::set<uint32_t>> pieces;
+    for (uint32_t f = 0; f < mesh.triangleCount(); ++f) pieces[level.faceRegion[f]].insert(find(f));
+    for (const auto& [r, roots] : pieces) EXPECT_EQ(roots.size(), 1u) << "region " << r << " is not edge-connected";
+}
+
 // A pinch (bow-tie) vertex: two flat 4x4 grids touching only at one corner, vertex 24 = (4, 4).
-// The pinch itself never moves, but its manifold neighbours collapse into it, so both sheets
-// simplify down to a few triangles around it.
-TEST(Simplify, BowTieNeighboursCollapseIntoThePinch) {
+// Both sheets simplify down to a few triangles (the pinch moves with both of its fans, its
+// neighbours collapse into it), and no region joins the two sheets.
+TEST(Simplify, BowTieSheetsSimplifyAndStayApart) {
     TriMesh m = test::grid(4, 4);
     TriMesh b = test::grid(4, 4);
     const uint32_t pinch = 24, off = uint32_t(m.positions.size());
@@ -406,16 +419,41 @@ TEST(Simplify, BowTieNeighboursCollapseIntoThePinch) {
     const Level& l = r.multires.levels[0];
     EXPECT_EQ(l.stopReason, "target");
     EXPECT_LE(l.triangles.size(), 4u);
-    std::set<uint32_t> kept;
-    for (const Tri& t : l.triangles) kept.insert(t.begin(), t.end());
-    EXPECT_TRUE(kept.count(pinch));
-    bool intoPinch = false;
-    for (const CollapseRecord& c : r.multires.collapses) {
-        EXPECT_NE(c.removed, pinch);
-        intoPinch |= c.kept == pinch;
-    }
-    EXPECT_TRUE(intoPinch);
+    const uint32_t sheetFaces = uint32_t(b.triangles.size());
+    for (uint32_t f = 0; f < m.triangleCount(); ++f)
+        EXPECT_EQ(l.faceRegion[f] < sheetFaces, f < sheetFaces) << "face " << f << " joined the other sheet";
     expectValidRegions(m, r.multires, l);
+    expectRegionsConnectedInOriginal(m, l);
+    expectValidPairs(m, l);
+}
+
+// A T-junction crack: a 4x4 grid above a 8x4 grid of half-width columns; along y = 0 they share
+// the integer vertices (pinches) but no edge. Both sheets simplify, and no region joins faces of
+// the two sheets (every region stays edge-connected in the original mesh).
+TEST(Simplify, CrackSheetsSimplifyWithoutJoining) {
+    TriMesh m = test::grid(4, 4);  // y in [0, 4]; vertex (i, 0) is i
+    std::vector<uint32_t> lower(9 * 5);  // lower grid vertex (i, j) at x = i / 2, y = -j
+    for (int j = 0; j <= 4; ++j)
+        for (int i = 0; i <= 8; ++i) {
+            if (j == 0 && i % 2 == 0) {
+                lower[size_t(i)] = uint32_t(i / 2);
+                continue;
+            }
+            lower[size_t(j * 9 + i)] = uint32_t(m.positions.size());
+            m.positions.push_back({0.5 * i, -double(j), 0});
+        }
+    auto below = [&](int i, int j) { return lower[size_t(j * 9 + i)]; };
+    for (int j = 0; j < 4; ++j)
+        for (int i = 0; i < 8; ++i) {
+            m.triangles.push_back({below(i, j), below(i + 1, j + 1), below(i + 1, j)});
+            m.triangles.push_back({below(i, j), below(i, j + 1), below(i + 1, j + 1)});
+        }
+    test::addDefaultWedges(m);
+    SimplifyResult r = simplify(m, withLevels({count(12)}));
+    const Level& l = r.multires.levels[0];
+    EXPECT_LE(l.triangles.size(), 24u);  // from 96
+    expectValidRegions(m, r.multires, l);
+    expectRegionsConnectedInOriginal(m, l);
     expectValidPairs(m, l);
 }
 

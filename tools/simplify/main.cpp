@@ -19,6 +19,7 @@ struct Settings {
     std::vector<double> triangles;
     std::vector<double> maxErrors;
     double maxRegionConeDeg = SimplifyOptions{}.maxRegionConeDeg;
+    double pruneStuckSize = SimplifyOptions{}.pruneStuckSize;
 };
 
 Settings parseArgs(int argc, char** argv, bool& proceed) {
@@ -38,6 +39,15 @@ Settings parseArgs(int argc, char** argv, bool& proceed) {
                  s.maxRegionConeDeg = cli::parseDouble("--max-region-cone", v);
                  if (!(s.maxRegionConeDeg > 0 && s.maxRegionConeDeg <= 180))
                      throw UsageError("--max-region-cone must be in (0, 180]");
+             });
+    p.option("--max-part-removal", "F",
+             "when a triangle target cannot be reached otherwise (parts stuck on non-manifold edges or pinch "
+             "vertices), remove whole parts up to this half-diagonal, as a fraction of the model's diagonal, "
+             "smallest first (default 0.2, 0 = never)",
+             [&](const std::string& v) {
+                 s.pruneStuckSize = cli::parseDouble("--max-part-removal", v);
+                 if (!(s.pruneStuckSize >= 0 && s.pruneStuckSize <= 1))
+                     throw UsageError("--max-part-removal must be in [0, 1]");
              });
     proceed = p.parse(argc, argv);
     return s;
@@ -121,6 +131,7 @@ int run(const Settings& s) {
     SimplifyOptions opt;
     opt.levels = targets;
     opt.maxRegionConeDeg = s.maxRegionConeDeg;
+    opt.pruneStuckSize = s.pruneStuckSize;
     opt.threads = cli::resolveThreads(s.common.threads);
     cli::Progress progress("simplify", cli::progressEnabled(s.common));
     opt.progress = [&progress](double f) { return progress(f); };

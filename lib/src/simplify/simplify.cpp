@@ -63,7 +63,7 @@
 //   A level that has no valid candidate left stops with the most frequent rejection reason; one
 //   whose candidates all exceed its error target stops with "target".
 //
-// Validity (see kRejectReason): v_i neither locked nor a pinch, v_j not locked; a border vertex
+// Validity (see kRejectReason): v_i not locked (nor a pinch whose fans were joined), v_j not locked; a border vertex
 // only moves along a border edge; the link condition (one exception: a border collapse may close a three-vertex hole
 // (v_i, v_j, b), the border flags of the ring are then refreshed) and no duplicate faces; no face
 // of the new fan degenerates, turns by more than maxNormalChangeDeg, or faces away from its own
@@ -73,12 +73,15 @@
 // test compares a face with its own normal.
 // Locked vertices: those on an edge with 3+ faces or that touch a degenerate face; they never
 // move and nothing collapses into them. Pinch vertices: manifold edges, but faces forming several
-// fans (a bow-tie; T-junction cracks welded by position make many). A pinch never moves (its other
-// fans would be dragged along, and merging the regions of fans that only touch at a point breaks
-// region edge-connectivity), but its manifold neighbours may collapse into it: the link condition
+// fans (a bow-tie; T-junction cracks welded by position make many). A pinch moves with all its fans
+// while they are still apart; the regions of each fan merge on their own (merging across fans that
+// only touch at a point would break region edge-connectivity), rule 3 does not apply, the fan of
+// the edge must not vanish, and it may not close a three-vertex "hole" (on a crack that would join
+// two sheets that share no edge). Its manifold neighbours may collapse into it: the link condition
 // over all of its fans keeps the fans apart. The ring of every border collapse is re-classified;
 // locks and pinches are sticky (a pinch whose fans were joined by later collapses still joins
-// faces that are only vertex-connected in the original mesh). A pinch counts as open for rule 1.
+// faces that are only vertex-connected in the original mesh, so it stays put). A pinch counts as
+// open for rule 1.
 //
 // Regions (DESIGN.md). faceRegion[f] = representative face of f's region; region face lists are
 // intrusive linked lists merged by union by size (the largest region keeps its label, even when its
@@ -168,7 +171,7 @@ enum class Reject : uint8_t { None, Locked, Border, Link, Flip, Degenerate, Ear,
 
 constexpr const char* kRejectReason[] = {
     "target",                           // None
-    "locked: non-manifold",             // Locked: the vertex or its target touches a non-manifold edge/fan
+    "locked: non-manifold edge or pinch vertex",  // Locked: see the header comment
     "border: no collapse along the open boundary",  // Border
     "topology: link condition",         // Link
     "no valid collapse: face flip",     // Flip
@@ -345,6 +348,7 @@ struct Scratch {
     std::vector<uint32_t> markI, markJ;    // per-vertex stamps: one-ring of vi, neighbours of vj
     uint32_t stampI = 0, stampJ = 0;
     std::vector<uint32_t> regions;
+    std::vector<uint32_t> fan;  // fan id of each face of vfaces[vi] (pinch vertices only)
     std::vector<uint32_t> faceMark;  // per-face stamps of the pair search (sized on first use)
     uint32_t faceStamp = 0;
 };
@@ -816,13 +820,69 @@ static int64_t bucketOf(const State& s, double dev) {
     return int64_t(std::floor(std::log(dev / s.diagonal) / std::log1p(sim)));
 }
 
+// Fans of v: fan[k] = fan id of the k-th face of vfaces[v], faces joined through shared spokes;
+// ids are dense from 0 in order of first face. Returns the number of fans. ring: the ring of v.
+static uint32_t labelFans(const State& s, uint32_t v, const std::vector<RingEntry>& ring, std::vector<uint32_t>& fan) {
+    const auto& fs = s.vfaces[v];
+    const size_t n = fs.size();
+    auto slot = [&](uint32_t f) { return uint32_t(std::find(fs.begin(), fs.end(), f) - fs.begin()); };
+    fan.resize(n);
+    std::iota(fan.begin(), fan.end(), 0u);
+    auto root = [&](uint32_t x) {
+        while (fan[x] != x) x = fan[x] = fan[fan[x]];
+        return x;
+    };
+    for (const RingEntry& e : ring)
+        if (e.f1 != kNone) fan[root(slot(e.f0))] = root(slot(e.f1));
+    std::vector<uint32_t> roots(n), id(n, kNone);
+    for (size_t k = 0; k < n; ++k) roots[k] = root(uint32_t(k));
+    uint32_t count = 0;
+    for (size_t k = 0; k < n; ++k) {
+        if (id[roots[k]] == kNone) id[roots[k]] = count++;
+        fan[k] = id[roots[k]];
+    }
+    return count;
+}
+
+// Region groups that a collapse of the pinch vi merges: the regions of each fan separately (the fans
+// only meet at vi, so merging across them would join regions that share no edge); fans that share
+// a region form one group (groups of one region merge nothing). fan: labelFans of vi.
+static std::vector<std::vector<uint32_t>> pinchMergeGroups(const State& s, uint32_t vi, const std::vector<uint32_t>& fan) {
+    const auto& fs = s.vfaces[vi];
+    const uint32_t fans = fan.empty() ? 0 : *std::max_element(fan.begin(), fan.end()) + 1;
+    std::vector<uint32_t> parent(fans);
+    std::iota(parent.begin(), parent.end(), 0u);
+    auto root = [&](uint32_t x) {
+        while (parent[x] != x) x = parent[x] = parent[parent[x]];
+        return x;
+    };
+    for (size_t a = 0; a < fs.size(); ++a)
+        for (size_t b = a + 1; b < fs.size(); ++b)
+            if (fan[a] != fan[b] && s.faceRegion[fs[a]] == s.faceRegion[fs[b]]) parent[root(fan[a])] = root(fan[b]);
+    std::vector<std::vector<uint32_t>> groups(fans);
+    for (size_t k = 0; k < fs.size(); ++k) groups[root(fan[k])].push_back(s.faceRegion[fs[k]]);
+    std::vector<std::vector<uint32_t>> out;
+    for (auto& g : groups) {
+        std::sort(g.begin(), g.end());
+        g.erase(std::unique(g.begin(), g.end()), g.end());
+        if (!g.empty()) out.push_back(std::move(g));
+    }
+    return out;
+}
+
 // Topology and geometry of (vi -> vj); on success fills dev.
 static Reject checkCollapse(const State& s, Scratch& w, uint32_t vi, const RingEntry& edge, double q, double& dev, float& farDist) {
     uint32_t vj = edge.w;
     if (s.locked[vj]) return Reject::Locked;
     bool borderEdge = edge.f1 == kNone;
     if (s.border[vi] && !borderEdge) return Reject::Border;
-    if (s.vfaces[vi].size() <= (borderEdge ? 1u : 2u)) return Reject::Ear;
+    size_t fanFaces = s.vfaces[vi].size();
+    if (s.pinch[vi]) {  // the fan of the edge must not vanish (w.fan labels vfaces[vi])
+        const auto& fs = s.vfaces[vi];
+        uint32_t f0 = w.fan[size_t(std::find(fs.begin(), fs.end(), edge.f0) - fs.begin())];
+        fanFaces = size_t(std::count(w.fan.begin(), w.fan.end(), f0));
+    }
+    if (fanFaces <= (borderEdge ? 1u : 2u)) return Reject::Ear;
     // Link condition: the common neighbours are exactly the opposite vertices of the edge's faces.
     // (markI[w] == stampI marks the one-ring of vi; markJ dedupes the neighbours of vj.)
     size_t common = 0;
@@ -837,7 +897,9 @@ static Reject checkCollapse(const State& s, Scratch& w, uint32_t vi, const RingE
                 ++common;
             }
         }
-    if (borderEdge && common == 2) {
+    // (Not for a pinch: its "hole" may be a crack between sheets that only share vertices, and
+    // closing it would join faces whose regions were kept apart.)
+    if (borderEdge && common == 2 && !s.pinch[vi]) {
         // Closing a three-vertex hole (vi, vj, b): allowed, the edge (vj, b) gets its second face.
         const Tri& t0 = s.tri[edge.f0];
         uint32_t opposite = t0[0] != vi && t0[0] != vj ? t0[0] : (t0[1] != vi && t0[1] != vj ? t0[1] : t0[2]);
@@ -907,7 +969,7 @@ static Reject planRegions(const State& s, Scratch& w, uint32_t vi, const RingEnt
     c.rule3 = false;
     double chord = -1;  // distance of V_i to the new boundary edge; < 0: rule 3 does not apply
     uint32_t rA = kNone, rB = kNone;
-    if (!s.border[vi] && isPBoundarySpoke(s, edge)) {
+    if (!s.border[vi] && !s.pinch[vi] && isPBoundarySpoke(s, edge)) {
         uint32_t spokes = 0, vk = kNone;
         for (const RingEntry& e : w.ring)
             if (isPBoundarySpoke(s, e)) {
@@ -934,6 +996,18 @@ static Reject planRegions(const State& s, Scratch& w, uint32_t vi, const RingEnt
     };
     double eps = std::max(s.options.epsilonDeviationFactor * c.dev, s.options.epsilonBoxFactor * s.longestSide);
     if (chord >= 0 && chord <= eps) return keepBoundary();
+    if (s.pinch[vi]) {
+        // Each fan's regions merge on their own (a pinch counts as open: rule 1 does not apply).
+        double shape = 0;
+        for (const auto& g : pinchMergeGroups(s, vi, w.fan)) {
+            RegionStats merged = s.regionStats[g[0]];
+            for (size_t k = 1; k < g.size(); ++k) mergeStats(merged, s.regionStats[g[k]]);
+            if (g.size() > 1 && length(merged.normalSum) < s.minRegionCoherence * merged.area) return Reject::Cone;
+            shape = std::max(shape, double(regionShape(s, merged)));
+        }
+        c.shape = float(shape);
+        return Reject::None;
+    }
     // Otherwise every region of the fan merges, unless rule 1 or the normal cone forbids it. When
     // the cone forbids it, a rule-3 collapse is still allowed, its cost raised to the boundary's
     // displacement (the texture error of keeping the chart cut on the new edge).
@@ -966,11 +1040,17 @@ static Reject planRegions(const State& s, Scratch& w, uint32_t vi, const RingEnt
 static Candidate evaluateVertex(const State& s, Scratch& w, uint32_t vi) {
     Candidate best;
     if (s.removed[vi] || s.vfaces[vi].empty()) return best;
-    if (s.locked[vi] || s.pinch[vi]) {
+    if (s.locked[vi]) {
         best.reason = Reject::Locked;
         return best;
     }
     collectRing(s, vi, w.ring);
+    // A pinch moves with all its fans, which must still be apart: a sticky pinch whose fans were
+    // joined by later collapses stays (its faces are only vertex-connected in the original mesh).
+    if (s.pinch[vi] && labelFans(s, vi, w.ring, w.fan) < 2) {
+        best.reason = Reject::Locked;
+        return best;
+    }
     ++w.stampI;
     for (const RingEntry& e : w.ring) w.markI[e.w] = w.stampI;
     struct Option {
@@ -1063,6 +1143,20 @@ static void mergeRegionGroup(State& s, const std::vector<uint32_t>& reps) {
 
 static void updateRegions(State& s, uint32_t vi, const Candidate& c, const std::vector<uint32_t>& fan) {
     if (c.rule3) return;  // each side keeps its own region (a removed representative stays until the snapshot)
+    if (s.pinch[vi]) {  // each fan's regions merge on their own (see planRegions)
+        std::vector<RingEntry> ring;
+        std::vector<uint32_t> fans;
+        collectRing(s, vi, ring);
+        labelFans(s, vi, ring, fans);
+        s.collapseSource = vi;
+        s.collapseTarget = c.target;
+        for (const auto& g : pinchMergeGroups(s, vi, fans)) {
+            if (g.size() < 2) continue;
+            s.componentRegions[s.component[vi]] -= uint32_t(g.size() - 1);
+            mergeRegionGroup(s, g);
+        }
+        return;
+    }
     std::vector<uint32_t>& reps = s.repScratch;
     reps.clear();
     for (uint32_t f : fan) reps.push_back(s.faceRegion[f]);
@@ -1557,7 +1651,7 @@ static PassResult runPass(State& s, const PlannedLevel& plan) {
         const RingEntry* edge = nullptr;
         for (const RingEntry& r : w.ring)
             if (r.w == vj) edge = &r;
-        if (!edge) {
+        if (!edge || (s.pinch[vi] && labelFans(s, vi, w.ring, w.fan) < 2)) {
             s.dirtyPass[vi] = s.pass;  // re-evaluate next pass
             continue;
         }
