@@ -1,6 +1,7 @@
 // M-AGSphere (agsphere-build): sphere cells, regions, polygon triangulation, levels.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <numeric>
@@ -370,4 +371,114 @@ TEST(AgsphereLevels, DeterministicAcrossThreads) {
     EXPECT_EQ(a.multires.levels[0].triangles, b.multires.levels[0].triangles);
     EXPECT_EQ(a.multires.levels[0].faces, b.multires.levels[0].faces);
     EXPECT_EQ(a.multires.levels[0].faceRegion, b.multires.levels[0].faceRegion);
+}
+
+namespace {
+
+// Orthographic coverage of the faces of `tris` facing `view`, on an n x n raster over [-s, s]^2
+// of the plane orthogonal to `view` (pixel centres inside or on a projected triangle).
+// With eyeDistance > 0: perspective from the eye at eyeDistance * view (unit), coordinates divided
+// by the depth.
+std::vector<char> coverage(const TriMesh& m, const std::vector<Tri>& tris, Vec3 view, int n, double s,
+                           double eyeDistance = 0) {
+    Vec3 d = normalize(view);
+    Vec3 u = normalize(cross(d, Vec3{1, 0, 0})), w = cross(d, u);
+    Vec3 eye = d * eyeDistance;
+    std::vector<char> img(size_t(n) * n, 0);
+    for (const Tri& t : tris) {
+        Vec3 facing = eyeDistance > 0 ? eye - m.positions[t[0]] : d;
+        if (!(dot(triNormal(m, t), facing) > 0)) continue;
+        double x[3], y[3];
+        for (int k = 0; k < 3; ++k) {
+            const Vec3& p = m.positions[t[k]];
+            double z = eyeDistance > 0 ? dot(eye - p, d) : 1;
+            x[k] = (dot(p, u) / z + s) / (2 * s) * n;
+            y[k] = (dot(p, w) / z + s) / (2 * s) * n;
+        }
+        double area = (x[1] - x[0]) * (y[2] - y[0]) - (y[1] - y[0]) * (x[2] - x[0]);
+        if (area == 0) continue;
+        double sg = area > 0 ? 1 : -1;
+        int x0 = std::max(0, int(std::min({x[0], x[1], x[2]}))), x1 = std::min(n - 1, int(std::max({x[0], x[1], x[2]})));
+        int y0 = std::max(0, int(std::min({y[0], y[1], y[2]}))), y1 = std::min(n - 1, int(std::max({y[0], y[1], y[2]})));
+        for (int py = y0; py <= y1; ++py)
+            for (int px = x0; px <= x1; ++px) {
+                double qx = px + 0.5, qy = py + 0.5;
+                bool in = true;
+                for (int k = 0; k < 3 && in; ++k) {
+                    int j = (k + 1) % 3;
+                    in = sg * ((x[j] - x[k]) * (qy - y[k]) - (y[j] - y[k]) * (qx - x[k])) >= 0;
+                }
+                if (in) img[size_t(py) * n + px] = 1;
+            }
+    }
+    return img;
+}
+
+size_t differingPixels(const std::vector<char>& a, const std::vector<char>& b) {
+    size_t n = 0;
+    for (size_t i = 0; i < a.size(); ++i) n += a[i] != b[i];
+    return n;
+}
+
+// A sphere with bumps: folds seen from the view make contour edges inside the outline.
+TriMesh bumpySphere(int levels) {
+    TriMesh s = test::sphere(levels);
+    for (Vec3& p : s.positions) p = p * (1 + 0.08 * std::sin(9 * p.x) * std::sin(7 * p.y + 1) * std::sin(8 * p.z + 2));
+    return s;
+}
+
+}  // namespace
+
+TEST(AgsphereOutline, ViewLevelKeepsTheOutlineExactly) {
+    TriMesh s = bumpySphere(5);  // 8192 faces
+    const Vec3 view{0.2, 0.1, 1};
+    AgsphereOptions o;
+    o.levels = {{0, 2500}};
+    o.maxDepth = 5;
+    o.views = {view};
+    AgsphereResult r = buildAgsphere(s, o);
+    const Level& L = r.multires.levels[0];
+    checkLevel(s, L, true, "outline");
+    EXPECT_LT(L.triangles.size(), s.triangleCount() / 2);
+    // Outline edges are a strict subset of the contour edges (the bumps fold inside the outline).
+    EXPECT_GT(r.outlineEdges, 0u);
+    EXPECT_LT(r.outlineEdges, r.contourEdges);
+    EXPECT_EQ(r.levelStats[0].outlineFaces, r.outlineFaces);
+    // Seen from the view, the level covers exactly the original's pixels.
+    const int n = 256;
+    auto original = coverage(s, s.triangles, view, n, 1.2);
+    auto kept = coverage(s, L.triangles, view, n, 1.2);
+    size_t covered = 0;
+    for (char c : original) covered += c;
+    EXPECT_GT(covered, size_t(n) * n / 3);
+    EXPECT_EQ(differingPixels(original, kept), 0u);
+    // Without keeping the outline, the same budget moves it.
+    o.keepOutline = false;
+    o.levels = {{0, L.triangles.size()}};
+    AgsphereResult plain = buildAgsphere(s, o);
+    auto moved = coverage(s, plain.multires.levels[0].triangles, view, n, 1.2);
+    EXPECT_GT(differingPixels(original, moved), 20u);
+}
+
+TEST(AgsphereOutline, PerspectiveOutlineIsKeptForItsEye) {
+    TriMesh s = test::sphere(5);  // unit sphere: bounding radius 1
+    const Vec3 view{0.2, 0.1, 1};
+    AgsphereOptions o;
+    o.levels = {{0, 2500}};
+    o.maxDepth = 5;
+    o.views = {view};
+    AgsphereResult ortho = buildAgsphere(s, o);
+    o.viewDistance = 2;  // seen from 2 radii, the outline is the circle 60 degrees from the view
+    AgsphereResult near = buildAgsphere(s, o);
+    checkLevel(s, near.multires.levels[0], true, "perspective");
+    // Convex: every contour edge is on the outline.
+    EXPECT_EQ(ortho.outlineEdges, ortho.contourEdges);
+    EXPECT_EQ(near.outlineEdges, near.contourEdges);
+    const int n = 256;
+    auto original = coverage(s, s.triangles, view, n, 1.2);
+    EXPECT_EQ(differingPixels(original, coverage(s, ortho.multires.levels[0].triangles, view, n, 1.2)), 0u);
+    auto originalNear = coverage(s, s.triangles, view, n, 0.8, 2);
+    EXPECT_EQ(differingPixels(originalNear, coverage(s, near.multires.levels[0].triangles, view, n, 0.8, 2)), 0u);
+    // The orthographic outline is not the one seen from 2 radii.
+    EXPECT_GT(differingPixels(originalNear, coverage(s, ortho.multires.levels[0].triangles, view, n, 0.8, 2)), 0u);
 }

@@ -22,6 +22,9 @@ struct Settings {
     int maxDepth = AgsphereOptions{}.maxDepth;
     double boundaryTolerance = AgsphereOptions{}.boundaryTolerance;
     double silhouetteBand = AgsphereOptions{}.silhouetteBandDeg;
+    bool keepOutline = AgsphereOptions{}.keepOutline;
+    double viewDistance = AgsphereOptions{}.viewDistance;
+    int outlineRings = AgsphereOptions{}.outlineRings;
 };
 
 Vec3 direction(const std::string& flag, const std::string& v) {
@@ -41,12 +44,14 @@ Settings parseArgs(int argc, char** argv, bool& proceed) {
     p.option("--triangles", "N,...", "levels as absolute triangle counts",
              [&](const std::string& v) { s.triangles = cli::parseDoubleList("--triangles", v); });
     p.option("--view", "X,Y,Z",
-             "a view direction (from the object towards the camera; repeatable): silhouette cells two sphere "
-             "depths finer than the reference cell, the others one",
+             "a view direction (from the object towards the camera; repeatable): the faces on the outline seen "
+             "from it are kept unchanged; silhouette cells two sphere depths finer than the reference cell, the "
+             "others one",
              [&](const std::string& v) { s.views.push_back(direction("--view", v)); });
     p.option("--light", "X,Y,Z",
-             "a light direction (from the object towards the light; repeatable): light-silhouette cells finer, "
-             "cells facing away from every light coarsest",
+             "a light direction (from the object towards the light; repeatable): the faces on the outline seen "
+             "from the light (the shadow's outline) are kept unchanged; light-silhouette cells finer, cells facing "
+             "away from every light coarsest",
              [&](const std::string& v) { s.lights.push_back(direction("--light", v)); });
     p.option("--max-depth", "D",
              "finest sphere depth (8 * 4^D cells; default " + std::to_string(s.maxDepth) + ", at most " +
@@ -70,6 +75,21 @@ Settings parseArgs(int argc, char** argv, bool& proceed) {
                  s.silhouetteBand = cli::parseDouble("--silhouette-band", v);
                  if (!(s.silhouetteBand >= 0 && s.silhouetteBand < 90)) throw UsageError("--silhouette-band must be in [0, 90)");
              });
+    p.option("--view-distance", "K",
+             "eye distance for --view outlines, in bounding radii from the bounding-box centre (default 0: "
+             "infinitely far; compare's cameras are at 2)",
+             [&](const std::string& v) {
+                 s.viewDistance = cli::parseDouble("--view-distance", v);
+                 if (!(s.viewDistance == 0 || s.viewDistance > 1)) throw UsageError("--view-distance must be 0 or > 1");
+             });
+    p.option("--outline-rings", "N", "extra rings of faces kept unchanged around each view's outline faces (default 0)",
+             [&](const std::string& v) {
+                 s.outlineRings = cli::parseInt("--outline-rings", v);
+                 if (s.outlineRings < 0 || s.outlineRings > 8) throw UsageError("--outline-rings must be in [0, 8]");
+             });
+    p.flag("--no-keep-outline",
+           "with --view/--light, do not keep the outline faces unchanged (cell selection only, as in the thesis)",
+           [&] { s.keepOutline = false; });
     proceed = p.parse(argc, argv);
     return s;
 }
@@ -131,6 +151,7 @@ nlohmann::json makeReport(const Settings& s, const Asset& asset, const AgsphereR
                             {"other", st.otherCells}}},
                           {"retriangulatedRegions", st.retriangulatedRegions},
                           {"keptRegions", st.keptRegions},
+                          {"outlineFaces", st.outlineFaces},
                           {"runs", st.runs},
                           {"simplifiedRuns", st.simplifiedRuns},
                           {"restoredRuns", st.restoredRuns},
@@ -155,6 +176,12 @@ nlohmann::json makeReport(const Settings& s, const Asset& asset, const AgsphereR
                      {"silhouetteBandDeg", s.silhouetteBand},
                      {"depths", depths}};
     rep["views"] = views;
+    rep["outline"] = {{"keep", s.keepOutline && !(s.views.empty() && s.lights.empty())},
+                      {"viewDistance", s.viewDistance},
+                      {"rings", s.outlineRings},
+                      {"contourEdges", r.contourEdges},
+                      {"outlineEdges", r.outlineEdges},
+                      {"faces", r.outlineFaces}};
     rep["lights"] = lights;
     rep["levels"] = levels;
     rep["warnings"] = asset.warnings;
@@ -180,6 +207,9 @@ int run(const Settings& s) {
     opt.lights = s.lights;
     opt.boundaryTolerance = s.boundaryTolerance;
     opt.silhouetteBandDeg = s.silhouetteBand;
+    opt.keepOutline = s.keepOutline;
+    opt.viewDistance = s.viewDistance;
+    opt.outlineRings = s.outlineRings;
     opt.threads = cli::resolveThreads(s.common.threads);
     cli::Progress progress("agsphere-build", cli::progressEnabled(s.common));
     opt.progress = [&progress](double f) { return progress(f); };

@@ -297,6 +297,14 @@ int main(int argc, char** argv) {
             if (s.compare.resolution < 8 || s.compare.resolution > 8192)
                 throw UsageError("--resolution must be in [8, 8192]");
         });
+        p.option("--fov", "DEG",
+                 "vertical field of view of the renders (default 60); the cameras sit at radius / sin(fov/2) from "
+                 "the centre, so a small angle approximates an orthographic view",
+                 [&](const std::string& v) {
+                     double deg = cli::parseDouble("--fov", v);
+                     if (!(deg >= 0.5 && deg <= 120)) throw UsageError("--fov must be in [0.5, 120]");
+                     s.compare.fovY = deg * 3.14159265358979323846 / 180;
+                 });
         p.option("--samples", "N", "area samples per side (default 200000; 0 = vertices only)", [&](const std::string& v) {
             int n = cli::parseInt("--samples", v);
             if (n < 0) throw UsageError("--samples must be >= 0");

@@ -4,6 +4,9 @@
 //   buildTopology      face normals and areas, half-edge twins (manifold edges only), vertex ->
 //                      faces, each face's cell at the finest depth (faces without a normal take a
 //                      neighbour's)
+//   outline faces      (views/lights, contour.cpp) faces of the contour edges on each view's
+//                      projected outline: pinned, i.e. kept unchanged as one-face regions whose
+//                      boundary runs keep every vertex
 //   depth statistics   for every uniform depth: regions, cell error thresholds, boundary runs,
 //                      simplified runs -> estimated triangles per cell (drives the selection)
 //   selectCut          per level: leaves of the quadtree refined round by round (silhouette
@@ -13,7 +16,8 @@
 //                      contained in finer ones (region hierarchy)
 //   buildLevel         regions of the cut -> runs -> Douglas-Peucker per run -> ear clipping per
 //                      region in its cell's plane -> fallbacks (restore runs, keep original faces)
-//                      until the level is manifold where the input is -> faces, wedges, pairs
+//                      until the level is manifold where the input is and no new triangle pokes
+//                      out of a view's outline -> faces, wedges, pairs
 //
 // Cell error threshold (thesis: "each cell has maximum vertex deviation as an error threshold"):
 // the largest distance of a region vertex to its region's plane (area-weighted normal through the
@@ -29,6 +33,7 @@
 #include <unordered_map>
 #include <unordered_set>
 
+#include "agsphere/contour.h"
 #include "agsphere/sphere_table.h"
 #include "lodbake/agsphere/polygon.h"
 #include "lodbake/core/closest_point.h"
@@ -116,6 +121,11 @@ struct Topology {
     std::vector<uint32_t> twin;      // per half-edge 3f+k (t[k] -> t[k+1]): twin half-edge, kNone, kNonManifold
     std::vector<uint32_t> vfOffset, vfFace;  // vertex -> faces (ascending)
     std::vector<uint32_t> finestCell;        // per face, cell at maxDepth
+    // Per face (empty = none): an outline face of a view, kept unchanged as a region of its own
+    // (its boundary runs keep every vertex).
+    std::vector<char> pinned;
+    OutlineFaces outline;  // the views' rasters (keepOutline): new triangles must not leave the outline
+    bool isPinned(uint32_t f) const { return !pinned.empty() && pinned[f]; }
     double diagonal = 0;
     const Vec3& P(uint32_t v) const { return mesh->positions[v]; }
     const Tri& T(uint32_t f) const { return mesh->triangles[f]; }
@@ -249,7 +259,7 @@ Regions buildRegions(const Topology& t, const Cut& cut) {
             uint32_t o = t.twin[3 * f + k];
             if (o >= kNonManifold) continue;
             uint32_t g = o / 3;
-            if (g < f || key[g] != key[f]) continue;
+            if (g < f || key[g] != key[f] || t.isPinned(f) || t.isPinned(g)) continue;
             uint32_t a = findRoot(parent, f), b = findRoot(parent, g);
             if (a != b) parent[std::max(a, b)] = std::min(a, b);
         }
@@ -682,6 +692,14 @@ void setTolerances(const Topology& t, const Regions& r, Runs& R, double scale) {
     }
 }
 
+// Runs next to an outline face keep every vertex (the face stays as it is).
+void pinRuns(const Topology& t, const Regions& r, Runs& R) {
+    if (t.pinned.empty()) return;
+    for (Run& run : R.runs)
+        if (t.isPinned(r.rep[run.regionA]) || (run.regionB != kNone && t.isPinned(r.rep[run.regionB])))
+            run.restored = true;
+}
+
 // ---- 6. A level from a cut -----------------------------------------------------------------
 
 struct LevelBuild {
@@ -722,6 +740,7 @@ LevelBuild buildLevelGeometry(const Topology& t, const Cut& cut, double boundary
     setTolerances(t, L.regions, L.runs, boundaryTolerance);
     if (boundaryTolerance <= 0)
         for (Run& run : L.runs.runs) run.tolerance = 1e-9 * t.diagonal;
+    pinRuns(t, L.regions, L.runs);
     simplifyRuns(t, L.runs);
     const uint32_t nr = L.regions.count();
     L.out.assign(nr, {});
@@ -732,9 +751,28 @@ LevelBuild buildLevelGeometry(const Topology& t, const Cut& cut, double boundary
             L.out[i].state = RegionState::Empty;
             continue;
         }
+        if (t.isPinned(L.regions.rep[i])) {
+            L.out[i].state = RegionState::Kept;
+            L.out[i].tris = {t.T(L.regions.rep[i])};
+            continue;
+        }
         work.push_back(i);
     }
     std::vector<char> triedForbidden(nr, 0);
+    // Retriangulates region i. Outline (keepOutline): new triangles that cover, seen from a view,
+    // what the original leaves uncovered (flattening across a concave stretch of the outline) count
+    // as a failure, so the region gets its runs restored, then keeps its original faces.
+    auto tryRegion = [&](uint32_t i, const std::unordered_set<uint64_t>* forbidden) {
+        RegionOut& o = L.out[i];
+        if (!retriangulate(t, L.regions, L.runs, i, o, forbidden)) return false;
+        if (!t.outline.views.empty())
+            for (const Tri& tr : o.tris)
+                if (protrudes(t.outline, t.P(tr[0]), t.P(tr[1]), t.P(tr[2]))) {
+                    o.tris.clear();
+                    return false;
+                }
+        return true;
+    };
     for (int pass = 0; pass < 1000 && !work.empty(); ++pass) {
         while (!work.empty()) {
             std::sort(work.begin(), work.end());
@@ -743,7 +781,7 @@ LevelBuild buildLevelGeometry(const Topology& t, const Cut& cut, double boundary
             for (uint32_t i : work) {
                 RegionOut& o = L.out[i];
                 if (o.state == RegionState::Kept || o.state == RegionState::Empty) continue;
-                if (retriangulate(t, L.regions, L.runs, i, o)) o.state = RegionState::Retriangulated;
+                if (tryRegion(i, nullptr)) o.state = RegionState::Retriangulated;
                 else failRegion(t, L, runsOf, i, rebuild);
             }
             work = std::move(rebuild);
@@ -802,7 +840,7 @@ LevelBuild buildLevelGeometry(const Topology& t, const Cut& cut, double boundary
                         if (--uses[e] == 0) uses.erase(e);
                     }
                 for (const auto& [e, n] : uses) forbidden.insert(e);
-                bool ok = !triedForbidden[i] && retriangulate(t, L.regions, L.runs, i, o, &forbidden);
+                bool ok = !triedForbidden[i] && tryRegion(i, &forbidden);
                 triedForbidden[i] = 1;
                 if (!ok) failRegion(t, L, runsOf, i, work);
                 for (const Tri& tr : o.tris)
@@ -1240,6 +1278,23 @@ AgsphereResult buildAgsphere(const TriMesh& mesh, const AgsphereOptions& options
     for (Vec3& v : sphereOptions.lights) v = frame.toSphere(normalize(v));
     Topology t = buildTopology(mesh, D, frame);
     res.diagonal = t.diagonal;
+    if (options.keepOutline && (!options.views.empty() || !options.lights.empty())) {
+        // Views at their eye distance; lights at infinity (the outline seen from a light is the
+        // light silhouette: the shadow's outline).
+        OutlineOptions oo;
+        oo.viewDistance = options.viewDistance;
+        oo.rings = options.outlineRings;
+        OutlineFaces of = outlineFaces(mesh, options.views, oo);
+        oo.viewDistance = 0;
+        OutlineFaces lit = outlineFaces(mesh, options.lights, oo);
+        for (uint32_t f = 0; f < t.nf; ++f) of.keep[f] = !t.degenerate[f] && (of.keep[f] || lit.keep[f]);
+        for (OutlineView& v : lit.views) of.views.push_back(std::move(v));
+        res.contourEdges = of.contourEdges + lit.contourEdges;
+        res.outlineEdges = of.outlineEdges + lit.outlineEdges;
+        t.pinned = std::move(of.keep);
+        t.outline = std::move(of);
+        for (char k : t.pinned) res.outlineFaces += k != 0;
+    }
     auto nb = sphereNeighbourTable(D);
     res.secondsCells = secondsSince(t0);
     progress(0.05);
@@ -1254,6 +1309,7 @@ AgsphereResult buildAgsphere(const TriMesh& mesh, const AgsphereOptions& options
         Regions r = buildRegions(t, cut);
         Runs R = buildRuns(t, r);
         setTolerances(t, r, R, options.boundaryTolerance);
+        pinRuns(t, r, R);
         simplifyRuns(t, R);
         tables.estimate[size_t(d)].assign(sphereCellCount(d), 0);
         tables.threshold[size_t(d)].assign(sphereCellCount(d), 0.f);
@@ -1375,9 +1431,12 @@ AgsphereResult buildAgsphere(const TriMesh& mesh, const AgsphereOptions& options
                 default: ++st.otherCells; break;
             }
         }
-        for (const RegionOut& o : L.out) {
+        for (uint32_t i = 0; i < L.regions.count(); ++i) {
+            const RegionOut& o = L.out[i];
+            bool pinned = t.isPinned(L.regions.rep[i]);
             st.retriangulatedRegions += o.state == RegionState::Retriangulated;
-            st.keptRegions += o.state == RegionState::Kept;
+            st.keptRegions += o.state == RegionState::Kept && !pinned;
+            st.outlineFaces += pinned;
         }
         st.restoredRuns = L.restoredRuns;
         st.runs = uint32_t(L.runs.runs.size());

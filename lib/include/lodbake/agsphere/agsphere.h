@@ -78,6 +78,21 @@ struct AgsphereOptions {
     double silhouetteBandDeg = 30;
     // Cells facing away from every view (never seen from those directions) stay at depth 0.
     bool backCellsCoarsest = true;
+    // With views or lights: the faces on each view's (light's) outline keep their original
+    // triangles as regions of their own, and the boundary runs around them keep every vertex, so
+    // the level's outline seen from the view is the original's. Outline faces: both faces of every
+    // contour edge (between a face towards and a face away from the eye, or a mesh-border edge)
+    // whose projection lies on the border of the projected mesh. Seen from a light, the outline is
+    // the light silhouette (the shadow's outline). A region whose new triangles would cover, seen
+    // from a view or light, what the original leaves uncovered is restored (runs, then original
+    // faces). false = the thesis's cell-only selection.
+    bool keepOutline = true;
+    // Eye distance for the outline, in bounding radii (farthest vertex from the bounding-box centre)
+    // from the box centre; 0 = infinitely far (orthographic: the contour depends on the direction
+    // only), else > 1. `compare`'s cameras sit at 1 / sin(30 degrees) = 2 radii.
+    double viewDistance = 0;
+    // Extra rings of faces (sharing a vertex) kept around the outline faces.
+    int outlineRings = 0;
     // Boundary runs are simplified while every removed vertex is within
     // boundaryTolerance * (the smaller error threshold of the run's two cells); 0 keeps every
     // boundary vertex (only exactly straight runs lose their middle vertices).
@@ -102,6 +117,7 @@ struct AgsphereLevelStats {
     uint64_t estimatedTriangles = 0;
     uint32_t retriangulatedRegions = 0;
     uint32_t keptRegions = 0;       // regions that kept their original faces (not a simple polygon)
+    uint32_t outlineFaces = 0;      // outline faces kept unchanged (keepOutline)
     uint32_t restoredRuns = 0;      // runs whose simplification was undone (failures, collisions)
     uint32_t runs = 0, simplifiedRuns = 0;
     // "target"; "coarsest cut" (the default cut already has more triangles than the target: the
@@ -114,6 +130,7 @@ struct AgsphereResult {
     std::vector<AgsphereLevelStats> levelStats;  // parallel to multires.levels
     std::vector<AgsphereDepthStats> depths;      // depth 0 .. maxDepth
     double diagonal = 0;
+    uint32_t contourEdges = 0, outlineEdges = 0, outlineFaces = 0;  // keepOutline, over all views
     double secondsCells = 0, secondsDepths = 0, secondsSelect = 0, secondsLevels = 0;
 };
 
