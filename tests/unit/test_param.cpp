@@ -235,3 +235,124 @@ TEST(Bake, VertexColoursBake) {
     for (size_t i = 0; i < 16 * 16; ++i) ASSERT_NEAR(r.pixels[i * 3 + 2], 1.0, 1e-6);
     EXPECT_NEAR(r.pixels[0], 0.0, 1e-6);
 }
+
+TEST(Bake, IslandSamplesTheClosestSurfacePoint) {
+    // A triangle floating 0.3 above the right (green) quad, given its own UV island in the gap
+    // between the two charts: its texels show the closest original point, i.e. green.
+    Asset a = twoQuads({1, 0, 0, 1}, {0, 1, 0, 1});
+    BakeOptions o;
+    o.size = 40;
+    o.fillGaps = false;
+    BakeIsland isl;
+    isl.position = {Vec3{1.2, 0.2, 0.3}, Vec3{1.8, 0.2, 0.3}, Vec3{1.5, 0.8, 0.3}};
+    isl.uv = {Vec2{0.43, 0.8}, Vec2{0.57, 0.8}, Vec2{0.5, 0.2}};
+    isl.faces = {0, 1, 2, 3};
+    BakeResult r = bakeBaseColor(a, twoQuadsUV(), o, {isl});
+    EXPECT_GT(r.islandTexels, 10u);
+    auto px = [&](int x, int y, int c) { return r.pixels[(size_t(y) * 40 + size_t(x)) * 3 + size_t(c)]; };
+    for (int y = 16; y < 28; ++y) {
+        ASSERT_NEAR(px(20, y, 0), 0.0, 1e-6) << y;
+        ASSERT_NEAR(px(20, y, 1), 1.0, 1e-6) << y;
+    }
+    BakeIsland none = isl;
+    none.faces.clear();
+    EXPECT_THROW(bakeBaseColor(a, twoQuadsUV(), o, {none}), InvalidInput);
+}
+
+namespace {
+
+// A flat 5 x 5 vertex grid (z = 0, normal +z) as the original mesh, one base region, and one
+// level of hand-made triangles over original vertices: A (large) contains B (overlap), C is
+// apart, D is clockwise (flipped in any orientation-preserving chart map).
+struct FoldedLevel {
+    TriMesh mesh;
+    Multires mr;
+};
+
+FoldedLevel foldedLevel() {
+    FoldedLevel r;
+    TriMesh& m = r.mesh;
+    auto v = [](int x, int y) { return uint32_t(y * 5 + x); };
+    for (int y = 0; y < 5; ++y)
+        for (int x = 0; x < 5; ++x) m.positions.push_back({double(x), double(y), 0});
+    for (int y = 0; y < 4; ++y)
+        for (int x = 0; x < 4; ++x) {
+            m.triangles.push_back({v(x, y), v(x + 1, y), v(x + 1, y + 1)});
+            m.triangles.push_back({v(x, y), v(x + 1, y + 1), v(x, y + 1)});
+        }
+    m.cornerWedges = m.triangles;
+    m.wedges.vertex.resize(m.positions.size());
+    for (uint32_t i = 0; i < m.positions.size(); ++i) m.wedges.vertex[i] = i;
+    m.triangleMaterial.assign(m.triangles.size(), 0);
+    Level L;
+    L.triangles = {{v(0, 0), v(4, 0), v(0, 4)},   // A
+                   {v(1, 1), v(3, 1), v(1, 3)},   // B, inside A
+                   {v(4, 4), v(2, 4), v(4, 2)},   // C
+                   {v(3, 4), v(4, 4), v(4, 3)}};  // D, clockwise
+    L.faces = {0, 10, 31, 30};
+    L.cornerWedges = L.triangles;
+    L.faceRegion.assign(m.triangleCount(), 0);
+    L.regionCount = 1;
+    r.mr.levels.push_back(L);
+    return r;
+}
+
+}  // namespace
+
+TEST(ParamIslands, FoldedLevelTrianglesGetIslandsAndEveryLevelIsInjective) {
+    FoldedLevel fl = foldedLevel();
+    ParameterizeOptions o;
+    o.textureSize = 128;
+    o.levelIslands = false;
+    ParameterizeResult folded = parameterize(fl.mesh, fl.mr, o);
+    ASSERT_EQ(folded.levels.size(), 1u);
+    UVInjectivity before = checkUVInjectivity(folded.levels[0].uv);
+    EXPECT_EQ(before.flips, 1u);     // D
+    EXPECT_EQ(before.overlaps, 2u);  // A and B
+    EXPECT_TRUE(folded.islands.empty());
+
+    o.levelIslands = true;
+    ParameterizeResult r = parameterize(fl.mesh, fl.mr, o);
+    ASSERT_EQ(r.islands.size(), 2u);  // D, and the smaller of the overlapping pair (B)
+    EXPECT_EQ(r.levels[0].islands, 2u);
+    UVInjectivity after = checkUVInjectivity(r.levels[0].uv);
+    EXPECT_EQ(after.flips, 0u);
+    EXPECT_EQ(after.overlaps, 0u);
+    // Islands are inside the atlas and keep texels (at 128 texels, >= ~2 texels high).
+    for (const LevelIsland& isl : r.islands) {
+        EXPECT_FALSE(isl.faces.empty());
+        for (const Vec2& p : isl.uv) {
+            EXPECT_GT(p.x, 0);
+            EXPECT_LT(p.x, 1);
+            EXPECT_GT(p.y, 0);
+            EXPECT_LT(p.y, 1);
+        }
+        Vec2 a{isl.uv[0].x, -isl.uv[0].y}, b{isl.uv[1].x, -isl.uv[1].y}, c{isl.uv[2].x, -isl.uv[2].y};
+        EXPECT_GT(0.5 * cross(b - a, c - a) * 128 * 128, 1.0);
+    }
+    // Written into the asset: the level's wedges carry exactly these injective UVs, and the
+    // texture deviation of an island triangle is its distance to the surface (0 here: flat).
+    Asset asset;
+    asset.mesh = fl.mesh;
+    Multires mr = fl.mr;
+    Image img;
+    AtlasApplyStats st = applyAtlas(asset, mr, r, img);
+    EXPECT_EQ(st.islandTriangles, 2u);
+    UVInjectivity written = checkLevelUVs(asset.mesh, mr.levels[0].triangles, mr.levels[0].cornerWedges);
+    EXPECT_EQ(written.flips + written.overlaps, 0u);
+    // The island triangles alone (B and D): every sample is measured on an island.
+    Level islandsOnly;
+    for (size_t t : {size_t(1), size_t(3)}) {
+        islandsOnly.triangles.push_back(mr.levels[0].triangles[t]);
+        islandsOnly.faces.push_back(mr.levels[0].faces[t]);
+        islandsOnly.cornerWedges.push_back(mr.levels[0].cornerWedges[t]);
+    }
+    TextureDeviationOptions dopt;
+    dopt.samples = 2000;
+    dopt.islands = &r.islands;
+    TextureDeviation dev = textureDeviation(asset.mesh, islandsOnly, mr.charts, dopt);
+    EXPECT_EQ(dev.islandSamples, dev.samples);
+    EXPECT_GT(dev.samples, 1000u);
+    EXPECT_EQ(dev.outside, 0u);
+    EXPECT_LT(dev.maxRelative, 1e-9);
+}

@@ -22,6 +22,7 @@ struct Settings {
     int maxCharts = 0;
     int iterations = 50;
     bool allowLevelFolds = false;
+    bool levelIslands = true;
 };
 
 Settings parseArgs(int argc, char** argv, bool& proceed) {
@@ -37,9 +38,23 @@ Settings parseArgs(int argc, char** argv, bool& proceed) {
              [&](const std::string& v) { s.maxCharts = cli::parseInt("--max-charts", v); });
     p.option("--iterations", "N", "Ceres iterations per chart (0 = keep the Tutte maps; default 50)",
              [&](const std::string& v) { s.iterations = cli::parseInt("--iterations", v); });
+    p.flag("--no-level-islands",
+           "no fallback islands: a level triangle that folds in its chart keeps its folded UVs (then exit 4 unless "
+           "--allow-level-folds)",
+           [&] { s.levelIslands = false; });
     p.flag("--allow-level-folds",
            "write the output even when a level keeps flipped/overlapping UV triangles (reported); default: exit 4",
            [&] { s.allowLevelFolds = true; });
+    p.exitCodes(
+        "Every level is checked in the packed atlas (flipped or overlapping UV triangles). A level\n"
+        "triangle that still folds inside its chart (usually one a collapse moved across a chart cut)\n"
+        "falls back to its own small UV island: the coarse triangle laid flat at the atlas density,\n"
+        "baked by sampling the closest point of the original surface at each texel (same density,\n"
+        "but its texels are not continuous with the neighbouring charts', so filtering can show a\n"
+        "seam). The report counts islands per level (islandTriangles); docs/parameterize.md.\n"
+        "Exit codes: 0 success, 1 usage error, 2 unreadable or invalid input,\n"
+        "            3 valid input but the operation is impossible, 4 internal or solver failure\n"
+        "            (including a level that still folds, unless --allow-level-folds).\n");
     proceed = p.parse(argc, argv);
     return s;
 }
@@ -71,6 +86,7 @@ int run(const Settings& s) {
     opt.maxIterations = s.iterations;
     opt.charts.maxCharts = uint32_t(s.maxCharts);
     opt.threads = s.common.threads;
+    opt.levelIslands = s.levelIslands;
     cli::Progress progress("parameterize", cli::progressEnabled(s.common));
     opt.progress = [&progress](double f) { return progress(f); };
     ParameterizeResult param = parameterize(asset.mesh, *multires, opt);
@@ -82,7 +98,15 @@ int run(const Settings& s) {
     auto t1 = std::chrono::steady_clock::now();
     BakeOptions bo;
     bo.size = s.size;
-    BakeResult baked = bakeBaseColor(asset, param.cornerUV, bo);
+    std::vector<BakeIsland> islands;
+    for (const LevelIsland& li : param.islands) {
+        BakeIsland b;
+        for (size_t k = 0; k < 3; ++k) b.position[k] = asset.mesh.positions[li.vertices[k]];
+        b.uv = li.uv;
+        b.faces = li.faces;
+        islands.push_back(std::move(b));
+    }
+    BakeResult baked = bakeBaseColor(asset, param.cornerUV, bo, islands);
     double bakeSeconds = cli::secondsSince(t1);
 
     AtlasApplyStats applied = applyAtlas(asset, *multires, param, baked.image);
@@ -101,7 +125,9 @@ int run(const Settings& s) {
     // Texture deviation of the coarsest level (what beta < 1 is meant to lower).
     auto t3 = std::chrono::steady_clock::now();
     TextureDeviation deviation;
-    if (!multires->levels.empty()) deviation = textureDeviation(asset.mesh, multires->levels.back(), multires->charts);
+    TextureDeviationOptions dopt;
+    dopt.islands = &param.islands;
+    if (!multires->levels.empty()) deviation = textureDeviation(asset.mesh, multires->levels.back(), multires->charts, dopt);
     double deviationSeconds = cli::secondsSince(t3);
     size_t levelFlips = 0, levelOverlaps = 0;
     for (const UVInjectivity& c : levelChecks) {
@@ -139,11 +165,14 @@ int run(const Settings& s) {
     nlohmann::json levels = nlohmann::json::array();
     for (size_t k = 0; k < levelChecks.size(); ++k)
         levels.push_back({{"level", k}, {"triangles", levelChecks[k].triangles}, {"flips", levelChecks[k].flips},
-                          {"overlaps", levelChecks[k].overlaps}});
+                          {"overlaps", levelChecks[k].overlaps},
+                          {"islandTriangles", k == 0 ? size_t(0) : param.levels[k - 1].islands},
+                          {"projectedCorners", k == 0 ? size_t(0) : param.levels[k - 1].projectedCorners}});
     rep["levels"] = levels;
     rep["textureDeviation"] = {{"level", multires->levels.size()},
                                {"samples", deviation.samples},
                                {"outside", deviation.outside},
+                               {"islandSamples", deviation.islandSamples},
                                {"mean", deviation.mean},
                                {"rms", deviation.rms},
                                {"max", deviation.max},
@@ -168,6 +197,10 @@ int run(const Settings& s) {
                     {"atlasFill", param.atlasFill},
                     {"newWedges", applied.newWedges},
                     {"projectedCorners", applied.projectedCorners},
+                    {"islands", param.islands.size()},
+                    {"floatRepairs", param.floatRepairs},
+                    {"islandTriangles", applied.islandTriangles},
+                    {"islandTexels", baked.islandTexels},
                     {"coveredTexels", baked.coveredTexels},
                     {"texturedLookups", baked.texturedLookups}};
     rep["warnings"] = asset.warnings;
@@ -204,8 +237,9 @@ int run(const Settings& s) {
                         levelChecks[k].flips, levelChecks[k].overlaps);
         std::printf("texture deviation of level %zu: mean %.3g, max %.3g (x bbox diagonal)\n", multires->levels.size(),
                     deviation.meanRelative, deviation.maxRelative);
-        std::printf("projected level corners: %zu; time: parameterize %.2fs, bake %.2fs\n", applied.projectedCorners,
-                    param.seconds, bakeSeconds);
+        std::printf("projected level corners: %zu; level-triangle islands: %zu (%zu level triangles)\n",
+                    applied.projectedCorners, param.islands.size(), applied.islandTriangles);
+        std::printf("time: parameterize %.2fs, bake %.2fs\n", param.seconds, bakeSeconds);
     }
     return cli::kOk;
 }

@@ -5,7 +5,9 @@
 // space, 1-texel conservative dilation, exact coverage wins over dilated) -> shadeTexels (base
 // colour factor x filtered texture lookup at the original UV with derivatives from the UV
 // Jacobian x COLOR_0, in linear space) -> fillGaps (ImageBufAlgo::fillholes_pushpull with
-// coverage as alpha) -> encodePng.
+// coverage as alpha) -> encodePng. Islands (level triangles parameterize could not keep
+// injective in their chart) are rasterised after the faces; their texels sample the original
+// surface at the closest point (rasterizeIslands).
 #include "lodbake/bake/bake.h"
 
 #include <algorithm>
@@ -21,6 +23,7 @@
 #include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/texture.h>
 
+#include "lodbake/core/closest_point.h"
 #include "lodbake/core/errors.h"
 
 namespace lodbake {
@@ -106,6 +109,7 @@ struct TexelHit {
     int32_t face = -1;
     float dist = 1e30f;
     std::array<float, 3> bary{};
+    int32_t island = -1;  // >= 0: the texel belongs to this island; face/bary = the closest original point
 };
 
 // Closest point of triangle abc to p as barycentrics; returns the distance.
@@ -158,9 +162,102 @@ void rasterizeTriangles(const TriMesh& mesh, const std::vector<std::array<Vec2, 
     }
 }
 
+// Islands: texel -> point X of the island's 3D triangle -> closest point of its faces. Candidate
+// faces are those whose bounding box is within d0 + r of the centroid (d0 = the centroid's own
+// distance to the faces, r = the triangle's circumradius about the centroid): no point of the
+// triangle can have its closest point farther than that.
+void rasterizeIslands(const TriMesh& mesh, const std::vector<BakeIsland>& islands, int size, double dilation,
+                      std::vector<TexelHit>& hits) {
+    for (size_t i = 0; i < islands.size(); ++i) {
+        const BakeIsland& isl = islands[i];
+        if (isl.faces.empty()) throw InvalidInput("bake: island " + std::to_string(i) + " has no faces to sample");
+        Vec2 P[3];
+        for (int k = 0; k < 3; ++k) P[k] = {isl.uv[size_t(k)].x * size, isl.uv[size_t(k)].y * size};
+        if (std::fabs(cross(P[1] - P[0], P[2] - P[0])) < 1e-12) continue;
+        const Vec3 centroid = (isl.position[0] + isl.position[1] + isl.position[2]) * (1.0 / 3);
+        auto closestOf = [&](const std::vector<uint32_t>& faces, Vec3 x, uint32_t& face, std::array<double, 3>& bary) {
+            double best = 1e300;
+            for (uint32_t f : faces) {
+                const Tri& t = mesh.triangles[f];
+                auto b = closestOnTriangle(x, mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]);
+                Vec3 q = mesh.positions[t[0]] * b[0] + mesh.positions[t[1]] * b[1] + mesh.positions[t[2]] * b[2];
+                double d = length2(q - x);
+                if (d < best) {
+                    best = d;
+                    face = f;
+                    bary = b;
+                }
+            }
+            return std::sqrt(best);
+        };
+        uint32_t f0 = 0;
+        std::array<double, 3> b0{};
+        double radius = closestOf(isl.faces, centroid, f0, b0);
+        double r = 0;
+        for (const Vec3& q : isl.position) r = std::max(r, length(q - centroid));
+        radius = (radius + r) * (1 + 1e-9) + 1e-12;
+        std::vector<uint32_t> near;
+        for (uint32_t f : isl.faces) {
+            const Tri& t = mesh.triangles[f];
+            double d2 = 0;
+            for (int a = 0; a < 3; ++a) {
+                double lo = std::min({mesh.positions[t[0]][a], mesh.positions[t[1]][a], mesh.positions[t[2]][a]});
+                double hi = std::max({mesh.positions[t[0]][a], mesh.positions[t[1]][a], mesh.positions[t[2]][a]});
+                double c = centroid[a];
+                double e = c < lo ? lo - c : (c > hi ? c - hi : 0);
+                d2 += e * e;
+            }
+            if (d2 <= radius * radius) near.push_back(f);
+        }
+        if (near.empty()) near = isl.faces;
+        double x0 = std::min({P[0].x, P[1].x, P[2].x}) - dilation, x1 = std::max({P[0].x, P[1].x, P[2].x}) + dilation;
+        double y0 = std::min({P[0].y, P[1].y, P[2].y}) - dilation, y1 = std::max({P[0].y, P[1].y, P[2].y}) + dilation;
+        int ix0 = std::max(0, int(std::floor(x0))), ix1 = std::min(size - 1, int(std::ceil(x1)));
+        int iy0 = std::max(0, int(std::floor(y0))), iy1 = std::min(size - 1, int(std::ceil(y1)));
+        for (int y = iy0; y <= iy1; ++y)
+            for (int x = ix0; x <= ix1; ++x) {
+                std::array<double, 3> b{};
+                double d = closestBary({x + 0.5, y + 0.5}, P[0], P[1], P[2], b);
+                if (d > dilation) continue;
+                TexelHit& h = hits[size_t(y) * size + size_t(x)];
+                if (!(float(d) < h.dist)) continue;
+                Vec3 X = isl.position[0] * b[0] + isl.position[1] * b[1] + isl.position[2] * b[2];
+                uint32_t f = 0;
+                std::array<double, 3> fb{};
+                closestOf(near, X, f, fb);
+                h = {int32_t(f), float(d), {float(fb[0]), float(fb[1]), float(fb[2])}, int32_t(i)};
+            }
+    }
+}
+
+// d(original UV)/d(texel x) and /d(texel y) at an island texel: texel -> 3D on the island's
+// triangle (affine), then 3D -> original UV on face f (its tangent plane, affine).
+void islandDerivatives(const TriMesh& mesh, const BakeIsland& isl, int size, uint32_t f, const Vec2 T[3], Vec2& dx, Vec2& dy) {
+    dx = dy = Vec2{0, 0};
+    Vec2 P[3];
+    for (int k = 0; k < 3; ++k) P[k] = {isl.uv[size_t(k)].x * size, isl.uv[size_t(k)].y * size};
+    Vec2 e1 = P[1] - P[0], e2 = P[2] - P[0];
+    double det = cross(e1, e2);
+    if (!(std::fabs(det) > 0)) return;
+    Vec3 E1 = isl.position[1] - isl.position[0], E2 = isl.position[2] - isl.position[0];
+    Vec3 dXdx = (E1 * e2.y - E2 * e1.y) * (1 / det), dXdy = (E2 * e1.x - E1 * e2.x) * (1 / det);
+    const Tri& t = mesh.triangles[f];
+    Vec3 a1 = mesh.positions[t[1]] - mesh.positions[t[0]], a2 = mesh.positions[t[2]] - mesh.positions[t[0]];
+    double g11 = dot(a1, a1), g12 = dot(a1, a2), g22 = dot(a2, a2), gd = g11 * g22 - g12 * g12;
+    if (!(gd > 0)) return;
+    auto map = [&](Vec3 v) {
+        double r1 = dot(a1, v), r2 = dot(a2, v);
+        double al = (g22 * r1 - g12 * r2) / gd, be = (g11 * r2 - g12 * r1) / gd;
+        return (T[1] - T[0]) * al + (T[2] - T[0]) * be;
+    };
+    dx = map(dXdx);
+    dy = map(dXdy);
+}
+
 }  // namespace
 
-BakeResult bakeBaseColor(const Asset& asset, const std::vector<std::array<Vec2, 3>>& cornerUV, const BakeOptions& o) {
+BakeResult bakeBaseColor(const Asset& asset, const std::vector<std::array<Vec2, 3>>& cornerUV, const BakeOptions& o,
+                         const std::vector<BakeIsland>& islands) {
     auto t0 = std::chrono::steady_clock::now();
     const TriMesh& mesh = asset.mesh;
     if (cornerUV.size() != mesh.triangleCount()) throw InvalidInput("bake: cornerUV size differs from the face count");
@@ -179,6 +276,7 @@ BakeResult bakeBaseColor(const Asset& asset, const std::vector<std::array<Vec2, 
 
     std::vector<TexelHit> hits;
     rasterizeTriangles(mesh, cornerUV, size, o.dilation, hits);
+    rasterizeIslands(mesh, islands, size, o.dilation, hits);
 
     // Shade: linear RGB + coverage.
     OIIO::ImageSpec spec(size, size, 4, OIIO::TypeDesc::FLOAT);
@@ -191,6 +289,7 @@ BakeResult bakeBaseColor(const Asset& asset, const std::vector<std::array<Vec2, 
             const TexelHit& h = hits[size_t(y) * size + size_t(x)];
             if (h.face < 0) continue;
             ++res.coveredTexels;
+            if (h.island >= 0) ++res.islandTexels;
             const uint32_t f = uint32_t(h.face);
             int mi = f < mesh.triangleMaterial.size() ? mesh.triangleMaterial[f] : -1;
             Material def;
@@ -218,13 +317,18 @@ BakeResult bakeBaseColor(const Asset& asset, const std::vector<std::array<Vec2, 
                     for (int k = 0; k < 3; ++k) T[k] = uvs[cw[size_t(k)]];
                     Vec2 uv = T[0] * h.bary[0] + T[1] * h.bary[1] + T[2] * h.bary[2];
                     // Jacobian d(uv)/d(texel) of the affine map atlas texel -> original UV.
-                    Vec2 P[3];
-                    for (int k = 0; k < 3; ++k) P[k] = {cornerUV[f][size_t(k)].x * size, cornerUV[f][size_t(k)].y * size};
-                    Vec2 e1 = P[1] - P[0], e2 = P[2] - P[0], g1 = T[1] - T[0], g2 = T[2] - T[0];
-                    double det = cross(e1, e2);
-                    // inverse of [e1 e2] = 1/det [e2.y -e2.x; -e1.y e1.x]
-                    Vec2 dx = (g1 * e2.y - g2 * e1.y) * (1 / det);   // d uv / d x
-                    Vec2 dy = (g2 * e1.x - g1 * e2.x) * (1 / det);   // d uv / d y
+                    Vec2 dx, dy;
+                    if (h.island >= 0) {
+                        islandDerivatives(mesh, islands[size_t(h.island)], size, f, T, dx, dy);
+                    } else {
+                        Vec2 P[3];
+                        for (int k = 0; k < 3; ++k) P[k] = {cornerUV[f][size_t(k)].x * size, cornerUV[f][size_t(k)].y * size};
+                        Vec2 e1 = P[1] - P[0], e2 = P[2] - P[0], g1 = T[1] - T[0], g2 = T[2] - T[0];
+                        double det = cross(e1, e2);
+                        // inverse of [e1 e2] = 1/det [e2.y -e2.x; -e1.y e1.x]
+                        dx = (g1 * e2.y - g2 * e1.y) * (1 / det);   // d uv / d x
+                        dy = (g2 * e1.x - g1 * e2.x) * (1 / det);   // d uv / d y
+                    }
                     std::array<double, 4> lm;
                     Vec2 st = applyTransform(m.baseColor.transform, uv, lm);
                     Vec2 tdx{lm[0] * dx.x + lm[2] * dx.y, lm[1] * dx.x + lm[3] * dx.y};

@@ -1,25 +1,18 @@
 // applyAtlas: puts a parameterize() result into the asset and its levels (point-consistent
 // mapping: a level vertex is an original vertex, so it takes its UV in the chart of the face).
 //
-// Choice for corners that are not vertices of their face's chart (a collapse moved the corner
-// across a chart boundary): the corner takes the UV of the closest point of that chart's surface
-// (brute force over the chart's faces; such corners are rare and are counted).
+// The level UVs themselves are computed (and checked) by parameterize (ParameterizeResult::levels):
+// corners that are not vertices of their triangle's chart take the UV of the closest point of
+// that chart's surface; level triangles that would fold use their island.
 #include <algorithm>
 #include <map>
+#include <string>
 #include <tuple>
-#include <unordered_map>
 
 #include "lodbake/core/errors.h"
 #include "lodbake/param/parameterize.h"
-#include "lodbake/core/closest_point.h"
 
 namespace lodbake {
-namespace {
-
-
-uint64_t key2(uint32_t a, uint32_t b) { return (uint64_t(a) << 32) | b; }
-
-}  // namespace
 
 AtlasApplyStats applyAtlas(Asset& asset, Multires& multires, const ParameterizeResult& param, const Image& bakedImage) {
     TriMesh& mesh = asset.mesh;
@@ -27,21 +20,6 @@ AtlasApplyStats applyAtlas(Asset& asset, Multires& multires, const ParameterizeR
     if (param.cornerUV.size() != nf || param.charts.faceChart.size() != nf)
         throw InvalidInput("applyAtlas: parameterization does not match the mesh");
     AtlasApplyStats stats;
-
-    // UV of (chart, vertex) from the original faces' corners; faces per chart for projection.
-    std::unordered_map<uint64_t, Vec2> chartVertexUV;
-    std::vector<std::vector<uint32_t>> chartFaces(param.charts.chartCount);
-    for (uint32_t f = 0; f < nf; ++f) {
-        int32_t c = param.charts.faceChart[f];
-        if (c < 0) continue;
-        const Tri& tv = mesh.triangles[f];
-        if (tv[0] == tv[1] || tv[1] == tv[2] || tv[0] == tv[2]) continue;  // as the chart meshes of parameterize
-        chartFaces[size_t(c)].push_back(f);
-        for (int k = 0; k < 3; ++k) chartVertexUV.emplace(key2(uint32_t(c), mesh.triangles[f][size_t(k)]), param.cornerUV[f][size_t(k)]);
-    }
-    auto projectedUV = [&](uint32_t c, uint32_t v) {
-        return closestSurfaceUV(mesh, param.cornerUV, chartFaces[c], mesh.positions[v]);
-    };
 
     // Original wedges keep their attributes; make uv0 present if it was not.
     Wedges& W = mesh.wedges;
@@ -90,29 +68,28 @@ AtlasApplyStats applyAtlas(Asset& asset, Multires& multires, const ParameterizeR
 
     std::vector<uint32_t> faceChart(nf);
     for (size_t f = 0; f < nf; ++f) faceChart[f] = uint32_t(std::max(param.charts.faceChart[f], 0));
-    for (Level& L : multires.levels) {
+    if (param.levels.size() != multires.levels.size())
+        throw InvalidInput("applyAtlas: the parameterization has UVs for " + std::to_string(param.levels.size()) +
+                           " levels, the chain has " + std::to_string(multires.levels.size()));
+    for (size_t li = 0; li < multires.levels.size(); ++li) {
+        Level& L = multires.levels[li];
+        const LevelUV& luv = param.levels[li];
         if (L.faces.size() != L.triangles.size()) throw InvalidInput("level faces and triangles differ in size");
-        const std::vector<uint32_t> triChart = levelTriangleCharts(mesh, faceChart, param.charts.chartCount, L);
+        if (luv.uv.size() != L.triangles.size() || luv.chart.size() != L.triangles.size())
+            throw InvalidInput("applyAtlas: level UVs do not match the level's triangles");
         std::vector<Tri> corners(L.triangles.size());
         for (size_t t = 0; t < L.triangles.size(); ++t) {
-            uint32_t f = L.faces[t];
-            if (f >= nf) throw InvalidInput("level face id out of range");
-            int32_t c = int32_t(triChart[t]);
+            // Wedges are split per chart; an island (chart id >= chartCount) gets its own.
+            const uint32_t c = luv.chart[t];
+            if (c >= param.charts.chartCount) ++stats.islandTriangles;
             for (int k = 0; k < 3; ++k) {
                 uint32_t v = L.triangles[t][size_t(k)];
                 uint32_t source = t < L.cornerWedges.size() ? L.cornerWedges[t][size_t(k)] : anyWedge[v];
                 if (source >= originalWedges) source = anyWedge[v];
-                auto it = chartVertexUV.find(key2(uint32_t(c), v));
-                Vec2 uv;
-                if (it != chartVertexUV.end()) {
-                    uv = it->second;
-                } else {
-                    uv = projectedUV(uint32_t(c), v);
-                    ++stats.projectedCorners;
-                }
-                corners[t][size_t(k)] = wedgeFor(uint32_t(c), v, source, uv);
+                corners[t][size_t(k)] = wedgeFor(c, v, source, luv.uv[t][size_t(k)]);
             }
         }
+        stats.projectedCorners += luv.projectedCorners;
         L.cornerWedges = std::move(corners);
         L.triangleMaterial.assign(L.triangles.size(), stats.material);
     }

@@ -187,7 +187,7 @@ ChartSolveResult optimizeChartUV(const ChartMesh& chart, const std::vector<Chart
     }
     auto block = [&](uint32_t v) { return x.data() + 2 * size_t(v); };
 
-    const int maxRounds = chart.levelTriangles.empty() ? 1 : 8;
+    const int maxRounds = chart.levelTriangles.empty() ? 1 : std::max(1, options.levelRounds);
     std::vector<Vec2> current = initial;
     res.levelFlipsBefore = countLevelFlips(chart, initial);
     res.levelFlipsAfter = res.levelFlipsBefore;

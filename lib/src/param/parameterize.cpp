@@ -23,6 +23,7 @@
 #include "lodbake/core/errors.h"
 #include "lodbake/core/closest_point.h"
 #include "lodbake/core/parallel.h"
+#include "param/uv_check_detail.h"
 
 namespace lodbake {
 namespace {
@@ -220,6 +221,7 @@ void solveChart(LocalChart& c, const ParameterizeOptions& o, double resolution, 
     so.energy.beta = o.beta;
     so.energy.resolution = resolution;
     so.maxIterations = o.maxIterations;
+    so.levelRounds = o.levelRounds;
     rep.tutte = chartEnergy(c.mesh, c.pairs, tutte, so.energy);
     auto valid = [&](const std::vector<Vec2>& uv) {
         return countFlips(c.mesh, uv) == 0 && countOverlaps(c.mesh, uv) == 0;
@@ -285,25 +287,26 @@ struct Placement {
     Vec2 min{};           // chart bbox min in model units
 };
 
-// Shelf packing at density d; returns false when the charts do not fit.
-bool shelfPack(const std::vector<LocalChart>& charts, double d, int size, int gutter, std::vector<Placement>& out) {
+// Shelf packing of point sets (charts and level islands, model units) at density d; returns
+// false when they do not fit.
+bool shelfPack(const std::vector<const std::vector<Vec2>*>& sets, double d, int size, int gutter, std::vector<Placement>& out) {
     struct Item {
         uint32_t id;
         int w, h;
         Vec2 min;
     };
     std::vector<Item> items;
-    for (uint32_t i = 0; i < charts.size(); ++i) {
+    for (uint32_t i = 0; i < sets.size(); ++i) {
         Vec2 lo{1e300, 1e300}, hi{-1e300, -1e300};
-        for (Vec2 p : charts[i].uv) {
+        for (Vec2 p : *sets[i]) {
             lo = {std::min(lo.x, p.x), std::min(lo.y, p.y)};
             hi = {std::max(hi.x, p.x), std::max(hi.y, p.y)};
         }
-        if (charts[i].uv.empty()) lo = hi = {0, 0};
+        if (sets[i]->empty()) lo = hi = {0, 0};
         items.push_back({i, int(std::ceil((hi.x - lo.x) * d)) + 1, int(std::ceil((hi.y - lo.y) * d)) + 1, lo});
     }
     std::sort(items.begin(), items.end(), [](const Item& a, const Item& b) { return a.h != b.h ? a.h > b.h : a.id < b.id; });
-    out.assign(charts.size(), {});
+    out.assign(sets.size(), {});
     int x = gutter, y = gutter, shelf = 0;
     for (const Item& it : items) {
         if (it.w + 2 * gutter > size) return false;
@@ -319,6 +322,81 @@ bool shelfPack(const std::vector<LocalChart>& charts, double d, int size, int gu
     }
     return true;
 }
+
+// Uniform density, shrunk until everything fits; returns the density (texels per model unit).
+double packAll(const std::vector<const std::vector<Vec2>*>& sets, double uvArea, int size, int gutter,
+               std::vector<Placement>& place) {
+    double d = std::sqrt(0.7 * double(size) * size / (uvArea > 0 ? uvArea : 1));
+    int attempts = 0;
+    while (!shelfPack(sets, d, size, gutter, place)) {
+        d *= 0.95;
+        if (++attempts > 400) throw Impossible("charts do not fit into a " + std::to_string(size) + " texture");
+    }
+    return d;
+}
+
+// Model-unit UVs of a level triangle's island: the 3D triangle laid flat (A at the origin, B on
+// +u, C above), each side and the height at least `minSize` so the island keeps texels and a
+// positive float area. Counter-clockwise.
+std::vector<Vec2> islandLayout(Vec3 a, Vec3 b, Vec3 c, double minSize) {
+    Vec3 ab = b - a, ac = c - a;
+    double lab = length(ab);
+    double x = lab > 0 ? dot(ac, ab) / lab : 0;
+    double y = lab > 0 ? length(cross(ab, ac)) / lab : length(ac);
+    lab = std::max(lab, minSize);
+    y = std::max(y, minSize);
+    return {Vec2{0, 0}, Vec2{lab, 0}, Vec2{x, y}};
+}
+
+// glTF stores UVs as floats: an original face that is a sliver in 3D (hence in UV) can flip when
+// its corners are rounded. Such a face's corner opposite its longest edge is moved by one or a
+// few float steps (2^-24, below the overlap tolerance of the checks) to the positive side. Only
+// this face's corner UVs change (cornerUV is per face corner); returns the faces repaired.
+size_t repairFloatSlivers(const TriMesh& mesh, const std::vector<int32_t>& faceChart, std::vector<std::array<Vec2, 3>>& cornerUV) {
+    auto rounded = [](Vec2 p) { return Vec2{double(float(p.x)), double(float(p.y))}; };
+    auto area = [&](const std::array<Vec2, 3>& t) {  // math orientation (v up) of glTF UVs
+        Vec2 a = rounded(t[0]), b = rounded(t[1]), c = rounded(t[2]);
+        a.y = -a.y;
+        b.y = -b.y;
+        c.y = -c.y;
+        return cross(b - a, c - a);
+    };
+    constexpr double kStep = 1.0 / 16777216.0;  // 2^-24: one float step for UVs in [0.5, 1)
+    const Vec2 dirs[8] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, 1}, {-1, 1}, {1, -1}, {-1, -1}};
+    size_t repaired = 0;
+    for (size_t f = 0; f < cornerUV.size(); ++f) {
+        if (faceChart[f] < 0 || degenerateIndices(mesh.triangles[f]) || area(cornerUV[f]) > 0) continue;
+        std::array<Vec2, 3>& t = cornerUV[f];
+        size_t apex = 0;
+        double longest = -1;
+        for (size_t k = 0; k < 3; ++k) {
+            Vec2 e = rounded(t[(k + 1) % 3]) - rounded(t[(k + 2) % 3]);
+            if (dot(e, e) > longest) {
+                longest = dot(e, e);
+                apex = k;
+            }
+        }
+        bool done = false;
+        for (int step = 1; step <= 8 && !done; ++step)
+            for (const Vec2& dir : dirs) {
+                std::array<Vec2, 3> c = t;
+                c[apex] = rounded(t[apex]) + dir * (step * kStep);
+                if (area(c) > 0) {
+                    t = c;
+                    done = true;
+                    break;
+                }
+            }
+        if (done) ++repaired;
+    }
+    return repaired;
+}
+
+// A level corner projected onto a chart: the closest point of the chart's faces (face, bary).
+struct Projection {
+    uint32_t face = 0;
+    std::array<double, 3> bary{1, 0, 0};
+};
 
 }  // namespace
 
@@ -393,36 +471,165 @@ ParameterizeResult parameterize(const TriMesh& mesh, const Multires& multires, c
         ++res.areaRatioHistogram[size_t(bin)];
     }
 
-    // (5) Packing: uniform density, shrunk until everything fits.
+    // (5) Packing, (6) corner UVs, (7) level UVs with the island fallback: a level triangle still
+    // flipped or overlapping in the packed atlas gets its own island; islands take atlas space, so
+    // the atlas is packed again and every level re-checked until no level folds.
     for (LocalChart& c : charts) alignChart(c.uv);
     const int size = options.textureSize;
-    double uvArea = all.sumUV > 0 ? all.sumUV : 1;
-    double d = std::sqrt(0.7 * double(size) * size / uvArea);
-    std::vector<Placement> place;
-    int attempts = 0;
-    while (!shelfPack(charts, d, size, options.gutter, place)) {
-        d *= 0.95;
-        if (++attempts > 400) throw Impossible("charts do not fit into a " + std::to_string(size) + " texture");
+    const double uvArea = all.sumUV > 0 ? all.sumUV : 1;
+    std::vector<std::vector<uint32_t>> chartFaces(charts.size());
+    for (size_t c = 0; c < charts.size(); ++c) chartFaces[c] = charts[c].faces;
+    std::map<Tri, uint32_t> islandOf;               // vertex triple -> island
+    std::vector<std::vector<Vec2>> islandModel;     // island UVs in model units
+    std::unordered_map<uint64_t, Projection> projections;  // (chart, vertex) -> closest chart point
+    const uint32_t chartCount = res.charts.chartCount;
+    std::vector<uint32_t> faceChart(nf);
+    for (size_t f = 0; f < nf; ++f) faceChart[f] = uint32_t(std::max(res.charts.faceChart[f], 0));
+    std::vector<std::vector<uint32_t>> levelTriChart(multires.levels.size());
+    for (size_t li = 0; li < multires.levels.size(); ++li) {
+        const Level& L = multires.levels[li];
+        if (L.faces.size() != L.triangles.size()) throw InvalidInput("level faces and triangles differ in size");
+        for (uint32_t f : L.faces)
+            if (f >= nf) throw InvalidInput("level face id out of range");
+        levelTriChart[li] = levelTriangleCharts(mesh, faceChart, chartCount, L);
     }
-    res.texelsPerUnit = d;
-    res.atlasFill = uvArea * d * d / (double(size) * size);
-
-    // (6) Corner UVs: chart-local map -> texels -> glTF [0,1] with v down (image rows from the top).
-    res.cornerUV.assign(nf, {});
-    auto atlas = [&](size_t c, uint32_t local) {
-        Vec2 p = charts[c].uv[local];
-        double X = place[c].x + (p.x - place[c].min.x) * d + 0.5;
-        double Y = place[c].y + (p.y - place[c].min.y) * d + 0.5;
-        return Vec2{X / size, 1.0 - Y / size};
-    };
-    for (uint32_t f = 0; f < nf; ++f) {
-        int32_t c = res.charts.faceChart[f];
-        if (c < 0 || charts[size_t(c)].uv.empty()) continue;
-        for (int k = 0; k < 3; ++k) {
-            auto it = charts[size_t(c)].local.find(mesh.triangles[f][k]);
-            res.cornerUV[f][size_t(k)] = atlas(size_t(c), it != charts[size_t(c)].local.end() ? it->second : 0);
+    std::vector<std::vector<uint32_t>> vertexCharts(mesh.vertexCount());
+    for (uint32_t c = 0; c < charts.size(); ++c)
+        for (uint32_t v : charts[c].vertices) vertexCharts[v].push_back(c);
+    constexpr int kMaxRounds = 8;
+    for (int round = 0;; ++round) {
+        std::vector<const std::vector<Vec2>*> sets;
+        double islandArea = 0;
+        for (const LocalChart& c : charts) sets.push_back(&c.uv);
+        for (const auto& m : islandModel) {
+            sets.push_back(&m);
+            islandArea += 0.5 * cross(m[1] - m[0], m[2] - m[0]);
         }
+        std::vector<Placement> place;
+        const double d = packAll(sets, uvArea + islandArea, size, options.gutter, place);
+        res.texelsPerUnit = d;
+        res.atlasFill = (uvArea + islandArea) * d * d / (double(size) * size);
+        auto toAtlas = [&](size_t item, Vec2 p) {
+            double X = place[item].x + (p.x - place[item].min.x) * d + 0.5;
+            double Y = place[item].y + (p.y - place[item].min.y) * d + 0.5;
+            return Vec2{X / size, 1.0 - Y / size};
+        };
+        res.cornerUV.assign(nf, {});
+        for (uint32_t f = 0; f < nf; ++f) {
+            int32_t c = res.charts.faceChart[f];
+            if (c < 0 || charts[size_t(c)].uv.empty()) continue;
+            for (int k = 0; k < 3; ++k) {
+                auto it = charts[size_t(c)].local.find(mesh.triangles[f][k]);
+                uint32_t local = it != charts[size_t(c)].local.end() ? it->second : 0;
+                res.cornerUV[f][size_t(k)] = toAtlas(size_t(c), charts[size_t(c)].uv[local]);
+            }
+        }
+        res.islands.resize(islandModel.size());
+        for (size_t i = 0; i < islandModel.size(); ++i)
+            for (size_t k = 0; k < 3; ++k) res.islands[i].uv[k] = toAtlas(charts.size() + i, islandModel[i][k]);
+
+        // Level UVs as applyAtlas writes them.
+        res.levels.assign(multires.levels.size(), {});
+        std::vector<std::vector<uint8_t>> projectedCount(multires.levels.size());
+        for (size_t li = 0; li < multires.levels.size(); ++li) {
+            const Level& L = multires.levels[li];
+            LevelUV& out = res.levels[li];
+            out.chart = levelTriChart[li];
+            out.uv.resize(L.triangles.size());
+            projectedCount[li].assign(L.triangles.size(), 0);
+            for (size_t t = 0; t < L.triangles.size(); ++t) {
+                auto isl = islandOf.find(L.triangles[t]);
+                if (isl != islandOf.end()) {
+                    out.chart[t] = chartCount + isl->second;
+                    out.uv[t] = res.islands[isl->second].uv;
+                    ++out.islands;
+                    continue;
+                }
+                const uint32_t c = out.chart[t];
+                const LocalChart& ch = charts[c];
+                for (size_t k = 0; k < 3; ++k) {
+                    const uint32_t v = L.triangles[t][k];
+                    auto it = ch.local.find(v);
+                    if (it != ch.local.end()) {
+                        out.uv[t][k] = toAtlas(c, ch.uv[it->second]);
+                        continue;
+                    }
+                    ++projectedCount[li][t];
+                    ++out.projectedCorners;
+                    uint64_t key = (uint64_t(c) << 32) | v;
+                    auto pj = projections.find(key);
+                    if (pj == projections.end()) {
+                        Projection pr;
+                        double best = 1e300;
+                        for (uint32_t f : chartFaces[c]) {
+                            const Tri& ft = mesh.triangles[f];
+                            auto bb = closestOnTriangle(mesh.positions[v], mesh.positions[ft[0]], mesh.positions[ft[1]], mesh.positions[ft[2]]);
+                            Vec3 q = mesh.positions[ft[0]] * bb[0] + mesh.positions[ft[1]] * bb[1] + mesh.positions[ft[2]] * bb[2];
+                            double dd = length2(q - mesh.positions[v]);
+                            if (dd < best) {
+                                best = dd;
+                                pr = {f, bb};
+                            }
+                        }
+                        pj = projections.emplace(key, pr).first;
+                    }
+                    const auto& cu = res.cornerUV[pj->second.face];
+                    const auto& bb = pj->second.bary;
+                    out.uv[t][k] = cu[0] * bb[0] + cu[1] * bb[1] + cu[2] * bb[2];
+                }
+            }
+        }
+        if (!options.levelIslands || chartCount == 0 || round >= kMaxRounds) break;
+
+        // Check every level in the atlas exactly as the tool does (float UVs); fold -> island.
+        size_t added = 0;
+        for (size_t li = 0; li < multires.levels.size(); ++li) {
+            const Level& L = multires.levels[li];
+            std::vector<std::array<Vec2, 3>> tris;
+            std::vector<uint32_t> which;
+            for (size_t t = 0; t < L.triangles.size(); ++t) {
+                const Tri& v = L.triangles[t];
+                if (degenerateIndices(v) || islandOf.count(v)) continue;  // islands never overlap a chart
+                tris.push_back(res.levels[li].uv[t]);
+                which.push_back(uint32_t(t));
+            }
+            param_detail::UVFolds folds = param_detail::findUVFolds(tris, 1e-7);
+            std::vector<char> pick(tris.size(), 0);
+            for (size_t i = 0; i < tris.size(); ++i) pick[i] = folds.flipped[i];
+            auto area3 = [&](uint32_t t) {
+                const Tri& v = L.triangles[t];
+                return length(cross(mesh.positions[v[1]] - mesh.positions[v[0]], mesh.positions[v[2]] - mesh.positions[v[0]]));
+            };
+            for (const auto& [i, j] : folds.overlapping) {
+                if (pick[i] || pick[j]) continue;
+                // The one with more projected corners (it straddles a chart cut), else the smaller.
+                uint8_t pi = projectedCount[li][which[i]], pjc = projectedCount[li][which[j]];
+                bool takeI = pi != pjc ? pi > pjc : area3(which[i]) < area3(which[j]);
+                pick[takeI ? i : j] = 1;
+            }
+            for (size_t i = 0; i < tris.size(); ++i) {
+                if (!pick[i]) continue;
+                const uint32_t t = which[i];
+                const Tri& v = L.triangles[t];
+                if (islandOf.count(v)) continue;
+                islandOf.emplace(v, uint32_t(islandModel.size()));
+                islandModel.push_back(islandLayout(mesh.positions[v[0]], mesh.positions[v[1]], mesh.positions[v[2]], 2.0 / d));
+                LevelIsland isl;
+                isl.vertices = v;
+                isl.level = uint32_t(li + 1);
+                std::vector<uint32_t> cs{faceChart[L.faces[t]]};
+                for (uint32_t vv : v) cs.insert(cs.end(), vertexCharts[vv].begin(), vertexCharts[vv].end());
+                std::sort(cs.begin(), cs.end());
+                cs.erase(std::unique(cs.begin(), cs.end()), cs.end());
+                for (uint32_t c : cs) isl.faces.insert(isl.faces.end(), chartFaces[c].begin(), chartFaces[c].end());
+                std::sort(isl.faces.begin(), isl.faces.end());
+                res.islands.push_back(std::move(isl));
+                ++added;
+            }
+        }
+        if (added == 0) break;
     }
+    res.floatRepairs = repairFloatSlivers(mesh, res.charts.faceChart, res.cornerUV);
     if (options.progress) options.progress(1.0);
     res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return res;

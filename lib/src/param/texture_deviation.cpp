@@ -9,7 +9,9 @@
 // placed by the R2 low-discrepancy sequence (Roberts 2018) warped onto the triangle.
 #include <algorithm>
 #include <cmath>
+#include <map>
 
+#include "lodbake/core/closest_point.h"
 #include "lodbake/core/errors.h"
 #include "lodbake/param/parameterize.h"
 
@@ -101,6 +103,9 @@ TextureDeviation textureDeviation(const TriMesh& mesh, const Level& level, const
     const UVGrid grid = buildGrid(layout.cornerUV, use);
 
     const std::vector<uint32_t> triChart = levelTriangleCharts(mesh, layout.faceChart, layout.chartCount, level);
+    std::map<Tri, size_t> islandOf;
+    if (options.islands)
+        for (size_t i = 0; i < options.islands->size(); ++i) islandOf.emplace((*options.islands)[i].vertices, i);
     // Area-weighted sample counts (cumulative rounding: deterministic, total = options.samples).
     std::vector<double> area(level.triangles.size());
     double total = 0;
@@ -124,12 +129,31 @@ TextureDeviation textureDeviation(const TriMesh& mesh, const Level& level, const
             luv[k] = w < mesh.wedges.uv0.size() ? mesh.wedges.uv0[w] : Vec2{};
         }
         const uint32_t chart = triChart[t];
+        auto isl = islandOf.find(v);
         for (size_t s = 0; s < n; ++s, ++seq) {
             double r1 = std::fmod(0.5 + a1 * double(seq + 1), 1.0), r2 = std::fmod(0.5 + a2 * double(seq + 1), 1.0);
             double sq = std::sqrt(r1);
             std::array<double, 3> b{1 - sq, sq * (1 - r2), sq * r2};
             Vec3 p = mesh.positions[v[0]] * b[0] + mesh.positions[v[1]] * b[1] + mesh.positions[v[2]] * b[2];
             Vec2 u = luv[0] * b[0] + luv[1] * b[1] + luv[2] * b[2];
+            if (isl != islandOf.end()) {
+                // An island texel shows the closest point of the island's faces (the bake's rule).
+                double dmin = 1e300;
+                for (uint32_t f : (*options.islands)[isl->second].faces) {
+                    const Tri& o = mesh.triangles[f];
+                    auto w = closestOnTriangle(p, mesh.positions[o[0]], mesh.positions[o[1]], mesh.positions[o[2]]);
+                    Vec3 q = mesh.positions[o[0]] * w[0] + mesh.positions[o[1]] * w[1] + mesh.positions[o[2]] * w[2];
+                    dmin = std::min(dmin, length2(p - q));
+                }
+                if (!(dmin < 1e300)) continue;
+                double d = std::sqrt(dmin);
+                sum += d;
+                sum2 += d * d;
+                res.max = std::max(res.max, d);
+                ++res.samples;
+                ++res.islandSamples;
+                continue;
+            }
             // Point location in the chart's original triangles; else the UV-closest one nearby.
             double best = 1e300;
             uint32_t bestFace = UINT32_MAX;

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "lodbake/param/parameterize.h"
+#include "param/uv_check_detail.h"
 
 namespace lodbake {
 namespace {
@@ -36,25 +37,25 @@ bool interiorsOverlap(const std::array<Vec2, 3>& a, const std::array<Vec2, 3>& b
 
 }  // namespace
 
-UVInjectivity checkUVInjectivity(const std::vector<std::array<Vec2, 3>>& input, double tolerance) {
+namespace param_detail {
+
+UVFolds findUVFolds(const std::vector<std::array<Vec2, 3>>& input, double tolerance) {
     // Checked as written: glTF stores float UVs, and rounding can flip a sliver triangle.
     std::vector<std::array<Vec2, 3>> tris(input);
     for (auto& t : tris)
         for (Vec2& p : t) p = {double(float(p.x)), double(float(p.y))};
-    UVInjectivity r;
-    r.triangles = tris.size();
+    UVFolds r;
     const size_t n = tris.size();
+    r.flipped.assign(n, 0);
     if (n == 0) return r;
-    std::vector<char> flipped(n, 0), bad(n, 0);
     Vec2 lo{1e300, 1e300}, hi{-1e300, -1e300};
     for (size_t i = 0; i < n; ++i) {
-        if (!(signedAreaGltf(tris[i]) > 0)) flipped[i] = 1;
+        if (!(signedAreaGltf(tris[i]) > 0)) r.flipped[i] = 1;
         for (const Vec2& p : tris[i]) {
             lo = {std::min(lo.x, p.x), std::min(lo.y, p.y)};
             hi = {std::max(hi.x, p.x), std::max(hi.y, p.y)};
         }
     }
-    r.flips = size_t(std::count(flipped.begin(), flipped.end(), 1));
     // Grid of about one cell per triangle.
     const int g = std::clamp(int(std::sqrt(double(n))), 1, 2048);
     const double w = std::max(hi.x - lo.x, 1e-30), h = std::max(hi.y - lo.y, 1e-30);
@@ -69,19 +70,32 @@ UVInjectivity checkUVInjectivity(const std::vector<std::array<Vec2, 3>>& input, 
             for (int x = x0; x <= x1; ++x) fn(size_t(y) * size_t(g) + size_t(x));
     };
     for (size_t i = 0; i < n; ++i)
-        if (!flipped[i]) forCells(i, [&](size_t c) { ++count[c + 1]; });
+        if (!r.flipped[i]) forCells(i, [&](size_t c) { ++count[c + 1]; });
     for (size_t c = 1; c < count.size(); ++c) count[c] += count[c - 1];
     std::vector<uint32_t> items(count.back());
     std::vector<uint32_t> fill(count.begin(), count.end() - 1);
     for (size_t i = 0; i < n; ++i)
-        if (!flipped[i]) forCells(i, [&](size_t c) { items[fill[c]++] = uint32_t(i); });
+        if (!r.flipped[i]) forCells(i, [&](size_t c) { items[fill[c]++] = uint32_t(i); });
     for (size_t c = 0; c + 1 < count.size(); ++c)
         for (uint32_t a = count[c]; a < count[c + 1]; ++a)
             for (uint32_t b = a + 1; b < count[c + 1]; ++b) {
-                uint32_t i = items[a], j = items[b];
-                if (bad[i] && bad[j]) continue;
-                if (interiorsOverlap(tris[i], tris[j], tolerance)) bad[i] = bad[j] = 1;
+                uint32_t i = std::min(items[a], items[b]), j = std::max(items[a], items[b]);
+                if (interiorsOverlap(tris[i], tris[j], tolerance)) r.overlapping.push_back({i, j});
             }
+    std::sort(r.overlapping.begin(), r.overlapping.end());
+    r.overlapping.erase(std::unique(r.overlapping.begin(), r.overlapping.end()), r.overlapping.end());
+    return r;
+}
+
+}  // namespace param_detail
+
+UVInjectivity checkUVInjectivity(const std::vector<std::array<Vec2, 3>>& tris, double tolerance) {
+    param_detail::UVFolds f = param_detail::findUVFolds(tris, tolerance);
+    UVInjectivity r;
+    r.triangles = tris.size();
+    r.flips = size_t(std::count(f.flipped.begin(), f.flipped.end(), 1));
+    std::vector<char> bad(tris.size(), 0);
+    for (const auto& [i, j] : f.overlapping) bad[i] = bad[j] = 1;
     r.overlaps = size_t(std::count(bad.begin(), bad.end(), 1));
     return r;
 }

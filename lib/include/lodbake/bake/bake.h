@@ -14,11 +14,21 @@ struct BakeOptions {
     bool fillGaps = true;   // pull-push fill of uncovered texels (ImageBufAlgo::fillholes_pushpull)
 };
 
+// A UV triangle of the atlas that is not an original face (parameterize's level islands): each
+// texel it covers maps to a point X of the 3D triangle `position` and shows the original surface
+// at the point of `faces` closest to X (same shading as the original faces).
+struct BakeIsland {
+    std::array<Vec3, 3> position{};
+    std::array<Vec2, 3> uv{};            // glTF convention, like cornerUV
+    std::vector<uint32_t> faces;         // original faces to sample (non-empty)
+};
+
 struct BakeResult {
     Image image;                 // PNG, RGB 8-bit sRGB, size x size
     std::vector<float> pixels;   // the same as floats in [0,1] (encoded sRGB), RGB interleaved, top row first
     size_t coveredTexels = 0;    // texels hit by a triangle (incl. dilation)
     size_t texturedLookups = 0;  // texture lookups made through the TextureSystem
+    size_t islandTexels = 0;     // texels filled from islands
     double seconds = 0;
 };
 
@@ -26,9 +36,11 @@ struct BakeResult {
 // [0,1], v down) and stores at each texel the original base colour = baseColorFactor x
 // baseColorTexture (texCoord set, sampler wrap, KHR_texture_transform; filtered with derivatives
 // from the UV Jacobian) x COLOR_0, composed in linear space and stored as sRGB.
+// Islands (see BakeIsland) are rasterised too; where an island and a face cover a texel, the
+// exact (undilated) hit wins, then the face.
 // \pre cornerUV.size() == asset.mesh.triangleCount().
-// \throw InvalidInput (size mismatch), IOError (an image cannot be decoded / temp files).
+// \throw InvalidInput (size mismatch, island without faces), IOError (an image cannot be decoded / temp files).
 BakeResult bakeBaseColor(const Asset& asset, const std::vector<std::array<Vec2, 3>>& cornerUV,
-                         const BakeOptions& options = {});
+                         const BakeOptions& options = {}, const std::vector<BakeIsland>& islands = {});
 
 }  // namespace lodbake

@@ -69,6 +69,8 @@ ChartEnergy chartEnergy(const ChartMesh& chart, const std::vector<ChartPair>& pa
 struct ChartSolveOptions {
     ChartEnergyOptions energy;
     int maxIterations = 50;
+    // Solves while flipped level triangles remain (each adds their penalties to the next one).
+    int levelRounds = 8;
 };
 
 struct ChartSolveResult {
@@ -85,7 +87,7 @@ struct ChartSolveResult {
 // result has no flipped triangle; overlaps of the boundary are not prevented (check with
 // countOverlaps). Level triangles (chart.levelTriangles) positive at the start are guarded the
 // same way; flipped ones get a hinge penalty pulling their determinant above 5% of their 3D
-// area, and the solve is repeated (up to 4 rounds) while that lowers their flip count.
+// area, and the solve is repeated (up to options.levelRounds rounds) while that lowers their flip count.
 // Deterministic.
 ChartSolveResult optimizeChartUV(const ChartMesh& chart, const std::vector<ChartPair>& pairs,
                                  const std::vector<Vec2>& initial, const ChartSolveOptions& options = {});

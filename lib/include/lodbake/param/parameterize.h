@@ -20,9 +20,16 @@ struct ParameterizeOptions {
     double alpha = 0.8;        // edge vs area weight inside E_pixel
     double beta = 0.7;         // pixel vs polygon resolution error
     int maxIterations = 50;    // Ceres iterations per chart; 0 = keep the Tutte maps
+    // Ceres solves per chart while level triangles stay flipped (ChartSolveOptions::levelRounds).
+    // 2 by measurement: 8 rounds cost StanfordBunny 2x the time for about the same island count,
+    // and what stays folded gets an island anyway.
+    int levelRounds = 2;
     int textureSize = 1024;    // atlas side in texels (square)
     int gutter = 4;            // texels between charts and around the border (>= 4 recommended)
     int threads = 1;           // charts solved in parallel (0 = all cores); results are identical for any value
+    // Last resort against folded levels: a level triangle that is still flipped or overlapping in
+    // the packed atlas gets its own UV island (see LevelIsland). false = leave it folded (reported).
+    bool levelIslands = true;
     std::function<bool(double)> progress;  // fraction done; may be empty
 };
 
@@ -38,6 +45,28 @@ struct ChartReport {
     double seconds = 0;
 };
 
+// A level triangle that could not keep injective UVs inside its chart (still flipped or
+// overlapping another triangle of its level once the charts are packed, typically because a
+// collapse moved it across a chart cut): it gets its own small UV island in T0, the triangle laid
+// out flat with its 3D edge lengths at the atlas texel density (at least ~2 texels high), packed
+// like a chart. The bake fills the island by sampling, for each texel, the original surface
+// point closest to the corresponding point of the coarse triangle (among `faces`). Every
+// occurrence of the same vertex triple in any level uses the island.
+struct LevelIsland {
+    Tri vertices{};                   // welded vertex ids, the level's corner order (CCW)
+    std::array<Vec2, 3> uv{};         // atlas UV per corner (glTF: [0,1], v down)
+    std::vector<uint32_t> faces;      // original faces the bake samples (charts of its corners and face)
+    uint32_t level = 0;               // first Multires level (1-based) where it folded
+};
+
+// Final atlas UVs of one level's triangles, exactly as applyAtlas writes them.
+struct LevelUV {
+    std::vector<uint32_t> chart;               // chart the triangle takes its UVs from; chartCount + i = island i
+    std::vector<std::array<Vec2, 3>> uv;       // atlas UV per corner (glTF convention)
+    size_t projectedCorners = 0;               // corners that are not vertices of their chart (projected)
+    size_t islands = 0;                        // triangles of this level using an island
+};
+
 struct ParameterizeResult {
     ChartResult charts;
     std::vector<std::array<Vec2, 3>> cornerUV;  // per original face corner, atlas UV (glTF: [0,1], v down)
@@ -48,6 +77,9 @@ struct ParameterizeResult {
     std::array<uint32_t, 10> areaRatioHistogram{};  // bins of normalised ratio over [0, 2]; the last holds >= 1.8
     size_t flips = 0, overlaps = 0;
     size_t levelFlips = 0;                     // flipped level triangles, all charts and levels
+    std::vector<LevelIsland> islands;          // level-triangle islands (fallback), in creation order
+    std::vector<LevelUV> levels;               // per Multires level (empty when there are no levels)
+    size_t floatRepairs = 0;                   // sliver faces whose corner UV moved by a float step (they flipped once rounded)
     double texelsPerUnit = 0;                  // atlas density (texels per model unit)
     double atlasFill = 0;                      // fraction of the atlas covered by charts (UV area)
     double seconds = 0;
@@ -62,6 +94,7 @@ ParameterizeResult parameterize(const TriMesh& mesh, const Multires& multires, c
 struct AtlasApplyStats {
     size_t newWedges = 0;
     size_t projectedCorners = 0;  // level corners whose vertex is not in the chart of the face
+    size_t islandTriangles = 0;   // level triangles (all levels) written with island UVs
     int material = -1;            // index of the added material
 };
 
@@ -70,8 +103,9 @@ struct AtlasApplyStats {
 // (plus its Texture and Image), and gives every level new cornerWedges and a triangleMaterial
 // override pointing at that material. Level 0 (the original triangles) keeps its wedges and
 // materials; original wedges get uv0 = (0,0) when the asset had no TEXCOORD_0.
-// A level corner whose vertex is not a vertex of its face's chart (a collapse moved it across a
-// chart boundary) takes the UV of the closest point of that chart's surface (counted).
+// The level UVs are param.levels (chart of each triangle from levelTriangleCharts; a corner whose
+// vertex is not a vertex of that chart takes the UV of the closest point of the chart's surface;
+// island triangles their island's UVs, with their own wedges).
 // multires.charts receives the layout (faceChart, cornerUV, the added material and image).
 AtlasApplyStats applyAtlas(Asset& asset, Multires& multires, const ParameterizeResult& param, const Image& bakedImage);
 
@@ -100,11 +134,15 @@ UVInjectivity checkLevelUVs(const TriMesh& mesh, const std::vector<Tri>& triangl
 
 struct TextureDeviationOptions {
     size_t samples = 200000;  // area-weighted sample points on the level's triangles (deterministic)
+    // Level islands (ParameterizeResult::islands): a level triangle with an island's vertex triple
+    // is measured against the closest point of the island's faces, which is what its texels show.
+    const std::vector<LevelIsland>* islands = nullptr;
 };
 
 struct TextureDeviation {
     size_t samples = 0;
     size_t outside = 0;        // samples whose UV lies outside every original triangle of the chart
+    size_t islandSamples = 0;  // samples on island triangles
     double mean = 0, rms = 0, max = 0;          // |p - q|, model units
     double diagonal = 0;                        // bounding-box diagonal of the mesh
     double meanRelative = 0, maxRelative = 0;   // mean and max / diagonal
