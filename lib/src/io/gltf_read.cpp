@@ -741,6 +741,18 @@ Multires readMultires(const Ctx& c, const json& ext, const TriMesh& mesh) {
         ch.cornerUV.resize(F);
         for (size_t f = 0; f < F; ++f)
             for (size_t k = 0; k < 3; ++k) ch.cornerUV[f][k] = {uv[6 * f + 2 * k], uv[6 * f + 2 * k + 1]};
+        if (C.contains("islandVertices")) {
+            std::vector<uint32_t> iv = readU32(c, jint(C, "islandVertices"), 1, what + " charts.islandVertices");
+            std::vector<float> iuv = readF32(c, jint(C, "islandUV"), 2, what + " charts.islandUV");
+            if (iv.size() % 3 != 0 || iuv.size() != 2 * iv.size()) fail(c, what + ": charts island accessors do not match");
+            checkRange(iv, V, "charts.islandVertices");
+            ch.islands.resize(iv.size() / 3);
+            for (size_t i = 0; i < ch.islands.size(); ++i)
+                for (size_t k = 0; k < 3; ++k) {
+                    ch.islands[i].vertices[k] = iv[3 * i + k];
+                    ch.islands[i].uv[k] = {iuv[6 * i + 2 * k], iuv[6 * i + 2 * k + 1]};
+                }
+        }
     }
     if (ext.contains("textureHierarchy")) {
         // Written by texture-refine: rank layouts (same schema as charts) and the textures.

@@ -259,6 +259,18 @@ json multiresJson(Writer& w, const Asset& asset, const Multires& mr, const std::
         json charts = {{"count", ch.chartCount}, {"material", ch.material}, {"image", ch.image}};
         setIfValid(charts, "faceChart", w.addU32(ch.faceChart, 1));
         setIfValid(charts, "cornerUV", w.addFloat(uv, 2, 0, false));
+        if (!ch.islands.empty()) {
+            std::vector<uint32_t> iv;
+            std::vector<float> iuv;
+            for (const LayoutIsland& isl : ch.islands)
+                for (size_t k = 0; k < 3; ++k) {
+                    iv.push_back(isl.vertices[k]);
+                    iuv.push_back(float(isl.uv[k].x));
+                    iuv.push_back(float(isl.uv[k].y));
+                }
+            setIfValid(charts, "islandVertices", w.addU32(iv, 1));
+            setIfValid(charts, "islandUV", w.addFloat(iuv, 2, 0, false));
+        }
         ext["charts"] = charts;
     }
     if (!mr.textures.empty()) {

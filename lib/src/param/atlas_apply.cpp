@@ -100,6 +100,8 @@ AtlasApplyStats applyAtlas(Asset& asset, Multires& multires, const ParameterizeR
     layout.chartCount = param.charts.chartCount;
     layout.faceChart = faceChart;
     layout.cornerUV = param.cornerUV;
+    layout.islands.clear();
+    for (const LevelIsland& isl : param.islands) layout.islands.push_back({isl.vertices, isl.uv});
     layout.material = stats.material;
     layout.image = int(asset.images.size()) - 1;
     return stats;
