@@ -500,6 +500,7 @@ Multires fakeMultires(const TriMesh& m) {
         mr.charts.faceChart.push_back(f % 2);
         mr.charts.cornerUV.push_back({Vec2{0.25 * (f % 4), 0.5}, Vec2{0.125, 0.75}, Vec2{1.0 / 1024 * f, 0.0}});
     }
+    mr.charts.islands.push_back({Tri{0, 2, 1}, {Vec2{0.875, 0.125}, Vec2{0.9375, 0.125}, Vec2{0.875, 0.25}}});
     return mr;
 }
 
@@ -575,6 +576,14 @@ void expectSameMultires(const Multires& a, const Multires& b) {
             EXPECT_EQ(a.charts.cornerUV[f][k].x, b.charts.cornerUV[f][k].x);
             EXPECT_EQ(a.charts.cornerUV[f][k].y, b.charts.cornerUV[f][k].y);
         }
+    ASSERT_EQ(a.charts.islands.size(), b.charts.islands.size());
+    for (size_t i = 0; i < a.charts.islands.size(); ++i) {
+        EXPECT_EQ(a.charts.islands[i].vertices, b.charts.islands[i].vertices);
+        for (size_t k = 0; k < 3; ++k) {
+            EXPECT_EQ(a.charts.islands[i].uv[k].x, b.charts.islands[i].uv[k].x);
+            EXPECT_EQ(a.charts.islands[i].uv[k].y, b.charts.islands[i].uv[k].y);
+        }
+    }
 }
 
 }  // namespace
