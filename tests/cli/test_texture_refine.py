@@ -3,11 +3,13 @@
 On the generated samples and on Duck and Avocado (skipped with exit 77 when ../shared/assets is
 absent): every refined rank has lower E and lower UV-area / 3D-area std-dev than T0 over the
 levels it serves at the same texel count (both measured at 512^2); the refined layouts keep the
-original triangles injective (0 flipped, 0 overlapping) and fold no more level triangles than T0;
+original triangles injective (0 flipped, 0 overlapping) and add no flipped or overlapping triangle
+to T0's on any level they serve;
 the file carries the textureHierarchy; pack assigns every LOD the highest-rank texture valid for
-it; with both finest LODs' pages capped at the same size (equal texel count), the packed chain
-with refined textures has a higher base-colour PSNR (compare) on LOD0 and LOD1 than the chain
-packed with T0 only; gltf-validator 0 errors on the final chain; usage errors.
+it; with both finest LODs' pages capped at the same size (the refined chain never gets more texels),
+the packed chain with refined textures has a higher base-colour PSNR (compare) on LOD0 and LOD1
+than the chain packed with T0 only (LOD1 gets a refined texture on Duck, hemisphere9 and colors);
+gltf-validator 0 errors on the final chain; usage errors.
 """
 import json
 import os
@@ -20,7 +22,14 @@ from test_pack import check_chain  # noqa: E402
 
 SAMPLES = ["hemisphere9", "wall5", "colors", "seamball"]
 NEAR_ISOMETRIC = {"wall5"}
-REFINE = ["--size", "512", "--sizes", "256,512", "--quiet"]
+# Inputs on which a refined rank must serve LOD1 too (the finest two LODs of the chain). On
+# seamball the level-1 regions' boundaries cut 3.5% of level 1's triangles (T0's 1.2%), so its
+# ranks serve LOD0 only; wall5 is near-isometric under T0 (no rank); Avocado's LOD1 page is
+# below the smallest refined size (256), where the ranks' extra seams and gutters cost more than
+# they give.
+LOD1_REFINED = {"hemisphere9", "colors", "Duck"}
+SIZES = [256, 512]
+REFINE = ["--size", "512", "--sizes", ",".join(map(str, SIZES)), "--quiet"]
 PACK = ["--samples", "20000", "--quiet"]
 COMPARE = ["--views", "8", "--resolution", "256", "--samples", "0", "--no-geometry", "--json"]
 
@@ -63,14 +72,20 @@ def check_report(tc, name, r):
         tc.assertTrue(k["lowerE"] and k["lowerAreaRatioStdDev"], what)
         tc.assertEqual(k["parameterize"]["flips"], 0, what)
         tc.assertEqual(k["parameterize"]["overlaps"], 0, what)
-        # Original triangles injective; level triangles fold no more than under T0.
+        # Original triangles injective; on every level it serves the rank adds no flipped and no
+        # overlapping triangle to T0's (UVs as pack assigns them).
         tc.assertEqual(ref["levels"][0]["flips"], 0, what)
         tc.assertEqual(ref["levels"][0]["overlaps"], 0, what)
+        tc.assertEqual(len(ref["levels"]), k["validLevels"][1] + 1, what)
         for lv, lt0 in zip(ref["levels"], t0["levels"]):
-            tc.assertLessEqual(lv["flips"] + lv["overlaps"], lt0["flips"] + lt0["overlaps"], what)
+            tc.assertLessEqual(lv["flips"], lt0["flips"], what + " level %d" % lv["level"])
+            tc.assertLessEqual(lv["overlaps"], lt0["overlaps"], what + " level %d" % lv["level"])
+            print("%s level %d: flips %d overlaps %d (T0 %d, %d), cut triangles %d (T0 %d)"
+                  % (what, lv["level"], lv["flips"], lv["overlaps"], lt0["flips"], lt0["overlaps"],
+                     lv["crossingTriangles"], lt0["crossingTriangles"]))
     sizes = sorted({t["resolution"] for t in r["textures"]})
-    tc.assertEqual(sizes, [256, 512])
-    tc.assertEqual(len(r["textures"]), 2 * len(ranks))
+    tc.assertEqual(sizes, SIZES)
+    tc.assertEqual(len(r["textures"]), len(SIZES) * len(ranks))
     for t in r["textures"]:
         for key in ("rank", "validLevels", "resolution", "E", "E_pixel", "E_poly", "areaRatioStdDev"):
             tc.assertIn(key, t)
@@ -102,15 +117,16 @@ def psnr(path, original, lod):
 def check_pack(tc, name, source, tex, r, work):
     """Equal-texel comparison of the finest two LODs, refined vs T0 only."""
     base = os.path.join(work, name)
-    # T0 chain at 512 first: both finest LODs' pages are then capped below what LOD1 needs, so
-    # both chains get the same page sizes for LOD0 and LOD1.
+    # T0 chain at 512 first, for the page side LOD1 needs: both finest LODs' pages are then capped
+    # below it, so both chains get the same page sizes for LOD0 and LOD1 (up to the packer's trim).
     probe = base + ".probe.glb"
     lt.run([lt.tool("pack"), "-i", tex, "-o", probe, "--report", probe + ".json", "--max-size", "512",
             "--no-texture-hierarchy"] + PACK)
     with open(probe + ".json") as f:
         lod1 = json.load(f)["levels"][1]
-    # The thesis compares at 256^2..512^2 texels; refined ranks are not offered below 256.
-    cap = max(256, min(512, 32 * int(0.9 * min(lod1["width"], lod1["height"]) // 32)))
+    # The thesis compares at 256^2..512^2 texels (refined ranks are not offered below 256): the
+    # cap is below the side LOD1 needs (pack's estimate, the same for every layout) when it can be.
+    cap = max(256, min(512, 32 * int(0.9 * lod1["pageSideNeeded"] // 32)))
     chains = {}
     for label, extra in (("refined", []), ("t0", ["--no-texture-hierarchy"])):
         out = "%s.%s.lod.glb" % (base, label)
@@ -130,10 +146,12 @@ def check_pack(tc, name, source, tex, r, work):
                     if x["validLevels"][0] <= k <= x["validLevels"][1] and smallest[x["rank"]] <= lv["pageSideNeeded"]),
                    default=0)
         tc.assertEqual(lv["textureRank"], want, "%s LOD%d" % (name, k))
-        tc.assertIn(lv["hierarchyTextureSize"], (256, 512))
+        tc.assertIn(lv["hierarchyTextureSize"], SIZES)
     tc.assertEqual(levels[n]["textureRank"], 0)
     if name not in NEAR_ISOMETRIC:
         tc.assertGreaterEqual(levels[0]["textureRank"], 1, name + ": LOD0 gets a refined texture")
+    if name in LOD1_REFINED:
+        tc.assertGreaterEqual(levels[1]["textureRank"], 1, name + ": LOD1 gets a refined texture")
     for k in (0, 1):
         what = "%s LOD%d (cap %d, rank %d)" % (name, k, cap, levels[k]["textureRank"])
         p_ref, texels_ref = psnr(chains["refined"][0], source, k)
@@ -141,8 +159,8 @@ def check_pack(tc, name, source, tex, r, work):
         print("%s: base-colour PSNR refined %.3f dB (%d texels) vs T0 %.3f dB (%d texels)"
               % (what, p_ref, texels_ref, p_t0, texels_t0))
         # Equal texel budget: both pages are capped at the same side; the packer trims unused
-        # rows/columns, so allow 1% for its granularity (in practice the refined page is rarely larger).
-        tc.assertLessEqual(texels_ref, 1.01 * texels_t0, what + ": equal texel count")
+        # rows/columns, so the refined page may come out smaller, never larger.
+        tc.assertLessEqual(texels_ref, texels_t0, what + ": no more texels than T0")
         if levels[k]["textureRank"] >= 1:
             tc.assertGreater(p_ref, p_t0, what)
         else:

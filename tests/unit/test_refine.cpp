@@ -105,6 +105,17 @@ TEST(RefineHierarchy, RanksLowerEnergyAndAreaRatioSpread) {
         EXPECT_LT(rr.measure.areaRatioStdDev, rr.base.areaRatioStdDev) << "rank " << j;
         EXPECT_EQ(rr.measure.levels[0].flips, 0u);
         EXPECT_EQ(rr.measure.levels[0].overlaps, 0u);
+        // Every level it serves: no flipped or overlapping triangle added to T0's, and its chart
+        // boundaries cut at most maxExtraCutFraction of the level's triangles more than T0's.
+        ASSERT_EQ(rr.measure.levels.size(), size_t(rr.lastLevel) + 1);
+        ASSERT_EQ(rr.base.levels.size(), rr.measure.levels.size());
+        for (size_t l = 0; l < rr.measure.levels.size(); ++l) {
+            EXPECT_LE(rr.measure.levels[l].flips, rr.base.levels[l].flips) << "rank " << j << " level " << l;
+            EXPECT_LE(rr.measure.levels[l].overlaps, rr.base.levels[l].overlaps) << "rank " << j << " level " << l;
+            EXPECT_LE(double(rr.measure.crossing[l]),
+                      double(rr.base.crossing[l]) + o.maxExtraCutFraction * double(rr.measure.levels[l].triangles))
+                << "rank " << j << " level " << l;
+        }
         for (const auto& c : rr.layout.cornerUV)
             for (const Vec2& q : c) {
                 EXPECT_GT(q.x, 0);
@@ -119,8 +130,10 @@ TEST(RefineHierarchy, RanksLowerEnergyAndAreaRatioSpread) {
         EXPECT_GT(img.coveredTexels, 0u);
     }
 
-    // Deterministic.
-    RefineResult again = refineTextures(p.asset, p.mr, o);
+    // Deterministic, whatever the number of threads.
+    RefineOptions o2 = o;
+    o2.threads = 2;
+    RefineResult again = refineTextures(p.asset, p.mr, o2);
     ASSERT_EQ(again.ranks.size(), r.ranks.size());
     for (size_t j = 0; j < r.ranks.size(); ++j) {
         EXPECT_EQ(again.ranks[j].layout.faceChart, r.ranks[j].layout.faceChart);

@@ -36,6 +36,8 @@ Settings parseArgs(int argc, char** argv, bool& proceed) {
              [&](const std::string& v) { s.refine.minRefinedSize = cli::parseInt("--min-refined-size", v); });
     p.option("--min-std-dev", "X", "do not refine levels where T0's UV-area/3D-area std-dev is below X (default 0.05)",
              [&](const std::string& v) { s.refine.minAreaRatioStdDev = cli::parseDouble("--min-std-dev", v); });
+    p.option("--max-extra-cuts", "X", "a rank serves a level only if its chart boundaries cut at most this fraction of the level's triangles more than T0's (default 0.005)",
+             [&](const std::string& v) { s.refine.maxExtraCutFraction = cli::parseDouble("--max-extra-cuts", v); });
     p.flag("--keep-level-triangles-whole", "merge pieces back while their boundaries cut more level triangles than their parent chart did",
            [&] { s.refine.keepLevelTrianglesWhole = true; });
     p.option("--ranks", "N", "refine up to rank N (fewer when no finer level splits the charts; 0 = MIP-style only; default 2)",
@@ -60,6 +62,7 @@ void validate(const Settings& s) {
         if (x < 16 || x > 16384) throw UsageError("--sizes entries must be in [16, 16384]");
     if (o.minRefinedSize < 0) throw UsageError("--min-refined-size must be >= 0");
     if (!(o.minAreaRatioStdDev >= 0)) throw UsageError("--min-std-dev must be >= 0");
+    if (!(o.maxExtraCutFraction >= 0 && o.maxExtraCutFraction <= 1)) throw UsageError("--max-extra-cuts must be in [0, 1]");
     if (o.ranks < 0 || o.ranks > 16) throw UsageError("--ranks must be in [0, 16]");
     if (o.splitPerChart < 2) throw UsageError("--split must be >= 2");
     if (!(o.alpha >= 0 && o.alpha <= 1)) throw UsageError("--alpha must be in [0, 1]");
@@ -100,6 +103,7 @@ int run(Settings s) {
 
     cli::Progress progress("texture-refine", cli::progressEnabled(s.common));
     s.refine.progress = [&progress](double f) { return progress(f); };
+    s.refine.threads = s.common.threads;
     RefineResult res = refineTextures(asset, *multires, s.refine);
     progress.done();
     size_t flips = 0, overlaps = 0;
@@ -160,6 +164,7 @@ int run(Settings s) {
     rep["output"] = s.common.output;
     rep["options"] = {{"size", s.refine.size}, {"sizes", s.refine.sizes}, {"ranks", s.refine.ranks},
                       {"minRefinedSize", s.refine.minRefinedSize}, {"keepLevelTrianglesWhole", s.refine.keepLevelTrianglesWhole}, {"minStdDev", s.refine.minAreaRatioStdDev},
+                      {"maxExtraCuts", s.refine.maxExtraCutFraction},
                       {"split", s.refine.splitPerChart}, {"alpha", s.refine.alpha}, {"beta", s.refine.beta},
                       {"iterations", s.refine.maxIterations}};
     rep["levelNumbering"] = "0 = original mesh, k = multires level k (coarser as k grows); a texture is valid for levels validLevels[0]..validLevels[1]";

@@ -50,6 +50,10 @@ ChartLayout rankLayout(const TriMesh& mesh, const Multires& mr, uint32_t last, c
     po.maxIterations = o.maxIterations;
     po.textureSize = o.size;
     po.gutter = o.gutter;
+    po.threads = o.threads;
+    // The textureHierarchy has no slot for parameterize's level islands: a rank's folded level
+    // triangles are measured instead and limit the levels it serves.
+    po.levelIslands = false;
     po.charts.maxCharts = 0;
     po.charts.maxRegionEnergy = 1e-300;  // refuse every merge: the split charts are final
     ParameterizeResult pr = parameterize(mesh, sub, po);
@@ -277,17 +281,32 @@ RefineResult refineTextures(const Asset& asset, const Multires& mr, const Refine
         progress(++done / steps);
         rr.measure = measureLayout(mesh, mr, rr.layout, rr.lastLevel, eo, true);
         rr.base = measureLayout(mesh, mr, mr.charts, rr.lastLevel, eo);
-        // Valid only for the levels whose triangles its chart boundaries cut no more often than
-        // T0's do (there they are p-boundaries as much as T0's are).
+        // Served levels: the longest run 0..v (v <= the level of its regions) on which the rank
+        // flips and overlaps no more level triangles than T0 (UVs as pack assigns them), its chart
+        // boundaries cut at most maxExtraCutFraction of the level's triangles more than T0's do
+        // (a cut triangle's corners outside its chart take projected UVs, which smear the texture;
+        // cut boundaries are not p-boundaries there), and, over 0..v, it lowers both E and the
+        // area-ratio std-dev of T0.
+        auto serves = [&](uint32_t l) {
+            const UVInjectivity &a = rr.measure.levels[l], &b = rr.base.levels[l];
+            const double extra = o.maxExtraCutFraction * double(a.triangles);
+            return a.flips <= b.flips && a.overlaps <= b.overlaps && double(rr.measure.crossing[l]) <= double(rr.base.crossing[l]) + extra;
+        };
         uint32_t valid = 0;
-        while (valid < rr.lastLevel && rr.measure.crossing[valid + 1] <= rr.base.crossing[valid + 1]) ++valid;
-        if (valid < rr.lastLevel) {
-            rr.lastLevel = valid;
-            rr.measure = measureLayout(mesh, mr, rr.layout, rr.lastLevel, eo, true);
-            rr.base = measureLayout(mesh, mr, mr.charts, rr.lastLevel, eo);
+        while (valid < rr.lastLevel && serves(valid + 1)) ++valid;
+        bool better = false;
+        for (;;) {
+            if (valid < rr.lastLevel) {
+                rr.lastLevel = valid;
+                rr.measure = measureLayout(mesh, mr, rr.layout, rr.lastLevel, eo, true);
+                rr.base = measureLayout(mesh, mr, mr.charts, rr.lastLevel, eo);
+            }
+            better = rr.measure.energy.E < rr.base.energy.E && rr.measure.areaRatioStdDev < rr.base.areaRatioStdDev;
+            if (better || valid == 0) break;
+            --valid;
         }
         progress(++done / steps);
-        if (!(rr.measure.energy.E < rr.base.energy.E && rr.measure.areaRatioStdDev < rr.base.areaRatioStdDev)) {
+        if (!better) {
             res.rejected.push_back({level, rr.layout.chartCount, "does not lower both E and the area-ratio std-dev of T0"});
             continue;
         }

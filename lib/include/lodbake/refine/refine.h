@@ -8,12 +8,13 @@
 //     (0..l_j) and re-baked from the original appearance. Rank j is valid for levels 0..l_j.
 //     l_0 = n (the coarsest level, T0); l_j is the coarsest level finer than l_{j-1} whose
 //     regions split the rank-(j-1) charts into a layout that lowers both E and the UV-area /
-//     3D-area std-dev of T0 over levels 0..l_j (levels whose regions equal the coarser level's
-//     add nothing; level 0 = every original face its own region). Pieces that solve worse than
-//     their parent are split again (finer, at last the parent whole). A rank is valid only for
-//     the levels 0..v <= l_j whose triangles its chart boundaries cut no more often than T0's
-//     (where they are p-boundaries as much as T0's): a split of a non-disk region makes
-//     boundaries that are not p-boundaries.
+//     3D-area std-dev of T0 over levels 0..v for some v <= l_j (levels whose regions equal the
+//     coarser level's add nothing; level 0 = every original face its own region). Pieces that
+//     solve worse than their parent are split again (finer, at last the parent whole). A rank is
+//     valid for the levels 0..v: the longest run on which it adds no flipped or overlapping
+//     level triangle to T0's, its chart boundaries cut at most maxExtraCutFraction of the level's
+//     triangles more than T0's do (a split of a non-disk region makes boundaries that are not
+//     p-boundaries), and it lowers E and the std-dev of T0 over 0..v.
 // Geometry levels are numbered as in `pack`: 0 = the original mesh, k = Multires::levels[k-1].
 #pragma once
 
@@ -74,6 +75,9 @@ struct RefineOptions {
     // extra chart seams and gutters cost more than they give on small pages. `pack` uses a rank
     // only for levels whose page is at least its smallest size.
     int minRefinedSize = 256;
+    // A rank serves a level only when its chart boundaries cut at most this fraction of the
+    // level's triangles more than T0's do (and it adds no flipped or overlapping triangle there).
+    double maxExtraCutFraction = 0.005;
     // Merge pieces back while their boundaries cut more level triangles than the parent chart did.
     bool keepLevelTrianglesWhole = false;
     // A candidate rank is not made when T0's UV-area / 3D-area std-dev over the levels it would
@@ -84,6 +88,7 @@ struct RefineOptions {
     double alpha = 0.8, beta = 0.7;        // the energy of parameterize
     int maxIterations = 50;                // Ceres iterations per chart
     int gutter = 4;                        // texels between charts in a rank layout
+    int threads = 1;                       // charts solved in parallel (0 = all cores); output identical for any value
     std::function<bool(double)> progress;  // fraction done; may be empty
 };
 
