@@ -147,6 +147,32 @@ class PackCli(unittest.TestCase):
             for side in (lv["width"], lv["height"]):
                 self.assertEqual(side & (side - 1), 0, "power of two")
 
+    def test_lod0_density(self):
+        # --lod0-density: every level is textured at LOD0's texel limit (for close-up comparisons
+        # such as scripts/bench_peers.sh), so coarse pages are larger than by default, never larger
+        # than the finer level's, and the chain stays valid.
+        _, rep_default = self.pack("seamball", "ball.default.glb")
+        out, rep = self.pack("seamball", "ball.dense.glb", "--lod0-density")
+        check_chain(self, out, rep)
+        with open(rep_default) as f:
+            default = json.load(f)["levels"]
+        with open(rep) as f:
+            r = json.load(f)
+        dense = r["levels"]
+        self.assertTrue(r["options"]["lod0Density"])
+        self.assertEqual(len(dense), len(default))
+        for k in range(1, len(dense)):
+            self.assertAlmostEqual(dense[k]["texelLimit"], dense[0]["texelLimit"], delta=1e-9 * dense[0]["texelLimit"])
+            self.assertLess(default[k]["texelLimit"], dense[k]["texelLimit"])
+            self.assertGreaterEqual(dense[k]["texels"], default[k]["texels"])
+            self.assertLessEqual(dense[k]["texels"], dense[k - 1]["texels"])
+
+    def test_identical_for_any_threads(self):
+        one, _ = self.pack("seamball", "ball.t1.glb", "--threads", "1")
+        two, _ = self.pack("seamball", "ball.t2.glb", "--threads", "2")
+        with open(one, "rb") as a, open(two, "rb") as b:
+            self.assertEqual(a.read(), b.read())
+
     def test_errors(self):
         p = lt.run([lt.tool("pack"), "-i", "x.glb", "-o", "y.glb", "--bogus"], check=False)
         self.assertEqual(p.returncode, 1)

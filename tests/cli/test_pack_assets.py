@@ -4,9 +4,12 @@ utilisation of Avocado, Duck and CesiumMilkTruck, printed per level.
 
 Utilisation = chart texels / page texels, chart texels = the charts' triangle coverage. The
 packer places charts by shape, so `boxUtilisation` (their rotated bounding rectangles) may pass
-100%. Issue 5 asks for >= 75%; the charts' own shapes (jagged region boundaries, 60-65% of their
-bounding rectangles) keep LOD0 near 60%, so this asserts the reached level as a regression
-guard, on LOD0's page (the largest, which dominates the bytes), and prints every level.
+100%; `rasterUtilisation` counts the texels the charts' triangles touch and `footprintUtilisation`
+adds each chart's gutter ring. Issue 5 asks for >= 75%; T0's charts are jagged (their boundaries
+follow the original triangles along region boundaries) and the mip gutters around them take
+5-16% of LOD0's page, so LOD0 reaches 64-67% (footprints fill 72-83% of the page). This asserts
+the reached level as a regression guard, on LOD0's page (the largest, which dominates the bytes),
+and prints every level.
 """
 import json
 import os
@@ -44,9 +47,11 @@ class PackAssets(unittest.TestCase):
         with open(rep) as f:
             r = json.load(f)
         for lv in r["levels"]:
-            print("%s LOD%d: %d triangles, %dx%d, gutter %d, utilisation %.1f%% (box %.1f%%), coverage %.4g" % (
-                name, lv["lod"], lv["triangles"], lv["width"], lv["height"], lv["gutter"], 100 * lv["utilisation"],
-                100 * lv["boxUtilisation"], lv["screenCoverage"]))
+            print("%s LOD%d: %d triangles, %dx%d, gutter %d, utilisation %.1f%% (raster %.1f%%, with gutters "
+                  "%.1f%%, box %.1f%%), coverage %.4g" % (
+                      name, lv["lod"], lv["triangles"], lv["width"], lv["height"], lv["gutter"], 100 * lv["utilisation"],
+                      100 * lv["rasterUtilisation"], 100 * lv["footprintUtilisation"], 100 * lv["boxUtilisation"],
+                      lv["screenCoverage"]))
         return r
 
     def test_assets(self):
@@ -56,7 +61,10 @@ class PackAssets(unittest.TestCase):
             with self.subTest(asset=name):
                 r = self.chain(name)
                 if name in UTILISATION_ASSETS:
-                    self.assertGreaterEqual(r["levels"][0]["utilisation"], 0.55)
+                    lv0 = r["levels"][0]
+                    self.assertGreaterEqual(lv0["utilisation"], 0.62)
+                    self.assertLessEqual(lv0["utilisation"], lv0["rasterUtilisation"] + 1e-9)
+                    self.assertLessEqual(lv0["rasterUtilisation"], lv0["footprintUtilisation"] + 1e-9)
 
 
 if __name__ == "__main__":

@@ -35,7 +35,8 @@ Box boxOf(const std::vector<Vec2>& pts) {
 
 // Four 0.25 x 0.25 squares at 256 texels per unit: 64 x 64 texels each, gutter 4.
 //   +----+----+
-//   | c0 | c1 |      each chart padded by 2 texels; the page is about 136 x 136
+//   | c0 | c1 |      4 texels between charts, none along the page border (clamped samplers):
+//   +----+----+      the page is about 132 x 132
 //   +----+----+
 //   | c2 | c3 |
 //   +----+----+
@@ -54,10 +55,10 @@ TEST(PackAtlas, SquaresFitWithGuttersAndNoOverlap) {
         Box b = boxOf(placed(charts[i], r.charts[i]));
         EXPECT_NEAR(b.x1 - b.x0, 64, 1e-6);
         EXPECT_NEAR(b.y1 - b.y0, 64, 1e-6);
-        EXPECT_GE(b.x0, 2 - 1e-9);
-        EXPECT_GE(b.y0, 2 - 1e-9);
-        EXPECT_LE(b.x1, r.width - 2 + 1e-9);
-        EXPECT_LE(b.y1, r.height - 2 + 1e-9);
+        EXPECT_GE(b.x0, -1e-9);
+        EXPECT_GE(b.y0, -1e-9);
+        EXPECT_LE(b.x1, r.width + 1e-9);
+        EXPECT_LE(b.y1, r.height + 1e-9);
         boxes.push_back(b);
     }
     for (size_t i = 0; i < 4; ++i)
@@ -72,6 +73,22 @@ TEST(PackAtlas, SquaresFitWithGuttersAndNoOverlap) {
 }
 
 // A long thin chart turned by 30 degrees is packed along its minimum-area rectangle.
+// The samplers clamp to the page edge, so a chart may touch the border: one 64 x 64 texel chart
+// fills a 64 x 64 page whatever the gutter.
+TEST(PackAtlas, NoGutterAlongThePageBorder) {
+    std::vector<AtlasChart> charts{rectChart(0, 0, 0.25, 0.25)};
+    AtlasOptions o;
+    o.maxTexelsPerUnit = 256;
+    o.gutter = 8;
+    AtlasResult r = packAtlas(charts, o);
+    EXPECT_EQ(r.width, 64);
+    EXPECT_EQ(r.height, 64);
+    EXPECT_NEAR(r.utilisation, 1.0, 1e-9);
+    Box b = boxOf(placed(charts[0], r.charts[0]));
+    EXPECT_NEAR(b.x0, 0, 1e-9);
+    EXPECT_NEAR(b.y0, 0, 1e-9);
+}
+
 TEST(PackAtlas, RotatedChartUsesMinimumAreaRectangle) {
     const double a = 30 * 3.14159265358979 / 180, c = std::cos(a), s = std::sin(a);
     AtlasChart chart;

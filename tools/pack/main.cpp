@@ -53,6 +53,8 @@ Settings parseArgs(int argc, char** argv, bool& proceed) {
              [&](const std::string& v) { s.pack.jpegQuality = cli::parseInt("--jpeg-quality", v); });
     p.flag("--split", "one file per level (OUTPUT.lodK.glb) plus OUTPUT.lods.json with the coverage values",
            [&] { s.write.split = true; });
+    p.flag("--lod0-density", "texture every level at LOD0's texel density (pages about LOD0's size), for comparisons "
+           "that render every level close up", [&] { s.pack.lod0Density = true; });
     p.flag("--no-texture-hierarchy", "texture every level with T0 even when the input has texture-refine's hierarchy",
            [&] { s.pack.useTextureHierarchy = false; });
     p.flag("--draco", "compress every level with KHR_draco_mesh_compression", [&] { s.write.chain.draco = true; });
@@ -118,6 +120,8 @@ int run(Settings s) {
                           {"mips", r.mips},
                           {"utilisation", r.utilisation},
                           {"boxUtilisation", r.boxUtilisation},
+                          {"rasterUtilisation", r.rasterUtilisation},
+                          {"footprintUtilisation", r.footprintUtilisation},
                           {"texelsPerUnit", r.texelsPerUnit},
                           {"texelLimit", r.texelLimit},
                           {"deviation", {{"hausdorff", r.hausdorff}, {"relHausdorff", r.relHausdorff}, {"rms", r.rms},
@@ -138,10 +142,13 @@ int run(Settings s) {
     rep["options"] = {{"pixelError", s.pack.pixelError}, {"viewportHeight", s.pack.viewportHeight}, {"fov", s.pack.fovY},
                       {"cutoffPixels", s.pack.cutoffPixels}, {"maxSize", s.pack.maxSize}, {"pot", s.pack.powerOfTwo},
                       {"maxMips", s.pack.maxMips}, {"imageFormat", s.imageFormat}, {"jpegQuality", s.pack.jpegQuality},
-                      {"split", s.write.split}, {"textureHierarchy", s.pack.useTextureHierarchy}, {"draco", s.write.chain.draco},
+                      {"split", s.write.split}, {"textureHierarchy", s.pack.useTextureHierarchy},
+                      {"lod0Density", s.pack.lod0Density}, {"draco", s.write.chain.draco},
                       {"qp", s.write.chain.quantPosition}, {"qt", s.write.chain.quantTexcoord}, {"qn", s.write.chain.quantNormal}};
     rep["utilisationDefinition"] = "chart texels / page texels; chart texels = the charts' triangle coverage (UV area); "
-                                   "boxUtilisation uses the charts' rotated bounding rectangles (above 1 when charts nest)";
+                                   "boxUtilisation uses the charts' rotated bounding rectangles (above 1 when charts nest), "
+                                   "rasterUtilisation the texels their triangles touch, footprintUtilisation adds each "
+                                   "chart's gutter ring (which may reach past the page border)";
     rep["radius"] = res.radius;
     rep["diagonal"] = res.diagonal;
     rep["screenCoverage"] = res.screenCoverage;

@@ -142,10 +142,9 @@ struct LevelUVs {
     std::vector<std::array<Vec2, 3>> uv;
 };
 
-// T0 (rank 0): the chart of the triangle's face; a corner takes its vertex's UV in that chart, or
-// that of the chart's nearest vertex. Rank layouts: the chart levelTriangleCharts picks (the face's,
-// or one holding all three corners), a corner outside it the UV of the closest point of the
-// chart's surface: exactly the level UVs parameterize guarded against folds for that layout.
+// Every layout (T0 and the hierarchy's ranks): the chart levelTriangleCharts picks (the face's, or
+// one holding all three corners), a corner outside it the UV of the closest point of the chart's
+// surface: the level UVs parameterize writes and guards against folds for that layout.
 LevelUVs levelUVs(const TriMesh& mesh, const LayoutData& L, const LevelView& lv, const Level* level) {
     const ChartLayout& ch = *L.ch;
     LevelUVs out;
@@ -156,14 +155,6 @@ LevelUVs levelUVs(const TriMesh& mesh, const LayoutData& L, const LevelView& lv,
         for (size_t t = 0; t < n; ++t) {
             out.chart[t] = ch.faceChart[lv.faces[t]];
             out.uv[t] = ch.cornerUV[lv.faces[t]];
-        }
-        return out;
-    }
-    if (L.rank == 0) {
-        for (size_t t = 0; t < n; ++t) {
-            uint32_t c = ch.faceChart[lv.faces[t]];
-            out.chart[t] = c;
-            for (size_t j = 0; j < 3; ++j) out.uv[t][j] = (*L.lookup)(lv.triangles[t][j], c);
         }
         return out;
     }
@@ -370,7 +361,7 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
         r.maxCoverage = k == 0 ? std::max(options.lod0Coverage, r.coverage) : res.screenCoverage[k - 1];
         r.switchDistance = res.radius / (r.coverage * tanHalf);
         // Texel density the level can show: one texel per pixel at its largest coverage.
-        r.texelLimit = r.maxCoverage * H / (2 * res.radius);
+        r.texelLimit = (options.lod0Density ? res.reports[0].maxCoverage : r.maxCoverage) * H / (2 * res.radius);
         // The highest-rank texture valid for this level that the hierarchy offers at the page side
         // the level needs (a rank whose smallest texture is larger than that page is not used: its
         // extra chart seams and gutters only pay at the resolutions it was made for), and of its
@@ -431,6 +422,8 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
         r.charts = la.charts;
         r.utilisation = la.atlas.utilisation;
         r.boxUtilisation = la.atlas.boxUtilisation;
+        r.rasterUtilisation = la.atlas.rasterUtilisation;
+        r.footprintUtilisation = la.atlas.footprintUtilisation;
         r.texelsPerUnit = la.atlas.texelsPerUnit * lay.uvPerUnit;
         std::vector<float> pixels = bakePage(asset, lch, la, r.bakeSeconds);
         LodLevelData& L = res.levels[k];

@@ -1,8 +1,10 @@
 // Atlas packing: the charts of a texture layout (T0 from `parameterize`) placed into one page by
 // their shapes. Each chart is turned to its minimum-area bounding rectangle, rasterised at the
-// page density (the texels its triangles touch, grown by half the gutter) and placed, largest
-// first, at the lowest free position of a page bitmap over the four quarter turns, so charts nest
-// into each other's concavities.
+// page density (the texels its triangles touch, grown by half the gutter) and placed, in a few
+// orders (largest first, longest first, ...), at the lowest free position of a page bitmap over
+// the four quarter turns, so charts nest into each other's concavities; the smallest page wins.
+// Charts keep the gutter between each other but not along the page border (the chain's samplers
+// clamp to the edge).
 #pragma once
 
 #include <array>
@@ -44,6 +46,11 @@ struct AtlasResult {
     // The same with chart texels = each chart's (rotated) bounding rectangle, gutters excluded;
     // above 1 when charts nest into each other's rectangles.
     double boxUtilisation = 0;
+    // The same with chart texels = the texels the charts' triangles touch (conservative raster,
+    // the texels a sampler reads; gutters excluded), and with the charts' gutter rings included
+    // (rings may reach past the page border, where no gutter is needed: samplers clamp).
+    double rasterUtilisation = 0;
+    double footprintUtilisation = 0;
     int gutter = 0;                      // the gutter used (may be narrower than asked)
 };
 

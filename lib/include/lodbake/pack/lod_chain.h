@@ -34,6 +34,10 @@ struct PackOptions {
     int threads = 0;             // 0 = all cores
     ImageFormat imageFormat = ImageFormat::Png;
     int jpegQuality = 90;
+    // Every level textured at LOD0's texel density (pages about as large as LOD0's) instead of the
+    // density it can show at its largest coverage: for comparisons at equal texel density that
+    // render every level close up (scripts/bench_peers.sh).
+    bool lod0Density = false;
     bool useTextureHierarchy = true;  // false: every level uses T0 even when the file has a texture hierarchy
     std::function<bool(double)> progress;  // fraction done; may be empty
 };
@@ -46,6 +50,8 @@ struct PackLevelReport {
     size_t charts = 0;            // charts on the page
     double utilisation = 0;       // chart texels (actual triangle coverage) / page texels
     double boxUtilisation = 0;    // chart bounding rectangles / page texels (above 1 when charts nest)
+    double rasterUtilisation = 0;     // texels the charts' triangles touch (conservative raster) / page texels
+    double footprintUtilisation = 0;  // ... with each chart's gutter ring / page texels
     double texelsPerUnit = 0;     // texels per model unit (area-averaged)
     double texelLimit = 0;        // texels per model unit the level can show at its largest coverage
     double hausdorff = 0, relHausdorff = 0;  // measured two-sided, model units / relative to the diagonal
