@@ -23,7 +23,7 @@ echo "input: $IN ($TRIS triangles), $(nproc) cores, load average $(cut -d' ' -f1
 for threads in 1 0; do
   log=$(mktemp)
   /usr/bin/time -v "$BIN/parameterize" -i "$OUT/$NAME.mr.glb" -o "$OUT/$NAME.t$threads.uv.glb" --threads "$threads" \
-    --allow-level-folds --quiet --report "$OUT/$NAME.t$threads.uv.json" 2>"$log" >/dev/null || { cat "$log"; exit 1; }
+    --quiet --report "$OUT/$NAME.t$threads.uv.json" 2>"$log" >/dev/null || { cat "$log"; exit 1; }
   wall=$(grep "Elapsed (wall clock)" "$log" | awk '{print $NF}' | awk -F: '{ if (NF==3) print $1*3600+$2*60+$3; else print $1*60+$2 }')
   rss=$(grep "Maximum resident set size" "$log" | awk '{print $NF}')
   rm -f "$log"

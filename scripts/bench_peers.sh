@@ -36,7 +36,7 @@ for name in $ASSETS; do
     # Ours: one chain with LOD1 = 10%, LOD2 = 2%.
     rm -f "$WORK/$name.lod.glb"
     "$BIN/simplify" -i "$src" -o "$WORK/$name.mr.glb" --ratio 0.1,0.02 --quiet &&
-    "$BIN/parameterize" -i "$WORK/$name.mr.glb" -o "$WORK/$name.uv.glb" --allow-level-folds --quiet &&
+    "$BIN/parameterize" -i "$WORK/$name.mr.glb" -o "$WORK/$name.uv.glb" --quiet &&
     "$BIN/pack" -i "$WORK/$name.uv.glb" -o "$WORK/$name.lod.glb" --quiet --report "$WORK/$name.lod.json" $PACK_FLAGS ||
         echo "bench_peers: lodbake failed on $name" >&2
     lod=1

@@ -86,9 +86,7 @@ class PackCli(unittest.TestCase):
             mr = os.path.join(cls.dir, n + ".mr.glb")
             uv = os.path.join(cls.dir, n + ".uv.glb")
             lt.run([lt.tool("simplify"), "-i", src, "-o", mr, "--ratio", "0.5,0.1,0.02", "--quiet"])
-            # pack's properties are tested here; parameterize's own tests hold it to 0 folded level
-            # triangles, an open problem on some inputs (issue 4), hence --allow-level-folds.
-            lt.run([lt.tool("parameterize"), "-i", mr, "-o", uv, "--size", "512", "--quiet", "--allow-level-folds"])
+            lt.run([lt.tool("parameterize"), "-i", mr, "-o", uv, "--size", "512", "--quiet"])
             cls.uv[n] = uv
 
     def pack(self, name, out, *extra):

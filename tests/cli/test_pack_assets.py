@@ -18,6 +18,7 @@ import unittest
 
 sys.path.insert(0, os.path.dirname(__file__))
 import lodbake_test as lt  # noqa: E402
+from lodbake_test import count_flips, count_overlaps, level_uv_triangles  # noqa: E402
 from test_pack import check_chain  # noqa: E402
 
 UTILISATION_ASSETS = ("Avocado", "Duck", "CesiumMilkTruck")
@@ -39,11 +40,16 @@ class PackAssets(unittest.TestCase):
         out = os.path.join(self.dir, name + ".lod.glb")
         rep = os.path.join(self.dir, name + ".lod.json")
         lt.run([lt.tool("simplify"), "-i", src, "-o", mr, "--ratio", "0.5,0.1,0.02", "--quiet"])
-        # pack's properties are tested here; parameterize's own tests hold it to 0 folded level
-        # triangles, an open problem on some inputs (issue 4), hence --allow-level-folds.
-        lt.run([lt.tool("parameterize"), "-i", mr, "-o", uv, "--quiet", "--allow-level-folds"])
+        lt.run([lt.tool("parameterize"), "-i", mr, "-o", uv, "--quiet"])
         lt.run([lt.tool("pack"), "-i", uv, "-o", out, "--samples", "50000", "--quiet", "--report", rep])
         check_chain(self, out, rep)
+        # Every level of the shipped chain is fold-free in its atlas (parameterize's level
+        # islands are packed as charts of one triangle).
+        g = lt.Gltf(out)
+        for m in range(len(g.json["meshes"])):
+            tris = level_uv_triangles(g, m)
+            with self.subTest(asset=name, mesh=m):
+                self.assertEqual((count_flips(tris), count_overlaps(tris)), (0, 0), "flipped / overlapping UVs")
         with open(rep) as f:
             r = json.load(f)
         for lv in r["levels"]:

@@ -6,62 +6,9 @@ import unittest
 
 sys.path.insert(0, os.path.dirname(__file__))
 import lodbake_test as lt  # noqa: E402
+from lodbake_test import count_flips, count_overlaps, level_uv_triangles  # noqa: E402,F401
 
 
-def level_uv_triangles(g, mesh_index):
-    """UV triangles (glTF convention) of every primitive of a mesh."""
-    out = []
-    for prim in g.json["meshes"][mesh_index]["primitives"]:
-        uv = g.accessor(prim["attributes"]["TEXCOORD_0"])
-        idx = g.accessor(prim["indices"])
-        for i in range(0, len(idx), 3):
-            out.append([(uv[2 * idx[i + k]], uv[2 * idx[i + k] + 1]) for k in range(3)])
-    return out
-
-
-def signed_area(t):
-    # glTF v points down: a front-facing triangle has positive area with v flipped.
-    (ax, ay), (bx, by), (cx, cy) = t
-    return 0.5 * ((bx - ax) * (ay - cy) - (ay - by) * (cx - ax))
-
-
-def count_flips(tris):
-    return sum(1 for t in tris if not signed_area(t) > 0)
-
-
-def _overlap(a, b, eps=1e-7):
-    for t in (a, b):
-        for k in range(3):
-            ex, ey = t[(k + 1) % 3][0] - t[k][0], t[(k + 1) % 3][1] - t[k][1]
-            n = (ex * ex + ey * ey) ** 0.5
-            if n == 0:
-                continue
-            nx, ny = -ey / n, ex / n
-            pa = [nx * p[0] + ny * p[1] for p in a]
-            pb = [nx * p[0] + ny * p[1] for p in b]
-            if max(pa) <= min(pb) + eps or max(pb) <= min(pa) + eps:
-                return False
-    return True
-
-
-def count_overlaps(tris, grid=64):
-    """Triangles whose UV interior intersects another's (uniform grid, separating axes)."""
-    cells = {}
-    for i, t in enumerate(tris):
-        xs, ys = [p[0] for p in t], [p[1] for p in t]
-        for y in range(int(min(ys) * grid), int(max(ys) * grid) + 1):
-            for x in range(int(min(xs) * grid), int(max(xs) * grid) + 1):
-                cells.setdefault((x, y), []).append(i)
-    bad = set()
-    for items in cells.values():
-        for a in range(len(items)):
-            for b in range(a + 1, len(items)):
-                i, j = items[a], items[b]
-                if (i in bad and j in bad) or signed_area(tris[i]) <= 0 or signed_area(tris[j]) <= 0:
-                    continue
-                if _overlap(tris[i], tris[j]):
-                    bad.update((i, j))
-    return len(bad)
 
 
 class ParameterizeCli(unittest.TestCase):

@@ -41,7 +41,7 @@ def pipeline(tc, name, source, work):
     tex = os.path.join(work, name + ".tex.glb")
     rep = os.path.join(work, name + ".tex.json")
     lt.run([lt.tool("simplify"), "-i", source, "-o", mr, "--ratio", "0.5,0.1,0.02", "--quiet"])
-    lt.run([lt.tool("parameterize"), "-i", mr, "-o", uv, "--allow-level-folds", "--quiet"])
+    lt.run([lt.tool("parameterize"), "-i", mr, "-o", uv, "--quiet"])
     lt.run([lt.tool("texture-refine"), "-i", uv, "-o", tex, "--report", rep] + REFINE)
     with open(rep) as f:
         return tex, json.load(f)
@@ -206,7 +206,7 @@ class TextureRefineCli(unittest.TestCase):
         p = lt.run([lt.tool("texture-refine"), "-i", os.path.join(self.work, "missing.glb"), "-o", out], check=False)
         self.assertEqual(p.returncode, 2)
         # A parameterized file without the hierarchy still packs (T0 everywhere).
-        lt.run([lt.tool("parameterize"), "-i", mr, "-o", uv, "--allow-level-folds", "--quiet"])
+        lt.run([lt.tool("parameterize"), "-i", mr, "-o", uv, "--quiet"])
         lod = os.path.join(self.work, "plain.lod.glb")
         lt.run([lt.tool("pack"), "-i", uv, "-o", lod, "--report", lod + ".json"] + PACK)
         with open(lod + ".json") as f:

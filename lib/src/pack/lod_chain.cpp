@@ -21,6 +21,7 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <set>
 #include <tuple>
 #include <unordered_map>
 
@@ -104,10 +105,42 @@ struct LayoutData {
     const ChartLayout* ch = nullptr;
     uint32_t rank = 0;
     std::vector<std::vector<uint32_t>> chartFaces;
-    std::vector<double> chartUvArea;
+    std::vector<double> chartUvArea;  // charts, then islands (chart id chartCount + i)
     double uvPerUnit = 0;  // layout UV units per model unit (area-averaged)
     std::unique_ptr<ChartVertexUV> lookup;
+    // Level-triangle islands (parameterize's fallback, T0 only): sorted vertex triple -> island,
+    // and the original faces each island's bake samples (the charts of its corners).
+    std::map<std::array<uint32_t, 3>, uint32_t> island;
+    std::vector<std::vector<uint32_t>> islandFaces;
 };
+
+std::array<uint32_t, 3> sortedTriple(const Tri& t) {
+    std::array<uint32_t, 3> k{t[0], t[1], t[2]};
+    std::sort(k.begin(), k.end());
+    return k;
+}
+
+void addIslands(const TriMesh& mesh, const ChartLayout& ch, LayoutData& d) {
+    std::map<uint32_t, std::set<uint32_t>> vertexCharts;
+    for (const LayoutIsland& isl : ch.islands)
+        for (uint32_t v : isl.vertices) vertexCharts[v];
+    for (size_t f = 0; f < mesh.triangleCount(); ++f)
+        for (uint32_t v : mesh.triangles[f]) {
+            auto it = vertexCharts.find(v);
+            if (it != vertexCharts.end()) it->second.insert(ch.faceChart[f]);
+        }
+    for (uint32_t i = 0; i < ch.islands.size(); ++i) {
+        const LayoutIsland& isl = ch.islands[i];
+        d.island.emplace(sortedTriple(isl.vertices), i);
+        d.chartUvArea.push_back(triArea2(isl.uv[0], isl.uv[1], isl.uv[2]));
+        std::set<uint32_t> charts;
+        for (uint32_t v : isl.vertices) charts.insert(vertexCharts[v].begin(), vertexCharts[v].end());
+        std::vector<uint32_t> faces;
+        for (uint32_t c : charts) faces.insert(faces.end(), d.chartFaces[c].begin(), d.chartFaces[c].end());
+        if (faces.empty()) throw InvalidInput("chart layout island " + std::to_string(i) + " touches no chart");
+        d.islandFaces.push_back(std::move(faces));
+    }
+}
 
 LayoutData layoutData(const Asset& asset, const ChartLayout& ch, uint32_t rank) {
     const TriMesh& mesh = asset.mesh;
@@ -133,6 +166,7 @@ LayoutData layoutData(const Asset& asset, const ChartLayout& ch, uint32_t rank) 
     if (!(uvTotal > 0) || !(areaTotal > 0)) throw Impossible(asset.sourcePath + ": the chart layout has no area");
     d.uvPerUnit = std::sqrt(uvTotal / areaTotal);
     d.lookup = std::make_unique<ChartVertexUV>(mesh, ch);
+    addIslands(mesh, ch, d);
     return d;
 }
 
@@ -144,7 +178,9 @@ struct LevelUVs {
 
 // Every layout (T0 and the hierarchy's ranks): the chart levelTriangleCharts picks (the face's, or
 // one holding all three corners), a corner outside it the UV of the closest point of the chart's
-// surface: the level UVs parameterize writes and guards against folds for that layout.
+// surface: the level UVs parameterize writes and guards against folds for that layout. A level
+// triangle with an island's vertex triple takes the island (parameterize's fallback for a level
+// triangle that would fold in its chart).
 LevelUVs levelUVs(const TriMesh& mesh, const LayoutData& L, const LevelView& lv, const Level* level) {
     const ChartLayout& ch = *L.ch;
     LevelUVs out;
@@ -161,6 +197,17 @@ LevelUVs levelUVs(const TriMesh& mesh, const LayoutData& L, const LevelView& lv,
     out.chart = levelTriangleCharts(mesh, ch.faceChart, ch.chartCount, *level);
     std::map<std::pair<uint32_t, uint32_t>, Vec2> projected;
     for (size_t t = 0; t < n; ++t) {
+        if (!L.island.empty()) {
+            auto isl = L.island.find(sortedTriple(lv.triangles[t]));
+            if (isl != L.island.end()) {
+                const LayoutIsland& island = ch.islands[isl->second];
+                out.chart[t] = ch.chartCount + isl->second;
+                for (size_t j = 0; j < 3; ++j)
+                    out.uv[t][j] = island.uv[size_t(std::find(island.vertices.begin(), island.vertices.end(),
+                                                              lv.triangles[t][j]) - island.vertices.begin())];
+                continue;
+            }
+        }
         uint32_t c = out.chart[t];
         for (size_t j = 0; j < 3; ++j) {
             uint32_t v = lv.triangles[t][j];
@@ -195,7 +242,7 @@ struct LevelAtlas {
 LevelAtlas packLevelAtlas(const LayoutData& L, const LevelUVs& luv, bool original, const AtlasOptions& ao) {
     const ChartLayout& ch = *L.ch;
     LevelAtlas la;
-    la.chartSlot.assign(ch.chartCount, -1);
+    la.chartSlot.assign(L.chartUvArea.size(), -1);
     std::vector<AtlasChart> charts;
     for (size_t t = 0; t < luv.chart.size(); ++t) {
         uint32_t c = luv.chart[t];
@@ -203,9 +250,15 @@ LevelAtlas packLevelAtlas(const LayoutData& L, const LevelUVs& luv, bool origina
             la.chartSlot[c] = int(charts.size());
             AtlasChart a;
             a.uvArea = L.chartUvArea[c];
-            for (uint32_t f : L.chartFaces[c]) {
-                for (const Vec2& p : ch.cornerUV[f]) a.points.push_back(p);
-                a.triangles.push_back(ch.cornerUV[f]);
+            if (c >= ch.chartCount) {  // an island: its one triangle
+                const LayoutIsland& isl = ch.islands[c - ch.chartCount];
+                a.points.assign(isl.uv.begin(), isl.uv.end());
+                a.triangles.push_back(isl.uv);
+            } else {
+                for (uint32_t f : L.chartFaces[c]) {
+                    for (const Vec2& p : ch.cornerUV[f]) a.points.push_back(p);
+                    a.triangles.push_back(ch.cornerUV[f]);
+                }
             }
             charts.push_back(std::move(a));
         }
@@ -223,7 +276,8 @@ LevelAtlas packLevelAtlas(const LayoutData& L, const LevelUVs& luv, bool origina
 }
 
 // Bakes the original triangles at the page UVs; returns RGB floats of the width x height page.
-std::vector<float> bakePage(const Asset& asset, const ChartLayout& ch, const LevelAtlas& la, double& seconds) {
+std::vector<float> bakePage(const Asset& asset, const LayoutData& L, const LevelAtlas& la, double& seconds) {
+    const ChartLayout& ch = *L.ch;
     const AtlasResult& a = la.atlas;
     int size = std::max(a.width, a.height);
     std::vector<std::array<Vec2, 3>> uv(asset.mesh.triangleCount());
@@ -235,9 +289,22 @@ std::vector<float> bakePage(const Asset& asset, const ChartLayout& ch, const Lev
             uv[f][j] = {p.x / size, p.y / size};
         }
     }
+    std::vector<BakeIsland> islands;
+    for (size_t i = 0; i < ch.islands.size(); ++i) {
+        int slot = la.chartSlot[ch.chartCount + i];
+        if (slot < 0) continue;
+        BakeIsland b;
+        for (size_t k = 0; k < 3; ++k) {
+            b.position[k] = asset.mesh.positions[ch.islands[i].vertices[k]];
+            Vec2 p = a.charts[size_t(slot)].apply(ch.islands[i].uv[k]);
+            b.uv[k] = {p.x / size, p.y / size};
+        }
+        b.faces = L.islandFaces[i];
+        islands.push_back(std::move(b));
+    }
     BakeOptions bo;
     bo.size = size;
-    BakeResult baked = bakeBaseColor(asset, uv, bo);
+    BakeResult baked = bakeBaseColor(asset, uv, bo, islands);
     seconds = baked.seconds;
     std::vector<float> out(size_t(a.width) * size_t(a.height) * 3);
     for (int y = 0; y < a.height; ++y)
@@ -246,7 +313,48 @@ std::vector<float> bakePage(const Asset& asset, const ChartLayout& ch, const Lev
     return out;
 }
 
+// Twice the signed UV area in the glTF convention (v down): > 0 for a front-facing triangle.
+template <class P>
+double uvArea2(const P& a, const P& b, const P& c) {
+    return double(b.x - a.x) * double(a.y - c.y) - double(a.y - b.y) * double(c.x - a.x);
+}
+
+// A sliver whose page UVs are unfolded in double precision may turn flat or flipped once they
+// are rounded to float: it gets its own copy of the corner opposite its longest edge, moved by
+// float steps until the rounded triangle faces the right way (a few ulps, far below a texel).
+void repairFloatSlivers(const std::vector<std::array<Vec2, 3>>& placed, LodLevelData& out) {
+    struct F2 { float x, y; };
+    for (size_t t = 0; t < placed.size(); ++t) {
+        const auto& e = placed[t];
+        if (!(uvArea2(e[0], e[1], e[2]) > 0)) continue;  // folded for real: not a rounding artefact
+        uint32_t* idx = &out.indices[3 * t];
+        auto uvOf = [&](uint32_t v) { return F2{out.uvs[2 * v], out.uvs[2 * v + 1]}; };
+        if (uvArea2(uvOf(idx[0]), uvOf(idx[1]), uvOf(idx[2])) > 0) continue;
+        size_t k = 0;  // the corner opposite the longest edge
+        double longest = -1;
+        for (size_t j = 0; j < 3; ++j) {
+            Vec2 d = e[(j + 1) % 3] - e[(j + 2) % 3];
+            double l = d.x * d.x + d.y * d.y;
+            if (l > longest) { longest = l; k = j; }
+        }
+        // The area is invariant under cyclic turns: with c the moved corner, a and b the others,
+        // dA/dc = (-(a.y - b.y), -(b.x - a.x)).
+        F2 a = uvOf(idx[(k + 1) % 3]), b = uvOf(idx[(k + 2) % 3]), c = uvOf(idx[k]);
+        const float gx = -(a.y - b.y), gy = -(b.x - a.x);
+        for (int step = 0; step < 64 && !(uvArea2(a, b, c) > 0); ++step) {
+            if (gx != 0) c.x = std::nextafter(c.x, gx > 0 ? 2.f : -2.f);
+            if (gy != 0) c.y = std::nextafter(c.y, gy > 0 ? 2.f : -2.f);
+        }
+        uint32_t v = idx[k], copy = uint32_t(out.uvs.size() / 2);
+        for (int d = 0; d < 3; ++d) out.positions.push_back(out.positions[3 * v + uint32_t(d)]);
+        for (int d = 0; d < 3; ++d) out.normals.push_back(out.normals[3 * v + uint32_t(d)]);
+        out.uvs.insert(out.uvs.end(), {c.x, c.y});
+        idx[k] = copy;
+    }
+}
+
 void buildLevelMesh(const Asset& asset, const LevelView& lv, const LevelUVs& luv, const LevelAtlas& la, LodLevelData& out) {
+    std::vector<std::array<Vec2, 3>> placed(lv.triangles.size());
     const TriMesh& m = asset.mesh;
     const AtlasResult& a = la.atlas;
     // Normals: the wedges' (unit) when the asset has them, else area-weighted over this level.
@@ -283,8 +391,11 @@ void buildLevelMesh(const Asset& asset, const LevelView& lv, const LevelUVs& luv
                 out.uvs.insert(out.uvs.end(), {float(q.x / a.width), float(q.y / a.height)});
             }
             out.indices.push_back(it->second);
+            Vec2 q = P.apply(luv.uv[t][j]);
+            placed[t][j] = {q.x / a.width, q.y / a.height};
         }
     }
+    repairFloatSlivers(placed, out);
 }
 
 }  // namespace
@@ -380,7 +491,6 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
                     r.rank = std::max(r.rank, h.rank);
         }
         const LayoutData& lay = layouts[r.rank];
-        const ChartLayout& lch = *lay.ch;
         double tMax = r.texelLimit / lay.uvPerUnit;
         r.textureSize = 0;
         if (hierarchy)
@@ -393,7 +503,7 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
         int mips = int(std::ceil(std::log2(std::max(1.0, r.maxCoverage / std::max(r.coverage, 1e-12)))));
         double usedUv = 0;
         {
-            std::vector<char> seen(lch.chartCount, 0);
+            std::vector<char> seen(lay.chartUvArea.size(), 0);
             for (uint32_t c : luv.chart)
                 if (!seen[c]) { seen[c] = 1; usedUv += lay.chartUvArea[c]; }
         }
@@ -425,7 +535,7 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
         r.rasterUtilisation = la.atlas.rasterUtilisation;
         r.footprintUtilisation = la.atlas.footprintUtilisation;
         r.texelsPerUnit = la.atlas.texelsPerUnit * lay.uvPerUnit;
-        std::vector<float> pixels = bakePage(asset, lch, la, r.bakeSeconds);
+        std::vector<float> pixels = bakePage(asset, lay, la, r.bakeSeconds);
         LodLevelData& L = res.levels[k];
         L.name = "LOD" + std::to_string(k);
         L.metallicFactor = metallic;
