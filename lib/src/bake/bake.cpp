@@ -140,6 +140,22 @@ double closestBary(Vec2 p, Vec2 a, Vec2 b, Vec2 c, std::array<double, 3>& out) {
     return best;
 }
 
+// Calls fn(x, y, d, bary) for every texel of a size x size grid whose centre lies within
+// `dilation` texels of triangle P (texel units); bary: of the closest point of P.
+template <class Fn>
+void forEachTexelNear(const Vec2 (&P)[3], int size, double dilation, Fn&& fn) {
+    double x0 = std::min({P[0].x, P[1].x, P[2].x}) - dilation, x1 = std::max({P[0].x, P[1].x, P[2].x}) + dilation;
+    double y0 = std::min({P[0].y, P[1].y, P[2].y}) - dilation, y1 = std::max({P[0].y, P[1].y, P[2].y}) + dilation;
+    int ix0 = std::max(0, int(std::floor(x0))), ix1 = std::min(size - 1, int(std::ceil(x1)));
+    int iy0 = std::max(0, int(std::floor(y0))), iy1 = std::min(size - 1, int(std::ceil(y1)));
+    for (int y = iy0; y <= iy1; ++y)
+        for (int x = ix0; x <= ix1; ++x) {
+            std::array<double, 3> b{};
+            double d = closestBary({x + 0.5, y + 0.5}, P[0], P[1], P[2], b);
+            if (d <= dilation) fn(x, y, d, b);
+        }
+}
+
 void rasterizeTriangles(const TriMesh& mesh, const std::vector<std::array<Vec2, 3>>& cornerUV, int size,
                         double dilation, std::vector<TexelHit>& hits) {
     hits.assign(size_t(size) * size, {});
@@ -147,18 +163,10 @@ void rasterizeTriangles(const TriMesh& mesh, const std::vector<std::array<Vec2, 
         Vec2 P[3];
         for (int k = 0; k < 3; ++k) P[k] = {cornerUV[f][size_t(k)].x * size, cornerUV[f][size_t(k)].y * size};
         if (std::fabs(cross(P[1] - P[0], P[2] - P[0])) < 1e-12) continue;
-        double x0 = std::min({P[0].x, P[1].x, P[2].x}) - dilation, x1 = std::max({P[0].x, P[1].x, P[2].x}) + dilation;
-        double y0 = std::min({P[0].y, P[1].y, P[2].y}) - dilation, y1 = std::max({P[0].y, P[1].y, P[2].y}) + dilation;
-        int ix0 = std::max(0, int(std::floor(x0))), ix1 = std::min(size - 1, int(std::ceil(x1)));
-        int iy0 = std::max(0, int(std::floor(y0))), iy1 = std::min(size - 1, int(std::ceil(y1)));
-        for (int y = iy0; y <= iy1; ++y)
-            for (int x = ix0; x <= ix1; ++x) {
-                std::array<double, 3> b{};
-                double d = closestBary({x + 0.5, y + 0.5}, P[0], P[1], P[2], b);
-                if (d > dilation) continue;
-                TexelHit& h = hits[size_t(y) * size + size_t(x)];
-                if (float(d) < h.dist) h = {int32_t(f), float(d), {float(b[0]), float(b[1]), float(b[2])}};
-            }
+        forEachTexelNear(P, size, dilation, [&](int x, int y, double d, const std::array<double, 3>& b) {
+            TexelHit& h = hits[size_t(y) * size + size_t(x)];
+            if (float(d) < h.dist) h = {int32_t(f), float(d), {float(b[0]), float(b[1]), float(b[2])}};
+        });
     }
 }
 
@@ -175,24 +183,9 @@ void rasterizeIslands(const TriMesh& mesh, const std::vector<BakeIsland>& island
         for (int k = 0; k < 3; ++k) P[k] = {isl.uv[size_t(k)].x * size, isl.uv[size_t(k)].y * size};
         if (std::fabs(cross(P[1] - P[0], P[2] - P[0])) < 1e-12) continue;
         const Vec3 centroid = (isl.position[0] + isl.position[1] + isl.position[2]) * (1.0 / 3);
-        auto closestOf = [&](const std::vector<uint32_t>& faces, Vec3 x, uint32_t& face, std::array<double, 3>& bary) {
-            double best = 1e300;
-            for (uint32_t f : faces) {
-                const Tri& t = mesh.triangles[f];
-                auto b = closestOnTriangle(x, mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]);
-                Vec3 q = mesh.positions[t[0]] * b[0] + mesh.positions[t[1]] * b[1] + mesh.positions[t[2]] * b[2];
-                double d = length2(q - x);
-                if (d < best) {
-                    best = d;
-                    face = f;
-                    bary = b;
-                }
-            }
-            return std::sqrt(best);
-        };
         uint32_t f0 = 0;
         std::array<double, 3> b0{};
-        double radius = closestOf(isl.faces, centroid, f0, b0);
+        double radius = std::sqrt(closestSurfacePoint(mesh, isl.faces, centroid, f0, b0));
         double r = 0;
         for (const Vec3& q : isl.position) r = std::max(r, length(q - centroid));
         radius = (radius + r) * (1 + 1e-9) + 1e-12;
@@ -210,23 +203,15 @@ void rasterizeIslands(const TriMesh& mesh, const std::vector<BakeIsland>& island
             if (d2 <= radius * radius) near.push_back(f);
         }
         if (near.empty()) near = isl.faces;
-        double x0 = std::min({P[0].x, P[1].x, P[2].x}) - dilation, x1 = std::max({P[0].x, P[1].x, P[2].x}) + dilation;
-        double y0 = std::min({P[0].y, P[1].y, P[2].y}) - dilation, y1 = std::max({P[0].y, P[1].y, P[2].y}) + dilation;
-        int ix0 = std::max(0, int(std::floor(x0))), ix1 = std::min(size - 1, int(std::ceil(x1)));
-        int iy0 = std::max(0, int(std::floor(y0))), iy1 = std::min(size - 1, int(std::ceil(y1)));
-        for (int y = iy0; y <= iy1; ++y)
-            for (int x = ix0; x <= ix1; ++x) {
-                std::array<double, 3> b{};
-                double d = closestBary({x + 0.5, y + 0.5}, P[0], P[1], P[2], b);
-                if (d > dilation) continue;
-                TexelHit& h = hits[size_t(y) * size + size_t(x)];
-                if (!(float(d) < h.dist)) continue;
-                Vec3 X = isl.position[0] * b[0] + isl.position[1] * b[1] + isl.position[2] * b[2];
-                uint32_t f = 0;
-                std::array<double, 3> fb{};
-                closestOf(near, X, f, fb);
-                h = {int32_t(f), float(d), {float(fb[0]), float(fb[1]), float(fb[2])}, int32_t(i)};
-            }
+        forEachTexelNear(P, size, dilation, [&](int x, int y, double d, const std::array<double, 3>& b) {
+            TexelHit& h = hits[size_t(y) * size + size_t(x)];
+            if (!(float(d) < h.dist)) return;
+            Vec3 X = isl.position[0] * b[0] + isl.position[1] * b[1] + isl.position[2] * b[2];
+            uint32_t f = 0;
+            std::array<double, 3> fb{};
+            closestSurfacePoint(mesh, near, X, f, fb);
+            h = {int32_t(f), float(d), {float(fb[0]), float(fb[1]), float(fb[2])}, int32_t(i)};
+        });
     }
 }
 

@@ -45,12 +45,11 @@ inline std::array<double, 3> closestOnTriangle(Vec3 p, Vec3 a, Vec3 b, Vec3 c) {
     return {1 - v - w, v, w};
 }
 
-// The texture coordinate of the point of `faces` (ids of mesh triangles) closest to p,
-// interpolated from the faces' per-corner UVs (cornerUV[f][k]). {0, 0} when faces is empty.
-inline Vec2 closestSurfaceUV(const TriMesh& mesh, const std::vector<std::array<Vec2, 3>>& cornerUV,
-                             const std::vector<uint32_t>& faces, Vec3 p) {
+// The point of `faces` (ids of mesh triangles) closest to p: its face and barycentrics (first
+// face on ties); returns the squared distance (1e300 when faces is empty).
+inline double closestSurfacePoint(const TriMesh& mesh, const std::vector<uint32_t>& faces, Vec3 p, uint32_t& face,
+                                  std::array<double, 3>& bary) {
     double best = 1e300;
-    Vec2 uv{};
     for (uint32_t f : faces) {
         const Tri& t = mesh.triangles[f];
         auto b = closestOnTriangle(p, mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]);
@@ -58,10 +57,21 @@ inline Vec2 closestSurfaceUV(const TriMesh& mesh, const std::vector<std::array<V
         double d = length2(q - p);
         if (d < best) {
             best = d;
-            uv = cornerUV[f][0] * b[0] + cornerUV[f][1] * b[1] + cornerUV[f][2] * b[2];
+            face = f;
+            bary = b;
         }
     }
-    return uv;
+    return best;
+}
+
+// The texture coordinate of the point of `faces` closest to p, interpolated from the faces'
+// per-corner UVs (cornerUV[f][k]). {0, 0} when faces is empty.
+inline Vec2 closestSurfaceUV(const TriMesh& mesh, const std::vector<std::array<Vec2, 3>>& cornerUV,
+                             const std::vector<uint32_t>& faces, Vec3 p) {
+    uint32_t f = 0;
+    std::array<double, 3> b{};
+    if (closestSurfacePoint(mesh, faces, p, f, b) >= 1e300) return {};
+    return cornerUV[f][0] * b[0] + cornerUV[f][1] * b[1] + cornerUV[f][2] * b[2];
 }
 
 }  // namespace lodbake
