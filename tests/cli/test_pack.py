@@ -19,6 +19,15 @@ SAMPLES = ["hemisphere9", "wall5", "colors", "seamball"]
 FAST = ["--max-size", "512", "--samples", "20000", "--quiet"]
 
 
+def check_fold_free(tc, path, what):
+    """Every level of a written chain has 0 flipped and 0 overlapping UV triangles in its atlas."""
+    g = lt.Gltf(path)
+    for m in range(len(g.json["meshes"])):
+        tris = lt.level_uv_triangles(g, m)
+        with tc.subTest(chain=what, mesh=m):
+            tc.assertEqual((lt.count_flips(tris), lt.count_overlaps(tris)), (0, 0), "flipped / overlapping UVs")
+
+
 def check_chain(tc, path, report=None):
     """Structure checks shared with test_pack_assets.py; returns the Gltf."""
     g = lt.Gltf(path)

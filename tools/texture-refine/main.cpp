@@ -119,6 +119,7 @@ int run(Settings s) {
                             {"validLevels", {r.firstLevel, r.lastLevel}},
                             {"regions", r.regions},
                             {"charts", r.layout.chartCount},
+                            {"levelIslands", r.layout.islands.size()},
                             {"resolution", s.refine.size},
                             {"refined", measureJson(r.measure, rSize)},
                             {"T0", measureJson(r.base, rSize)},

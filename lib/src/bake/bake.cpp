@@ -375,4 +375,34 @@ BakeResult bakeBaseColor(const Asset& asset, const std::vector<std::array<Vec2, 
     return res;
 }
 
+std::vector<BakeIsland> layoutBakeIslands(const TriMesh& mesh, const ChartLayout& layout) {
+    std::vector<BakeIsland> out;
+    if (layout.islands.empty()) return out;
+    std::vector<std::vector<uint32_t>> chartFaces(layout.chartCount);
+    std::vector<std::vector<uint32_t>> vertexCharts(mesh.vertexCount());
+    for (uint32_t f = 0; f < mesh.triangleCount(); ++f) {
+        const uint32_t c = layout.faceChart.at(f);
+        if (c >= layout.chartCount) throw InvalidInput("layout: chart id out of range");
+        chartFaces[c].push_back(f);
+        for (uint32_t v : mesh.triangles[f]) vertexCharts[v].push_back(c);
+    }
+    for (size_t i = 0; i < layout.islands.size(); ++i) {
+        const LayoutIsland& isl = layout.islands[i];
+        BakeIsland b;
+        b.uv = isl.uv;
+        std::vector<uint32_t> charts;
+        for (size_t k = 0; k < 3; ++k) {
+            if (isl.vertices[k] >= mesh.vertexCount()) throw InvalidInput("layout island " + std::to_string(i) + ": vertex out of range");
+            b.position[k] = mesh.positions[isl.vertices[k]];
+            charts.insert(charts.end(), vertexCharts[isl.vertices[k]].begin(), vertexCharts[isl.vertices[k]].end());
+        }
+        std::sort(charts.begin(), charts.end());
+        charts.erase(std::unique(charts.begin(), charts.end()), charts.end());
+        for (uint32_t c : charts) b.faces.insert(b.faces.end(), chartFaces[c].begin(), chartFaces[c].end());
+        if (b.faces.empty()) throw InvalidInput("layout island " + std::to_string(i) + " touches no chart");
+        out.push_back(std::move(b));
+    }
+    return out;
+}
+
 }  // namespace lodbake

@@ -641,6 +641,37 @@ TriMesh rebuildOriginal(const Ctx& c, const json& ext, const json& orig, int mes
     return mesh;
 }
 
+// A chart layout (charts, or a textureHierarchy rank), checked against the original mesh.
+ChartLayout readLayout(const Ctx& c, const json& C, const TriMesh& mesh, const std::string& what) {
+    const size_t V = mesh.vertexCount(), F = mesh.triangleCount();
+    auto checkRange = [&](const std::vector<uint32_t>& v, size_t limit, const std::string& name) {
+        for (uint32_t x : v) if (x >= limit) fail(c, what + ": " + name + " entry " + std::to_string(x) + " out of range");
+    };
+    ChartLayout ch;
+    ch.chartCount = uint32_t(std::max(0, jint(C, "count", 0)));
+    ch.image = jint(C, "image");
+    ch.faceChart = readU32(c, jint(C, "faceChart"), 1, what + " faceChart");
+    std::vector<float> uv = readF32(c, jint(C, "cornerUV"), 2, what + " cornerUV");
+    if (ch.faceChart.size() != F || uv.size() != 6 * F) fail(c, what + ": accessors do not match the face count");
+    checkRange(ch.faceChart, ch.chartCount, "faceChart");
+    ch.cornerUV.resize(F);
+    for (size_t f = 0; f < F; ++f)
+        for (size_t k = 0; k < 3; ++k) ch.cornerUV[f][k] = {uv[6 * f + 2 * k], uv[6 * f + 2 * k + 1]};
+    if (C.contains("islandVertices")) {
+        std::vector<uint32_t> iv = readU32(c, jint(C, "islandVertices"), 1, what + " islandVertices");
+        std::vector<float> iuv = readF32(c, jint(C, "islandUV"), 2, what + " islandUV");
+        if (iv.size() % 3 != 0 || iuv.size() != 2 * iv.size()) fail(c, what + ": island accessors do not match");
+        checkRange(iv, V, "islandVertices");
+        ch.islands.resize(iv.size() / 3);
+        for (size_t i = 0; i < ch.islands.size(); ++i)
+            for (size_t k = 0; k < 3; ++k) {
+                ch.islands[i].vertices[k] = iv[3 * i + k];
+                ch.islands[i].uv[k] = {iuv[6 * i + 2 * k], iuv[6 * i + 2 * k + 1]};
+            }
+    }
+    return ch;
+}
+
 Multires readMultires(const Ctx& c, const json& ext, const TriMesh& mesh) {
     std::string what = kMultiresExtension;
     Multires mr;
@@ -729,30 +760,8 @@ Multires readMultires(const Ctx& c, const json& ext, const TriMesh& mesh) {
     for (const CollapseRecord& r : mr.collapses)
         if (r.regionBegin > r.regionEnd || r.regionEnd > mr.regionUpdates.size()) fail(c, what + ": collapse region range out of bounds");
     if (ext.contains("charts")) {
-        const json& C = ext["charts"];
-        ChartLayout& ch = mr.charts;
-        ch.chartCount = uint32_t(std::max(0, jint(C, "count", 0)));
-        ch.material = jint(C, "material");
-        ch.image = jint(C, "image");
-        ch.faceChart = readU32(c, jint(C, "faceChart"), 1, what + " charts.faceChart");
-        std::vector<float> uv = readF32(c, jint(C, "cornerUV"), 2, what + " charts.cornerUV");
-        if (ch.faceChart.size() != F || uv.size() != 6 * F) fail(c, what + ": charts accessors do not match the face count");
-        checkRange(ch.faceChart, ch.chartCount, "charts.faceChart");
-        ch.cornerUV.resize(F);
-        for (size_t f = 0; f < F; ++f)
-            for (size_t k = 0; k < 3; ++k) ch.cornerUV[f][k] = {uv[6 * f + 2 * k], uv[6 * f + 2 * k + 1]};
-        if (C.contains("islandVertices")) {
-            std::vector<uint32_t> iv = readU32(c, jint(C, "islandVertices"), 1, what + " charts.islandVertices");
-            std::vector<float> iuv = readF32(c, jint(C, "islandUV"), 2, what + " charts.islandUV");
-            if (iv.size() % 3 != 0 || iuv.size() != 2 * iv.size()) fail(c, what + ": charts island accessors do not match");
-            checkRange(iv, V, "charts.islandVertices");
-            ch.islands.resize(iv.size() / 3);
-            for (size_t i = 0; i < ch.islands.size(); ++i)
-                for (size_t k = 0; k < 3; ++k) {
-                    ch.islands[i].vertices[k] = iv[3 * i + k];
-                    ch.islands[i].uv[k] = {iuv[6 * i + 2 * k], iuv[6 * i + 2 * k + 1]};
-                }
-        }
+        mr.charts = readLayout(c, ext["charts"], mesh, what + " charts");
+        mr.charts.material = jint(ext["charts"], "material");
     }
     if (ext.contains("textureHierarchy")) {
         // Written by texture-refine: rank layouts (same schema as charts) and the textures.
@@ -763,17 +772,8 @@ Multires readMultires(const Ctx& c, const json& ext, const TriMesh& mesh) {
         if (T.contains("ranks")) {
             if (!T["ranks"].is_array()) fail(c, tw + ".ranks is not an array");
             for (const json& R : T["ranks"]) {
-                ChartLayout lay;
-                lay.chartCount = uint32_t(std::max(0, jint(R, "count", 0)));
-                lay.image = jint(R, "image");
-                lay.faceChart = readU32(c, jint(R, "faceChart"), 1, tw + " faceChart");
-                std::vector<float> uv = readF32(c, jint(R, "cornerUV"), 2, tw + " cornerUV");
-                if (lay.faceChart.size() != F || uv.size() != 6 * F) fail(c, tw + ": rank accessors do not match the face count");
-                checkRange(lay.faceChart, lay.chartCount, "textureHierarchy faceChart");
+                ChartLayout lay = readLayout(c, R, mesh, tw + " rank");
                 if (lay.image >= int(images)) fail(c, tw + ": rank image out of range");
-                lay.cornerUV.resize(F);
-                for (size_t f = 0; f < F; ++f)
-                    for (size_t k = 0; k < 3; ++k) lay.cornerUV[f][k] = {uv[6 * f + 2 * k], uv[6 * f + 2 * k + 1]};
                 mr.textures.ranks.push_back(std::move(lay));
             }
         }

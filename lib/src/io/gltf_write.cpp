@@ -170,6 +170,31 @@ void setIfValid(json& o, const char* key, int accessor) {
     if (accessor >= 0) o[key] = accessor;
 }
 
+// A chart layout (charts, or a textureHierarchy rank): count, image, faceChart, cornerUV and the
+// optional level-triangle islands.
+json layoutJson(Writer& w, const ChartLayout& ch) {
+    std::vector<float> uv;
+    uv.reserve(6 * ch.cornerUV.size());
+    for (const auto& corners : ch.cornerUV)
+        for (const Vec2& c : corners) { uv.push_back(float(c.x)); uv.push_back(float(c.y)); }
+    json out = {{"count", ch.chartCount}, {"image", ch.image}};
+    setIfValid(out, "faceChart", w.addU32(ch.faceChart, 1));
+    setIfValid(out, "cornerUV", w.addFloat(uv, 2, 0, false));
+    if (!ch.islands.empty()) {
+        std::vector<uint32_t> iv;
+        std::vector<float> iuv;
+        for (const LayoutIsland& isl : ch.islands)
+            for (size_t k = 0; k < 3; ++k) {
+                iv.push_back(isl.vertices[k]);
+                iuv.push_back(float(isl.uv[k].x));
+                iuv.push_back(float(isl.uv[k].y));
+            }
+        setIfValid(out, "islandVertices", w.addU32(iv, 1));
+        setIfValid(out, "islandUV", w.addFloat(iuv, 2, 0, false));
+    }
+    return out;
+}
+
 json multiresJson(Writer& w, const Asset& asset, const Multires& mr, const std::vector<PrimMap>& originalPrims,
                   int originalMesh, const std::vector<int>& levelMeshes,
                   const std::vector<std::vector<PrimMap>>& levelPrims, const WriteOptions& options) {
@@ -251,41 +276,14 @@ json multiresJson(Writer& w, const Asset& asset, const Multires& mr, const std::
         ext["regionUpdates"] = w.addU32(ru, 3);
     }
     if (!mr.charts.empty()) {
-        const ChartLayout& ch = mr.charts;
-        std::vector<float> uv;
-        uv.reserve(6 * ch.cornerUV.size());
-        for (const auto& corners : ch.cornerUV)
-            for (const Vec2& c : corners) { uv.push_back(float(c.x)); uv.push_back(float(c.y)); }
-        json charts = {{"count", ch.chartCount}, {"material", ch.material}, {"image", ch.image}};
-        setIfValid(charts, "faceChart", w.addU32(ch.faceChart, 1));
-        setIfValid(charts, "cornerUV", w.addFloat(uv, 2, 0, false));
-        if (!ch.islands.empty()) {
-            std::vector<uint32_t> iv;
-            std::vector<float> iuv;
-            for (const LayoutIsland& isl : ch.islands)
-                for (size_t k = 0; k < 3; ++k) {
-                    iv.push_back(isl.vertices[k]);
-                    iuv.push_back(float(isl.uv[k].x));
-                    iuv.push_back(float(isl.uv[k].y));
-                }
-            setIfValid(charts, "islandVertices", w.addU32(iv, 1));
-            setIfValid(charts, "islandUV", w.addFloat(iuv, 2, 0, false));
-        }
+        json charts = layoutJson(w, mr.charts);
+        charts["material"] = mr.charts.material;
         ext["charts"] = charts;
     }
     if (!mr.textures.empty()) {
         // texture-refine's hierarchy: rank layouts (schema of charts) and the textures.
         json ranks = json::array(), textures = json::array();
-        for (const ChartLayout& lay : mr.textures.ranks) {
-            std::vector<float> uv;
-            uv.reserve(6 * lay.cornerUV.size());
-            for (const auto& corners : lay.cornerUV)
-                for (const Vec2& c : corners) { uv.push_back(float(c.x)); uv.push_back(float(c.y)); }
-            json r = {{"count", lay.chartCount}, {"image", lay.image}};
-            setIfValid(r, "faceChart", w.addU32(lay.faceChart, 1));
-            setIfValid(r, "cornerUV", w.addFloat(uv, 2, 0, false));
-            ranks.push_back(r);
-        }
+        for (const ChartLayout& lay : mr.textures.ranks) ranks.push_back(layoutJson(w, lay));
         for (const HierarchyTexture& h : mr.textures.textures)
             textures.push_back({{"rank", h.rank}, {"levels", {h.firstLevel, h.lastLevel}}, {"image", h.image}, {"size", h.size}});
         ext["textureHierarchy"] = {{"ranks", ranks}, {"textures", textures}};

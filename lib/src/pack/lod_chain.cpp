@@ -21,7 +21,6 @@
 #include <filesystem>
 #include <map>
 #include <memory>
-#include <set>
 #include <tuple>
 #include <unordered_map>
 
@@ -108,37 +107,19 @@ struct LayoutData {
     std::vector<double> chartUvArea;  // charts, then islands (chart id chartCount + i)
     double uvPerUnit = 0;  // layout UV units per model unit (area-averaged)
     std::unique_ptr<ChartVertexUV> lookup;
-    // Level-triangle islands (parameterize's fallback, T0 only): sorted vertex triple -> island,
+    // Level-triangle islands (parameterize's fallback): sorted vertex triple -> island,
     // and the original faces each island's bake samples (the charts of its corners).
     std::map<std::array<uint32_t, 3>, uint32_t> island;
     std::vector<std::vector<uint32_t>> islandFaces;
 };
 
-std::array<uint32_t, 3> sortedTriple(const Tri& t) {
-    std::array<uint32_t, 3> k{t[0], t[1], t[2]};
-    std::sort(k.begin(), k.end());
-    return k;
-}
-
 void addIslands(const TriMesh& mesh, const ChartLayout& ch, LayoutData& d) {
-    std::map<uint32_t, std::set<uint32_t>> vertexCharts;
-    for (const LayoutIsland& isl : ch.islands)
-        for (uint32_t v : isl.vertices) vertexCharts[v];
-    for (size_t f = 0; f < mesh.triangleCount(); ++f)
-        for (uint32_t v : mesh.triangles[f]) {
-            auto it = vertexCharts.find(v);
-            if (it != vertexCharts.end()) it->second.insert(ch.faceChart[f]);
-        }
+    std::vector<BakeIsland> bake = layoutBakeIslands(mesh, ch);
     for (uint32_t i = 0; i < ch.islands.size(); ++i) {
         const LayoutIsland& isl = ch.islands[i];
-        d.island.emplace(sortedTriple(isl.vertices), i);
+        d.island.emplace(islandKey(isl.vertices), i);
         d.chartUvArea.push_back(triArea2(isl.uv[0], isl.uv[1], isl.uv[2]));
-        std::set<uint32_t> charts;
-        for (uint32_t v : isl.vertices) charts.insert(vertexCharts[v].begin(), vertexCharts[v].end());
-        std::vector<uint32_t> faces;
-        for (uint32_t c : charts) faces.insert(faces.end(), d.chartFaces[c].begin(), d.chartFaces[c].end());
-        if (faces.empty()) throw InvalidInput("chart layout island " + std::to_string(i) + " touches no chart");
-        d.islandFaces.push_back(std::move(faces));
+        d.islandFaces.push_back(std::move(bake[i].faces));
     }
 }
 
@@ -198,13 +179,11 @@ LevelUVs levelUVs(const TriMesh& mesh, const LayoutData& L, const LevelView& lv,
     std::map<std::pair<uint32_t, uint32_t>, Vec2> projected;
     for (size_t t = 0; t < n; ++t) {
         if (!L.island.empty()) {
-            auto isl = L.island.find(sortedTriple(lv.triangles[t]));
+            auto isl = L.island.find(islandKey(lv.triangles[t]));
             if (isl != L.island.end()) {
                 const LayoutIsland& island = ch.islands[isl->second];
                 out.chart[t] = ch.chartCount + isl->second;
-                for (size_t j = 0; j < 3; ++j)
-                    out.uv[t][j] = island.uv[size_t(std::find(island.vertices.begin(), island.vertices.end(),
-                                                              lv.triangles[t][j]) - island.vertices.begin())];
+                for (size_t j = 0; j < 3; ++j) out.uv[t][j] = island.uvOf(lv.triangles[t][j]);
                 continue;
             }
         }
@@ -499,8 +478,11 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
                                          (h.size >= tMax && h.size < r.textureSize)))
                     r.textureSize = h.size;
         LevelUVs luv = levelUVs(mesh, lay, views[k], views[k].data);
-        // Mips used between its largest and smallest coverage, limited to pages >= minMipSide.
-        int mips = int(std::ceil(std::log2(std::max(1.0, r.maxCoverage / std::max(r.coverage, 1e-12)))));
+        // Mips used between its largest and smallest coverage, limited to pages >= minMipSide: at
+        // density d (layout units) the smallest coverage samples mip log2(d / (tMax x cov / maxCov)).
+        const double minCoverageRatio = std::max(r.coverage, 1e-12) / r.maxCoverage;
+        auto mipsAt = [&](double d) { return int(std::ceil(std::log2(std::max(1.0, d / (tMax * minCoverageRatio)) - 1e-9))); };
+        int mips = mipsAt(tMax);
         double usedUv = 0;
         {
             std::vector<char> seen(lay.chartUvArea.size(), 0);
@@ -516,6 +498,19 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
         ao.maxSize = options.maxSize;
         ao.powerOfTwo = options.powerOfTwo;
         LevelAtlas la = packLevelAtlas(lay, luv, k == 0, ao);
+        // A page held below the density limit (--max-size) is magnified at the largest coverage and
+        // uses fewer mips: narrow the gutter to the fewest mips that the denser packing it allows
+        // still covers.
+        for (int m = std::clamp(mipsAt(la.atlas.texelsPerUnit), 0, mips); m < mips; ++m) {
+            AtlasOptions narrow = ao;
+            narrow.gutter = 2 << m;
+            LevelAtlas denser = packLevelAtlas(lay, luv, k == 0, narrow);
+            if (mipsAt(denser.atlas.texelsPerUnit) > m) continue;
+            mips = m;
+            ao = narrow;
+            la = std::move(denser);
+            break;
+        }
         // A coarser level never carries more texels than the finer one (packing of fewer, larger
         // gutters can come out bigger at the same density): lower its density until it does not.
         for (int tries = 0; k > 0 && tries < 8; ++tries) {

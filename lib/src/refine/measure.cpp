@@ -2,6 +2,7 @@
 // layout over the geometry levels it serves, plus the UV injectivity of those levels.
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <unordered_map>
 
 #include "lodbake/core/chart_lookup.h"
@@ -21,7 +22,7 @@ double triArea3(const TriMesh& m, const Tri& t) {
 }  // namespace
 
 LayoutMeasure measureLayout(const TriMesh& mesh, const Multires& mr, const ChartLayout& lay, uint32_t lastLevel,
-                            const ChartEnergyOptions& eo, bool projectCorners) {
+                            const ChartEnergyOptions& eo) {
     const size_t nf = mesh.triangleCount();
     if (lay.faceChart.size() != nf || lay.cornerUV.size() != nf) throw InvalidInput("measureLayout: layout does not match the mesh");
     if (lastLevel > mr.levels.size()) throw InvalidInput("measureLayout: level out of range");
@@ -103,6 +104,8 @@ LayoutMeasure measureLayout(const TriMesh& mesh, const Multires& mr, const Chart
 
     // Area ratios and injectivity of every served level, UVs as pack assigns them.
     ChartVertexUV lookup(mesh, lay);
+    std::map<std::array<uint32_t, 3>, uint32_t> island;  // a level triangle with an island's triple takes its UVs
+    for (uint32_t i = 0; i < lay.islands.size(); ++i) island.emplace(islandKey(lay.islands[i].vertices), i);
     std::vector<std::vector<uint32_t>> chartFaces(lay.chartCount);
     for (uint32_t f = 0; f < nf; ++f) chartFaces[lay.faceChart[f]].push_back(f);
     std::vector<double> ratios;
@@ -112,19 +115,20 @@ LayoutMeasure measureLayout(const TriMesh& mesh, const Multires& mr, const Chart
         size_t crossing = 0;
         const std::vector<Tri>& T = l == 0 ? mesh.triangles : mr.levels[l - 1].triangles;
         std::vector<uint32_t> triChart;
-        if (l > 0 && projectCorners) triChart = levelTriangleCharts(mesh, lay.faceChart, lay.chartCount, mr.levels[l - 1]);
+        if (l > 0) triChart = levelTriangleCharts(mesh, lay.faceChart, lay.chartCount, mr.levels[l - 1]);
         for (size_t t = 0; t < T.size(); ++t) {
             if (degenerateIndices(T[t])) continue;
             uint32_t f = l == 0 ? uint32_t(t) : mr.levels[l - 1].faces.at(t);
             if (f >= nf) throw InvalidInput("measureLayout: level face out of range");
             std::array<Vec2, 3> u;
             if (l > 0) {
-                uint32_t c = projectCorners ? triChart[t] : lay.faceChart[f];
+                uint32_t c = triChart[t];
                 if (!lookup.has(T[t][0], c) || !lookup.has(T[t][1], c) || !lookup.has(T[t][2], c)) ++crossing;
             }
+            auto isl = l > 0 && !island.empty() ? island.find(islandKey(T[t])) : island.end();
             for (size_t k = 0; k < 3; ++k) {
                 if (l == 0) u[k] = lay.cornerUV[f][k];
-                else if (!projectCorners) u[k] = lookup(T[t][k], lay.faceChart[f]);
+                else if (isl != island.end()) u[k] = lay.islands[isl->second].uvOf(T[t][k]);
                 else u[k] = lookup.has(T[t][k], triChart[t]) ? lookup(T[t][k], triChart[t])
                                                              : closestSurfaceUV(mesh, lay.cornerUV, chartFaces[triChart[t]], mesh.positions[T[t][k]]);
             }

@@ -51,9 +51,8 @@ ChartLayout rankLayout(const TriMesh& mesh, const Multires& mr, uint32_t last, c
     po.textureSize = o.size;
     po.gutter = o.gutter;
     po.threads = o.threads;
-    // The textureHierarchy has no slot for parameterize's level islands: a rank's folded level
-    // triangles are measured instead and limit the levels it serves.
-    po.levelIslands = false;
+    // A level triangle that would fold in the rank's charts gets its own island, as in T0.
+    po.levelIslands = true;
     po.charts.maxCharts = 0;
     po.charts.maxRegionEnergy = 1e-300;  // refuse every merge: the split charts are final
     ParameterizeResult pr = parameterize(mesh, sub, po);
@@ -85,6 +84,7 @@ ChartLayout rankLayout(const TriMesh& mesh, const Multires& mr, uint32_t last, c
     lay.faceChart.resize(mesh.triangleCount());
     for (size_t f = 0; f < lay.faceChart.size(); ++f) lay.faceChart[f] = uint32_t(std::max(pr.charts.faceChart[f], 0));
     lay.cornerUV = pr.cornerUV;
+    for (const LevelIsland& isl : pr.islands) lay.islands.push_back({isl.vertices, isl.uv});
     return lay;
 }
 
@@ -279,18 +279,18 @@ RefineResult refineTextures(const Asset& asset, const Multires& mr, const Refine
             continue;
         }
         progress(++done / steps);
-        rr.measure = measureLayout(mesh, mr, rr.layout, rr.lastLevel, eo, true);
+        rr.measure = measureLayout(mesh, mr, rr.layout, rr.lastLevel, eo);
         rr.base = measureLayout(mesh, mr, mr.charts, rr.lastLevel, eo);
         // Served levels: the longest run 0..v (v <= the level of its regions) on which the rank
-        // flips and overlaps no more level triangles than T0 (UVs as pack assigns them), its chart
+        // has no flipped and no overlapping level triangle (UVs as pack assigns them), its chart
         // boundaries cut at most maxExtraCutFraction of the level's triangles more than T0's do
         // (a cut triangle's corners outside its chart take projected UVs, which smear the texture;
         // cut boundaries are not p-boundaries there), and, over 0..v, it lowers both E and the
         // area-ratio std-dev of T0.
         auto serves = [&](uint32_t l) {
-            const UVInjectivity &a = rr.measure.levels[l], &b = rr.base.levels[l];
+            const UVInjectivity& a = rr.measure.levels[l];
             const double extra = o.maxExtraCutFraction * double(a.triangles);
-            return a.flips <= b.flips && a.overlaps <= b.overlaps && double(rr.measure.crossing[l]) <= double(rr.base.crossing[l]) + extra;
+            return a.flips == 0 && a.overlaps == 0 && double(rr.measure.crossing[l]) <= double(rr.base.crossing[l]) + extra;
         };
         uint32_t valid = 0;
         while (valid < rr.lastLevel && serves(valid + 1)) ++valid;
@@ -298,7 +298,7 @@ RefineResult refineTextures(const Asset& asset, const Multires& mr, const Refine
         for (;;) {
             if (valid < rr.lastLevel) {
                 rr.lastLevel = valid;
-                rr.measure = measureLayout(mesh, mr, rr.layout, rr.lastLevel, eo, true);
+                rr.measure = measureLayout(mesh, mr, rr.layout, rr.lastLevel, eo);
                 rr.base = measureLayout(mesh, mr, mr.charts, rr.lastLevel, eo);
             }
             better = rr.measure.energy.E < rr.base.energy.E && rr.measure.areaRatioStdDev < rr.base.areaRatioStdDev;
@@ -322,7 +322,7 @@ RefineResult refineTextures(const Asset& asset, const Multires& mr, const Refine
             if (rr.rank > 0 && size < o.minRefinedSize && size != sizes.back()) continue;
             BakeOptions bo;
             bo.size = size;
-            BakeResult b = bakeBaseColor(asset, rr.layout.cornerUV, bo);
+            BakeResult b = bakeBaseColor(asset, rr.layout.cornerUV, bo, layoutBakeIslands(mesh, rr.layout));
             RefinedImage img;
             img.rank = rr.rank;
             img.size = size;

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "lodbake/core/mesh.h"
+#include "lodbake/core/multires.h"
 
 namespace lodbake {
 
@@ -22,6 +23,11 @@ struct BakeIsland {
     std::array<Vec2, 3> uv{};            // glTF convention, like cornerUV
     std::vector<uint32_t> faces;         // original faces to sample (non-empty)
 };
+
+// The level-triangle islands of a chart layout as the bake takes them: the layout's UVs, and as
+// faces every face of a chart that holds one of the island's vertices.
+// \throw InvalidInput (an island touching no chart).
+std::vector<BakeIsland> layoutBakeIslands(const TriMesh& mesh, const ChartLayout& layout);
 
 struct BakeResult {
     Image image;                 // PNG, RGB 8-bit sRGB, size x size

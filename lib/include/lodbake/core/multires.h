@@ -8,6 +8,8 @@
 // face whose corners moved to kept vertices.
 #pragma once
 
+#include <algorithm>
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -78,7 +80,16 @@ struct RegionUpdate {
 struct LayoutIsland {
     Tri vertices{};              // welded vertex ids
     std::array<Vec2, 3> uv{};    // UV of vertices[k] in the layout
+    // The UV of vertex v, one of `vertices`.
+    Vec2 uvOf(uint32_t v) const { return uv[v == vertices[0] ? 0 : v == vertices[1] ? 1 : 2]; }
 };
+
+// The key a level triangle finds its island by (any corner order): the vertex triple, ascending.
+inline std::array<uint32_t, 3> islandKey(const Tri& t) {
+    std::array<uint32_t, 3> k{t[0], t[1], t[2]};
+    std::sort(k.begin(), k.end());
+    return k;
+}
 
 struct ChartLayout {
     uint32_t chartCount = 0;

@@ -49,13 +49,12 @@ struct LayoutMeasure {
 
 // Measures `layout` (ChartLayout convention: per original face corner, [0,1], v down) over levels
 // 0..lastLevel. Energies use model-unit UVs (the layout scaled so its UV area equals the 3D area)
-// and the simplification pairs of levels 1..lastLevel. Level corners get the UVs `pack` gives them:
-// projectCorners = false (T0): the UV of their vertex in the chart of their face (point-consistent
-// mapping), or of that chart's nearest vertex; true (rank layouts): the chart levelTriangleCharts
-// picks, a corner outside it the UV of the closest point of the chart's surface.
+// and the simplification pairs of levels 1..lastLevel. Level triangles get the UVs `pack` gives
+// them: an island's when the layout has one for their vertex triple, else those of the chart
+// levelTriangleCharts picks, a corner outside it the UV of the closest point of the chart's surface.
 // \pre layout matches mesh; lastLevel <= multires.levels.size().
 LayoutMeasure measureLayout(const TriMesh& mesh, const Multires& multires, const ChartLayout& layout,
-                            uint32_t lastLevel, const ChartEnergyOptions& energy = {}, bool projectCorners = false);
+                            uint32_t lastLevel, const ChartEnergyOptions& energy = {});
 
 // Splits every chart of `parentChart` (chart id per original face, < parentCount) into about
 // `perChart` charts: the parts of the regions `faceRegion` (representative face per face) inside
