@@ -13,7 +13,9 @@
 //      chart orders for free sizes (smallest page wins), the largest power-of-two page not far
 //      above the need for --pot, binary search on the density when the charts do not fit;
 //      packBitmap places each chart at the lowest free position of each quarter turn (the lowest
-//      top edge wins); no gutter along the page border (the samplers clamp to the edge);
+//      top edge wins); no gutter along the page border (the samplers clamp to the edge); the
+//      search skips rows whose longest free run is shorter than the chart's row needs, and jumps
+//      over a whole occupied stretch on a collision;
 //   4. placementFor: the affine UV -> texel map of each chart; utilisation figures.
 #include "lodbake/pack/atlas.h"
 
@@ -111,6 +113,7 @@ struct Footprint {
     int w = 0, h = 0;                                  // grid size, texels
     std::vector<std::vector<std::pair<int, int>>> rows;  // occupied runs per row, inclusive
     std::vector<int> rowCells;                         // occupied texels per row
+    std::vector<int> rowLongest;                       // longest run per row
 };
 
 // True when triangle q[0..2] and the unit cell [x, x+1] x [y, y+1] overlap by more than a hair
@@ -180,6 +183,7 @@ Footprint rotatedFootprint(const std::vector<uint8_t>& mask, int gw, int gh, int
     f.h = rotation % 2 ? gw : gh;
     f.rows.resize(size_t(f.h));
     f.rowCells.assign(size_t(f.h), 0);
+    f.rowLongest.assign(size_t(f.h), 0);
     auto at = [&](int x, int y) -> bool {  // (x, y) in the rotated grid -> source cell
         int sx = x, sy = y;
         switch (rotation) {
@@ -198,6 +202,7 @@ Footprint rotatedFootprint(const std::vector<uint8_t>& mask, int gw, int gh, int
             if (!on && start >= 0) {
                 f.rows[size_t(y)].push_back({start, x - 1});
                 f.rowCells[size_t(y)] += x - start;
+                f.rowLongest[size_t(y)] = std::max(f.rowLongest[size_t(y)], x - start);
                 start = -1;
             }
         }
@@ -210,22 +215,32 @@ class BitmapPage {
 public:
     BitmapPage(int width, int height)
         : W_(width), H_(height), words_((size_t(width) + 63) / 64), bits_(words_ * size_t(height), 0),
-          rowFree_(size_t(height), width) {}
+          rowFree_(size_t(height), width), rowRun_(size_t(height), width) {}
 
     // The lowest position (smallest top edge y + h, then smallest x) with top edge below `topLimit`.
     bool find(const Footprint& f, int topLimit, int& outX, int& outY) const {
         for (int y = 0; y + f.h <= H_ && y + f.h < topLimit; ++y) {
             bool roomy = true;
-            for (int i = 0; i < f.h && roomy; ++i) roomy = rowFree_[size_t(y + i)] >= f.rowCells[size_t(i)];
+            // A row needs as many free texels as the footprint's row, and a free run as long as
+            // its longest run (fragmented rows low on the page fail here).
+            for (int i = 0; i < f.h && roomy; ++i)
+                roomy = rowFree_[size_t(y + i)] >= f.rowCells[size_t(i)] && rowRun_[size_t(y + i)] >= f.rowLongest[size_t(i)];
             if (!roomy) continue;
-            int x = 0;
+            int x = 0, hot = 0;  // the footprint row that collided last is tested first
             while (x + f.w <= W_) {
                 int next = -1;
-                for (int i = 0; i < f.h && next < 0; ++i)
+                for (int k = 0; k < f.h && next < 0; ++k) {
+                    const int i = k == 0 ? hot : k <= hot ? k - 1 : k;
                     for (const auto& [a, b] : f.rows[size_t(i)]) {
                         int p = firstSet(y + i, x + a, x + b);
-                        if (p >= 0) { next = p - a + 1; break; }
+                        if (p < 0) continue;
+                        // Every shift that keeps this run over p, or starts it inside the set
+                        // stretch from p, collides: the run starts at the stretch's end at least.
+                        next = std::max(x + 1, firstClear(y + i, p) - a);
+                        hot = i;
+                        break;
                     }
+                }
                 if (next < 0) { outX = x; outY = y; return true; }
                 x = next;
             }
@@ -239,6 +254,7 @@ public:
                 for (int c = x + a; c <= x + b; ++c) bits_[size_t(y + i) * words_ + size_t(c) / 64] |= uint64_t(1) << (c % 64);
                 rowFree_[size_t(y + i)] -= b - a + 1;
             }
+        for (int i = 0; i < f.h; ++i) rowRun_[size_t(y + i)] = longestFreeRun(y + i);
         usedW_ = std::max(usedW_, x + f.w);
         usedH_ = std::max(usedH_, y + f.h);
     }
@@ -250,7 +266,39 @@ private:
     size_t words_;
     std::vector<uint64_t> bits_;
     std::vector<int> rowFree_;
+    std::vector<int> rowRun_;  // longest run of free texels per row
     int usedW_ = 0, usedH_ = 0;
+
+    int longestFreeRun(int y) const {
+        const uint64_t* row = bits_.data() + size_t(y) * words_;
+        int best = 0, run = 0;
+        for (size_t w = 0; w < words_; ++w) {
+            uint64_t m = row[w];
+            const int n = w + 1 == words_ && W_ % 64 ? W_ % 64 : 64;  // texels of the page in this word
+            if (n < 64) m |= ~uint64_t(0) << n;
+            if (m == 0) { run += 64; continue; }
+            for (int b = 0; b < 64; ++b) {
+                if ((m >> b) & 1) {
+                    best = std::max(best, run);
+                    run = 0;
+                } else {
+                    ++run;
+                }
+            }
+        }
+        return std::max(best, run);
+    }
+
+    // The first clear bit at or after a in row y (the row's width when there is none).
+    int firstClear(int y, int a) const {
+        const uint64_t* row = bits_.data() + size_t(y) * words_;
+        for (size_t w = size_t(a) / 64; w < words_; ++w) {
+            uint64_t m = ~row[w];
+            if (w == size_t(a) / 64) m &= ~uint64_t(0) << (a % 64);
+            if (m) return std::min(W_, int(w * 64) + __builtin_ctzll(m));
+        }
+        return W_;
+    }
 
     // The first set bit in [a, b] of row y, or -1.
     int firstSet(int y, int a, int b) const {
