@@ -7,7 +7,7 @@ packer places charts by shape, so `boxUtilisation` (their rotated bounding recta
 100%; `rasterUtilisation` counts the texels the charts' triangles touch and `footprintUtilisation`
 adds each chart's gutter ring. Issue 5 asks for >= 75%; T0's charts are jagged (their boundaries
 follow the original triangles along region boundaries) and the mip gutters around them take
-5-16% of LOD0's page, so LOD0 reaches 64-67% (footprints fill 72-83% of the page). This asserts
+5-16% of LOD0's page, so LOD0 reaches 66-75% (footprints fill 72-88% of the page). This asserts
 the reached level as a regression guard, on LOD0's page (the largest, which dominates the bytes),
 and prints every level.
 """
@@ -63,7 +63,7 @@ class PackAssets(unittest.TestCase):
                 r = self.chain(name)
                 if name in UTILISATION_ASSETS:
                     lv0 = r["levels"][0]
-                    self.assertGreaterEqual(lv0["utilisation"], 0.62)
+                    self.assertGreaterEqual(lv0["utilisation"], 0.65)
                     self.assertLessEqual(lv0["utilisation"], lv0["rasterUtilisation"] + 1e-9)
                     self.assertLessEqual(lv0["rasterUtilisation"], lv0["footprintUtilisation"] + 1e-9)
 

@@ -12,6 +12,7 @@ than the chain packed with T0 only (LOD1 gets a refined texture on Duck, hemisph
 gltf-validator 0 errors on the final chain; usage errors.
 """
 import json
+import math
 import os
 import sys
 import unittest
@@ -165,9 +166,11 @@ def check_pack(tc, name, source, tex, r, work):
         if levels[k]["textureRank"] >= 1:
             tc.assertGreater(p_ref, p_t0, what)
         else:
-            # No refined texture is offered for this level: both chains use T0 there (the page may
-            # still differ a little: a level never gets more texels than the finer one).
-            tc.assertGreater(p_ref, p_t0 - 0.05, what)
+            # No refined texture is offered for this level: both chains use T0 there. The page may
+            # still be smaller (a level never gets more texels than the finer one, and the refined
+            # LOD0 page can come out smaller): allow packing noise plus the texel deficit's worth.
+            slack = 0.05 + 10 * math.log10(texels_t0 / texels_ref)
+            tc.assertGreater(p_ref, p_t0 - slack, what)
 
 
 class TextureRefineCli(unittest.TestCase):

@@ -9,8 +9,8 @@
 //   2. footprintsAt: chartMask rasterises each chart (conservatively) at the density and grows it
 //      by the gutter radius; the four quarter turns of the (block-rounded) mask, computed once per
 //      density and shared by every page tried;
-//   3. page size and density: packBitmap at the density limit into a few strip widths and three
-//      chart orders for free sizes (smallest page wins), the largest power-of-two page not far
+//   3. page size and density: packBitmap at the density limit into twenty strip widths and three
+//      sorted chart orders plus eight shuffled ones (few charts) for free sizes (smallest page wins), the largest power-of-two page not far
 //      above the need for --pot, binary search on the density when the charts do not fit;
 //      packBitmap places each chart at the lowest free position of each quarter turn (the lowest
 //      top edge wins); no gutter along the page border (the samplers clamp to the edge); the
@@ -337,8 +337,11 @@ std::vector<uint8_t> coarsen(const std::vector<uint8_t>& mask, int gw, int gh, i
     return out;
 }
 
-constexpr double kStripWidths[] = {0.8, 0.9, 1.0, 1.1, 1.25, 1.5};
+// Strip widths tried, relative to the side of the charts' padded area.
+constexpr double kStripWidths[] = {0.6, 0.65, 0.7, 0.75, 0.8, 0.85, 0.9, 0.95, 1.0, 1.05,
+                                   1.1, 1.15, 1.2, 1.25, 1.3, 1.4, 1.5, 1.6, 1.8, 2.0};
 constexpr size_t kManyCharts = 32;
+constexpr int kShuffledOrders = 8;
 
 // Placement search on large pages runs on a grid of scale x scale texel blocks (charts and their
 // gutters rounded up to whole blocks), keeping the search near 512 blocks across.
@@ -512,7 +515,20 @@ AtlasResult packAtlas(const std::vector<AtlasChart>& input, const AtlasOptions& 
     std::stable_sort(orders[2].begin(), orders[2].end(), [&](size_t a, size_t b) { return charts[a].uvArea > charts[b].uvArea; });
     // With many charts the order matters less than the time it costs (CesiumMilkTruck, 79 charts:
     // the same page either way): only the first.
+    // With few charts, kShuffledOrders more: shuffles from a fixed seed (deterministic), which
+    // find the nestings the sorted orders miss (Avocado LOD0: 64.2 -> 67.1% utilisation).
     if (charts.size() > kManyCharts) orders.resize(1);
+    else {
+        uint64_t seed = 0x9e3779b97f4a7c15ull;
+        for (int k = 0; k < kShuffledOrders; ++k) {
+            std::vector<size_t> o = order;
+            for (size_t i = o.size(); i > 1; --i) {
+                seed = seed * 6364136223846793005ull + 1442695040888963407ull;
+                std::swap(o[i - 1], o[size_t((seed >> 33) % i)]);
+            }
+            orders.push_back(o);
+        }
+    }
     const int maxSize = std::max(8, options.maxSize);
     int gutter = std::max(0, options.gutter);
     double tMax = options.maxTexelsPerUnit;
@@ -527,8 +543,8 @@ AtlasResult packAtlas(const std::vector<AtlasChart>& input, const AtlasOptions& 
     for (;;) {
         if (!options.powerOfTwo) {
             // Packing at the density limit into strip widths around the side of the charts' padded
-            // area (their coverage plus a gutter ring), in three chart orders (bounding-rectangle
-            // area, longest side, coverage); the smallest page (rounded to 4 texels) wins. (Growing
+            // area (their coverage plus a gutter ring), in the chart orders above; the smallest page
+            // (rounded to 4 texels) wins. (Growing
             // the charts afterwards to fill that page gained nothing measurable at LOD0.)
             double a = 0;
             for (const Oriented& c : charts) a += std::pow(std::sqrt(c.uvArea) * tMax + gutter, 2);
