@@ -23,6 +23,7 @@ struct Settings {
     int iterations = 50;
     bool allowLevelFolds = false;
     bool levelIslands = true;
+    bool crossingIslands = true;
 };
 
 Settings parseArgs(int argc, char** argv, bool& proceed) {
@@ -42,6 +43,10 @@ Settings parseArgs(int argc, char** argv, bool& proceed) {
            "no fallback islands: a level triangle that folds in its chart keeps its folded UVs (then exit 4 unless "
            "--allow-level-folds)",
            [&] { s.levelIslands = false; });
+    p.flag("--no-crossing-islands",
+           "a level triangle that crosses a chart boundary takes projected UVs in one chart instead of its own "
+           "island (smears that chart's texture over it)",
+           [&] { s.crossingIslands = false; });
     p.flag("--allow-level-folds",
            "write the output even when a level keeps flipped/overlapping UV triangles (reported); default: exit 4",
            [&] { s.allowLevelFolds = true; });
@@ -87,6 +92,7 @@ int run(const Settings& s) {
     opt.charts.maxCharts = uint32_t(s.maxCharts);
     opt.threads = s.common.threads;
     opt.levelIslands = s.levelIslands;
+    opt.crossingIslands = s.crossingIslands;
     cli::Progress progress("parameterize", cli::progressEnabled(s.common));
     opt.progress = [&progress](double f) { return progress(f); };
     ParameterizeResult param = parameterize(asset.mesh, *multires, opt);

@@ -32,7 +32,7 @@ Settings parseArgs(int argc, char** argv, bool& proceed) {
                      s.refine.sizes.push_back(int(x));
                  }
              });
-    p.option("--min-refined-size", "N", "refined ranks are baked only at --sizes >= N; pack uses a rank only on pages >= its smallest size (default 256)",
+    p.option("--min-refined-size", "N", "refined ranks are baked only at --sizes >= N; pack uses a rank only on pages >= its smallest size (default 128)",
              [&](const std::string& v) { s.refine.minRefinedSize = cli::parseInt("--min-refined-size", v); });
     p.option("--min-std-dev", "X", "do not refine levels where T0's UV-area/3D-area std-dev is below X (default 0.05)",
              [&](const std::string& v) { s.refine.minAreaRatioStdDev = cli::parseDouble("--min-std-dev", v); });

@@ -595,7 +595,8 @@ ParameterizeResult parameterize(const TriMesh& mesh, const Multires& multires, c
             }
             param_detail::UVFolds folds = param_detail::findUVFolds(tris, 1e-7);
             std::vector<char> pick(tris.size(), 0);
-            for (size_t i = 0; i < tris.size(); ++i) pick[i] = folds.flipped[i];
+            for (size_t i = 0; i < tris.size(); ++i)
+                pick[i] = folds.flipped[i] || (options.crossingIslands && projectedCount[li][which[i]] > 0);
             auto area3 = [&](uint32_t t) {
                 const Tri& v = L.triangles[t];
                 return length(cross(mesh.positions[v[1]] - mesh.positions[v[0]], mesh.positions[v[2]] - mesh.positions[v[0]]));

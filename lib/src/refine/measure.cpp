@@ -121,11 +121,11 @@ LayoutMeasure measureLayout(const TriMesh& mesh, const Multires& mr, const Chart
             uint32_t f = l == 0 ? uint32_t(t) : mr.levels[l - 1].faces.at(t);
             if (f >= nf) throw InvalidInput("measureLayout: level face out of range");
             std::array<Vec2, 3> u;
-            if (l > 0) {
+            auto isl = l > 0 && !island.empty() ? island.find(islandKey(T[t])) : island.end();
+            if (l > 0 && isl == island.end()) {  // an island shows its own bake: it smears nothing
                 uint32_t c = triChart[t];
                 if (!lookup.has(T[t][0], c) || !lookup.has(T[t][1], c) || !lookup.has(T[t][2], c)) ++crossing;
             }
-            auto isl = l > 0 && !island.empty() ? island.find(islandKey(T[t])) : island.end();
             for (size_t k = 0; k < 3; ++k) {
                 if (l == 0) u[k] = lay.cornerUV[f][k];
                 else if (isl != island.end()) u[k] = lay.islands[isl->second].uvOf(T[t][k]);

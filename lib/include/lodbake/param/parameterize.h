@@ -30,6 +30,10 @@ struct ParameterizeOptions {
     // Last resort against folded levels: a level triangle that is still flipped or overlapping in
     // the packed atlas gets its own UV island (see LevelIsland). false = leave it folded (reported).
     bool levelIslands = true;
+    // A level triangle whose corners are not all vertices of one chart (it crosses a chart
+    // boundary; its outside corners would take projected UVs and smear the neighbouring chart's
+    // texture over it) gets its own island too, baked from the closest original surface.
+    bool crossingIslands = true;
     std::function<bool(double)> progress;  // fraction done; may be empty
 };
 

@@ -44,6 +44,7 @@ struct LayoutMeasure {
     size_t triangles = 0;               // level triangles measured (all levels, 3D-degenerate skipped)
     std::vector<UVInjectivity> levels;  // per level 0..lastLevel, UVs as `pack` assigns them
     std::vector<size_t> crossing;       // per level: triangles whose corners are not all vertices of their chart
+                                        // (projected corners; island triangles do not count)
     size_t flips = 0, overlaps = 0;     // summed over levels
 };
 
@@ -73,9 +74,10 @@ struct RefineOptions {
     // Rank layouts (j >= 1) are baked only at sizes >= this (the largest size when none is): their
     // extra chart seams and gutters cost more than they give on small pages. `pack` uses a rank
     // only for levels whose page is at least its smallest size.
-    int minRefinedSize = 256;
+    int minRefinedSize = 128;
     // A rank serves a level only when its chart boundaries cut at most this fraction of the
-    // level's triangles more than T0's do (and it adds no flipped or overlapping triangle there).
+    // level's triangles more than T0's do (cut triangles that have an island do not count), and
+    // it has no flipped or overlapping triangle there.
     double maxExtraCutFraction = 0.005;
     // Merge pieces back while their boundaries cut more level triangles than the parent chart did.
     bool keepLevelTrianglesWhole = false;
