@@ -73,8 +73,8 @@ class ParameterizeCli(unittest.TestCase):
         self.check("hemisphere9")
 
     def test_seamball_closed(self):
-        # seamball's base region is split (normal cone > 150 deg), so level corners across the split
-        # get projected UVs; the one level triangle that folds there gets its own island.
+        # seamball's base region is split (normal cone > 150 deg), so level triangles cross the
+        # split; each gets its own island (crossing islands) instead of projected UVs.
         uv = self.check("seamball")
         # The output is itself a valid parameterize input (levels survive the round trip).
         lt.run([lt.tool("parameterize"), "-i", uv, "-o", os.path.join(self.dir, "again.glb"), "--size", "128",

@@ -205,6 +205,7 @@ int run(const Settings& s) {
                     {"projectedCorners", applied.projectedCorners},
                     {"islands", param.islands.size()},
                     {"floatRepairs", param.floatRepairs},
+                    {"crossingIslandsSkipped", param.crossingIslandsSkipped},
                     {"islandTriangles", applied.islandTriangles},
                     {"islandTexels", baked.islandTexels},
                     {"coveredTexels", baked.coveredTexels},

@@ -497,6 +497,7 @@ ParameterizeResult parameterize(const TriMesh& mesh, const Multires& multires, c
     for (uint32_t c = 0; c < charts.size(); ++c)
         for (uint32_t v : charts[c].vertices) vertexCharts[v].push_back(c);
     constexpr int kMaxRounds = 8;
+    bool crossing = options.crossingIslands;
     for (int round = 0;; ++round) {
         std::vector<const std::vector<Vec2>*> sets;
         double islandArea = 0;
@@ -580,6 +581,18 @@ ParameterizeResult parameterize(const TriMesh& mesh, const Multires& multires, c
             }
         }
         if (!options.levelIslands || chartCount == 0 || round >= kMaxRounds) break;
+        if (round == 0 && crossing) {
+            // Crossing islands only while their smallest footprint (2 texels plus the gutter a
+            // side) fits in a quarter of the atlas; beyond that (thousands of tiny crossing
+            // triangles, 2CylinderEngine) they would crush the charts' density and float precision.
+            std::set<Tri> crossingTriples;
+            for (size_t li = 0; li < multires.levels.size(); ++li)
+                for (size_t t = 0; t < multires.levels[li].triangles.size(); ++t)
+                    if (projectedCount[li][t] > 0) crossingTriples.insert(multires.levels[li].triangles[t]);
+            const double footprint = std::pow(2.0 + options.gutter, 2.0);
+            crossing = double(crossingTriples.size()) * footprint <= 0.25 * double(size) * double(size);
+            res.crossingIslandsSkipped = crossing ? 0 : crossingTriples.size();
+        }
 
         // Check every level in the atlas exactly as the tool does (float UVs); fold -> island.
         size_t added = 0;
@@ -596,7 +609,7 @@ ParameterizeResult parameterize(const TriMesh& mesh, const Multires& multires, c
             param_detail::UVFolds folds = param_detail::findUVFolds(tris, 1e-7);
             std::vector<char> pick(tris.size(), 0);
             for (size_t i = 0; i < tris.size(); ++i)
-                pick[i] = folds.flipped[i] || (options.crossingIslands && projectedCount[li][which[i]] > 0);
+                pick[i] = folds.flipped[i] || (crossing && projectedCount[li][which[i]] > 0);
             auto area3 = [&](uint32_t t) {
                 const Tri& v = L.triangles[t];
                 return length(cross(mesh.positions[v[1]] - mesh.positions[v[0]], mesh.positions[v[2]] - mesh.positions[v[0]]));

@@ -32,7 +32,8 @@ struct ParameterizeOptions {
     bool levelIslands = true;
     // A level triangle whose corners are not all vertices of one chart (it crosses a chart
     // boundary; its outside corners would take projected UVs and smear the neighbouring chart's
-    // texture over it) gets its own island too, baked from the closest original surface.
+    // texture over it) gets its own island too, baked from the closest original surface, unless
+    // their smallest footprints would take more than a quarter of the atlas (then none does).
     bool crossingIslands = true;
     std::function<bool(double)> progress;  // fraction done; may be empty
 };
@@ -84,6 +85,7 @@ struct ParameterizeResult {
     std::vector<LevelIsland> islands;          // level-triangle islands (fallback), in creation order
     std::vector<LevelUV> levels;               // per Multires level (empty when there are no levels)
     size_t floatRepairs = 0;                   // sliver faces whose corner UV moved by a float step (they flipped once rounded)
+    size_t crossingIslandsSkipped = 0;         // crossing triangles left on projected UVs (too many for the atlas)
     double texelsPerUnit = 0;                  // atlas density (texels per model unit)
     double atlasFill = 0;                      // fraction of the atlas covered by charts (UV area)
     double seconds = 0;
