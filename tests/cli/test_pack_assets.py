@@ -5,11 +5,10 @@ utilisation of Avocado, Duck and CesiumMilkTruck, printed per level.
 Utilisation = chart texels / page texels, chart texels = the charts' triangle coverage. The
 packer places charts by shape, so `boxUtilisation` (their rotated bounding rectangles) may pass
 100%; `rasterUtilisation` counts the texels the charts' triangles touch and `footprintUtilisation`
-adds each chart's gutter ring. Issue 5 asks for >= 75%; T0's charts are jagged (their boundaries
-follow the original triangles along region boundaries) and the mip gutters around them take
-5-16% of LOD0's page, so LOD0 reaches 66-75% (footprints fill 72-88% of the page). This asserts
-the reached level as a regression guard, on LOD0's page (the largest, which dominates the bytes),
-and prints every level.
+adds each chart's gutter ring. Issue 5 asks for >= 75%: CesiumMilkTruck reaches it; Duck and
+Avocado, a few large round charts with jagged outlines (their boundaries follow the original
+triangles), reach 66-70% (footprints fill 72-78% of the page). This asserts the reached levels as
+regression guards, on LOD0's page (the largest, which dominates the bytes), and prints every level.
 """
 import json
 import os
@@ -20,7 +19,8 @@ sys.path.insert(0, os.path.dirname(__file__))
 import lodbake_test as lt  # noqa: E402
 from test_pack import check_chain, check_fold_free  # noqa: E402
 
-UTILISATION_ASSETS = ("Avocado", "Duck", "CesiumMilkTruck")
+# LOD0 utilisation floors: the 75% target where it is met, else the reached level less a margin.
+UTILISATION_FLOORS = {"Avocado": 0.68, "Duck": 0.65, "CesiumMilkTruck": 0.75}
 
 
 class PackAssets(unittest.TestCase):
@@ -61,9 +61,9 @@ class PackAssets(unittest.TestCase):
                 continue
             with self.subTest(asset=name):
                 r = self.chain(name)
-                if name in UTILISATION_ASSETS:
+                if name in UTILISATION_FLOORS:
                     lv0 = r["levels"][0]
-                    self.assertGreaterEqual(lv0["utilisation"], 0.65)
+                    self.assertGreaterEqual(lv0["utilisation"], UTILISATION_FLOORS[name])
                     self.assertLessEqual(lv0["utilisation"], lv0["rasterUtilisation"] + 1e-9)
                     self.assertLessEqual(lv0["rasterUtilisation"], lv0["footprintUtilisation"] + 1e-9)
 
