@@ -22,7 +22,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <climits>
 #include <cmath>
 #include <iterator>
 #include <numeric>
@@ -566,27 +565,27 @@ AtlasResult packAtlas(const std::vector<AtlasChart>& input, const AtlasOptions& 
             const int scale = searchScale(std::sqrt(a));
             Footprints fp = footprintsAt(turned, tMax, gutter, scale);
             double bestArea = 1e300;
-            // (Charts whose padded area exceeds the page cannot fit at the density limit: straight
-            // to the density search.)
             // Both placement rules, except for very many charts (2CylinderEngine: 2,500), where the
-            // search time doubles for a page within a percent.
+            // second would double a search that already takes tens of seconds. (Charts whose padded
+            // area exceeds the page cannot fit at the density limit: straight to the density search.)
             const std::vector<Placement> rules = charts.size() > kManyChartsForRules
                                                      ? std::vector<Placement>{Placement::TopEdge}
                                                      : std::vector<Placement>{Placement::TopEdge, Placement::Gravity};
+            auto stripWidth = [&](size_t k) { return std::clamp(int(std::ceil(std::sqrt(a) * kStripWidths[k])), 1, maxSize); };
             if (a <= double(maxSize) * maxSize)
                 for (Placement rule : rules)
-                    for (size_t o = 0; o < orders.size(); ++o)
-                for (size_t k = 0; k < std::size(kStripWidths); ++k) {
-                    int w = std::clamp(int(std::ceil(std::sqrt(a) * kStripWidths[k])), 1, maxSize);
-                    if (k > 0 && w == std::clamp(int(std::ceil(std::sqrt(a) * kStripWidths[k - 1])), 1, maxSize)) continue;
-                    auto p = packBitmap(fp, orders[o], w, maxSize, rule);
-                    if (!p) continue;
-                    int pw = std::min(maxSize, (std::max(p->width, 4) + 3) / 4 * 4);
-                    int ph = std::min(maxSize, (std::max(p->height, 4) + 3) / 4 * 4);
-                    // The smallest page wins; on equal areas the squarer one, then the first tried.
-                    double area = double(pw) * ph + 1e-3 * std::max(pw, ph);
-                    if (area < bestArea) { bestArea = area; best = std::make_pair(tMax, *p); pageW = pw; pageH = ph; }
-                }
+                    for (const std::vector<size_t>& chartOrder : orders)
+                        for (size_t k = 0; k < std::size(kStripWidths); ++k) {
+                            const int w = stripWidth(k);
+                            if (k > 0 && w == stripWidth(k - 1)) continue;
+                            auto p = packBitmap(fp, chartOrder, w, maxSize, rule);
+                            if (!p) continue;
+                            int pw = std::min(maxSize, (std::max(p->width, 4) + 3) / 4 * 4);
+                            int ph = std::min(maxSize, (std::max(p->height, 4) + 3) / 4 * 4);
+                            // The smallest page wins; on equal areas the squarer one, then the first tried.
+                            double area = double(pw) * ph + 1e-3 * std::max(pw, ph);
+                            if (area < bestArea) { bestArea = area; best = std::make_pair(tMax, *p); pageW = pw; pageH = ph; }
+                        }
             if (!best) {
                 best = densestFit(turned, order, tMax, gutter, maxSize, maxSize);
                 if (best) { pageW = best->second.width; pageH = best->second.height; }
