@@ -408,18 +408,18 @@ std::optional<Packing> packBitmap(const Footprints& fp, const std::vector<size_t
     p.slots.resize(fp.charts.size());
     for (size_t i : order) {
         Slot& s = p.slots[i];
-        double bestTop = 1e300;
+        double bestKey = 1e300;
         for (size_t v = 0; v < fp.charts[i].size(); ++v)
             for (int rot = 0; rot < 4; ++rot) {
                 const Footprint& f = fp.charts[i][v].rot[size_t(rot)];
                 const double key = placement == Placement::Gravity ? f.centroidRow : f.h;
                 int x, y;
-                if (page.find(f, key, bestTop, x, y)) {
-                    bestTop = y + key;
+                if (page.find(f, key, bestKey, x, y)) {
+                    bestKey = y + key;
                     s.x = x; s.y = y; s.rotation = rot; s.orientation = v;
                 }
             }
-        if (bestTop == 1e300) return std::nullopt;
+        if (bestKey == 1e300) return std::nullopt;
         const ChartFootprints& c = fp.charts[i][s.orientation];
         s.gw = c.gw;
         s.gh = c.gh;
