@@ -104,6 +104,45 @@ class BadInputs(unittest.TestCase):
             self.assertIn(needle.lower(), p.stderr.lower(), p.stderr)
 
 
+class Images(unittest.TestCase):
+    """Images stay encoded in the reader: simplify copies them through without loading OpenImageIO;
+    the tools that use them decode every image on load and reject one that cannot be decoded."""
+
+    def test_simplify_does_not_link_openimageio(self):
+        for name in ("simplify", "agsphere-build"):
+            p = lt.run(["readelf", "-d", lt.tool(name)])
+            self.assertNotIn("OpenImageIO", p.stdout, "%s must not load OpenImageIO" % name)
+        self.assertIn("OpenImageIO", lt.run(["readelf", "-d", lt.tool("parameterize")]).stdout)
+
+    def test_corrupt_image(self):
+        d = lt.work_dir("bad-image")
+        quad = [0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0]
+        uv = array.array("f", [0, 1, 1, 1, 1, 0, 0, 0]).tobytes()
+        png = b"\x89PNG\r\n\x1a\n" + b"\0\0\0\rIHDR" + b"\x07" * 9  # a PNG cut in its header
+        doc = json.loads(minimal_gltf(quad, [0, 1, 2, 0, 2, 3]))
+        doc["buffers"].append({"byteLength": len(uv), "uri": "data:application/octet-stream;base64," +
+                               base64.b64encode(uv).decode()})
+        doc["bufferViews"].append({"buffer": 1, "byteLength": len(uv)})
+        doc["accessors"].append({"bufferView": 2, "componentType": 5126, "count": 4, "type": "VEC2"})
+        doc["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = 2
+        doc["meshes"][0]["primitives"][0]["material"] = 0
+        doc["materials"] = [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}]
+        doc["textures"] = [{"source": 0}]
+        doc["images"] = [{"name": "cut", "uri": "data:image/png;base64," + base64.b64encode(png).decode()}]
+        src = os.path.join(d, "cut-image.gltf")
+        with open(src, "w") as f:
+            json.dump(doc, f)
+        mr = os.path.join(d, "cut-image.mr.glb")
+        lt.run([lt.tool("simplify"), "-i", src, "-o", mr, "--ratio", "0.5", "--quiet"])
+        out = os.path.join(d, "cut-image.uv.glb")
+        p = lt.run([lt.tool("parameterize"), "-i", mr, "-o", out, "--quiet"], check=False, timeout=120)
+        self.assertEqual(p.returncode, 2, p.stderr)
+        lines = p.stderr.strip().splitlines()
+        self.assertEqual(len(lines), 1, p.stderr)
+        self.assertTrue(lines[0].startswith("parameterize error: " + mr + ": image 0 'cut': cannot decode"), lines[0])
+        self.assertFalse(os.path.exists(out))
+
+
 class Usage(unittest.TestCase):
     """Table-driven CLI contract: args -> exit code and the start of the message."""
 
@@ -140,4 +179,4 @@ class Usage(unittest.TestCase):
 
 
 if __name__ == "__main__":
-    lt.main([BadInputs, Usage])
+    lt.main([BadInputs, Images, Usage])

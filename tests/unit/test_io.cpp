@@ -11,6 +11,7 @@
 
 #include "lodbake/core/errors.h"
 #include "lodbake/core/multires.h"
+#include "lodbake/image/codec.h"
 #include "lodbake/io/gltf.h"
 #include "unit/gltf_test_files.h"
 
@@ -258,7 +259,7 @@ TEST(IoRead, ColorsAndMaterials) {
     g.j["images"] = json::array({json{{"uri", "missing.png"}}});
     meshNode(g, {prim({{"POSITION", pa}, {"COLOR_0", ca}}, -1, -1, 0)});
     ReadOptions ro;
-    ro.decodeImages = false;
+    ro.requireImageData = false;
     Asset a = readGltf(g.writeGltf(dir, "c"), ro);
     ASSERT_EQ(a.mesh.wedges.color.size(), 3u);
     EXPECT_DOUBLE_EQ(a.mesh.wedges.color[0].x, 1.0);
@@ -274,7 +275,7 @@ TEST(IoRead, ColorsAndMaterials) {
     EXPECT_DOUBLE_EQ(m.baseColor.transform.rotation, 0.1);
     EXPECT_EQ(m.baseColor.transform.texCoord, 1);
     EXPECT_EQ(a.mesh.triangleMaterial[0], 0);
-    // With image decoding on, the missing image file is an error naming it.
+    // By default the missing image file is an error naming it.
     expectError([&] { readGltf((dir / "c.gltf").string()); }, ErrorKind::IO, (dir / "c.gltf").string(), "missing.png");
 }
 
@@ -491,7 +492,7 @@ Multires fakeMultires(const TriMesh& m) {
         mr.levels.push_back(L);
     }
     mr.collapses = {{7, 0, 0.05f, 0, 2}, {6, 1, 0.25f, 2, 3}};
-    mr.regionUpdates = {{1, 1, 0}, {3, 3, 2}, {5, 5, 4}};
+    mr.regionUpdates = {{1, 0}, {3, 2}, {5, 4}};
     // A chart layout: two charts, UVs exactly representable as float.
     mr.charts.chartCount = 2;
     mr.charts.material = 0;
@@ -562,7 +563,6 @@ void expectSameMultires(const Multires& a, const Multires& b) {
     }
     ASSERT_EQ(a.regionUpdates.size(), b.regionUpdates.size());
     for (size_t k = 0; k < a.regionUpdates.size(); ++k) {
-        EXPECT_EQ(a.regionUpdates[k].face, b.regionUpdates[k].face);
         EXPECT_EQ(a.regionUpdates[k].oldRep, b.regionUpdates[k].oldRep);
         EXPECT_EQ(a.regionUpdates[k].newRep, b.regionUpdates[k].newRep);
     }
@@ -630,6 +630,40 @@ TEST(IoWrite, MultiresRoundTripIsExact) {
     EXPECT_EQ(readBytes(dir / "mr.glb"), readBytes(p2));
 }
 
+// A version 1 file (one (face, oldRep, newRep) record per relabelled face) reads as the per-region
+// records of version 2: the consecutive repeats of each collapse's range are dropped.
+TEST(IoRead, MultiresVersion1RegionUpdates) {
+    auto dir = tempDir("mrv1");
+    Asset a = cubeAsset(dir);
+    Multires mr = fakeMultires(a.mesh);
+    ASSERT_EQ(mr.regionUpdates.size(), 3u);  // {1, 0}, {3, 2} | {5, 4}
+    std::string p = (dir / "v1.gltf").string();
+    writeGltf(p, a, &mr);
+    json j = json::parse(readBytes(p));
+    std::string bin = readBytes(dir / j["buffers"][0]["uri"].get<std::string>());
+    auto addU32 = [&](const std::vector<uint32_t>& v, const char* type) {
+        while (bin.size() % 4) bin.push_back('\0');
+        j["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", bin.size()}, {"byteLength", 4 * v.size()}});
+        bin.append(reinterpret_cast<const char*>(v.data()), 4 * v.size());
+        size_t per = std::string(type) == "VEC3" ? 3 : 2;
+        j["accessors"].push_back({{"bufferView", j["bufferViews"].size() - 1}, {"componentType", kU32},
+                                  {"count", v.size() / per}, {"type", type}});
+        return j["accessors"].size() - 1;
+    };
+    json& ext = j["extensions"]["LODBAKE_multires"];
+    ext["version"] = 1;
+    // Faces 1 and 4 of region 1 join region 0, face 3 joins 2; then faces 5 and 9 of region 5 join 4.
+    ext["regionUpdates"] = addU32({1, 1, 0, 4, 1, 0, 3, 3, 2, 5, 5, 4, 9, 5, 4}, "VEC3");
+    ext["collapses"]["regions"] = addU32({0, 3, 3, 5}, "VEC2");
+    j["buffers"][0]["byteLength"] = bin.size();
+    writeBytes(dir / j["buffers"][0]["uri"].get<std::string>(), bin);
+    writeBytes(p, j.dump());
+    std::optional<Multires> back;
+    readGltf(p, {}, &back);
+    ASSERT_TRUE(back.has_value());
+    expectSameMultires(mr, *back);
+}
+
 // Stored topology wins over welding: two vertices at the same position stay distinct.
 TEST(IoWrite, MultiresKeepsUnweldedTopology) {
     auto dir = tempDir("mrtopo");
@@ -688,6 +722,7 @@ TEST(IoAssets, ReadAndRewriteRealAssets) {
         fs::path p = assets / rel;
         if (!fs::exists(p)) { std::cout << "  (missing " << p << ")\n"; continue; }
         Asset a = readGltf(p.string());
+        checkImages(a);
         std::cout << "  " << rel << ": " << a.mesh.triangleCount() << " triangles, " << a.mesh.vertexCount()
                   << " welded vertices, " << a.mesh.wedges.size() << " wedges, " << a.materials.size() << " materials, "
                   << a.images.size() << " images, " << a.warnings.size() << " warnings\n";

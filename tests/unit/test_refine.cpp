@@ -7,6 +7,7 @@
 #include <set>
 
 #include "lodbake/bake/bake.h"
+#include "lodbake/image/codec.h"
 #include "lodbake/io/gltf.h"
 #include "lodbake/param/charts.h"
 #include "lodbake/param/parameterize.h"
@@ -154,6 +155,7 @@ TEST(RefineHierarchy, RanksLowerEnergyAndAreaRatioSpread) {
     writeGltf(path, a, &mr);
     std::optional<Multires> back;
     Asset b = readGltf(path, {}, &back);
+    checkImages(b, ImageCheck::Header);
     ASSERT_TRUE(back.has_value());
     ASSERT_EQ(back->textures.textures.size(), mr.textures.textures.size());
     for (size_t i = 0; i < mr.textures.textures.size(); ++i) {

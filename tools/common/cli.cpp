@@ -249,9 +249,11 @@ int resolveThreads(int requested) {
     return n ? static_cast<int>(n) : 1;
 }
 
-Asset loadInput(const std::string& tool, const CommonSettings& s, double& seconds, std::optional<Multires>* multires) {
+Asset loadInput(const std::string& tool, const CommonSettings& s, double& seconds, std::optional<Multires>* multires,
+                void (*check)(Asset&)) {
     auto t0 = std::chrono::steady_clock::now();
     Asset asset = readGltf(s.input, {}, multires);
+    if (check) check(asset);
     seconds = secondsSince(t0);
     for (const std::string& w : asset.warnings) std::cerr << tool << " warning: " << w << "\n";
     return asset;

@@ -92,9 +92,11 @@ int runMain(const std::string& tool, int argc, char** argv, Settings (*parse)(in
 }
 
 // Reads the tool's input (-i) and, when `multires` is given, its LODBAKE_multires extension;
-// prints the reader's warnings on stderr ("TOOL warning: ..."); `seconds` gets the load time.
+// `check`, when given, runs on the asset as part of loading (tools that use the images pass
+// lodbake::checkImages here; the others keep images encoded and never load OpenImageIO); prints
+// the reader's warnings on stderr ("TOOL warning: ..."); `seconds` gets the load time.
 Asset loadInput(const std::string& tool, const CommonSettings& s, double& seconds,
-                std::optional<Multires>* multires = nullptr);
+                std::optional<Multires>* multires = nullptr, void (*check)(Asset&) = nullptr);
 
 // Seconds of wall time since t0 (the tools' per-stage report times).
 inline double secondsSince(std::chrono::steady_clock::time_point t0) {

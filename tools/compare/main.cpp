@@ -11,6 +11,7 @@
 
 #include "common/cli.h"
 #include "lodbake/core/errors.h"
+#include "lodbake/image/codec.h"
 #include "lodbake/io/gltf.h"
 #include "lodbake/metrics/compare.h"
 
@@ -97,19 +98,18 @@ struct Loaded {
 Loaded load(const std::string& path, int lod) {
     Loaded l;
     std::optional<Multires> multires;
-    // compare decodes the images it renders itself (prepareRenderScene) and only probes the sizes
-    // of the others, so the reader does not decode every image a second time.
+    // compare decodes the images it renders itself (prepareRenderScene) and only reads the sizes
+    // of the others from their headers.
     ReadOptions ro;
-    ro.decodeImages = false;
     l.asset = readGltf(path, ro, &multires);
-    probeImageSizes(l.asset);
+    checkImages(l.asset, ImageCheck::Header);
     l.levels = multires ? multires->levels.size() : 0;
     l.bytes = fileBytes(path);
     if (lod > 0 && !multires) {
         // An MSFT_lod chain (pack's output): read level `lod` of each chain in place of LOD0.
         ro.lod = lod;
         l.asset = readGltf(path, ro, nullptr);
-        probeImageSizes(l.asset);
+        checkImages(l.asset, ImageCheck::Header);
     }
     if (lod == 0 || !multires) {
         l.mesh = std::move(l.asset.mesh);

@@ -6,6 +6,7 @@
 
 #include "common/cli.h"
 #include "lodbake/core/errors.h"
+#include "lodbake/image/codec.h"
 #include "lodbake/io/gltf.h"
 #include "lodbake/pack/lod_chain.h"
 
@@ -91,7 +92,7 @@ int run(Settings s) {
     validate(s);
     std::optional<Multires> multires;
     double loadSeconds = 0;
-    Asset asset = cli::loadInput("pack", s.common, loadSeconds, &multires);
+    Asset asset = cli::loadInput("pack", s.common, loadSeconds, &multires, [](Asset& a) { checkImages(a); });
     if (!multires) throw Impossible(s.common.input + ": no LODBAKE_multires extension; run simplify and parameterize first");
 
     cli::Progress progress("pack", cli::progressEnabled(s.common));

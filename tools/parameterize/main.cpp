@@ -7,6 +7,7 @@
 #include "common/cli.h"
 #include "lodbake/bake/bake.h"
 #include "lodbake/core/errors.h"
+#include "lodbake/image/codec.h"
 #include "lodbake/io/gltf.h"
 #include "lodbake/param/parameterize.h"
 
@@ -81,7 +82,7 @@ int run(const Settings& s) {
     validate(s);
     std::optional<Multires> multires;
     double loadSeconds = 0;
-    Asset asset = cli::loadInput("parameterize", s.common, loadSeconds, &multires);
+    Asset asset = cli::loadInput("parameterize", s.common, loadSeconds, &multires, [](Asset& a) { checkImages(a); });
     if (!multires) throw Impossible(s.common.input + ": no LODBAKE_multires extension; run simplify first");
 
     ParameterizeOptions opt;

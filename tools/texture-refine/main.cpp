@@ -6,6 +6,7 @@
 
 #include "common/cli.h"
 #include "lodbake/core/errors.h"
+#include "lodbake/image/codec.h"
 #include "lodbake/io/gltf.h"
 #include "lodbake/refine/refine.h"
 
@@ -97,7 +98,7 @@ int run(Settings s) {
     validate(s);
     std::optional<Multires> multires;
     double loadSeconds = 0;
-    Asset asset = cli::loadInput("texture-refine", s.common, loadSeconds, &multires);
+    Asset asset = cli::loadInput("texture-refine", s.common, loadSeconds, &multires, [](Asset& a) { checkImages(a); });
     if (!multires) throw Impossible(s.common.input + ": no LODBAKE_multires extension; run simplify and parameterize first");
     if (multires->charts.empty()) throw Impossible(s.common.input + ": no chart layout; run parameterize first");
 

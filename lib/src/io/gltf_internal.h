@@ -12,7 +12,7 @@ constexpr int kByte = 5120, kUnsignedByte = 5121, kShort = 5122, kUnsignedShort 
 constexpr int kArrayBuffer = 34962, kElementArrayBuffer = 34963;
 
 constexpr const char* kMultiresExtension = "LODBAKE_multires";
-constexpr int kMultiresVersion = 1;
+constexpr int kMultiresVersion = 2;  // 2: regionUpdates per region (oldRep, newRep), was per face
 
 // "image/png" / "image/jpeg" from magic bytes, "" when unknown.
 inline std::string sniffImageMime(const uint8_t* p, size_t n) {

@@ -8,7 +8,7 @@
 //   3. check extensionsRequired;
 //   4. flatten the scene, decode each triangle primitive, weld by world position;
 //      (or, for a file with LODBAKE_multires, rebuild the original TriMesh exactly);
-//   5. materials, textures, samplers, images (decoded with OpenImageIO to check them).
+//   5. materials, textures, samplers, images (kept encoded; lodbake/image/codec.h checks them).
 
 #include <algorithm>
 #include <cerrno>
@@ -21,8 +21,6 @@
 #include <map>
 #include <unordered_map>
 
-#include <OpenImageIO/filesystem.h>
-#include <OpenImageIO/imageio.h>
 #include <draco/compression/decode.h>
 #include <nlohmann/json.hpp>
 #include <tiny_gltf.h>
@@ -48,14 +46,6 @@ struct Ctx {
 };
 
 [[noreturn]] void fail(const Ctx& c, const std::string& what) { throw InvalidInput(c.path + ": " + what); }
-
-std::string firstLine(std::string s) {
-    while (!s.empty() && (s.front() == '\n' || s.front() == ' ')) s.erase(s.begin());
-    size_t nl = s.find('\n');
-    if (nl != std::string::npos) s.resize(nl);
-    while (!s.empty() && (s.back() == '\r' || s.back() == ' ' || s.back() == '.')) s.pop_back();
-    return s;
-}
 
 // ---------------------------------------------------------------------------------------------
 // Accessor decoding
@@ -672,6 +662,22 @@ ChartLayout readLayout(const Ctx& c, const json& C, const TriMesh& mesh, const s
     return ch;
 }
 
+// Version 1 files: a region's faces were listed one after another with the same (oldRep, newRep),
+// so the consecutive repeats within each collapse's range are dropped.
+void upgradePerFaceUpdates(Multires& mr) {
+    std::vector<RegionUpdate> out;
+    for (CollapseRecord& r : mr.collapses) {
+        const uint32_t begin = uint32_t(out.size());
+        for (uint32_t u = r.regionBegin; u < r.regionEnd; ++u) {
+            const RegionUpdate& up = mr.regionUpdates[u];
+            if (out.size() == begin || out.back().oldRep != up.oldRep || out.back().newRep != up.newRep) out.push_back(up);
+        }
+        r.regionBegin = begin;
+        r.regionEnd = uint32_t(out.size());
+    }
+    mr.regionUpdates = std::move(out);
+}
+
 Multires readMultires(const Ctx& c, const json& ext, const TriMesh& mesh) {
     std::string what = kMultiresExtension;
     Multires mr;
@@ -751,14 +757,20 @@ Multires readMultires(const Ctx& c, const json& ext, const TriMesh& mesh) {
         mr.collapses.resize(n);
         for (size_t i = 0; i < n; ++i) mr.collapses[i] = {vk[2 * i], vk[2 * i + 1], dev[i], rg[2 * i], rg[2 * i + 1]};
     }
+    // Version 1 listed one (face, oldRep, newRep) record per relabelled face; version 2 one
+    // (oldRep, newRep) per region.
+    const bool perFace = ext.value("version", 1) < 2;
     if (ext.contains("regionUpdates")) {
-        std::vector<uint32_t> ru = readU32(c, jint(ext, "regionUpdates"), 3, what + " regionUpdates");
+        const size_t width = perFace ? 3 : 2;
+        std::vector<uint32_t> ru = readU32(c, jint(ext, "regionUpdates"), int(width), what + " regionUpdates");
         checkRange(ru, F, "regionUpdates");
-        mr.regionUpdates.resize(ru.size() / 3);
-        for (size_t i = 0; i < mr.regionUpdates.size(); ++i) mr.regionUpdates[i] = {ru[3 * i], ru[3 * i + 1], ru[3 * i + 2]};
+        mr.regionUpdates.resize(ru.size() / width);
+        for (size_t i = 0; i < mr.regionUpdates.size(); ++i)
+            mr.regionUpdates[i] = {ru[width * i + width - 2], ru[width * i + width - 1]};
     }
     for (const CollapseRecord& r : mr.collapses)
         if (r.regionBegin > r.regionEnd || r.regionEnd > mr.regionUpdates.size()) fail(c, what + ": collapse region range out of bounds");
+    if (perFace) upgradePerFaceUpdates(mr);
     if (ext.contains("charts")) {
         mr.charts = readLayout(c, ext["charts"], mesh, what + " charts");
         mr.charts.material = jint(ext["charts"], "material");
@@ -851,34 +863,6 @@ Material readMaterial(const json& m) {
     mat.doubleSided = m.value("doubleSided", false);
     mat.unlit = m.contains("extensions") && m["extensions"].is_object() && m["extensions"].contains("KHR_materials_unlit");
     return mat;
-}
-
-void decodeImage(const Ctx& c, Image& img, size_t index) {
-    std::string what = "image " + std::to_string(index) + (img.name.empty() ? "" : " '" + img.name + "'");
-    std::string ext = img.mimeType == "image/jpeg" ? "jpg" : "png";
-    OIIO::Filesystem::IOMemReader reader(img.encoded.data(), img.encoded.size());
-    OIIO::Filesystem::IOProxy* proxy = &reader;
-    OIIO::ImageSpec config;
-    config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
-    std::string name = "image." + ext;
-    auto in = OIIO::ImageInput::create(name, false, &config, proxy);
-    OIIO::ImageSpec opened;
-    if (in && !in->open(name, opened, config)) in.reset();
-    if (!in) {
-        std::string e = firstLine(OIIO::geterror());
-        fail(c, what + ": cannot decode " + (img.mimeType.empty() ? "image" : img.mimeType) + (e.empty() ? "" : ": " + e));
-    }
-    const OIIO::ImageSpec& spec = in->spec();
-    if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0) fail(c, what + ": invalid image size");
-    std::vector<unsigned char> pixels(size_t(spec.width) * size_t(spec.height) * size_t(spec.nchannels));
-    if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::UINT8, pixels.data())) {
-        std::string e = firstLine(in->geterror());
-        fail(c, what + ": cannot decode: " + e);
-    }
-    img.width = spec.width;
-    img.height = spec.height;
-    img.channels = spec.nchannels;
-    in->close();
 }
 
 bool keepImageBytes(tinygltf::Image* image, const int, std::string*, std::string*, int, int, const unsigned char* bytes,
@@ -1125,10 +1109,8 @@ Asset readGltf(const std::string& path, const ReadOptions& options, std::optiona
             img.mimeType = !sniffed.empty() ? sniffed : src.mimeType;
             if (img.encoded.empty()) {
                 std::string w = "image " + std::to_string(i) + (src.uri.empty() ? "" : " '" + src.uri + "'");
-                if (options.decodeImages) throw IOError(path + ": " + w + ": cannot read image data");
+                if (options.requireImageData) throw IOError(path + ": " + w + ": cannot read image data");
                 asset.warnings.push_back(w + ": no image data");
-            } else if (options.decodeImages) {
-                decodeImage(c, img, i);
             }
             asset.images.push_back(std::move(img));
         }

@@ -271,9 +271,9 @@ json multiresJson(Writer& w, const Asset& asset, const Multires& mr, const std::
     }
     if (!mr.regionUpdates.empty()) {
         std::vector<uint32_t> ru;
-        ru.reserve(3 * mr.regionUpdates.size());
-        for (const RegionUpdate& u : mr.regionUpdates) { ru.push_back(u.face); ru.push_back(u.oldRep); ru.push_back(u.newRep); }
-        ext["regionUpdates"] = w.addU32(ru, 3);
+        ru.reserve(2 * mr.regionUpdates.size());
+        for (const RegionUpdate& u : mr.regionUpdates) { ru.push_back(u.oldRep); ru.push_back(u.newRep); }
+        ext["regionUpdates"] = w.addU32(ru, 2);
     }
     if (!mr.charts.empty()) {
         json charts = layoutJson(w, mr.charts);

@@ -1,4 +1,4 @@
-// The final LOD chain writer (pack's output) and image encoding.
+// The final LOD chain writer (pack's output).
 //
 // Pipeline of writeLodChain:
 //   1. per level: one mesh with one primitive (plain accessors, or a Draco buffer with
@@ -15,8 +15,6 @@
 #include <draco/compression/encode.h>
 #include <draco/mesh/mesh.h>
 #include <nlohmann/json.hpp>
-#include <OpenImageIO/filesystem.h>
-#include <OpenImageIO/imageio.h>
 
 #include "io/gltf_buffer.h"
 #include "io/gltf_internal.h"
@@ -188,38 +186,6 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
     }
     stats.fileBytes += writeGltfFiles(path, root, b, glb);
     return stats;
-}
-
-Image encodeImage(const std::vector<float>& rgb, int width, int height, ImageFormat format, int jpegQuality,
-                  const std::string& name) {
-    if (width <= 0 || height <= 0 || rgb.size() != size_t(width) * size_t(height) * 3)
-        throw InvalidInput("encodeImage: pixel array does not match " + std::to_string(width) + "x" + std::to_string(height));
-    std::vector<unsigned char> px(rgb.size());
-    for (size_t i = 0; i < rgb.size(); ++i) {
-        float v = std::isfinite(rgb[i]) ? std::clamp(rgb[i], 0.f, 1.f) : 0.f;
-        px[i] = static_cast<unsigned char>(std::lround(v * 255.f));
-    }
-    bool jpeg = format == ImageFormat::Jpeg;
-    std::string fname = jpeg ? "atlas.jpg" : "atlas.png";
-    std::vector<unsigned char> bytes;
-    OIIO::Filesystem::IOVecOutput vec(bytes);
-    OIIO::Filesystem::IOProxy* proxy = &vec;
-    auto out = OIIO::ImageOutput::create(fname, proxy);
-    if (!out) throw IOError("encodeImage: no " + std::string(jpeg ? "JPEG" : "PNG") + " encoder: " + OIIO::geterror());
-    OIIO::ImageSpec spec(width, height, 3, OIIO::TypeDesc::UINT8);
-    spec.attribute("oiio:ColorSpace", "sRGB");
-    if (jpeg) spec.attribute("Compression", "jpeg:" + std::to_string(std::clamp(jpegQuality, 1, 100)));
-    spec.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
-    if (!out->open(fname, spec) || !out->write_image(OIIO::TypeDesc::UINT8, px.data()) || !out->close())
-        throw IOError("encodeImage: cannot encode: " + out->geterror());
-    Image img;
-    img.name = name;
-    img.mimeType = jpeg ? "image/jpeg" : "image/png";
-    img.encoded.assign(bytes.begin(), bytes.end());
-    img.width = width;
-    img.height = height;
-    img.channels = 3;
-    return img;
 }
 
 }  // namespace lodbake

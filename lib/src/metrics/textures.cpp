@@ -85,22 +85,6 @@ void buildPyramid(MipImage& mip) {
 
 }  // namespace
 
-void probeImageSizes(Asset& asset) {
-    for (Image& image : asset.images) {
-        if (image.width > 0 && image.height > 0) continue;
-        std::string name = image.mimeType == "image/jpeg" ? "image.jpg" : "image.png";
-        OIIO::Filesystem::IOMemReader reader(image.encoded.data(), image.encoded.size());
-        auto in = OIIO::ImageInput::create(image.mimeType == "image/jpeg" ? "jpeg" : "png");
-        OIIO::ImageSpec spec;
-        if (image.encoded.empty() || !in || !in->set_ioproxy(&reader) || !in->open(name, spec))
-            throw InvalidInput(asset.sourcePath + ": image '" + image.name + "' cannot be decoded");
-        image.width = spec.width;
-        image.height = spec.height;
-        image.channels = spec.nchannels;
-        in->close();
-    }
-}
-
 RenderScene prepareRenderScene(const Asset& asset, const TriMesh& mesh) {
     RenderScene scene;
     scene.asset = &asset;

@@ -1127,8 +1127,8 @@ static void mergeRegionGroup(State& s, const std::vector<uint32_t>& reps) {
     }
     for (uint32_t r : reps) {
         if (r == newRep) continue;
+        s.out.regionUpdates.push_back({r, newRep});
         for (uint32_t f = s.regionHead[r]; f != kNone; f = s.regionNext[f]) {
-            s.out.regionUpdates.push_back({f, r, newRep});
             s.faceRegion[f] = newRep;
             s.faceRelabelPass[f] = s.pass;
         }
@@ -1178,8 +1178,8 @@ static void fixDeadRepresentatives(State& s) {
         for (uint32_t f = s.regionHead[r]; f != kNone; f = s.regionNext[f])
             if (s.faceAlive[f] && f < m) m = f;
         if (m == kNone) continue;  // cannot happen: every region keeps a surviving face
+        s.out.regionUpdates.push_back({r, m});
         for (uint32_t f = s.regionHead[r]; f != kNone; f = s.regionNext[f]) {
-            s.out.regionUpdates.push_back({f, r, m});
             s.faceRegion[f] = m;
             s.faceRelabelPass[f] = s.pass;
         }

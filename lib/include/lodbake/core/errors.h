@@ -48,6 +48,16 @@ struct SolverError : Error {
     explicit SolverError(const std::string& m) : Error(ErrorKind::Solver, m) {}
 };
 
+// The first line of a library's message, without surrounding blanks or a final period (messages
+// stay one line).
+inline std::string firstLine(std::string s) {
+    while (!s.empty() && (s.front() == '\n' || s.front() == ' ')) s.erase(s.begin());
+    size_t nl = s.find('\n');
+    if (nl != std::string::npos) s.resize(nl);
+    while (!s.empty() && (s.back() == '\r' || s.back() == ' ' || s.back() == '.')) s.pop_back();
+    return s;
+}
+
 // Exit code for an error kind (0 is success).
 inline int exitCodeFor(ErrorKind k) {
     switch (k) {

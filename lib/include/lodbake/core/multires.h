@@ -64,9 +64,11 @@ struct CollapseRecord {
     uint32_t regionEnd = 0;
 };
 
-// Face `face` moved from region oldRep to region newRep (representative face ids).
+// Region oldRep joined region newRep, or (when no face is labelled newRep yet) was renamed to it:
+// every face labelled oldRep takes the label newRep (representative face ids). The records of a
+// collapse prefix, replayed in order on the identity table, give the faceRegion of its level; they
+// are also the edges of the region hierarchy (child region -> parent).
 struct RegionUpdate {
-    uint32_t face = 0;
     uint32_t oldRep = 0;
     uint32_t newRep = 0;
 };

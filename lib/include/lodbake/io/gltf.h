@@ -10,7 +10,9 @@
 namespace lodbake {
 
 struct ReadOptions {
-    bool decodeImages = true;  // decode every image with OpenImageIO to check it and fill width/height
+    // Images stay encoded (checkImages in lodbake/image/codec.h decodes them). A missing or
+    // unreadable image file is an error, or with false a warning (the image is then left empty).
+    bool requireImageData = true;
     // MSFT_lod level to read: -1 = the scene as it is (LOD0 of an MSFT_lod chain); K >= 0 replaces
     // every scene root node that carries extensions.MSFT_lod by its level K (0 = the node itself,
     // K >= 1 = ids[K-1]). Ignored for LODBAKE_multires files. \throw Impossible when K >= 1 and no

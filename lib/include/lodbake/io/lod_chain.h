@@ -1,7 +1,7 @@
 // Writing the final LOD chain (`pack`'s output): a glTF whose LOD0 node carries MSFT_lod, every
 // level one mesh / one primitive / one material with a baked base-colour atlas, optionally
-// compressed with KHR_draco_mesh_compression. Takes lodbake's own structs only; tinygltf-free,
-// Draco and OpenImageIO stay inside lib/src/io (STYLE.md practice 10).
+// compressed with KHR_draco_mesh_compression. Takes lodbake's own structs only (images already
+// encoded: lodbake/image/codec.h); tinygltf-free, Draco stays inside lib/src/io (STYLE.md practice 10).
 #pragma once
 
 #include <cstdint>
@@ -50,13 +50,5 @@ struct LodChainWriteStats {
 // \throw InvalidInput (inconsistent level data), IOError (cannot write), SolverError (Draco failed).
 LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodLevelData>& levels,
                                  const std::vector<double>& screenCoverage, const LodChainWriteOptions& options = {});
-
-enum class ImageFormat { Png, Jpeg };
-
-// Encodes an 8-bit RGB image from floats in [0,1] (already sRGB-encoded), RGB interleaved, top row
-// first, through OpenImageIO. jpegQuality in [1,100] (JPEG only).
-// \throw InvalidInput (size mismatch), IOError (encoder failure).
-Image encodeImage(const std::vector<float>& rgb, int width, int height, ImageFormat format, int jpegQuality = 90,
-                  const std::string& name = "");
 
 }  // namespace lodbake

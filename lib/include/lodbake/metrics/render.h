@@ -55,10 +55,6 @@ struct RenderScene {
     std::vector<std::string> warnings;  // images that could not be decoded (rendered as white)
 };
 
-// Fills width/height/channels of images the reader left at 0 (ReadOptions::decodeImages = false)
-// from their headers. \throw InvalidInput naming asset.sourcePath when an image cannot be opened.
-void probeImageSizes(Asset& asset);
-
 // Decodes (with OpenImageIO) the images the mesh's materials reference and builds their pyramids.
 RenderScene prepareRenderScene(const Asset& asset, const TriMesh& mesh);
 

@@ -16,6 +16,7 @@
 
 #include "lodbake/core/mesh.h"
 #include "lodbake/core/multires.h"
+#include "lodbake/image/codec.h"
 #include "lodbake/io/lod_chain.h"
 
 namespace lodbake {

@@ -1,0 +1,117 @@
+// Image encoding and checking with OpenImageIO (see codec.h). Encoded bytes are read from and
+// written to memory through OpenImageIO's IO proxies.
+#include "lodbake/image/codec.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <OpenImageIO/filesystem.h>
+#include <OpenImageIO/imageio.h>
+
+#include "lodbake/core/errors.h"
+
+namespace lodbake {
+namespace {
+
+// libpng and libjpeg print their own messages on stderr before OpenImageIO reports the failure,
+// which would break the one-line error: stderr goes to /dev/null while an image is decoded (at
+// load time, before any worker thread or progress line exists).
+class QuietStderr {
+public:
+    QuietStderr() {
+        std::fflush(stderr);
+        saved_ = dup(STDERR_FILENO);
+        int null = open("/dev/null", O_WRONLY);
+        if (saved_ >= 0 && null >= 0) dup2(null, STDERR_FILENO);
+        if (null >= 0) close(null);
+    }
+    ~QuietStderr() {
+        std::fflush(stderr);
+        if (saved_ >= 0) {
+            dup2(saved_, STDERR_FILENO);
+            close(saved_);
+        }
+    }
+    QuietStderr(const QuietStderr&) = delete;
+    QuietStderr& operator=(const QuietStderr&) = delete;
+
+private:
+    int saved_ = -1;
+};
+
+void checkImage(const std::string& path, Image& img, size_t index, ImageCheck check) {
+    auto fail = [&](const std::string& problem) {
+        throw InvalidInput(path + ": image " + std::to_string(index) + (img.name.empty() ? "" : " '" + img.name + "'") +
+                           ": " + problem);
+    };
+    if (img.encoded.empty()) fail("no image data");
+    std::string name = img.mimeType == "image/jpeg" ? "image.jpg" : "image.png";
+    QuietStderr quiet;
+    OIIO::Filesystem::IOMemReader reader(img.encoded.data(), img.encoded.size());
+    OIIO::Filesystem::IOProxy* proxy = &reader;
+    OIIO::ImageSpec config;
+    config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
+    auto in = OIIO::ImageInput::create(name, false, &config, proxy);
+    OIIO::ImageSpec opened;
+    if (in && !in->open(name, opened, config)) in.reset();
+    const std::string kind = img.mimeType.empty() ? "image" : img.mimeType;
+    if (!in) {
+        std::string e = firstLine(OIIO::geterror());
+        fail("cannot decode " + kind + (e.empty() ? "" : ": " + e));
+    }
+    const OIIO::ImageSpec& spec = in->spec();
+    if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0) fail("invalid image size");
+    if (check == ImageCheck::Decode) {
+        std::vector<unsigned char> pixels(size_t(spec.width) * size_t(spec.height) * size_t(spec.nchannels));
+        if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::UINT8, pixels.data()))
+            fail("cannot decode " + kind + ": " + firstLine(in->geterror()));
+    }
+    img.width = spec.width;
+    img.height = spec.height;
+    img.channels = spec.nchannels;
+    in->close();
+}
+
+}  // namespace
+
+void checkImages(Asset& asset, ImageCheck check) {
+    for (size_t i = 0; i < asset.images.size(); ++i) checkImage(asset.sourcePath, asset.images[i], i, check);
+}
+
+Image encodeImage(const std::vector<float>& rgb, int width, int height, ImageFormat format, int jpegQuality,
+                  const std::string& name) {
+    if (width <= 0 || height <= 0 || rgb.size() != size_t(width) * size_t(height) * 3)
+        throw InvalidInput("encodeImage: pixel array does not match " + std::to_string(width) + "x" + std::to_string(height));
+    std::vector<unsigned char> px(rgb.size());
+    for (size_t i = 0; i < rgb.size(); ++i) {
+        float v = std::isfinite(rgb[i]) ? std::clamp(rgb[i], 0.f, 1.f) : 0.f;
+        px[i] = static_cast<unsigned char>(std::lround(v * 255.f));
+    }
+    bool jpeg = format == ImageFormat::Jpeg;
+    std::string fname = jpeg ? "atlas.jpg" : "atlas.png";
+    std::vector<unsigned char> bytes;
+    OIIO::Filesystem::IOVecOutput vec(bytes);
+    OIIO::Filesystem::IOProxy* proxy = &vec;
+    auto out = OIIO::ImageOutput::create(fname, proxy);
+    if (!out) throw IOError("encodeImage: no " + std::string(jpeg ? "JPEG" : "PNG") + " encoder: " + OIIO::geterror());
+    OIIO::ImageSpec spec(width, height, 3, OIIO::TypeDesc::UINT8);
+    spec.attribute("oiio:ColorSpace", "sRGB");
+    if (jpeg) spec.attribute("Compression", "jpeg:" + std::to_string(std::clamp(jpegQuality, 1, 100)));
+    spec.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
+    if (!out->open(fname, spec) || !out->write_image(OIIO::TypeDesc::UINT8, px.data()) || !out->close())
+        throw IOError("encodeImage: cannot encode: " + out->geterror());
+    Image img;
+    img.name = name;
+    img.mimeType = jpeg ? "image/jpeg" : "image/png";
+    img.encoded.assign(bytes.begin(), bytes.end());
+    img.width = width;
+    img.height = height;
+    img.channels = 3;
+    return img;
+}
+
+}  // namespace lodbake
