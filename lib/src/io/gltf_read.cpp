@@ -19,7 +19,6 @@
 #include <functional>
 #include <limits>
 #include <map>
-#include <unordered_map>
 
 #include <draco/compression/decode.h>
 #include <nlohmann/json.hpp>
@@ -404,13 +403,67 @@ struct PosKey {
     uint64_t b[3];
     bool operator==(const PosKey& o) const { return b[0] == o.b[0] && b[1] == o.b[1] && b[2] == o.b[2]; }
 };
-struct PosKeyHash {
-    size_t operator()(const PosKey& k) const {
-        uint64_t h = 1469598103934665603ull;
-        for (uint64_t x : k.b) { h ^= x + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2); h *= 1099511628211ull; }
-        return size_t(h);
+// A position's hash for the weld table. Positions read from floats leave the low 29 mantissa bits
+// zero, so the words are mixed (MurmurHash3's 64-bit finaliser) before the table's low bits are used.
+uint64_t hashOf(const PosKey& k) {
+    uint64_t h = 0;
+    for (uint64_t x : k.b) {
+        h = (h ^ x) * 0x9e3779b97f4a7c15ull;
+        h ^= h >> 33;
+        h *= 0xff51afd7ed558ccdull;
+        h ^= h >> 33;
+        h *= 0xc4ceb9fe1a85ec53ull;
+        h ^= h >> 33;
+    }
+    return h;
+}
+
+// Welding by exact position: an open-addressing table (linear probing) of welded vertex ids, which
+// are handed out in order of first appearance (id = number of positions before it).
+class PositionWeld {
+public:
+    // Room for `more` new positions without rehashing.
+    void reserve(size_t more) {
+        size_t need = 2 * (keys_.size() + more), cap = std::max<size_t>(64, slots_.size());
+        while (cap < need) cap *= 2;
+        if (cap != slots_.size()) rehash(cap);
+        keys_.reserve(keys_.size() + more);
+    }
+    // The id of `k`; a new key gets the next id (`inserted` is then true).
+    uint32_t insert(const PosKey& k, bool& inserted) {
+        if (2 * (keys_.size() + 1) > slots_.size()) reserve(std::max<size_t>(keys_.size(), 32));
+        const size_t mask = slots_.size() - 1;
+        for (size_t i = size_t(hashOf(k)) & mask;; i = (i + 1) & mask) {
+            const uint32_t id = slots_[i];
+            if (id == kEmpty) {
+                slots_[i] = uint32_t(keys_.size());
+                keys_.push_back(k);
+                inserted = true;
+                return slots_[i];
+            }
+            if (keys_[id] == k) {
+                inserted = false;
+                return id;
+            }
+        }
+    }
+
+private:
+    static constexpr uint32_t kEmpty = ~0u;
+    std::vector<uint32_t> slots_;
+    std::vector<PosKey> keys_;
+
+    void rehash(size_t cap) {
+        slots_.assign(cap, kEmpty);
+        for (uint32_t id = 0; id < keys_.size(); ++id)
+            for (size_t i = size_t(hashOf(keys_[id])) & (cap - 1);; i = (i + 1) & (cap - 1))
+                if (slots_[i] == kEmpty) {
+                    slots_[i] = id;
+                    break;
+                }
     }
 };
+
 PosKey keyOf(Vec3 p) {
     PosKey k;
     double v[3] = {p.x + 0.0, p.y + 0.0, p.z + 0.0};  // + 0.0 turns -0 into +0
@@ -420,7 +473,8 @@ PosKey keyOf(Vec3 p) {
 
 struct MeshBuilder {
     TriMesh mesh;
-    std::unordered_map<PosKey, uint32_t, PosKeyHash> weld;
+    PositionWeld weld;
+    // Wedge attributes are stored once a primitive has them (earlier wedges get the defaults).
     bool hasNormal = false, hasTangent = false, hasUv0 = false, hasUv1 = false, hasColor = false;
     size_t degenerate = 0;
 
@@ -435,52 +489,62 @@ struct MeshBuilder {
             if (!isFinite(wp[i])) fail(c, what + ": vertex " + std::to_string(i) + " has a non-finite world position");
             keys[i] = keyOf(wp[i]);
         }
-        hasNormal |= !p.normal.empty();
-        hasTangent |= !p.tangent.empty();
-        hasUv0 |= !p.uv0.empty();
-        hasUv1 |= !p.uv1.empty();
-        hasColor |= !p.color.empty();
-        std::vector<int64_t> local(p.pos.size(), -1);
         Wedges& W = mesh.wedges;
+        const size_t wedges = W.vertex.size();
+        auto start = [&](bool& has, bool present, auto& column, auto fill) {
+            if (present && !has) column.assign(wedges, fill);
+            has |= present;
+        };
+        start(hasNormal, !p.normal.empty(), W.normal, Vec3{0, 0, 0});
+        start(hasTangent, !p.tangent.empty(), W.tangent, Vec4{1, 0, 0, 1});
+        start(hasUv0, !p.uv0.empty(), W.uv0, Vec2{0, 0});
+        start(hasUv1, !p.uv1.empty(), W.uv1, Vec2{0, 0});
+        start(hasColor, !p.color.empty(), W.color, Vec4{1, 1, 1, 1});
+        std::vector<int64_t> local(p.pos.size(), -1);
         // Room for this primitive up front (geometric growth: many small primitives stay linear).
         auto grow = [](auto& v, size_t more) {
             if (v.capacity() < v.size() + more) v.reserve(std::max(v.size() + more, 2 * v.capacity()));
         };
         size_t nv = p.pos.size(), nt = p.tris.size();
-        if (weld.bucket_count() * weld.max_load_factor() < weld.size() + nv) weld.reserve(std::max(weld.size() + nv, 2 * weld.size()));
+        weld.reserve(nv);
         grow(mesh.positions, nv);
         grow(W.vertex, nv);
-        grow(W.normal, nv);
-        grow(W.tangent, nv);
-        grow(W.uv0, nv);
-        grow(W.uv1, nv);
-        grow(W.color, nv);
+        if (hasNormal) grow(W.normal, nv);
+        if (hasTangent) grow(W.tangent, nv);
+        if (hasUv0) grow(W.uv0, nv);
+        if (hasUv1) grow(W.uv1, nv);
+        if (hasColor) grow(W.color, nv);
         grow(mesh.cornerWedges, nt);
         grow(mesh.triangles, nt);
         grow(mesh.triangleMaterial, nt);
         auto wedgeOf = [&](uint32_t i) -> uint32_t {
             if (local[i] >= 0) return uint32_t(local[i]);
-            auto [it, inserted] = weld.emplace(keys[i], uint32_t(mesh.positions.size()));
+            bool inserted = false;
+            uint32_t v = weld.insert(keys[i], inserted);
             if (inserted) mesh.positions.push_back(Vec3{wp[i].x + 0.0, wp[i].y + 0.0, wp[i].z + 0.0});
             uint32_t w = uint32_t(W.vertex.size());
-            W.vertex.push_back(it->second);
-            Vec3 n{0, 0, 0};
-            if (!p.normal.empty()) {
-                Vec3 a = p.normal[i];
-                n = normalize(Vec3{C[0] * a.x + C[1] * a.y + C[2] * a.z, C[3] * a.x + C[4] * a.y + C[5] * a.z,
-                                   C[6] * a.x + C[7] * a.y + C[8] * a.z}) * sgn;
-                if (!isFinite(n)) n = {0, 0, 0};
+            W.vertex.push_back(v);
+            if (hasNormal) {
+                Vec3 n{0, 0, 0};
+                if (!p.normal.empty()) {
+                    Vec3 a = p.normal[i];
+                    n = normalize(Vec3{C[0] * a.x + C[1] * a.y + C[2] * a.z, C[3] * a.x + C[4] * a.y + C[5] * a.z,
+                                       C[6] * a.x + C[7] * a.y + C[8] * a.z}) * sgn;
+                    if (!isFinite(n)) n = {0, 0, 0};
+                }
+                W.normal.push_back(n);
             }
-            W.normal.push_back(n);
-            Vec4 t{1, 0, 0, 1};
-            if (!p.tangent.empty()) {
-                Vec3 d = normalize(transformVector(world, Vec3{p.tangent[i].x, p.tangent[i].y, p.tangent[i].z}));
-                t = {d.x, d.y, d.z, (p.tangent[i].w < 0 ? -1.0 : 1.0) * sgn};
+            if (hasTangent) {
+                Vec4 t{1, 0, 0, 1};
+                if (!p.tangent.empty()) {
+                    Vec3 d = normalize(transformVector(world, Vec3{p.tangent[i].x, p.tangent[i].y, p.tangent[i].z}));
+                    t = {d.x, d.y, d.z, (p.tangent[i].w < 0 ? -1.0 : 1.0) * sgn};
+                }
+                W.tangent.push_back(t);
             }
-            W.tangent.push_back(t);
-            W.uv0.push_back(p.uv0.empty() ? Vec2{0, 0} : p.uv0[i]);
-            W.uv1.push_back(p.uv1.empty() ? Vec2{0, 0} : p.uv1[i]);
-            W.color.push_back(p.color.empty() ? Vec4{1, 1, 1, 1} : p.color[i]);
+            if (hasUv0) W.uv0.push_back(p.uv0.empty() ? Vec2{0, 0} : p.uv0[i]);
+            if (hasUv1) W.uv1.push_back(p.uv1.empty() ? Vec2{0, 0} : p.uv1[i]);
+            if (hasColor) W.color.push_back(p.color.empty() ? Vec4{1, 1, 1, 1} : p.color[i]);
             local[i] = w;
             return w;
         };
@@ -498,12 +562,6 @@ struct MeshBuilder {
     }
 
     void finish(Asset& asset) {
-        Wedges& W = mesh.wedges;
-        if (!hasNormal) W.normal.clear();
-        if (!hasTangent) W.tangent.clear();
-        if (!hasUv0) W.uv0.clear();
-        if (!hasUv1) W.uv1.clear();
-        if (!hasColor) W.color.clear();
         if (degenerate) asset.warnings.push_back(std::to_string(degenerate) + " degenerate triangles dropped");
         asset.mesh = std::move(mesh);
     }
