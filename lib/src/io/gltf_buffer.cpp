@@ -99,21 +99,21 @@ size_t writeGltfFiles(const std::string& path, json& root, BufferBuilder& buffer
     auto u32 = [](std::string& s, uint32_t v) { s.append(reinterpret_cast<const char*>(&v), 4); };
     size_t total = 12 + 8 + text.size() + (bin.empty() ? 0 : 8 + bin.size());
     if (total > 0xFFFFFFFFull) throw IOError(path + ": GLB would exceed 4 GiB");
-    std::string out;
-    out.reserve(total);
-    u32(out, 0x46546C67u);  // "glTF"
-    u32(out, 2);
-    u32(out, uint32_t(total));
-    u32(out, uint32_t(text.size()));
-    u32(out, 0x4E4F534Au);  // "JSON"
-    out += text;
+    // Header and JSON chunk in one string, the binary chunk written from the buffer as it is.
+    std::string head, binHead;
+    head.reserve(20 + text.size());
+    u32(head, 0x46546C67u);  // "glTF"
+    u32(head, 2);
+    u32(head, uint32_t(total));
+    u32(head, uint32_t(text.size()));
+    u32(head, 0x4E4F534Au);  // "JSON"
+    head += text;
     if (!bin.empty()) {
-        u32(out, uint32_t(bin.size()));
-        u32(out, 0x004E4942u);  // "BIN\0"
-        out += bin;
+        u32(binHead, uint32_t(bin.size()));
+        u32(binHead, 0x004E4942u);  // "BIN\0"
     }
-    writeFileAtomic(path, out);
-    return out.size();
+    writeFileAtomic(path, {head, binHead, bin});
+    return total;
 }
 
 }  // namespace lodbake::gltf_detail

@@ -299,12 +299,14 @@ std::string lowerExt(const std::string& path) {
 
 }  // namespace
 
-void writeFileAtomic(const std::string& path, const std::string& bytes) {
+void writeFileAtomic(const std::string& path, const std::string& bytes) { writeFileAtomic(path, {std::string_view(bytes)}); }
+
+void writeFileAtomic(const std::string& path, const std::vector<std::string_view>& parts) {
     std::string tmp = path + ".tmp-" + std::to_string(::getpid());
     try {
         std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
         if (!f) throw IOError(path + ": cannot write: " + std::strerror(errno));
-        f.write(bytes.data(), std::streamsize(bytes.size()));
+        for (std::string_view part : parts) f.write(part.data(), std::streamsize(part.size()));
         f.close();
         if (!f) throw IOError(path + ": cannot write: " + std::strerror(errno));
         if (std::rename(tmp.c_str(), path.c_str()) != 0) throw IOError(path + ": cannot rename temporary file: " + std::strerror(errno));

@@ -3,6 +3,8 @@
 
 #include <optional>
 #include <string>
+#include <string_view>
+#include <vector>
 
 #include "lodbake/core/mesh.h"
 #include "lodbake/core/multires.h"
@@ -57,5 +59,7 @@ void writeGltf(const std::string& path, const Asset& asset, const Multires* mult
 
 // Writes `bytes` to `path` atomically (temp file in the same folder, then rename).
 void writeFileAtomic(const std::string& path, const std::string& bytes);
+// The same for a file made of `parts` one after another (no copy into one string).
+void writeFileAtomic(const std::string& path, const std::vector<std::string_view>& parts);
 
 }  // namespace lodbake
