@@ -422,12 +422,13 @@ uint64_t hashOf(const PosKey& k) {
 // are handed out in order of first appearance (id = number of positions before it).
 class PositionWeld {
 public:
-    // Room for `more` new positions without rehashing.
+    // Room for `more` new positions without rehashing (geometric growth: many small primitives
+    // stay linear).
     void reserve(size_t more) {
         size_t need = 2 * (keys_.size() + more), cap = std::max<size_t>(64, slots_.size());
         while (cap < need) cap *= 2;
         if (cap != slots_.size()) rehash(cap);
-        keys_.reserve(keys_.size() + more);
+        if (keys_.capacity() < keys_.size() + more) keys_.reserve(std::max(keys_.size() + more, 2 * keys_.capacity()));
     }
     // The id of `k`; a new key gets the next id (`inserted` is then true).
     uint32_t insert(const PosKey& k, bool& inserted) {
