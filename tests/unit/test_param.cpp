@@ -226,6 +226,46 @@ TEST(Bake, TwoMaterialsReproducePerRegion) {
     }
 }
 
+TEST(Bake, RegionBakeMatchesTheFullGridOnCoveredTexels) {
+    // A 40 x 24 region of the 40 x 40 grid: the rows of the charts it holds are shaded exactly as in
+    // the full bake; the gaps are filled from the region alone, and no PNG is made without encodePng.
+    Asset a = twoQuads({1, 0, 0, 1}, {0, 1, 0, 1});
+    a.mesh.wedges.color.resize(6);
+    for (size_t v = 0; v < 6; ++v) a.mesh.wedges.color[v] = Vec4{0.2 + 0.1 * double(v), 0.5, 1 - 0.1 * double(v), 1};
+    BakeOptions full;
+    full.size = 40;
+    full.fillGaps = false;
+    BakeOptions region = full;
+    region.height = 24;
+    region.encodePng = false;
+    BakeResult f = bakeBaseColor(a, twoQuadsUV(), full);
+    BakeResult r = bakeBaseColor(a, twoQuadsUV(), region);
+    ASSERT_EQ(r.pixels.size(), size_t(40 * 24 * 3));
+    EXPECT_TRUE(r.image.encoded.empty());
+    EXPECT_GT(r.coveredTexels, 0u);
+    EXPECT_LT(r.coveredTexels, f.coveredTexels);
+    for (size_t i = 0; i < r.pixels.size(); ++i) ASSERT_EQ(r.pixels[i], f.pixels[i]) << "value " << i;
+    BakeOptions tooWide = full;
+    tooWide.width = 41;
+    EXPECT_THROW(bakeBaseColor(a, twoQuadsUV(), tooWide), InvalidInput);
+}
+
+TEST(Bake, SameTexelsForAnyThreadCount) {
+    Asset a = twoQuads({1, 0.5, 0, 1}, {0, 1, 0.25, 1});
+    a.mesh.wedges.color.resize(6);
+    for (size_t v = 0; v < 6; ++v) a.mesh.wedges.color[v] = Vec4{1 - 0.15 * double(v), 0.3 + 0.1 * double(v), 0.7, 1};
+    BakeOptions o;
+    o.size = 64;
+    o.width = 60;
+    BakeResult one = bakeBaseColor(a, twoQuadsUV(), o);
+    o.threads = 3;
+    BakeResult three = bakeBaseColor(a, twoQuadsUV(), o);
+    EXPECT_EQ(one.pixels, three.pixels);
+    EXPECT_EQ(one.image.encoded, three.image.encoded);
+    EXPECT_EQ(one.image.width, 60);
+    EXPECT_EQ(one.coveredTexels, three.coveredTexels);
+}
+
 TEST(Bake, VertexColoursBake) {
     Asset a = twoQuads({1, 1, 1, 1}, {1, 1, 1, 1});
     a.mesh.wedges.color.assign(6, Vec4{0, 0, 1, 1});

@@ -105,6 +105,7 @@ int run(const Settings& s) {
     auto t1 = std::chrono::steady_clock::now();
     BakeOptions bo;
     bo.size = s.size;
+    bo.threads = s.common.threads;
     std::vector<BakeIsland> islands;
     for (const LevelIsland& li : param.islands) {
         BakeIsland b;

@@ -2,10 +2,11 @@
 //
 // Pipeline: writeSourceImages (encoded images to a temp folder, read back through OIIO's
 // TextureSystem with automatic MIP-maps) -> rasterizeTriangles (original faces in atlas texel
-// space, 1-texel conservative dilation, exact coverage wins over dilated) -> shadeTexels (base
+// space, 1-texel conservative dilation, exact coverage wins over dilated) -> shadeTexel (base
 // colour factor x filtered texture lookup at the original UV with derivatives from the UV
-// Jacobian x COLOR_0, in linear space) -> fillGaps (ImageBufAlgo::fillholes_pushpull with
-// coverage as alpha) -> encodePng. Islands (level triangles parameterize could not keep
+// Jacobian x COLOR_0, in linear space; rows on BakeOptions::threads threads) -> fill gaps
+// (ImageBufAlgo::fillholes_pushpull with coverage as alpha) -> encode PNG (unless the caller
+// encodes). Only the width x height region of the size x size grid is baked. Islands (level triangles parameterize could not keep
 // injective in their chart) are rasterised after the faces; their texels sample the original
 // surface at the closest point (rasterizeIslands).
 #include "lodbake/bake/bake.h"
@@ -25,6 +26,7 @@
 
 #include "lodbake/core/closest_point.h"
 #include "lodbake/core/errors.h"
+#include "lodbake/core/parallel.h"
 
 namespace lodbake {
 namespace {
@@ -140,14 +142,20 @@ double closestBary(Vec2 p, Vec2 a, Vec2 b, Vec2 c, std::array<double, 3>& out) {
     return best;
 }
 
-// Calls fn(x, y, d, bary) for every texel of a size x size grid whose centre lies within
+// The baked region: texels [0, w) x [0, h) of the size x size grid cornerUV is scaled to.
+struct Grid {
+    int size, w, h;
+    size_t at(int x, int y) const { return size_t(y) * size_t(w) + size_t(x); }
+};
+
+// Calls fn(x, y, d, bary) for every texel of the grid's region whose centre lies within
 // `dilation` texels of triangle P (texel units); bary: of the closest point of P.
 template <class Fn>
-void forEachTexelNear(const Vec2 (&P)[3], int size, double dilation, Fn&& fn) {
+void forEachTexelNear(const Vec2 (&P)[3], const Grid& g, double dilation, Fn&& fn) {
     double x0 = std::min({P[0].x, P[1].x, P[2].x}) - dilation, x1 = std::max({P[0].x, P[1].x, P[2].x}) + dilation;
     double y0 = std::min({P[0].y, P[1].y, P[2].y}) - dilation, y1 = std::max({P[0].y, P[1].y, P[2].y}) + dilation;
-    int ix0 = std::max(0, int(std::floor(x0))), ix1 = std::min(size - 1, int(std::ceil(x1)));
-    int iy0 = std::max(0, int(std::floor(y0))), iy1 = std::min(size - 1, int(std::ceil(y1)));
+    int ix0 = std::max(0, int(std::floor(x0))), ix1 = std::min(g.w - 1, int(std::ceil(x1)));
+    int iy0 = std::max(0, int(std::floor(y0))), iy1 = std::min(g.h - 1, int(std::ceil(y1)));
     for (int y = iy0; y <= iy1; ++y)
         for (int x = ix0; x <= ix1; ++x) {
             std::array<double, 3> b{};
@@ -156,15 +164,15 @@ void forEachTexelNear(const Vec2 (&P)[3], int size, double dilation, Fn&& fn) {
         }
 }
 
-void rasterizeTriangles(const TriMesh& mesh, const std::vector<std::array<Vec2, 3>>& cornerUV, int size,
+void rasterizeTriangles(const TriMesh& mesh, const std::vector<std::array<Vec2, 3>>& cornerUV, const Grid& g,
                         double dilation, std::vector<TexelHit>& hits) {
-    hits.assign(size_t(size) * size, {});
+    hits.assign(size_t(g.w) * size_t(g.h), {});
     for (uint32_t f = 0; f < mesh.triangleCount(); ++f) {
         Vec2 P[3];
-        for (int k = 0; k < 3; ++k) P[k] = {cornerUV[f][size_t(k)].x * size, cornerUV[f][size_t(k)].y * size};
+        for (int k = 0; k < 3; ++k) P[k] = {cornerUV[f][size_t(k)].x * g.size, cornerUV[f][size_t(k)].y * g.size};
         if (std::fabs(cross(P[1] - P[0], P[2] - P[0])) < 1e-12) continue;
-        forEachTexelNear(P, size, dilation, [&](int x, int y, double d, const std::array<double, 3>& b) {
-            TexelHit& h = hits[size_t(y) * size + size_t(x)];
+        forEachTexelNear(P, g, dilation, [&](int x, int y, double d, const std::array<double, 3>& b) {
+            TexelHit& h = hits[g.at(x, y)];
             if (float(d) < h.dist) h = {int32_t(f), float(d), {float(b[0]), float(b[1]), float(b[2])}};
         });
     }
@@ -174,13 +182,13 @@ void rasterizeTriangles(const TriMesh& mesh, const std::vector<std::array<Vec2, 
 // faces are those whose bounding box is within d0 + r of the centroid (d0 = the centroid's own
 // distance to the faces, r = the triangle's circumradius about the centroid): no point of the
 // triangle can have its closest point farther than that.
-void rasterizeIslands(const TriMesh& mesh, const std::vector<BakeIsland>& islands, int size, double dilation,
+void rasterizeIslands(const TriMesh& mesh, const std::vector<BakeIsland>& islands, const Grid& g, double dilation,
                       std::vector<TexelHit>& hits) {
     for (size_t i = 0; i < islands.size(); ++i) {
         const BakeIsland& isl = islands[i];
         if (isl.faces.empty()) throw InvalidInput("bake: island " + std::to_string(i) + " has no faces to sample");
         Vec2 P[3];
-        for (int k = 0; k < 3; ++k) P[k] = {isl.uv[size_t(k)].x * size, isl.uv[size_t(k)].y * size};
+        for (int k = 0; k < 3; ++k) P[k] = {isl.uv[size_t(k)].x * g.size, isl.uv[size_t(k)].y * g.size};
         if (std::fabs(cross(P[1] - P[0], P[2] - P[0])) < 1e-12) continue;
         const Vec3 centroid = (isl.position[0] + isl.position[1] + isl.position[2]) * (1.0 / 3);
         uint32_t f0 = 0;
@@ -203,8 +211,8 @@ void rasterizeIslands(const TriMesh& mesh, const std::vector<BakeIsland>& island
             if (d2 <= radius * radius) near.push_back(f);
         }
         if (near.empty()) near = isl.faces;
-        forEachTexelNear(P, size, dilation, [&](int x, int y, double d, const std::array<double, 3>& b) {
-            TexelHit& h = hits[size_t(y) * size + size_t(x)];
+        forEachTexelNear(P, g, dilation, [&](int x, int y, double d, const std::array<double, 3>& b) {
+            TexelHit& h = hits[g.at(x, y)];
             if (!(float(d) < h.dist)) return;
             Vec3 X = isl.position[0] * b[0] + isl.position[1] * b[1] + isl.position[2] * b[2];
             uint32_t f = 0;
@@ -239,6 +247,81 @@ void islandDerivatives(const TriMesh& mesh, const BakeIsland& isl, int size, uin
     dy = map(dXdy);
 }
 
+// What shading a texel reads: the asset, its decoded sources and the bake's UVs and islands.
+struct ShadeContext {
+    const Asset& asset;
+    const std::vector<std::array<Vec2, 3>>& cornerUV;
+    const std::vector<BakeIsland>& islands;
+    const std::vector<SourceTexture>& sources;
+    OIIO::TextureSystem& ts;
+    int size;
+};
+
+// The linear RGB of one covered texel: base colour factor x COLOR_0 x the filtered texture
+// lookup at the original UV (derivatives from the texel -> original UV Jacobian). Returns
+// whether a texture was sampled.
+bool shadeTexel(const ShadeContext& c, const TexelHit& h, double rgb[3]) {
+    const TriMesh& mesh = c.asset.mesh;
+    const uint32_t f = uint32_t(h.face);
+    int mi = f < mesh.triangleMaterial.size() ? mesh.triangleMaterial[f] : -1;
+    static const Material def;
+    const Material& m = (mi >= 0 && mi < int(c.asset.materials.size())) ? c.asset.materials[size_t(mi)] : def;
+    rgb[0] = m.baseColorFactor.x;
+    rgb[1] = m.baseColorFactor.y;
+    rgb[2] = m.baseColorFactor.z;
+    const Tri& cw = mesh.cornerWedges[f];
+    if (!mesh.wedges.color.empty()) {
+        double col[3] = {0, 0, 0};
+        for (int k = 0; k < 3; ++k) {
+            const Vec4& vc = mesh.wedges.color[cw[size_t(k)]];
+            col[0] += h.bary[size_t(k)] * vc.x;
+            col[1] += h.bary[size_t(k)] * vc.y;
+            col[2] += h.bary[size_t(k)] * vc.z;
+        }
+        for (int i = 0; i < 3; ++i) rgb[i] *= col[i];
+    }
+    int ti = m.baseColor.texture;
+    if (ti < 0 || ti >= int(c.asset.textures.size())) return false;
+    const Texture& tex = c.asset.textures[size_t(ti)];
+    int set = m.baseColor.transform.texCoord >= 0 ? m.baseColor.transform.texCoord : m.baseColor.texCoord;
+    const std::vector<Vec2>& uvs = set == 1 ? mesh.wedges.uv1 : mesh.wedges.uv0;
+    if (tex.image < 0 || size_t(tex.image) >= c.sources.size() || c.sources[size_t(tex.image)].file.empty() || uvs.empty())
+        return false;
+    Vec2 T[3];
+    for (int k = 0; k < 3; ++k) T[k] = uvs[cw[size_t(k)]];
+    Vec2 uv = T[0] * h.bary[0] + T[1] * h.bary[1] + T[2] * h.bary[2];
+    // Jacobian d(uv)/d(texel) of the affine map atlas texel -> original UV.
+    Vec2 dx, dy;
+    if (h.island >= 0) {
+        islandDerivatives(mesh, c.islands[size_t(h.island)], c.size, f, T, dx, dy);
+    } else {
+        Vec2 P[3];
+        for (int k = 0; k < 3; ++k) P[k] = {c.cornerUV[f][size_t(k)].x * c.size, c.cornerUV[f][size_t(k)].y * c.size};
+        Vec2 e1 = P[1] - P[0], e2 = P[2] - P[0], g1 = T[1] - T[0], g2 = T[2] - T[0];
+        double det = cross(e1, e2);
+        // inverse of [e1 e2] = 1/det [e2.y -e2.x; -e1.y e1.x]
+        dx = (g1 * e2.y - g2 * e1.y) * (1 / det);   // d uv / d x
+        dy = (g2 * e1.x - g1 * e2.x) * (1 / det);   // d uv / d y
+    }
+    std::array<double, 4> lm;
+    Vec2 st = applyTransform(m.baseColor.transform, uv, lm);
+    Vec2 tdx{lm[0] * dx.x + lm[2] * dx.y, lm[1] * dx.x + lm[3] * dx.y};
+    Vec2 tdy{lm[0] * dy.x + lm[2] * dy.y, lm[1] * dy.x + lm[3] * dy.y};
+    Sampler smp;
+    if (tex.sampler >= 0 && tex.sampler < int(c.asset.samplers.size())) smp = c.asset.samplers[size_t(tex.sampler)];
+    OIIO::TextureOpt opt;
+    opt.swrap = OIIO::TextureOpt::Wrap(wrapMode(smp.wrapS));
+    opt.twrap = OIIO::TextureOpt::Wrap(wrapMode(smp.wrapT));
+    opt.fill = 1.0f;
+    const SourceTexture& src = c.sources[size_t(tex.image)];
+    float r[4] = {1, 1, 1, 1};
+    c.ts.texture(src.file, opt, float(st.x), float(st.y), float(tdx.x), float(tdx.y), float(tdy.x), float(tdy.y),
+                 std::min(src.channels, 4), r);
+    if (src.channels <= 2) r[2] = r[1] = r[0];
+    for (int i = 0; i < 3; ++i) rgb[i] *= srgbToLinear(std::clamp(double(r[i]), 0.0, 1.0));
+    return true;
+}
+
 }  // namespace
 
 BakeResult bakeBaseColor(const Asset& asset, const std::vector<std::array<Vec2, 3>>& cornerUV, const BakeOptions& o,
@@ -247,7 +330,9 @@ BakeResult bakeBaseColor(const Asset& asset, const std::vector<std::array<Vec2, 
     const TriMesh& mesh = asset.mesh;
     if (cornerUV.size() != mesh.triangleCount()) throw InvalidInput("bake: cornerUV size differs from the face count");
     if (o.size < 1) throw InvalidInput("bake: size must be >= 1");
-    const int size = o.size;
+    if (o.width < 0 || o.width > o.size || o.height < 0 || o.height > o.size)
+        throw InvalidInput("bake: width and height must be in [0, size]");
+    const Grid g{o.size, o.width > 0 ? o.width : o.size, o.height > 0 ? o.height : o.size};
     BakeResult res;
 
     TempDir dir;
@@ -260,84 +345,37 @@ BakeResult bakeBaseColor(const Asset& asset, const std::vector<std::array<Vec2, 
     std::vector<SourceTexture> sources = writeSourceImages(asset, dir, *ts);
 
     std::vector<TexelHit> hits;
-    rasterizeTriangles(mesh, cornerUV, size, o.dilation, hits);
-    rasterizeIslands(mesh, islands, size, o.dilation, hits);
+    rasterizeTriangles(mesh, cornerUV, g, o.dilation, hits);
+    rasterizeIslands(mesh, islands, g, o.dilation, hits);
 
-    // Shade: linear RGB + coverage.
-    OIIO::ImageSpec spec(size, size, 4, OIIO::TypeDesc::FLOAT);
-    spec.alpha_channel = 3;
-    OIIO::ImageBuf buf(spec);
-    std::vector<float> px(size_t(size) * size * 4, 0.0f);
-    const bool hasColor = !mesh.wedges.color.empty();
-    for (int y = 0; y < size; ++y)
-        for (int x = 0; x < size; ++x) {
-            const TexelHit& h = hits[size_t(y) * size + size_t(x)];
+    // Shade: linear RGB + coverage, rows in parallel (each texel depends only on its hit).
+    const size_t texels = size_t(g.w) * size_t(g.h);
+    std::vector<float> px(texels * 4, 0.0f);
+    std::vector<size_t> rowCovered(size_t(g.h), 0), rowIsland(size_t(g.h), 0), rowLookups(size_t(g.h), 0);
+    const ShadeContext ctx{asset, cornerUV, islands, sources, *ts, g.size};
+    parallelFor(size_t(g.h), o.threads, [&](size_t y) {
+        for (int x = 0; x < g.w; ++x) {
+            const TexelHit& h = hits[g.at(x, int(y))];
             if (h.face < 0) continue;
-            ++res.coveredTexels;
-            if (h.island >= 0) ++res.islandTexels;
-            const uint32_t f = uint32_t(h.face);
-            int mi = f < mesh.triangleMaterial.size() ? mesh.triangleMaterial[f] : -1;
-            Material def;
-            const Material& m = (mi >= 0 && mi < int(asset.materials.size())) ? asset.materials[size_t(mi)] : def;
-            double rgb[3] = {m.baseColorFactor.x, m.baseColorFactor.y, m.baseColorFactor.z};
-            const Tri& cw = mesh.cornerWedges[f];
-            if (hasColor) {
-                double c[3] = {0, 0, 0};
-                for (int k = 0; k < 3; ++k) {
-                    const Vec4& vc = mesh.wedges.color[cw[size_t(k)]];
-                    c[0] += h.bary[size_t(k)] * vc.x;
-                    c[1] += h.bary[size_t(k)] * vc.y;
-                    c[2] += h.bary[size_t(k)] * vc.z;
-                }
-                for (int i = 0; i < 3; ++i) rgb[i] *= c[i];
-            }
-            int ti = m.baseColor.texture;
-            if (ti >= 0 && ti < int(asset.textures.size())) {
-                const Texture& tex = asset.textures[size_t(ti)];
-                int set = m.baseColor.transform.texCoord >= 0 ? m.baseColor.transform.texCoord : m.baseColor.texCoord;
-                const std::vector<Vec2>& uvs = set == 1 ? mesh.wedges.uv1 : mesh.wedges.uv0;
-                if (tex.image >= 0 && size_t(tex.image) < sources.size() && !sources[size_t(tex.image)].file.empty() &&
-                    !uvs.empty()) {
-                    Vec2 T[3];
-                    for (int k = 0; k < 3; ++k) T[k] = uvs[cw[size_t(k)]];
-                    Vec2 uv = T[0] * h.bary[0] + T[1] * h.bary[1] + T[2] * h.bary[2];
-                    // Jacobian d(uv)/d(texel) of the affine map atlas texel -> original UV.
-                    Vec2 dx, dy;
-                    if (h.island >= 0) {
-                        islandDerivatives(mesh, islands[size_t(h.island)], size, f, T, dx, dy);
-                    } else {
-                        Vec2 P[3];
-                        for (int k = 0; k < 3; ++k) P[k] = {cornerUV[f][size_t(k)].x * size, cornerUV[f][size_t(k)].y * size};
-                        Vec2 e1 = P[1] - P[0], e2 = P[2] - P[0], g1 = T[1] - T[0], g2 = T[2] - T[0];
-                        double det = cross(e1, e2);
-                        // inverse of [e1 e2] = 1/det [e2.y -e2.x; -e1.y e1.x]
-                        dx = (g1 * e2.y - g2 * e1.y) * (1 / det);   // d uv / d x
-                        dy = (g2 * e1.x - g1 * e2.x) * (1 / det);   // d uv / d y
-                    }
-                    std::array<double, 4> lm;
-                    Vec2 st = applyTransform(m.baseColor.transform, uv, lm);
-                    Vec2 tdx{lm[0] * dx.x + lm[2] * dx.y, lm[1] * dx.x + lm[3] * dx.y};
-                    Vec2 tdy{lm[0] * dy.x + lm[2] * dy.y, lm[1] * dy.x + lm[3] * dy.y};
-                    Sampler smp;
-                    if (tex.sampler >= 0 && tex.sampler < int(asset.samplers.size())) smp = asset.samplers[size_t(tex.sampler)];
-                    OIIO::TextureOpt opt;
-                    opt.swrap = OIIO::TextureOpt::Wrap(wrapMode(smp.wrapS));
-                    opt.twrap = OIIO::TextureOpt::Wrap(wrapMode(smp.wrapT));
-                    opt.fill = 1.0f;
-                    const SourceTexture& src = sources[size_t(tex.image)];
-                    float r[4] = {1, 1, 1, 1};
-                    ts->texture(src.file, opt, float(st.x), float(st.y), float(tdx.x), float(tdx.y), float(tdy.x),
-                                float(tdy.y), std::min(src.channels, 4), r);
-                    if (src.channels <= 2) r[2] = r[1] = r[0];
-                    ++res.texturedLookups;
-                    for (int i = 0; i < 3; ++i) rgb[i] *= srgbToLinear(std::clamp(double(r[i]), 0.0, 1.0));
-                }
-            }
-            float* p = &px[(size_t(y) * size + size_t(x)) * 4];
+            ++rowCovered[y];
+            if (h.island >= 0) ++rowIsland[y];
+            double rgb[3];
+            if (shadeTexel(ctx, h, rgb)) ++rowLookups[y];
+            float* p = &px[g.at(x, int(y)) * 4];
             for (int i = 0; i < 3; ++i) p[i] = float(rgb[i]);
             p[3] = 1;
         }
-    buf.set_pixels(OIIO::ROI(0, size, 0, size, 0, 1, 0, 4), OIIO::TypeDesc::FLOAT, px.data());
+    });
+    for (size_t y = 0; y < size_t(g.h); ++y) {
+        res.coveredTexels += rowCovered[y];
+        res.islandTexels += rowIsland[y];
+        res.texturedLookups += rowLookups[y];
+    }
+    OIIO::ImageSpec spec(g.w, g.h, 4, OIIO::TypeDesc::FLOAT);
+    spec.alpha_channel = 3;
+    OIIO::ImageBuf buf(spec);
+    const OIIO::ROI roi(0, g.w, 0, g.h, 0, 1, 0, 4);
+    buf.set_pixels(roi, OIIO::TypeDesc::FLOAT, px.data());
 
     // Gap fill: pull-push with coverage as alpha.
     OIIO::ImageBuf filled;
@@ -347,30 +385,32 @@ BakeResult bakeBaseColor(const Asset& asset, const std::vector<std::array<Vec2, 
     } else {
         filled.copy(buf);
     }
-    filled.get_pixels(OIIO::ROI(0, size, 0, size, 0, 1, 0, 4), OIIO::TypeDesc::FLOAT, px.data());
+    filled.get_pixels(roi, OIIO::TypeDesc::FLOAT, px.data());
 
-    // Encode: sRGB 8-bit RGB PNG.
-    res.pixels.resize(size_t(size) * size * 3);
+    // Encode: sRGB 8-bit RGB.
+    res.pixels.resize(texels * 3);
     std::vector<uint8_t> rgb8(res.pixels.size());
-    for (size_t i = 0; i < size_t(size) * size; ++i)
+    for (size_t i = 0; i < texels; ++i)
         for (int c = 0; c < 3; ++c) {
             double v = linearToSrgb(px[i * 4 + size_t(c)]);
             uint8_t b = uint8_t(std::lround(v * 255));
             rgb8[i * 3 + size_t(c)] = b;
             res.pixels[i * 3 + size_t(c)] = float(b) / 255.0f;
         }
-    OIIO::ImageBuf out(OIIO::ImageSpec(size, size, 3, OIIO::TypeDesc::UINT8));
-    out.set_pixels(OIIO::ROI(0, size, 0, size, 0, 1, 0, 3), OIIO::TypeDesc::UINT8, rgb8.data());
-    fs::path png = dir.path / "atlas.png";
-    if (!out.write(png.string(), OIIO::TypeDesc::UINT8, "png")) throw IOError("bake: cannot encode PNG: " + out.geterror());
-    std::ifstream in(png, std::ios::binary);
-    res.image.encoded.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-    if (res.image.encoded.empty()) throw IOError("bake: PNG encoding produced no data");
-    res.image.name = "lodbake_baseColor";
-    res.image.mimeType = "image/png";
-    res.image.width = size;
-    res.image.height = size;
-    res.image.channels = 3;
+    if (o.encodePng) {
+        OIIO::ImageBuf out(OIIO::ImageSpec(g.w, g.h, 3, OIIO::TypeDesc::UINT8));
+        out.set_pixels(OIIO::ROI(0, g.w, 0, g.h, 0, 1, 0, 3), OIIO::TypeDesc::UINT8, rgb8.data());
+        fs::path png = dir.path / "atlas.png";
+        if (!out.write(png.string(), OIIO::TypeDesc::UINT8, "png")) throw IOError("bake: cannot encode PNG: " + out.geterror());
+        std::ifstream in(png, std::ios::binary);
+        res.image.encoded.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+        if (res.image.encoded.empty()) throw IOError("bake: PNG encoding produced no data");
+        res.image.name = "lodbake_baseColor";
+        res.image.mimeType = "image/png";
+        res.image.width = g.w;
+        res.image.height = g.h;
+        res.image.channels = 3;
+    }
     res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return res;
 }

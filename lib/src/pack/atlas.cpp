@@ -11,7 +11,8 @@
 //      density and shared by every page tried;
 //   3. page size and density: packBitmap at the density limit into twenty strip widths, three
 //      sorted chart orders plus eight shuffled ones (few charts) and two placement rules for free
-//      sizes (smallest page wins), the largest power-of-two page not far above the need for
+//      sizes (smallest page wins; the trials run on AtlasOptions::threads threads, the winner
+//      is picked in trial order), the largest power-of-two page not far above the need for
 //      --pot, binary search on the density when the charts do not fit; packBitmap places each
 //      chart at the lowest free position of each quarter turn (the lowest top edge, or the lowest
 //      centre of gravity, wins); no gutter along the page border (the samplers clamp to the edge); the
@@ -26,6 +27,8 @@
 #include <iterator>
 #include <numeric>
 #include <optional>
+
+#include "lodbake/core/parallel.h"
 
 namespace lodbake {
 namespace {
@@ -572,20 +575,32 @@ AtlasResult packAtlas(const std::vector<AtlasChart>& input, const AtlasOptions& 
                                                      ? std::vector<Placement>{Placement::TopEdge}
                                                      : std::vector<Placement>{Placement::TopEdge, Placement::Gravity};
             auto stripWidth = [&](size_t k) { return std::clamp(int(std::ceil(std::sqrt(a) * kStripWidths[k])), 1, maxSize); };
+            // Every (rule, order, strip width) is packed on options.threads threads, each into its
+            // own slot; the smallest page is then chosen in that fixed order, so the result does
+            // not depend on the thread count.
+            struct Trial {
+                Placement rule;
+                size_t order;
+                int width;
+            };
+            std::vector<Trial> trials;
             if (a <= double(maxSize) * maxSize)
                 for (Placement rule : rules)
-                    for (const std::vector<size_t>& chartOrder : orders)
-                        for (size_t k = 0; k < std::size(kStripWidths); ++k) {
-                            const int w = stripWidth(k);
-                            if (k > 0 && w == stripWidth(k - 1)) continue;
-                            auto p = packBitmap(fp, chartOrder, w, maxSize, rule);
-                            if (!p) continue;
-                            int pw = std::min(maxSize, (std::max(p->width, 4) + 3) / 4 * 4);
-                            int ph = std::min(maxSize, (std::max(p->height, 4) + 3) / 4 * 4);
-                            // The smallest page wins; on equal areas the squarer one, then the first tried.
-                            double area = double(pw) * ph + 1e-3 * std::max(pw, ph);
-                            if (area < bestArea) { bestArea = area; best = std::make_pair(tMax, *p); pageW = pw; pageH = ph; }
-                        }
+                    for (size_t o = 0; o < orders.size(); ++o)
+                        for (size_t k = 0; k < std::size(kStripWidths); ++k)
+                            if (k == 0 || stripWidth(k) != stripWidth(k - 1)) trials.push_back({rule, o, stripWidth(k)});
+            std::vector<std::optional<Packing>> packed(trials.size());
+            parallelFor(trials.size(), options.threads, [&](size_t i) {
+                packed[i] = packBitmap(fp, orders[trials[i].order], trials[i].width, maxSize, trials[i].rule);
+            });
+            for (std::optional<Packing>& p : packed) {
+                if (!p) continue;
+                int pw = std::min(maxSize, (std::max(p->width, 4) + 3) / 4 * 4);
+                int ph = std::min(maxSize, (std::max(p->height, 4) + 3) / 4 * 4);
+                // The smallest page wins; on equal areas the squarer one, then the first tried.
+                double area = double(pw) * ph + 1e-3 * std::max(pw, ph);
+                if (area < bestArea) { bestArea = area; best = std::make_pair(tMax, std::move(*p)); pageW = pw; pageH = ph; }
+            }
             if (!best) {
                 best = densestFit(turned, order, tMax, gutter, maxSize, maxSize);
                 if (best) { pageW = best->second.width; pageH = best->second.height; }

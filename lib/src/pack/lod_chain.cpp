@@ -255,7 +255,7 @@ LevelAtlas packLevelAtlas(const LayoutData& L, const LevelUVs& luv, bool origina
 }
 
 // Bakes the original triangles at the page UVs; returns RGB floats of the width x height page.
-std::vector<float> bakePage(const Asset& asset, const LayoutData& L, const LevelAtlas& la, double& seconds) {
+std::vector<float> bakePage(const Asset& asset, const LayoutData& L, const LevelAtlas& la, int threads, double& seconds) {
     const ChartLayout& ch = *L.ch;
     const AtlasResult& a = la.atlas;
     int size = std::max(a.width, a.height);
@@ -281,15 +281,17 @@ std::vector<float> bakePage(const Asset& asset, const LayoutData& L, const Level
         b.faces = L.islandFaces[i];
         islands.push_back(std::move(b));
     }
+    // UVs are scaled by the longer side; only the width x height page is baked (the chain
+    // encodes it itself).
     BakeOptions bo;
     bo.size = size;
+    bo.width = a.width;
+    bo.height = a.height;
+    bo.encodePng = false;
+    bo.threads = threads;
     BakeResult baked = bakeBaseColor(asset, uv, bo, islands);
     seconds = baked.seconds;
-    std::vector<float> out(size_t(a.width) * size_t(a.height) * 3);
-    for (int y = 0; y < a.height; ++y)
-        std::copy_n(baked.pixels.begin() + std::ptrdiff_t((size_t(y) * size_t(size)) * 3), size_t(a.width) * 3,
-                    out.begin() + std::ptrdiff_t(size_t(y) * size_t(a.width) * 3));
-    return out;
+    return std::move(baked.pixels);
 }
 
 // Twice the signed UV area in the glTF convention (v down): > 0 for a front-facing triangle.
@@ -497,6 +499,7 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
         ao.gutter = 2 << mips;
         ao.maxSize = options.maxSize;
         ao.powerOfTwo = options.powerOfTwo;
+        ao.threads = options.threads;
         LevelAtlas la = packLevelAtlas(lay, luv, k == 0, ao);
         // A page held below the density limit (--max-size) is magnified at the largest coverage and
         // uses fewer mips: narrow the gutter to the fewest mips that the denser packing it allows
@@ -530,7 +533,7 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
         r.rasterUtilisation = la.atlas.rasterUtilisation;
         r.footprintUtilisation = la.atlas.footprintUtilisation;
         r.texelsPerUnit = la.atlas.texelsPerUnit * lay.uvPerUnit;
-        std::vector<float> pixels = bakePage(asset, lay, la, r.bakeSeconds);
+        std::vector<float> pixels = bakePage(asset, lay, la, options.threads, r.bakeSeconds);
         LodLevelData& L = res.levels[k];
         L.name = "LOD" + std::to_string(k);
         L.metallicFactor = metallic;

@@ -322,6 +322,7 @@ RefineResult refineTextures(const Asset& asset, const Multires& mr, const Refine
             if (rr.rank > 0 && size < o.minRefinedSize && size != sizes.back()) continue;
             BakeOptions bo;
             bo.size = size;
+            bo.threads = o.threads;
             BakeResult b = bakeBaseColor(asset, rr.layout.cornerUV, bo, layoutBakeIslands(mesh, rr.layout));
             RefinedImage img;
             img.rank = rr.rank;

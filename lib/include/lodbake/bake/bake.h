@@ -10,9 +10,14 @@
 namespace lodbake {
 
 struct BakeOptions {
-    int size = 1024;        // square atlas side in texels
+    int size = 1024;        // square atlas side in texels: cornerUV [0,1] spans `size` texels
+    // The region baked: texels [0, width) x [0, height) of the size x size grid (0 = size). A page
+    // narrower or shorter than `size` (pack's non-square pages) is baked and gap-filled alone.
+    int width = 0, height = 0;
     double dilation = 1;    // conservative rasterisation margin around each triangle, texels
     bool fillGaps = true;   // pull-push fill of uncovered texels (ImageBufAlgo::fillholes_pushpull)
+    bool encodePng = true;  // BakeResult::image (false: pixels only, for callers that encode themselves)
+    int threads = 1;        // texel shading threads (0 = all cores); the result is the same for any count
 };
 
 // A UV triangle of the atlas that is not an original face (parameterize's level islands): each
@@ -30,7 +35,7 @@ struct BakeIsland {
 std::vector<BakeIsland> layoutBakeIslands(const TriMesh& mesh, const ChartLayout& layout);
 
 struct BakeResult {
-    Image image;                 // PNG, RGB 8-bit sRGB, size x size
+    Image image;                 // PNG, RGB 8-bit sRGB, width x height (empty without encodePng)
     std::vector<float> pixels;   // the same as floats in [0,1] (encoded sRGB), RGB interleaved, top row first
     size_t coveredTexels = 0;    // texels hit by a triangle (incl. dilation)
     size_t texturedLookups = 0;  // texture lookups made through the TextureSystem

@@ -28,6 +28,7 @@ struct AtlasOptions {
                                     // Halved while it takes more than half the padded area, or the charts do not fit.
     int maxSize = 2048;             // page width and height cap, texels
     bool powerOfTwo = false;        // page sides powers of two (then texel density may drop below the limit)
+    int threads = 1;                // threads of the page search (0 = all cores); the result is the same for any count
 };
 
 // Maps T0 UV to page texel coordinates: x = m[0] u + m[1] v + m[2], y = m[3] u + m[4] v + m[5].

@@ -89,7 +89,7 @@ struct RefineOptions {
     double alpha = 0.8, beta = 0.7;        // the energy of parameterize
     int maxIterations = 50;                // Ceres iterations per chart
     int gutter = 4;                        // texels between charts in a rank layout
-    int threads = 1;                       // charts solved in parallel (0 = all cores); output identical for any value
+    int threads = 1;                       // charts solved and textures baked in parallel (0 = all cores); output identical for any value
     std::function<bool(double)> progress;  // fraction done; may be empty
 };
 
