@@ -135,6 +135,7 @@ int run(const Settings& s) {
     TextureDeviation deviation;
     TextureDeviationOptions dopt;
     dopt.islands = &param.islands;
+    dopt.threads = s.common.threads;
     if (!multires->levels.empty()) deviation = textureDeviation(asset.mesh, multires->levels.back(), multires->charts, dopt);
     double deviationSeconds = cli::secondsSince(t3);
     size_t levelFlips = 0, levelOverlaps = 0;

@@ -178,49 +178,33 @@ void rasterizeTriangles(const TriMesh& mesh, const std::vector<std::array<Vec2, 
     }
 }
 
-// Islands: texel -> point X of the island's 3D triangle -> closest point of its faces. Candidate
-// faces are those whose bounding box is within d0 + r of the centroid (d0 = the centroid's own
-// distance to the faces, r = the triangle's circumradius about the centroid): no point of the
-// triangle can have its closest point farther than that.
+// Islands: texel -> point X of the island's 3D triangle -> closest point of its faces (over
+// facesNearTriangle, which holds the closest point of every X). Islands are measured on
+// `threads` threads against the faces' hits, then merged in island order (a texel takes the
+// nearest hit, the earlier island on ties), so the result does not depend on the thread count.
 void rasterizeIslands(const TriMesh& mesh, const std::vector<BakeIsland>& islands, const Grid& g, double dilation,
-                      std::vector<TexelHit>& hits) {
-    for (size_t i = 0; i < islands.size(); ++i) {
+                      int threads, std::vector<TexelHit>& hits) {
+    for (size_t i = 0; i < islands.size(); ++i)
+        if (islands[i].faces.empty()) throw InvalidInput("bake: island " + std::to_string(i) + " has no faces to sample");
+    std::vector<std::vector<std::pair<size_t, TexelHit>>> found(islands.size());
+    parallelFor(islands.size(), threads, [&](size_t i) {
         const BakeIsland& isl = islands[i];
-        if (isl.faces.empty()) throw InvalidInput("bake: island " + std::to_string(i) + " has no faces to sample");
         Vec2 P[3];
         for (int k = 0; k < 3; ++k) P[k] = {isl.uv[size_t(k)].x * g.size, isl.uv[size_t(k)].y * g.size};
-        if (std::fabs(cross(P[1] - P[0], P[2] - P[0])) < 1e-12) continue;
-        const Vec3 centroid = (isl.position[0] + isl.position[1] + isl.position[2]) * (1.0 / 3);
-        uint32_t f0 = 0;
-        std::array<double, 3> b0{};
-        double radius = std::sqrt(closestSurfacePoint(mesh, isl.faces, centroid, f0, b0));
-        double r = 0;
-        for (const Vec3& q : isl.position) r = std::max(r, length(q - centroid));
-        radius = (radius + r) * (1 + 1e-9) + 1e-12;
-        std::vector<uint32_t> near;
-        for (uint32_t f : isl.faces) {
-            const Tri& t = mesh.triangles[f];
-            double d2 = 0;
-            for (int a = 0; a < 3; ++a) {
-                double lo = std::min({mesh.positions[t[0]][a], mesh.positions[t[1]][a], mesh.positions[t[2]][a]});
-                double hi = std::max({mesh.positions[t[0]][a], mesh.positions[t[1]][a], mesh.positions[t[2]][a]});
-                double c = centroid[a];
-                double e = c < lo ? lo - c : (c > hi ? c - hi : 0);
-                d2 += e * e;
-            }
-            if (d2 <= radius * radius) near.push_back(f);
-        }
-        if (near.empty()) near = isl.faces;
+        if (std::fabs(cross(P[1] - P[0], P[2] - P[0])) < 1e-12) return;
+        const BoxedFaces near(mesh, facesNearTriangle(mesh, isl.faces, isl.position));
+        uint32_t f = 0xffffffffu;  // the previous texel's face: the next texel's search bound
         forEachTexelNear(P, g, dilation, [&](int x, int y, double d, const std::array<double, 3>& b) {
-            TexelHit& h = hits[g.at(x, y)];
-            if (!(float(d) < h.dist)) return;
+            if (!(float(d) < hits[g.at(x, y)].dist)) return;  // a face's hit is nearer
             Vec3 X = isl.position[0] * b[0] + isl.position[1] * b[1] + isl.position[2] * b[2];
-            uint32_t f = 0;
             std::array<double, 3> fb{};
-            closestSurfacePoint(mesh, near, X, f, fb);
-            h = {int32_t(f), float(d), {float(fb[0]), float(fb[1]), float(fb[2])}, int32_t(i)};
+            near.closest(X, f, f, fb);
+            found[i].push_back({g.at(x, y), {int32_t(f), float(d), {float(fb[0]), float(fb[1]), float(fb[2])}, int32_t(i)}});
         });
-    }
+    });
+    for (const auto& list : found)
+        for (const auto& [texel, hit] : list)
+            if (hit.dist < hits[texel].dist) hits[texel] = hit;
 }
 
 // d(original UV)/d(texel x) and /d(texel y) at an island texel: texel -> 3D on the island's
@@ -346,7 +330,7 @@ BakeResult bakeBaseColor(const Asset& asset, const std::vector<std::array<Vec2, 
 
     std::vector<TexelHit> hits;
     rasterizeTriangles(mesh, cornerUV, g, o.dilation, hits);
-    rasterizeIslands(mesh, islands, g, o.dilation, hits);
+    rasterizeIslands(mesh, islands, g, o.dilation, o.threads, hits);
 
     // Shade: linear RGB + coverage, rows in parallel (each texel depends only on its hit).
     const size_t texels = size_t(g.w) * size_t(g.h);

@@ -376,14 +376,14 @@ struct Footprints {
 
 using Orientations = std::vector<std::vector<Oriented>>;  // per chart: the orientations tried
 
-Footprints footprintsAt(const Orientations& charts, double t, int gutter, int scale) {
+Footprints footprintsAt(const Orientations& charts, double t, int gutter, int scale, int threads) {
     const int radius = (gutter + 1) / 2;
     Footprints fp;
     fp.t = t;
     fp.scale = scale;
     fp.radius = radius;
     fp.charts.resize(charts.size());
-    for (size_t i = 0; i < charts.size(); ++i)
+    parallelFor(charts.size(), threads, [&](size_t i) {  // each chart into its own slot
         for (const Oriented& o : charts[i]) {
             ChartFootprints c;
             std::vector<uint8_t> fine = chartMask(o, t, radius, c.gw, c.gh, &c.raster);
@@ -392,6 +392,7 @@ Footprints footprintsAt(const Orientations& charts, double t, int gutter, int sc
             for (int rot = 0; rot < 4; ++rot) c.rot[size_t(rot)] = rotatedFootprint(mask, c.cw, c.ch, rot);
             fp.charts[i].push_back(std::move(c));
         }
+    });
     return fp;
 }
 
@@ -445,8 +446,8 @@ std::optional<Packing> packBitmap(const Footprints& fp, const std::vector<size_t
 }
 
 std::optional<Packing> packBitmap(const Orientations& charts, const std::vector<size_t>& order, double t,
-                                  int gutter, int binW, int binH, int scale) {
-    return packBitmap(footprintsAt(charts, t, gutter, scale), order, binW, binH);
+                                  int gutter, int binW, int binH, int scale, int threads) {
+    return packBitmap(footprintsAt(charts, t, gutter, scale, threads), order, binW, binH);
 }
 
 double paddedArea(const std::vector<Oriented>& charts, double t, int gutter) {
@@ -457,10 +458,10 @@ double paddedArea(const std::vector<Oriented>& charts, double t, int gutter) {
 
 // The densest t in (0, hi] at which the charts fit in binW x binH, to 0.5%: a bracket around the
 // density whose padded area fills 3/4 of the page (area grows as t^2), narrowed by bisection.
-std::optional<std::pair<double, Packing>> densestFit(const Orientations& charts, const std::vector<size_t>& order,
+std::optional<std::pair<double, Packing>> densestFit(const Orientations& charts, const std::vector<size_t>& order, int threads,
                                                      double hi, int gutter, int binW, int binH) {
     const int scale = searchScale(std::max(binW, binH));
-    auto fit = [&](double t) { return packBitmap(charts, order, t, gutter, binW, binH, scale); };
+    auto fit = [&](double t) { return packBitmap(charts, order, t, gutter, binW, binH, scale, threads); };
     if (auto p = fit(hi)) return std::make_pair(hi, *p);
     std::vector<Oriented> first;
     for (const auto& c : charts) first.push_back(c.front());
@@ -566,7 +567,7 @@ AtlasResult packAtlas(const std::vector<AtlasChart>& input, const AtlasOptions& 
             double a = 0;
             for (const Oriented& c : charts) a += std::pow(std::sqrt(c.uvArea) * tMax + gutter, 2);
             const int scale = searchScale(std::sqrt(a));
-            Footprints fp = footprintsAt(turned, tMax, gutter, scale);
+            Footprints fp = footprintsAt(turned, tMax, gutter, scale, options.threads);
             double bestArea = 1e300;
             // Both placement rules, except for very many charts (2CylinderEngine: 2,500), where the
             // second would double a search that already takes tens of seconds. (Charts whose padded
@@ -602,7 +603,7 @@ AtlasResult packAtlas(const std::vector<AtlasChart>& input, const AtlasOptions& 
                 if (area < bestArea) { bestArea = area; best = std::make_pair(tMax, std::move(*p)); pageW = pw; pageH = ph; }
             }
             if (!best) {
-                best = densestFit(turned, order, tMax, gutter, maxSize, maxSize);
+                best = densestFit(turned, order, options.threads, tMax, gutter, maxSize, maxSize);
                 if (best) { pageW = best->second.width; pageH = best->second.height; }
             }
         } else {
@@ -619,7 +620,7 @@ AtlasResult packAtlas(const std::vector<AtlasChart>& input, const AtlasOptions& 
             for (size_t i = 0; i < pages.size(); ++i)
                 if (double(pages[i].first) * pages[i].second <= 1.1 * need) pick = i;
             for (size_t i = pick; i < pages.size() && !best; ++i) {
-                best = densestFit(turned, order, tMax, gutter, pages[i].first, pages[i].second);
+                best = densestFit(turned, order, options.threads, tMax, gutter, pages[i].first, pages[i].second);
                 if (best) { pageW = pages[i].first; pageH = pages[i].second; }
             }
         }

@@ -6,13 +6,15 @@
 // chart, the UV-closest point of the chart is used and counted as `outside`).
 //
 // Samples are area-weighted and deterministic: triangle t gets round(cumulative share) points
-// placed by the R2 low-discrepancy sequence (Roberts 2018) warped onto the triangle.
+// placed by the R2 low-discrepancy sequence (Roberts 2018) warped onto the triangle. Triangles
+// are measured in parallel and summed in triangle order (the same figures for any thread count).
 #include <algorithm>
 #include <cmath>
 #include <map>
 
 #include "lodbake/core/closest_point.h"
 #include "lodbake/core/errors.h"
+#include "lodbake/core/parallel.h"
 #include "lodbake/param/parameterize.h"
 
 namespace lodbake {
@@ -115,13 +117,32 @@ TextureDeviation textureDeviation(const TriMesh& mesh, const Level& level, const
         total += area[t];
     }
     if (!(total > 0) || options.samples == 0) return res;
-    const double g1 = 1.32471795724474602596, a1 = 1 / g1, a2 = 1 / (g1 * g1);  // R2 sequence
-    double acc = 0, sum = 0, sum2 = 0;
-    size_t emitted = 0, seq = 0;
+    // Samples per triangle and the index of its first sample in the R2 sequence.
+    std::vector<size_t> count(area.size()), first(area.size());
+    double acc = 0;
+    size_t emitted = 0;
     for (size_t t = 0; t < area.size(); ++t) {
         acc += area[t] / total * double(options.samples);
-        size_t n = size_t(std::llround(acc)) - emitted;
-        emitted += n;
+        count[t] = size_t(std::llround(acc)) - emitted;
+        first[t] = emitted;
+        emitted += count[t];
+    }
+    // Island triangles: the faces that can hold the closest point of any of their points.
+    std::vector<BoxedFaces> islandNear;
+    if (options.islands)
+        for (const LevelIsland& isl : *options.islands)
+            islandNear.emplace_back(mesh, facesNearTriangle(mesh, isl.faces, {mesh.positions[isl.vertices[0]], mesh.positions[isl.vertices[1]],
+                                                                               mesh.positions[isl.vertices[2]]}));
+    // Triangles are measured on options.threads threads into their own slots, then summed in
+    // triangle order: the figures do not depend on the thread count.
+    struct Partial {
+        double sum = 0, sum2 = 0, max = 0;
+        size_t samples = 0, islandSamples = 0, outside = 0;
+    };
+    std::vector<Partial> part(area.size());
+    const double g1 = 1.32471795724474602596, a1 = 1 / g1, a2 = 1 / (g1 * g1);  // R2 sequence
+    parallelFor(area.size(), options.threads, [&](size_t t) {
+        Partial& out = part[t];
         const Tri& v = level.triangles[t];
         std::array<Vec2, 3> luv{};
         for (size_t k = 0; k < 3; ++k) {
@@ -130,7 +151,14 @@ TextureDeviation textureDeviation(const TriMesh& mesh, const Level& level, const
         }
         const uint32_t chart = triChart[t];
         auto isl = islandOf.find(v);
-        for (size_t s = 0; s < n; ++s, ++seq) {
+        auto add = [&](double d) {
+            out.sum += d;
+            out.sum2 += d * d;
+            out.max = std::max(out.max, d);
+            ++out.samples;
+        };
+        uint32_t islandFace = UINT32_MAX;  // the previous island sample's face: the next one's search bound
+        for (size_t s = 0, seq = first[t]; s < count[t]; ++s, ++seq) {
             double r1 = std::fmod(0.5 + a1 * double(seq + 1), 1.0), r2 = std::fmod(0.5 + a2 * double(seq + 1), 1.0);
             double sq = std::sqrt(r1);
             std::array<double, 3> b{1 - sq, sq * (1 - r2), sq * r2};
@@ -138,20 +166,11 @@ TextureDeviation textureDeviation(const TriMesh& mesh, const Level& level, const
             Vec2 u = luv[0] * b[0] + luv[1] * b[1] + luv[2] * b[2];
             if (isl != islandOf.end()) {
                 // An island texel shows the closest point of the island's faces (the bake's rule).
-                double dmin = 1e300;
-                for (uint32_t f : (*options.islands)[isl->second].faces) {
-                    const Tri& o = mesh.triangles[f];
-                    auto w = closestOnTriangle(p, mesh.positions[o[0]], mesh.positions[o[1]], mesh.positions[o[2]]);
-                    Vec3 q = mesh.positions[o[0]] * w[0] + mesh.positions[o[1]] * w[1] + mesh.positions[o[2]] * w[2];
-                    dmin = std::min(dmin, length2(p - q));
-                }
+                std::array<double, 3> w{};
+                double dmin = islandNear[isl->second].closest(p, islandFace, islandFace, w);
                 if (!(dmin < 1e300)) continue;
-                double d = std::sqrt(dmin);
-                sum += d;
-                sum2 += d * d;
-                res.max = std::max(res.max, d);
-                ++res.samples;
-                ++res.islandSamples;
+                add(std::sqrt(dmin));
+                ++out.islandSamples;
                 continue;
             }
             // Point location in the chart's original triangles; else the UV-closest one nearby.
@@ -181,15 +200,20 @@ TextureDeviation textureDeviation(const TriMesh& mesh, const Level& level, const
                 if (bestFace != UINT32_MAX && lastRing == grid.g) lastRing = ring + 1;
             }
             if (bestFace == UINT32_MAX) continue;
-            if (best > 0) ++res.outside;
+            if (best > 0) ++out.outside;
             const Tri& o = mesh.triangles[bestFace];
             Vec3 q = mesh.positions[o[0]] * bestW[0] + mesh.positions[o[1]] * bestW[1] + mesh.positions[o[2]] * bestW[2];
-            double d = length(p - q);
-            sum += d;
-            sum2 += d * d;
-            res.max = std::max(res.max, d);
-            ++res.samples;
+            add(length(p - q));
         }
+    });
+    double sum = 0, sum2 = 0;
+    for (const Partial& q : part) {
+        sum += q.sum;
+        sum2 += q.sum2;
+        res.max = std::max(res.max, q.max);
+        res.samples += q.samples;
+        res.islandSamples += q.islandSamples;
+        res.outside += q.outside;
     }
     if (res.samples > 0) {
         res.mean = sum / double(res.samples);

@@ -2,6 +2,7 @@
 // (projected level corners, atlas application), texture-refine and pack. Header-only.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -63,6 +64,99 @@ inline double closestSurfacePoint(const TriMesh& mesh, const std::vector<uint32_
     }
     return best;
 }
+
+// The faces of `faces` that can hold the closest point of some point of triangle `tri`: those
+// whose bounding box lies within d0 + 2r of the triangle's centroid c, with d0 = the distance from
+// c to `faces` and r = the largest |corner - c|. (For X on the triangle, its closest face f has
+// d(X, f) <= d(X, f0) <= d0 + r, f0 being c's closest face, so d(c, f) <= d0 + 2r.) The closest
+// point of any point of the triangle is the same over these faces as over all of them.
+inline std::vector<uint32_t> facesNearTriangle(const TriMesh& mesh, const std::vector<uint32_t>& faces,
+                                               const std::array<Vec3, 3>& tri) {
+    const Vec3 c = (tri[0] + tri[1] + tri[2]) * (1.0 / 3);
+    uint32_t f0 = 0;
+    std::array<double, 3> b0{};
+    const double d0 = closestSurfacePoint(mesh, faces, c, f0, b0);
+    if (!(d0 < 1e300)) return {};
+    double r = 0;
+    for (const Vec3& q : tri) r = std::max(r, length(q - c));
+    const double reach = (std::sqrt(d0) + 2 * r) * (1 + 1e-9) + 1e-12;
+    std::vector<uint32_t> near;
+    for (uint32_t f : faces) {
+        const Tri& t = mesh.triangles[f];
+        double d2 = 0;
+        for (int a = 0; a < 3; ++a) {
+            double lo = std::min({mesh.positions[t[0]][a], mesh.positions[t[1]][a], mesh.positions[t[2]][a]});
+            double hi = std::max({mesh.positions[t[0]][a], mesh.positions[t[1]][a], mesh.positions[t[2]][a]});
+            double e = c[a] < lo ? lo - c[a] : (c[a] > hi ? c[a] - hi : 0);
+            d2 += e * e;
+        }
+        if (d2 <= reach * reach) near.push_back(f);
+    }
+    return near;
+}
+
+// Faces with their bounding boxes, for many closest-point queries near one place (an island's
+// texels or samples): a query skips every face whose box is farther than a hint face (the
+// previous query's answer), so it returns exactly what closestSurfacePoint returns over the same
+// faces in the same order, ties included.
+class BoxedFaces {
+public:
+    BoxedFaces(const TriMesh& mesh, std::vector<uint32_t> faces) : mesh_(mesh), faces_(std::move(faces)) {
+        box_.reserve(faces_.size());
+        for (uint32_t f : faces_) {
+            const Tri& t = mesh.triangles[f];
+            std::array<double, 6> b{};
+            for (int a = 0; a < 3; ++a) {
+                b[size_t(a)] = std::min({mesh.positions[t[0]][a], mesh.positions[t[1]][a], mesh.positions[t[2]][a]});
+                b[size_t(a + 3)] = std::max({mesh.positions[t[0]][a], mesh.positions[t[1]][a], mesh.positions[t[2]][a]});
+            }
+            box_.push_back(b);
+            for (int a = 0; a < 3; ++a) extent_ = std::max({extent_, std::abs(b[size_t(a)]), std::abs(b[size_t(a + 3)])});
+        }
+    }
+    // Squared distance to the closest point (1e300 when there are no faces); `face` and `bary`
+    // receive it. `hint` (a face id, or any value not among the faces) only speeds the search.
+    double closest(Vec3 p, uint32_t hint, uint32_t& face, std::array<double, 3>& bary) const {
+        // The bound, with a margin far above rounding (relative, and absolute at the faces' scale):
+        // a face as near as the hint, or touching p, always stays in.
+        double bound = 1e300;
+        if (std::find(faces_.begin(), faces_.end(), hint) != faces_.end()) {
+            double r = std::sqrt(distance2(p, hint, nullptr)) * (1 + 1e-9) + 1e-9 * extent_;
+            bound = r * r;
+        }
+        double best = 1e300;
+        for (size_t i = 0; i < faces_.size(); ++i) {
+            const std::array<double, 6>& b = box_[i];
+            double d2 = 0;
+            for (int a = 0; a < 3; ++a) {
+                double e = p[a] < b[size_t(a)] ? b[size_t(a)] - p[a] : (p[a] > b[size_t(a + 3)] ? p[a] - b[size_t(a + 3)] : 0);
+                d2 += e * e;
+            }
+            if (d2 > bound) continue;  // farther than the hint: neither the closest nor a tie
+            std::array<double, 3> w;
+            double d = distance2(p, faces_[i], &w);
+            if (d < best) {
+                best = d;
+                face = faces_[i];
+                bary = w;
+            }
+        }
+        return best;
+    }
+
+private:
+    double distance2(Vec3 p, uint32_t f, std::array<double, 3>* bary) const {
+        const Tri& t = mesh_.triangles[f];
+        auto b = closestOnTriangle(p, mesh_.positions[t[0]], mesh_.positions[t[1]], mesh_.positions[t[2]]);
+        Vec3 q = mesh_.positions[t[0]] * b[0] + mesh_.positions[t[1]] * b[1] + mesh_.positions[t[2]] * b[2];
+        if (bary) *bary = b;
+        return length2(q - p);
+    }
+    const TriMesh& mesh_;
+    std::vector<uint32_t> faces_;
+    std::vector<std::array<double, 6>> box_;
+    double extent_ = 0;  // largest |coordinate| of the faces
+};
 
 // The texture coordinate of the point of `faces` closest to p, interpolated from the faces'
 // per-corner UVs (cornerUV[f][k]). {0, 0} when faces is empty.

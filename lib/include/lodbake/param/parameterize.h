@@ -143,6 +143,7 @@ struct TextureDeviationOptions {
     // Level islands (ParameterizeResult::islands): a level triangle with an island's vertex triple
     // is measured against the closest point of the island's faces, which is what its texels show.
     const std::vector<LevelIsland>* islands = nullptr;
+    int threads = 1;  // 0 = all cores; the figures are the same for any count
 };
 
 struct TextureDeviation {
