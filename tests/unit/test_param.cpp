@@ -299,6 +299,20 @@ TEST(Bake, SameTexelsForAnyThreadCount) {
     EXPECT_EQ(one.coveredTexels, three.coveredTexels);
 }
 
+TEST(Bake, SharedSourcesBakeLikeOneOffBakes) {
+    Asset a = twoQuads({1, 0.5, 0, 1}, {0, 1, 0.25, 1});
+    const BakeSources sources(a);
+    EXPECT_EQ(&sources.asset(), &a);
+    for (int size : {24, 40}) {
+        BakeOptions o;
+        o.size = size;
+        BakeResult shared = bakeBaseColor(sources, twoQuadsUV(), o);
+        BakeResult alone = bakeBaseColor(a, twoQuadsUV(), o);
+        EXPECT_EQ(shared.pixels, alone.pixels);
+        EXPECT_EQ(shared.image.encoded, alone.image.encoded);
+    }
+}
+
 TEST(Bake, VertexColoursBake) {
     Asset a = twoQuads({1, 1, 1, 1}, {1, 1, 1, 1});
     a.mesh.wedges.color.assign(6, Vec4{0, 0, 1, 1});

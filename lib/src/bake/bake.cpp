@@ -1,14 +1,14 @@
 // Bake: original appearance -> new atlas (DESIGN.md "Bake and gap fill").
 //
-// Pipeline: writeSourceImages (encoded images to a temp folder, read back through OIIO's
-// TextureSystem with automatic MIP-maps) -> rasterizeTriangles (original faces in atlas texel
-// space, 1-texel conservative dilation, exact coverage wins over dilated) -> shadeTexel (base
-// colour factor x filtered texture lookup at the original UV with derivatives from the UV
-// Jacobian x COLOR_0, in linear space; rows on BakeOptions::threads threads) -> fill gaps
-// (ImageBufAlgo::fillholes_pushpull with coverage as alpha) -> encode PNG (unless the caller
-// encodes). Only the width x height region of the size x size grid is baked. Islands (level triangles parameterize could not keep
-// injective in their chart) are rasterised after the faces; their texels sample the original
-// surface at the closest point (rasterizeIslands).
+// Pipeline: BakeSources (once per asset: writeSourceImages, the encoded images in a temp folder
+// read back through OIIO's TextureSystem with automatic MIP-maps, decoded on first use and kept
+// for every later bake) -> rasterizeTriangles (original faces in atlas texel space, 1-texel
+// conservative dilation, exact coverage wins over dilated) -> rasterizeIslands (level triangles
+// parameterize could not keep injective in their chart: their texels sample the original surface
+// at the closest point) -> shadeTexel (base colour factor x filtered texture lookup at the original
+// UV with derivatives from the UV Jacobian x COLOR_0, in linear space; rows on BakeOptions::threads
+// threads) -> fill gaps (ImageBufAlgo::fillholes_pushpull with coverage as alpha) -> encode PNG
+// (unless the caller encodes). Only the width x height region of the size x size grid is baked.
 #include "lodbake/bake/bake.h"
 
 #include <algorithm>
@@ -308,9 +308,42 @@ bool shadeTexel(const ShadeContext& c, const TexelHit& h, double rgb[3]) {
 
 }  // namespace
 
+struct BakeSources::Impl {
+    const Asset& asset;
+    TempDir dir;
+    OIIO::TextureSystem* ts = nullptr;
+    std::vector<SourceTexture> sources;
+    explicit Impl(const Asset& a) : asset(a), ts(OIIO::TextureSystem::create(false)) {
+        ts->attribute("automip", 1);
+        try {
+            sources = writeSourceImages(asset, dir, *ts);
+        } catch (...) {
+            OIIO::TextureSystem::destroy(ts);
+            throw;
+        }
+    }
+    ~Impl() { OIIO::TextureSystem::destroy(ts); }
+};
+
+BakeSources::BakeSources(const Asset& asset) : impl_(std::make_unique<Impl>(asset)) {}
+BakeSources::~BakeSources() = default;
+const Asset& BakeSources::asset() const { return impl_->asset; }
+
 BakeResult bakeBaseColor(const Asset& asset, const std::vector<std::array<Vec2, 3>>& cornerUV, const BakeOptions& o,
                          const std::vector<BakeIsland>& islands) {
     auto t0 = std::chrono::steady_clock::now();
+    BakeSources sources(asset);
+    BakeResult res = bakeBaseColor(sources, cornerUV, o, islands);
+    res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return res;
+}
+
+BakeResult bakeBaseColor(const BakeSources& bs, const std::vector<std::array<Vec2, 3>>& cornerUV, const BakeOptions& o,
+                         const std::vector<BakeIsland>& islands) {
+    auto t0 = std::chrono::steady_clock::now();
+    const Asset& asset = bs.asset();
+    const std::vector<SourceTexture>& sources = bs.impl().sources;
+    OIIO::TextureSystem* ts = bs.impl().ts;
     const TriMesh& mesh = asset.mesh;
     if (cornerUV.size() != mesh.triangleCount()) throw InvalidInput("bake: cornerUV size differs from the face count");
     if (o.size < 1) throw InvalidInput("bake: size must be >= 1");
@@ -318,15 +351,6 @@ BakeResult bakeBaseColor(const Asset& asset, const std::vector<std::array<Vec2, 
         throw InvalidInput("bake: width and height must be in [0, size]");
     const Grid g{o.size, o.width > 0 ? o.width : o.size, o.height > 0 ? o.height : o.size};
     BakeResult res;
-
-    TempDir dir;
-    OIIO::TextureSystem* ts = OIIO::TextureSystem::create(false);
-    struct TsGuard {
-        OIIO::TextureSystem* ts;
-        ~TsGuard() { OIIO::TextureSystem::destroy(ts); }
-    } guard{ts};
-    ts->attribute("automip", 1);
-    std::vector<SourceTexture> sources = writeSourceImages(asset, dir, *ts);
 
     std::vector<TexelHit> hits;
     rasterizeTriangles(mesh, cornerUV, g, o.dilation, hits);
@@ -382,6 +406,7 @@ BakeResult bakeBaseColor(const Asset& asset, const std::vector<std::array<Vec2, 
             res.pixels[i * 3 + size_t(c)] = float(b) / 255.0f;
         }
     if (o.encodePng) {
+        TempDir dir;
         OIIO::ImageBuf out(OIIO::ImageSpec(g.w, g.h, 3, OIIO::TypeDesc::UINT8));
         out.set_pixels(OIIO::ROI(0, g.w, 0, g.h, 0, 1, 0, 3), OIIO::TypeDesc::UINT8, rgb8.data());
         fs::path png = dir.path / "atlas.png";

@@ -255,7 +255,8 @@ LevelAtlas packLevelAtlas(const LayoutData& L, const LevelUVs& luv, bool origina
 }
 
 // Bakes the original triangles at the page UVs; returns RGB floats of the width x height page.
-std::vector<float> bakePage(const Asset& asset, const LayoutData& L, const LevelAtlas& la, int threads, double& seconds) {
+std::vector<float> bakePage(const BakeSources& sources, const LayoutData& L, const LevelAtlas& la, int threads, double& seconds) {
+    const Asset& asset = sources.asset();
     const ChartLayout& ch = *L.ch;
     const AtlasResult& a = la.atlas;
     int size = std::max(a.width, a.height);
@@ -289,7 +290,7 @@ std::vector<float> bakePage(const Asset& asset, const LayoutData& L, const Level
     bo.height = a.height;
     bo.encodePng = false;
     bo.threads = threads;
-    BakeResult baked = bakeBaseColor(asset, uv, bo, islands);
+    BakeResult baked = bakeBaseColor(sources, uv, bo, islands);
     seconds = baked.seconds;
     return std::move(baked.pixels);
 }
@@ -392,6 +393,7 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
     res.radius = 0.5 * res.diagonal;
     if (!(res.radius > 0)) throw Impossible(asset.sourcePath + ": the mesh has no extent");
     std::vector<LevelView> views = levelViews(asset, mr);
+    const BakeSources sources(asset);  // the original images, decoded once for every level's bake
     size_t n = views.size();
     auto progress = [&](double f) { if (options.progress) options.progress(f); };
 
@@ -533,7 +535,7 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
         r.rasterUtilisation = la.atlas.rasterUtilisation;
         r.footprintUtilisation = la.atlas.footprintUtilisation;
         r.texelsPerUnit = la.atlas.texelsPerUnit * lay.uvPerUnit;
-        std::vector<float> pixels = bakePage(asset, lay, la, options.threads, r.bakeSeconds);
+        std::vector<float> pixels = bakePage(sources, lay, la, options.threads, r.bakeSeconds);
         LodLevelData& L = res.levels[k];
         L.name = "LOD" + std::to_string(k);
         L.metallicFactor = metallic;

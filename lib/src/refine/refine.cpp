@@ -317,13 +317,14 @@ RefineResult refineTextures(const Asset& asset, const Multires& mr, const Refine
     std::vector<int> sizes = o.sizes;
     std::sort(sizes.begin(), sizes.end());
     sizes.erase(std::unique(sizes.begin(), sizes.end()), sizes.end());
+    const BakeSources sources(asset);  // the original images, decoded once for every bake
     for (const RankResult& rr : res.ranks)
         for (int size : sizes) {
             if (rr.rank > 0 && size < o.minRefinedSize && size != sizes.back()) continue;
             BakeOptions bo;
             bo.size = size;
             bo.threads = o.threads;
-            BakeResult b = bakeBaseColor(asset, rr.layout.cornerUV, bo, layoutBakeIslands(mesh, rr.layout));
+            BakeResult b = bakeBaseColor(sources, rr.layout.cornerUV, bo, layoutBakeIslands(mesh, rr.layout));
             RefinedImage img;
             img.rank = rr.rank;
             img.size = size;

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <array>
+#include <memory>
 #include <vector>
 
 #include "lodbake/core/mesh.h"
@@ -43,6 +44,25 @@ struct BakeResult {
     double seconds = 0;
 };
 
+// The asset's base-colour images, decoded once for every bake of that asset (OpenImageIO's
+// TextureSystem over temporary copies of the encoded images, MIP-maps built on first use): pack
+// bakes one page per level, texture-refine one per layout and size. The asset must outlive it.
+class BakeSources {
+public:
+    // \throw IOError (an image cannot be decoded / temp files).
+    explicit BakeSources(const Asset& asset);
+    ~BakeSources();
+    BakeSources(const BakeSources&) = delete;
+    BakeSources& operator=(const BakeSources&) = delete;
+    const Asset& asset() const;
+
+    struct Impl;
+    const Impl& impl() const { return *impl_; }
+
+private:
+    std::unique_ptr<Impl> impl_;
+};
+
 // Rasterises the ORIGINAL triangles of asset.mesh at `cornerUV` (per face corner, glTF convention:
 // [0,1], v down) and stores at each texel the original base colour = baseColorFactor x
 // baseColorTexture (texCoord set, sampler wrap, KHR_texture_transform; filtered with derivatives
@@ -51,6 +71,9 @@ struct BakeResult {
 // exact (undilated) hit wins, then the face.
 // \pre cornerUV.size() == asset.mesh.triangleCount().
 // \throw InvalidInput (size mismatch, island without faces), IOError (an image cannot be decoded / temp files).
+BakeResult bakeBaseColor(const BakeSources& sources, const std::vector<std::array<Vec2, 3>>& cornerUV,
+                         const BakeOptions& options = {}, const std::vector<BakeIsland>& islands = {});
+// The same for one bake (the images are decoded for this call).
 BakeResult bakeBaseColor(const Asset& asset, const std::vector<std::array<Vec2, 3>>& cornerUV,
                          const BakeOptions& options = {}, const std::vector<BakeIsland>& islands = {});
 
