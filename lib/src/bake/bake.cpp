@@ -325,6 +325,11 @@ struct BakeSources::Impl {
     ~Impl() { OIIO::TextureSystem::destroy(ts); }
 };
 
+struct BakeSourcesAccess {
+    static const std::vector<SourceTexture>& sources(const BakeSources& s) { return s.impl_->sources; }
+    static OIIO::TextureSystem* textureSystem(const BakeSources& s) { return s.impl_->ts; }
+};
+
 BakeSources::BakeSources(const Asset& asset) : impl_(std::make_unique<Impl>(asset)) {}
 BakeSources::~BakeSources() = default;
 const Asset& BakeSources::asset() const { return impl_->asset; }
@@ -342,8 +347,8 @@ BakeResult bakeBaseColor(const BakeSources& bs, const std::vector<std::array<Vec
                          const std::vector<BakeIsland>& islands) {
     auto t0 = std::chrono::steady_clock::now();
     const Asset& asset = bs.asset();
-    const std::vector<SourceTexture>& sources = bs.impl().sources;
-    OIIO::TextureSystem* ts = bs.impl().ts;
+    const std::vector<SourceTexture>& sources = BakeSourcesAccess::sources(bs);
+    OIIO::TextureSystem* ts = BakeSourcesAccess::textureSystem(bs);
     const TriMesh& mesh = asset.mesh;
     if (cornerUV.size() != mesh.triangleCount()) throw InvalidInput("bake: cornerUV size differs from the face count");
     if (o.size < 1) throw InvalidInput("bake: size must be >= 1");

@@ -56,11 +56,10 @@ public:
     BakeSources& operator=(const BakeSources&) = delete;
     const Asset& asset() const;
 
-    struct Impl;
-    const Impl& impl() const { return *impl_; }
-
 private:
+    struct Impl;
     std::unique_ptr<Impl> impl_;
+    friend struct BakeSourcesAccess;  // bake.cpp reads the decoded sources
 };
 
 // Rasterises the ORIGINAL triangles of asset.mesh at `cornerUV` (per face corner, glTF convention:

@@ -65,6 +65,27 @@ inline double closestSurfacePoint(const TriMesh& mesh, const std::vector<uint32_
     return best;
 }
 
+// Axis-aligned bounding box of face f: {min x, min y, min z, max x, max y, max z}.
+inline std::array<double, 6> faceBox(const TriMesh& mesh, uint32_t f) {
+    const Tri& t = mesh.triangles[f];
+    std::array<double, 6> b{};
+    for (int a = 0; a < 3; ++a) {
+        b[size_t(a)] = std::min({mesh.positions[t[0]][a], mesh.positions[t[1]][a], mesh.positions[t[2]][a]});
+        b[size_t(a + 3)] = std::max({mesh.positions[t[0]][a], mesh.positions[t[1]][a], mesh.positions[t[2]][a]});
+    }
+    return b;
+}
+
+// Squared distance from p to box b (0 inside): a lower bound of the distance to the face.
+inline double boxDistance2(const std::array<double, 6>& b, Vec3 p) {
+    double d2 = 0;
+    for (int a = 0; a < 3; ++a) {
+        double e = p[a] < b[size_t(a)] ? b[size_t(a)] - p[a] : (p[a] > b[size_t(a + 3)] ? p[a] - b[size_t(a + 3)] : 0);
+        d2 += e * e;
+    }
+    return d2;
+}
+
 // The faces of `faces` that can hold the closest point of some point of triangle `tri`: those
 // whose bounding box lies within d0 + 2r of the triangle's centroid c, with d0 = the distance from
 // c to `faces` and r = the largest |corner - c|. (For X on the triangle, its closest face f has
@@ -81,17 +102,8 @@ inline std::vector<uint32_t> facesNearTriangle(const TriMesh& mesh, const std::v
     for (const Vec3& q : tri) r = std::max(r, length(q - c));
     const double reach = (std::sqrt(d0) + 2 * r) * (1 + 1e-9) + 1e-12;
     std::vector<uint32_t> near;
-    for (uint32_t f : faces) {
-        const Tri& t = mesh.triangles[f];
-        double d2 = 0;
-        for (int a = 0; a < 3; ++a) {
-            double lo = std::min({mesh.positions[t[0]][a], mesh.positions[t[1]][a], mesh.positions[t[2]][a]});
-            double hi = std::max({mesh.positions[t[0]][a], mesh.positions[t[1]][a], mesh.positions[t[2]][a]});
-            double e = c[a] < lo ? lo - c[a] : (c[a] > hi ? c[a] - hi : 0);
-            d2 += e * e;
-        }
-        if (d2 <= reach * reach) near.push_back(f);
-    }
+    for (uint32_t f : faces)
+        if (boxDistance2(faceBox(mesh, f), c) <= reach * reach) near.push_back(f);
     return near;
 }
 
@@ -104,12 +116,7 @@ public:
     BoxedFaces(const TriMesh& mesh, std::vector<uint32_t> faces) : mesh_(mesh), faces_(std::move(faces)) {
         box_.reserve(faces_.size());
         for (uint32_t f : faces_) {
-            const Tri& t = mesh.triangles[f];
-            std::array<double, 6> b{};
-            for (int a = 0; a < 3; ++a) {
-                b[size_t(a)] = std::min({mesh.positions[t[0]][a], mesh.positions[t[1]][a], mesh.positions[t[2]][a]});
-                b[size_t(a + 3)] = std::max({mesh.positions[t[0]][a], mesh.positions[t[1]][a], mesh.positions[t[2]][a]});
-            }
+            const std::array<double, 6> b = faceBox(mesh, f);
             box_.push_back(b);
             for (int a = 0; a < 3; ++a) extent_ = std::max({extent_, std::abs(b[size_t(a)]), std::abs(b[size_t(a + 3)])});
         }
@@ -126,13 +133,7 @@ public:
         }
         double best = 1e300;
         for (size_t i = 0; i < faces_.size(); ++i) {
-            const std::array<double, 6>& b = box_[i];
-            double d2 = 0;
-            for (int a = 0; a < 3; ++a) {
-                double e = p[a] < b[size_t(a)] ? b[size_t(a)] - p[a] : (p[a] > b[size_t(a + 3)] ? p[a] - b[size_t(a + 3)] : 0);
-                d2 += e * e;
-            }
-            if (d2 > bound) continue;  // farther than the hint: neither the closest nor a tie
+            if (boxDistance2(box_[i], p) > bound) continue;  // farther than the hint: neither the closest nor a tie
             std::array<double, 3> w;
             double d = distance2(p, faces_[i], &w);
             if (d < best) {
