@@ -12,7 +12,8 @@
 //   3. page size and density: packBitmap at the density limit into twenty strip widths, three
 //      sorted chart orders plus eight shuffled ones (few charts) and two placement rules for free
 //      sizes (smallest page wins; the trials run on AtlasOptions::threads threads, the winner
-//      is picked in trial order), the largest power-of-two page not far above the need for
+//      is picked in trial order), then, for few charts, a local search of pairwise swaps on the
+//      winner's order (improveOrder), the largest power-of-two page not far above the need for
 //      --pot, binary search on the density when the charts do not fit; packBitmap places each
 //      chart at the lowest free position of each quarter turn (the lowest top edge, or the lowest
 //      centre of gravity, wins); no gutter along the page border (the samplers clamp to the edge); the
@@ -353,6 +354,7 @@ constexpr double kStripWidths[] = {0.6, 0.65, 0.7, 0.75, 0.8, 0.85, 0.9, 0.95, 1
 constexpr size_t kManyCharts = 32;
 constexpr size_t kManyChartsForRules = 256;
 constexpr int kShuffledOrders = 8;
+constexpr int kOrderSweeps = 8;
 
 // Placement search on large pages runs on a grid of scale x scale texel blocks (charts and their
 // gutters rounded up to whole blocks), keeping the search near 512 blocks across.
@@ -448,6 +450,31 @@ std::optional<Packing> packBitmap(const Footprints& fp, const std::vector<size_t
 std::optional<Packing> packBitmap(const Orientations& charts, const std::vector<size_t>& order, double t,
                                   int gutter, int binW, int binH, int scale, int threads) {
     return packBitmap(footprintsAt(charts, t, gutter, scale, threads), order, binW, binH);
+}
+
+// Local search on the winning chart order (few charts): every swap of two charts is packed at the
+// winner's strip width and rule (on `threads` threads); the swap giving the smallest page, if it
+// beats the best so far, is kept and the search goes on from it, for at most kOrderSweeps rounds.
+// `keep(packing)` takes a packing when it is the smallest page yet and says whether it did.
+// (Duck LOD0: 66.5 -> 69.7% utilisation; more random orders instead, even 1,024, reach 69.3%.)
+template <class Keep>
+void improveOrder(const Footprints& fp, std::vector<size_t> order, int width, int maxSize, Placement rule, int threads, Keep&& keep) {
+    std::vector<std::pair<size_t, size_t>> swaps;
+    for (size_t a = 0; a < order.size(); ++a)
+        for (size_t b = a + 1; b < order.size(); ++b) swaps.push_back({a, b});
+    for (int round = 0; round < kOrderSweeps; ++round) {
+        std::vector<std::optional<Packing>> packed(swaps.size());
+        parallelFor(swaps.size(), threads, [&](size_t i) {
+            std::vector<size_t> o = order;
+            std::swap(o[swaps[i].first], o[swaps[i].second]);
+            packed[i] = packBitmap(fp, o, width, maxSize, rule);
+        });
+        size_t kept = swaps.size();
+        for (size_t i = 0; i < swaps.size(); ++i)
+            if (keep(packed[i])) kept = i;
+        if (kept == swaps.size()) return;
+        std::swap(order[swaps[kept].first], order[swaps[kept].second]);
+    }
 }
 
 double paddedArea(const std::vector<Oriented>& charts, double t, int gutter) {
@@ -594,14 +621,25 @@ AtlasResult packAtlas(const std::vector<AtlasChart>& input, const AtlasOptions& 
             parallelFor(trials.size(), options.threads, [&](size_t i) {
                 packed[i] = packBitmap(fp, orders[trials[i].order], trials[i].width, maxSize, trials[i].rule);
             });
-            for (std::optional<Packing>& p : packed) {
-                if (!p) continue;
+            // The smallest page wins; on equal areas the squarer one, then the first tried.
+            auto keepIfSmaller = [&](std::optional<Packing>& p) {
+                if (!p) return false;
                 int pw = std::min(maxSize, (std::max(p->width, 4) + 3) / 4 * 4);
                 int ph = std::min(maxSize, (std::max(p->height, 4) + 3) / 4 * 4);
-                // The smallest page wins; on equal areas the squarer one, then the first tried.
                 double area = double(pw) * ph + 1e-3 * std::max(pw, ph);
-                if (area < bestArea) { bestArea = area; best = std::make_pair(tMax, std::move(*p)); pageW = pw; pageH = ph; }
-            }
+                if (area >= bestArea) return false;
+                bestArea = area;
+                best = std::make_pair(tMax, std::move(*p));
+                pageW = pw;
+                pageH = ph;
+                return true;
+            };
+            size_t winner = trials.size();
+            for (size_t i = 0; i < packed.size(); ++i)
+                if (keepIfSmaller(packed[i])) winner = i;
+            if (winner < trials.size() && charts.size() > 2 && charts.size() <= kManyCharts)
+                improveOrder(fp, orders[trials[winner].order], trials[winner].width, maxSize, trials[winner].rule,
+                             options.threads, keepIfSmaller);
             if (!best) {
                 best = densestFit(turned, order, options.threads, tMax, gutter, maxSize, maxSize);
                 if (best) { pageW = best->second.width; pageH = best->second.height; }
