@@ -1,6 +1,7 @@
 // Unit tests for the atlas packer (lib/src/pack/atlas.cpp) on charts built in code.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "lodbake/pack/atlas.h"
@@ -178,5 +179,73 @@ TEST(PackAtlas, TrianglesNestByShape) {
             if (inside(placedTri[0], p)) {
                 EXPECT_GE(distToTri(placedTri[1], p), 2.0 - 1e-6) << x << " " << y;
             }
+        }
+}
+
+// Few charts (the order search applies): nine right triangles of different sizes and turns. The
+// layout is the same for any thread count, and no two charts come closer than the gutter.
+TEST(PackAtlas, FewChartsSameLayoutForAnyThreadCountAndKeepTheGutter) {
+    std::vector<AtlasChart> charts;
+    for (int i = 0; i < 9; ++i) {
+        AtlasChart c;
+        const double s = 0.1 + 0.05 * i, x = 0.7 * i;
+        const Vec2 a{x, 0}, b = i % 2 ? Vec2{x + s, s} : Vec2{x + s, 0}, d{x, s};
+        c.triangles = {{a, b, d}};
+        c.points = {a, b, d};
+        c.uvArea = 0.5 * std::abs(cross(b - a, d - a));
+        charts.push_back(c);
+    }
+    AtlasOptions o;
+    o.maxTexelsPerUnit = 256;
+    o.gutter = 2;
+    o.threads = 1;
+    const AtlasResult one = packAtlas(charts, o);
+    for (int threads : {2, 3}) {
+        o.threads = threads;
+        const AtlasResult r = packAtlas(charts, o);
+        ASSERT_EQ(r.width, one.width);
+        ASSERT_EQ(r.height, one.height);
+        for (size_t i = 0; i < charts.size(); ++i) EXPECT_EQ(r.charts[i].m, one.charts[i].m) << "chart " << i;
+    }
+    EXPECT_DOUBLE_EQ(one.texelsPerUnit, 256);
+    EXPECT_GT(one.utilisation, 0.5);
+    // Every placed triangle inside the page, and every pair at least the gutter apart: the distance
+    // between two disjoint triangles is reached at a corner of one of them, and two triangles
+    // overlap only if an edge of one crosses an edge of the other or a corner lies inside.
+    std::vector<std::array<Vec2, 3>> tri(charts.size());
+    for (size_t i = 0; i < charts.size(); ++i)
+        for (size_t k = 0; k < 3; ++k) {
+            tri[i][k] = one.charts[i].apply(charts[i].triangles[0][k]);
+            EXPECT_GE(tri[i][k].x, -1e-6);
+            EXPECT_GE(tri[i][k].y, -1e-6);
+            EXPECT_LE(tri[i][k].x, one.width + 1e-6);
+            EXPECT_LE(tri[i][k].y, one.height + 1e-6);
+        }
+    auto pointToSegment = [](Vec2 p, Vec2 a, Vec2 b) {
+        Vec2 e = b - a;
+        double u = std::clamp(dot(p - a, e) / dot(e, e), 0.0, 1.0);
+        Vec2 q{a.x + u * e.x - p.x, a.y + u * e.y - p.y};
+        return std::sqrt(dot(q, q));
+    };
+    auto inside = [](const std::array<Vec2, 3>& t, Vec2 p) {
+        double d0 = cross(t[1] - t[0], p - t[0]), d1 = cross(t[2] - t[1], p - t[1]), d2 = cross(t[0] - t[2], p - t[2]);
+        return (d0 >= 0 && d1 >= 0 && d2 >= 0) || (d0 <= 0 && d1 <= 0 && d2 <= 0);
+    };
+    auto cross2 = [](Vec2 a, Vec2 b, Vec2 c, Vec2 d) {  // segments ab and cd properly intersect
+        auto side = [](Vec2 p, Vec2 q, Vec2 r) { return cross(q - p, r - p); };
+        return side(a, b, c) * side(a, b, d) < 0 && side(c, d, a) * side(c, d, b) < 0;
+    };
+    for (size_t i = 0; i < tri.size(); ++i)
+        for (size_t j = i + 1; j < tri.size(); ++j) {
+            double dist = 1e300;
+            for (size_t k = 0; k < 3; ++k) {
+                EXPECT_FALSE(inside(tri[j], tri[i][k]) || inside(tri[i], tri[j][k])) << i << " " << j;
+                for (size_t l = 0; l < 3; ++l) {
+                    EXPECT_FALSE(cross2(tri[i][k], tri[i][(k + 1) % 3], tri[j][l], tri[j][(l + 1) % 3])) << i << " " << j;
+                    dist = std::min({dist, pointToSegment(tri[i][k], tri[j][l], tri[j][(l + 1) % 3]),
+                                     pointToSegment(tri[j][l], tri[i][k], tri[i][(k + 1) % 3])});
+                }
+            }
+            EXPECT_GE(dist, 2.0 - 1e-6) << "charts " << i << " and " << j;
         }
 }
