@@ -25,6 +25,20 @@ std::vector<Vec2> placed(const AtlasChart& c, const ChartPlacement& p) {
     return out;
 }
 
+// Whether p lies in triangle t (either winding, boundary included).
+bool inside(const std::array<Vec2, 3>& t, Vec2 p) {
+    double d0 = cross(t[1] - t[0], p - t[0]), d1 = cross(t[2] - t[1], p - t[1]), d2 = cross(t[0] - t[2], p - t[2]);
+    return (d0 >= 0 && d1 >= 0 && d2 >= 0) || (d0 <= 0 && d1 <= 0 && d2 <= 0);
+}
+
+// Distance from p to the segment ab.
+double pointToSegment(Vec2 p, Vec2 a, Vec2 b) {
+    Vec2 e = b - a;
+    double u = std::clamp(dot(p - a, e) / dot(e, e), 0.0, 1.0);
+    Vec2 q{a.x + u * e.x - p.x, a.y + u * e.y - p.y};
+    return std::sqrt(dot(q, q));
+}
+
 struct Box { double x0, y0, x1, y1; };
 Box boxOf(const std::vector<Vec2>& pts) {
     Box b{1e300, 1e300, -1e300, -1e300};
@@ -155,22 +169,13 @@ TEST(PackAtlas, TrianglesNestByShape) {
     EXPECT_GT(r.boxUtilisation, 1.0);  // the boxes overlap: only the shapes are kept apart
     // No point of one triangle is
     // within the gutter (2 texels) of the other (sampled on a quarter-texel grid).
-    auto inside = [](const std::array<Vec2, 3>& t, Vec2 p) {
-        double d0 = cross(t[1] - t[0], p - t[0]), d1 = cross(t[2] - t[1], p - t[1]), d2 = cross(t[0] - t[2], p - t[2]);
-        return (d0 >= 0 && d1 >= 0 && d2 >= 0) || (d0 <= 0 && d1 <= 0 && d2 <= 0);
-    };
     std::array<std::array<Vec2, 3>, 2> placedTri;
     for (size_t i = 0; i < 2; ++i)
         for (size_t k = 0; k < 3; ++k) placedTri[i][k] = r.charts[i].apply(charts[i].triangles[0][k]);
     auto distToTri = [&](const std::array<Vec2, 3>& t, Vec2 p) {
         if (inside(t, p)) return 0.0;
         double best = 1e300;
-        for (size_t k = 0; k < 3; ++k) {
-            Vec2 a = t[k], e = t[(k + 1) % 3] - a;
-            double u = std::clamp(dot(p - a, e) / dot(e, e), 0.0, 1.0);
-            Vec2 q{a.x + u * e.x - p.x, a.y + u * e.y - p.y};
-            best = std::min(best, std::sqrt(dot(q, q)));
-        }
+        for (size_t k = 0; k < 3; ++k) best = std::min(best, pointToSegment(p, t[k], t[(k + 1) % 3]));
         return best;
     };
     for (double y = 0; y < r.height; y += 0.25)
@@ -221,16 +226,6 @@ TEST(PackAtlas, FewChartsSameLayoutForAnyThreadCountAndKeepTheGutter) {
             EXPECT_LE(tri[i][k].x, one.width + 1e-6);
             EXPECT_LE(tri[i][k].y, one.height + 1e-6);
         }
-    auto pointToSegment = [](Vec2 p, Vec2 a, Vec2 b) {
-        Vec2 e = b - a;
-        double u = std::clamp(dot(p - a, e) / dot(e, e), 0.0, 1.0);
-        Vec2 q{a.x + u * e.x - p.x, a.y + u * e.y - p.y};
-        return std::sqrt(dot(q, q));
-    };
-    auto inside = [](const std::array<Vec2, 3>& t, Vec2 p) {
-        double d0 = cross(t[1] - t[0], p - t[0]), d1 = cross(t[2] - t[1], p - t[1]), d2 = cross(t[0] - t[2], p - t[2]);
-        return (d0 >= 0 && d1 >= 0 && d2 >= 0) || (d0 <= 0 && d1 <= 0 && d2 <= 0);
-    };
     auto cross2 = [](Vec2 a, Vec2 b, Vec2 c, Vec2 d) {  // segments ab and cd properly intersect
         auto side = [](Vec2 p, Vec2 q, Vec2 r) { return cross(q - p, r - p); };
         return side(a, b, c) * side(a, b, d) < 0 && side(c, d, a) * side(c, d, b) < 0;
