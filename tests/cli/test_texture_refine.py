@@ -158,11 +158,14 @@ def check_pack(tc, name, source, tex, r, work):
         p_t0, texels_t0 = psnr(chains["t0"][0], source, k)
         print("%s: base-colour PSNR refined %.3f dB (%d texels) vs T0 %.3f dB (%d texels)"
               % (what, p_ref, texels_ref, p_t0, texels_t0))
-        # Equal texel budget: both pages are capped at the same side; the packer trims unused
-        # rows/columns, so the refined page may come out smaller, never larger.
-        tc.assertLessEqual(texels_ref, texels_t0, what + ": no more texels than T0")
+        # Equal texel budget: both pages are capped at the same side, and the packer trims each
+        # page's unused rows/columns on its own, so either may come out a little smaller.
+        tc.assertLessEqual(texels_ref, cap * cap, what + ": within the texel budget")
+        # A refined page larger than T0's (T0 trimmed more: colors LOD1, 448 x 448 vs 448 x 428)
+        # must win by more than its extra texels' worth.
+        surplus = 10 * math.log10(max(1.0, texels_ref / texels_t0))
         if levels[k]["textureRank"] >= 1:
-            tc.assertGreater(p_ref, p_t0, what)
+            tc.assertGreater(p_ref, p_t0 + surplus, what)
         else:
             # No refined texture is offered for this level: both chains use T0 there. The page may
             # still be smaller (a level never gets more texels than the finer one, and the refined
