@@ -1,6 +1,7 @@
 #include "io/gltf_buffer.h"
 
 #include <algorithm>
+#include <cstring>
 #include <filesystem>
 
 #include "io/gltf_internal.h"
@@ -37,10 +38,14 @@ json floatAccessorJson(const std::vector<float>& v, int comps, bool minmax) {
 }
 
 int BufferBuilder::addView(const void* data, size_t bytes, int target) {
-    while (bin.size() % 4) bin.push_back('\0');
-    json v = {{"buffer", 0}, {"byteOffset", bin.size()}, {"byteLength", bytes}};
+    // One chunk per view (no reallocation of one growing buffer): alignment padding, then the bytes.
+    const size_t pad = (4 - size % 4) % 4;
+    std::string chunk(pad + bytes, '\0');
+    if (bytes) std::memcpy(chunk.data() + pad, data, bytes);
+    json v = {{"buffer", 0}, {"byteOffset", size + pad}, {"byteLength", bytes}};
     if (target) v["target"] = target;
-    bin.append(static_cast<const char*>(data), bytes);
+    size += chunk.size();
+    chunks.push_back(std::move(chunk));
     views.push_back(v);
     return int(views.size()) - 1;
 }
@@ -78,11 +83,15 @@ int BufferBuilder::addIndices(const std::vector<uint32_t>& idx, size_t vertexCou
 }
 
 size_t writeGltfFiles(const std::string& path, json& root, BufferBuilder& buffer, bool glb) {
-    std::string& bin = buffer.bin;
-    while (bin.size() % 4) bin.push_back('\0');
+    if (buffer.size % 4) {
+        buffer.chunks.emplace_back(4 - buffer.size % 4, '\0');
+        buffer.size += buffer.chunks.back().size();
+    }
+    const size_t binSize = buffer.size;
+    std::vector<std::string_view> bin(buffer.chunks.begin(), buffer.chunks.end());
     std::string binName = std::filesystem::path(path).stem().string() + ".bin";
-    if (!bin.empty()) {
-        json buf = {{"byteLength", bin.size()}};
+    if (binSize) {
+        json buf = {{"byteLength", binSize}};
         if (!glb) buf["uri"] = binName;
         root["buffers"] = json::array({buf});
         root["bufferViews"] = buffer.views;
@@ -91,15 +100,15 @@ size_t writeGltfFiles(const std::string& path, json& root, BufferBuilder& buffer
     std::string text = root.dump();
     if (!glb) {
         std::filesystem::path dir = std::filesystem::path(path).parent_path();
-        if (!bin.empty()) writeFileAtomic((dir / binName).string(), bin);
+        if (binSize) writeFileAtomic((dir / binName).string(), bin);
         writeFileAtomic(path, text);
-        return bin.size() + text.size();
+        return binSize + text.size();
     }
     while (text.size() % 4) text.push_back(' ');
     auto u32 = [](std::string& s, uint32_t v) { s.append(reinterpret_cast<const char*>(&v), 4); };
-    size_t total = 12 + 8 + text.size() + (bin.empty() ? 0 : 8 + bin.size());
+    size_t total = 12 + 8 + text.size() + (binSize ? 8 + binSize : 0);
     if (total > 0xFFFFFFFFull) throw IOError(path + ": GLB would exceed 4 GiB");
-    // Header and JSON chunk in one string, the binary chunk written from the buffer as it is.
+    // Header and JSON chunk in one string, the binary chunk written from the buffer's chunks.
     std::string head, binHead;
     head.reserve(20 + text.size());
     u32(head, 0x46546C67u);  // "glTF"
@@ -108,11 +117,12 @@ size_t writeGltfFiles(const std::string& path, json& root, BufferBuilder& buffer
     u32(head, uint32_t(text.size()));
     u32(head, 0x4E4F534Au);  // "JSON"
     head += text;
-    if (!bin.empty()) {
-        u32(binHead, uint32_t(bin.size()));
+    if (binSize) {
+        u32(binHead, uint32_t(binSize));
         u32(binHead, 0x004E4942u);  // "BIN\0"
     }
-    writeFileAtomic(path, {head, binHead, bin});
+    bin.insert(bin.begin(), {head, binHead});
+    writeFileAtomic(path, bin);
     return total;
 }
 

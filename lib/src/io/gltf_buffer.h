@@ -17,7 +17,8 @@ const char* accessorType(int comps);
 nlohmann::json floatAccessorJson(const std::vector<float>& v, int comps, bool minmax);
 
 struct BufferBuilder {
-    std::string bin;
+    std::vector<std::string> chunks;  // the binary buffer: one chunk per view (with its alignment
+    size_t size = 0;                  // padding in front), written in order; size = total bytes
     nlohmann::json views = nlohmann::json::array();
     nlohmann::json accessors = nlohmann::json::array();
 

@@ -46,6 +46,41 @@ Vec3 unitOr(Vec3 n, Vec3 fallback) {
     return (l > 1e-20 && std::isfinite(l)) ? n / l : fallback;
 }
 
+// glTF vertex ids of a primitive's distinct (vertex, wedge) corners, in order of first use. A wedge
+// is normally used with one vertex only, so ids are indexed by wedge; a wedge met again with another
+// vertex goes to a hash map. clear() resets only the wedges the primitive used.
+class CornerIds {
+public:
+    explicit CornerIds(size_t wedges) : byWedge_(wedges, kUnset) {}
+
+    uint32_t id(uint32_t v, uint32_t wd, PrimMap& pm) {
+        uint32_t& slot = byWedge_[wd];
+        if (slot == kUnset) {
+            slot = add(v, wd, pm);
+            return slot;
+        }
+        if (pm.vertex[slot] == v) return slot;
+        auto [it, inserted] = other_.emplace((uint64_t(v) << 32) | wd, 0u);
+        if (inserted) it->second = add(v, wd, pm);
+        return it->second;
+    }
+
+    void clear(const PrimMap& pm) {
+        for (uint32_t wd : pm.wedge) byWedge_[wd] = kUnset;
+        other_.clear();
+    }
+
+private:
+    static constexpr uint32_t kUnset = 0xFFFFFFFFu;
+    static uint32_t add(uint32_t v, uint32_t wd, PrimMap& pm) {
+        pm.vertex.push_back(v);
+        pm.wedge.push_back(wd);
+        return uint32_t(pm.vertex.size() - 1);
+    }
+    std::vector<uint32_t> byWedge_;
+    std::unordered_map<uint64_t, uint32_t> other_;
+};
+
 // Writes one mesh (triangles with welded ids and corner wedges, material per triangle).
 int writeMesh(Writer& w, json& meshes, const TriMesh& src, const std::vector<Tri>& tris, const std::vector<Tri>& corners,
               const std::vector<int>& material, const std::string& name, std::vector<PrimMap>* maps) {
@@ -53,20 +88,16 @@ int writeMesh(Writer& w, json& meshes, const TriMesh& src, const std::vector<Tri
     for (size_t f = 0; f < tris.size(); ++f) groups[material[f]].push_back(uint32_t(f));
     json prims = json::array();
     const Wedges& W = src.wedges;
+    CornerIds ids(W.size());
     for (const auto& [mat, faces] : groups) {
         PrimMap pm;
         pm.material = mat;
         pm.faces = faces;
-        std::unordered_map<uint64_t, uint32_t> local;
         std::vector<uint32_t> idx;
         idx.reserve(faces.size() * 3);
         for (uint32_t f : faces)
-            for (int k = 0; k < 3; ++k) {
-                uint32_t v = tris[f][size_t(k)], wd = corners[f][size_t(k)];
-                auto [it, inserted] = local.emplace((uint64_t(v) << 32) | wd, uint32_t(pm.vertex.size()));
-                if (inserted) { pm.vertex.push_back(v); pm.wedge.push_back(wd); }
-                idx.push_back(it->second);
-            }
+            for (int k = 0; k < 3; ++k) idx.push_back(ids.id(tris[f][size_t(k)], corners[f][size_t(k)], pm));
+        ids.clear(pm);
         size_t n = pm.vertex.size();
         std::vector<float> pos(3 * n);
         for (size_t i = 0; i < n; ++i) {

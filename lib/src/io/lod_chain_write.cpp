@@ -125,9 +125,9 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
     std::string stem = std::filesystem::path(path).stem().string();
     for (size_t i = 0; i < levels.size(); ++i) {
         const LodLevelData& L = levels[i];
-        size_t before = b.bin.size();
+        size_t before = b.size;
         json prim = options.draco ? dracoPrimitive(b, L, options, path) : plainPrimitive(b, L);
-        stats.levelGeometryBytes.push_back(b.bin.size() - before);
+        stats.levelGeometryBytes.push_back(b.size - before);
         prim["material"] = i;
         meshes.push_back({{"name", L.name}, {"primitives", json::array({prim})}});
         json mat = {{"name", L.name},
