@@ -9,7 +9,9 @@ import unittest
 
 import lodbake_test as lt
 
-TOOLS_WITH_IO = ["simplify"]  # later tools join this list as they land
+# Every tool that reads a glTF, with the flags it needs besides -i / -o.
+TOOLS_WITH_IO = {"simplify": ["--ratio", "0.5"], "agsphere-build": ["--ratio", "0.5"], "parameterize": [],
+                 "texture-refine": [], "pack": []}
 
 
 def minimal_gltf(positions, indices, extra=None):
@@ -31,6 +33,17 @@ def minimal_gltf(positions, indices, extra=None):
     if extra:
         doc.update(extra)
     return json.dumps(doc)
+
+
+def glb_with_json(glb, edit):
+    """The GLB `glb` with its JSON chunk changed by edit(doc); the binary chunk is kept."""
+    length = struct.unpack_from("<I", glb, 12)[0]
+    doc = json.loads(glb[20:20 + length])
+    edit(doc)
+    text = json.dumps(doc).encode()
+    text += b" " * (-len(text) % 4)
+    rest = glb[20 + length:]
+    return struct.pack("<IIIII", 0x46546C67, 2, 20 + len(text) + len(rest), len(text), 0x4E4F534A) + text + rest
 
 
 class BadInputs(unittest.TestCase):
@@ -56,6 +69,16 @@ class BadInputs(unittest.TestCase):
                                                     {"extensionsUsed": ["EXT_lodbake_nonexistent"],
                                                      "extensionsRequired": ["EXT_lodbake_nonexistent"]}))
         put("no-triangles.gltf", json.dumps({"asset": {"version": "2.0"}, "scenes": [{"nodes": []}], "scene": 0}))
+        # Found by fuzzing: an image whose bufferView runs past its buffer (tinygltf hands the
+        # bytes over unchecked), a primitive mode outside 0..6, and a GLB whose buffer claims 0
+        # bytes (tinygltf throws std::out_of_range).
+        image_doc = json.loads(minimal_gltf(quad, [0, 1, 2, 0, 2, 3]))
+        image_doc["bufferViews"].append({"buffer": 0, "byteOffset": 8, "byteLength": 10 ** 9})
+        image_doc["images"] = [{"bufferView": 2, "mimeType": "image/png"}]
+        put("image-view-past-buffer.gltf", json.dumps(image_doc))
+        mode_doc = json.loads(minimal_gltf(quad, [0, 1, 2, 0, 2, 3]))
+        mode_doc["meshes"][0]["primitives"][0]["mode"] = 4000
+        put("invalid-mode.gltf", json.dumps(mode_doc))
         # A valid GLB of our own, then truncated at several places.
         good = os.path.join(cls.dir, "good.gltf")
         with open(good, "w") as f:
@@ -67,6 +90,7 @@ class BadInputs(unittest.TestCase):
         for frac in (0.1, 0.5, 0.9):
             put("truncated-%d.glb" % int(frac * 100), data[: int(len(data) * frac)], "wb")
         put("bad-magic-length.glb", struct.pack("<III", 0x46546C67, 2, 10 ** 9) + data[12:], "wb")
+        put("zero-length-buffer.glb", glb_with_json(data, lambda doc: doc["buffers"][0].update(byteLength=0)), "wb")
         if os.path.isdir(lt.BAD_INPUTS):
             for name in sorted(os.listdir(lt.BAD_INPUTS)):
                 if name.endswith((".gltf", ".glb")):
@@ -76,7 +100,7 @@ class BadInputs(unittest.TestCase):
 
     def check_rejected(self, tool, name, path):
         out = os.path.join(self.dir, "out-%s-%s.glb" % (tool, name.replace("/", "_")))
-        p = lt.run([lt.tool(tool), "-i", path, "-o", out, "--ratio", "0.5"], check=False, timeout=120)
+        p = lt.run([lt.tool(tool), "-i", path, "-o", out] + TOOLS_WITH_IO[tool], check=False, timeout=120)
         self.assertIn(p.returncode, (2, 3), "%s %s: exit %d, stderr %r" % (tool, name, p.returncode, p.stderr))
         lines = p.stderr.strip().splitlines()
         self.assertEqual(len(lines), 1, "%s %s: expected one line, got %r" % (tool, name, p.stderr))
@@ -97,6 +121,9 @@ class BadInputs(unittest.TestCase):
             "required-extension.gltf": "EXT_lodbake_nonexistent",
             "nan.gltf": "NaN",
             "index-out-of-range.gltf": "out of range",
+            "image-view-past-buffer.gltf": "exceeds its buffer",
+            "invalid-mode.gltf": "invalid mode 4000",
+            "zero-length-buffer.glb": "malformed glTF",
         }
         for name, needle in cases.items():
             p = lt.run([lt.tool("simplify"), "-i", self.cases[name], "-o", os.path.join(self.dir, "x.glb"),

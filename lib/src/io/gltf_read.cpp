@@ -295,6 +295,7 @@ bool decodePrimitive(const Ctx& c, int meshIndex, int primIndex, Asset& asset, P
     const auto& prim = c.model->meshes[size_t(meshIndex)].primitives[size_t(primIndex)];
     std::string what = "mesh " + std::to_string(meshIndex) + " primitive " + std::to_string(primIndex);
     int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
+    if (prim.mode < -1 || mode > TINYGLTF_MODE_TRIANGLE_FAN) fail(c, what + ": invalid mode " + std::to_string(mode) + " (glTF modes are 0 to 6)");
     if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP && mode != TINYGLTF_MODE_TRIANGLE_FAN) {
         asset.warnings.push_back(what + ": mode " + std::to_string(mode) + " (points/lines) dropped");
         asset.stats.droppedPrimitives++;
@@ -924,8 +925,22 @@ Material readMaterial(const json& m) {
     return mat;
 }
 
-bool keepImageBytes(tinygltf::Image* image, const int, std::string*, std::string*, int, int, const unsigned char* bytes,
-                    int size, void*) {
+// tinygltf's image callback; user data: the model being loaded (its buffers are in place). tinygltf
+// hands over a bufferView's bytes without checking them against the buffer: do it here.
+bool keepImageBytes(tinygltf::Image* image, const int index, std::string* err, std::string*, int, int,
+                    const unsigned char* bytes, int size, void* userData) {
+    const auto* model = static_cast<const tinygltf::Model*>(userData);
+    if (image->bufferView >= 0) {
+        const tinygltf::BufferView& view = model->bufferViews[size_t(image->bufferView)];
+        const size_t bufferSize = model->buffers[size_t(view.buffer)].data.size();
+        if (view.byteOffset > bufferSize || view.byteLength > bufferSize - view.byteOffset || size < 0) {
+            if (err)
+                *err += "image " + std::to_string(index) + ": bufferView " + std::to_string(image->bufferView) + " (offset " +
+                        std::to_string(view.byteOffset) + ", length " + std::to_string(view.byteLength) +
+                        ") exceeds its buffer (" + std::to_string(bufferSize) + " bytes)\n";
+            return false;
+        }
+    }
     image->image.assign(bytes, bytes + std::max(size, 0));
     image->width = image->height = -1;
     image->component = -1;
@@ -984,7 +999,7 @@ Asset readGltf(const std::string& path, const ReadOptions& options, std::optiona
     // 1. tinygltf loads the model (buffers, images kept encoded).
     tinygltf::Model model;
     tinygltf::TinyGLTF loader;
-    loader.SetImageLoader(keepImageBytes, nullptr);
+    loader.SetImageLoader(keepImageBytes, &model);
     std::string err, warn;
     std::string baseDir = std::filesystem::path(path).parent_path().string();
     if (baseDir.empty()) baseDir = ".";
@@ -1058,8 +1073,13 @@ Asset readGltf(const std::string& path, const ReadOptions& options, std::optiona
             jsonText = text;
         }
     }
-    bool ok = isGlb ? loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), unsigned(bytes.size()), baseDir)
-                    : loader.LoadASCIIFromString(&model, &err, &warn, jsonText.data(), unsigned(jsonText.size()), baseDir);
+    bool ok = false;
+    try {
+        ok = isGlb ? loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), unsigned(bytes.size()), baseDir)
+                   : loader.LoadASCIIFromString(&model, &err, &warn, jsonText.data(), unsigned(jsonText.size()), baseDir);
+    } catch (const std::exception& e) {  // tinygltf indexes some malformed input with .at()
+        fail(c, std::string("malformed glTF (tinygltf: ") + firstLine(e.what()) + ")");
+    }
     if (!ok) {
         std::string e = firstLine(err.empty() ? warn : err);
         if (e.empty()) e = "cannot load glTF";
