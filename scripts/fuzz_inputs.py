@@ -10,7 +10,8 @@ A failing input is kept as DIR/bad-N.glb or DIR/hang-N.glb; the exit codes seen 
 
 Usage: scripts/fuzz_inputs.py TOOL_BINARY SEED ROUNDS INPUT.glb... [-- TOOL FLAGS]
   e.g. scripts/fuzz_inputs.py build/bin/simplify 1 300 ../shared/assets/Duck/Duck.glb -- --ratio 0.5,0.1
-Environment: DIR (work directory, default out/fuzz).
+Environment: DIR (work directory, default out/fuzz); JSON_SHARE (share of rounds that mutate the
+JSON, default 0.7; 0 mutates only the binary chunk, e.g. Draco streams).
 """
 import glob
 import json
@@ -89,6 +90,7 @@ def main():
         sys.exit(__doc__)
     tool, seed, rounds, inputs = args[0], int(args[1]), int(args[2]), args[3:]
     work = os.environ.get("DIR", "out/fuzz")
+    json_share = float(os.environ.get("JSON_SHARE", "0.7"))
     os.makedirs(work, exist_ok=True)
     rng = random.Random(seed)
     sources = {p: read_glb(p) for p in inputs}
@@ -97,7 +99,7 @@ def main():
     for n in range(rounds):
         source = sources[rng.choice(inputs)]
         doc, binary = json.loads(json.dumps(source[0])), source[1]
-        if rng.random() < 0.7:
+        if rng.random() < json_share:
             doc = mutate_json(doc, rng)
         else:
             binary = mutate_binary(binary, rng)
