@@ -1610,6 +1610,11 @@ static bool evaluateOrDefer(State& s, Scratch& w, uint32_t v, double bound) {
     return true;
 }
 
+// The pass entry of v's valid candidate c (bucket filled in once the pass limit is known).
+static PassEntry passEntry(const State& s, uint32_t v, const Candidate& c) {
+    return {0, s.options.similarDeviation > 0 ? c.shape : 0.f, c.dev, v, s.oldId[v]};
+}
+
 // Evaluates the deferred vertices whose bound is at most `upTo` (in parallel), appending the valid
 // ones within `maxCost` to `entries` (when given); returns how many stay deferred.
 static size_t resolveDeferred(State& s, double upTo, double maxCost, std::vector<PassEntry>* entries, bool* anyValid) {
@@ -1630,7 +1635,7 @@ static size_t resolveDeferred(State& s, double upTo, double maxCost, std::vector
             const Candidate& c = s.cand[v];
             if (c.reason != Reject::None) continue;
             valid[k] = 1;
-            if (c.dev <= maxCost) found[k].push_back({0, s.options.similarDeviation > 0 ? c.shape : 0.f, c.dev, v, s.oldId[v]});
+            if (c.dev <= maxCost) found[k].push_back(passEntry(s, v, c));
         }
     });
     size_t stay = 0;
@@ -1676,7 +1681,7 @@ static PassResult runPass(State& s, const PlannedLevel& plan) {
             if (c.reason != Reject::None) continue;
             chunkValid[begin / kChunk] = 1;
             if (c.dev > maxCost) continue;
-            out.push_back({0, s.options.similarDeviation > 0 ? c.shape : 0.f, c.dev, v, s.oldId[v]});
+            out.push_back(passEntry(s, v, c));
         }
     });
     size_t deferred = 0;
