@@ -24,7 +24,7 @@
 
 #include "common/cli.h"
 #include "lodbake/core/errors.h"
-#include "lodbake/io/gltf.h"
+#include "lodbake/gltf/gltf.h"
 
 namespace lodbake {
 namespace {

@@ -11,8 +11,8 @@
 
 #include "lodbake/core/errors.h"
 #include "lodbake/core/multires.h"
-#include "lodbake/image/codec.h"
-#include "lodbake/io/gltf.h"
+#include "lodbake/texture/codec.h"
+#include "lodbake/gltf/gltf.h"
 #include "unit/gltf_test_files.h"
 
 using namespace lodbake;

@@ -1,10 +1,10 @@
-// Unit tests for the atlas packer (lib/src/pack/atlas.cpp) on charts built in code.
+// Unit tests for the atlas packer (lib/src/atlas/atlas.cpp) on charts built in code.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 
-#include "lodbake/pack/atlas.h"
+#include "lodbake/atlas/atlas.h"
 
 using namespace lodbake;
 

@@ -6,7 +6,7 @@
 #include "lodbake/bake/bake.h"
 #include "lodbake/core/errors.h"
 #include "lodbake/param/chart_uv.h"
-#include "lodbake/param/charts.h"
+#include "lodbake/chart/charts.h"
 #include "lodbake/param/parameterize.h"
 #include "lodbake/core/closest_point.h"
 #include "synthetic_meshes.h"

@@ -7,11 +7,11 @@
 #include <set>
 
 #include "lodbake/bake/bake.h"
-#include "lodbake/image/codec.h"
-#include "lodbake/io/gltf.h"
-#include "lodbake/param/charts.h"
+#include "lodbake/texture/codec.h"
+#include "lodbake/gltf/gltf.h"
+#include "lodbake/chart/charts.h"
 #include "lodbake/param/parameterize.h"
-#include "lodbake/refine/refine.h"
+#include "lodbake/texture_hierarchy/refine.h"
 #include "lodbake/simplify/simplify.h"
 #include "synthetic_meshes.h"
 

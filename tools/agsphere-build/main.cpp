@@ -8,7 +8,7 @@
 #include "common/cli.h"
 #include "lodbake/agsphere/agsphere.h"
 #include "lodbake/core/errors.h"
-#include "lodbake/io/gltf.h"
+#include "lodbake/gltf/gltf.h"
 
 using namespace lodbake;
 

@@ -13,7 +13,7 @@
 #include <thread>
 
 #include "lodbake/core/errors.h"
-#include "lodbake/io/gltf.h"
+#include "lodbake/gltf/gltf.h"
 
 namespace lodbake::cli {
 

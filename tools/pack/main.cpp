@@ -6,9 +6,9 @@
 
 #include "common/cli.h"
 #include "lodbake/core/errors.h"
-#include "lodbake/image/codec.h"
-#include "lodbake/io/gltf.h"
-#include "lodbake/pack/lod_chain.h"
+#include "lodbake/texture/codec.h"
+#include "lodbake/gltf/gltf.h"
+#include "lodbake/lod/lod_chain.h"
 
 using namespace lodbake;
 

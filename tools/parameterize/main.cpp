@@ -7,8 +7,8 @@
 #include "common/cli.h"
 #include "lodbake/bake/bake.h"
 #include "lodbake/core/errors.h"
-#include "lodbake/image/codec.h"
-#include "lodbake/io/gltf.h"
+#include "lodbake/texture/codec.h"
+#include "lodbake/gltf/gltf.h"
 #include "lodbake/param/parameterize.h"
 
 using namespace lodbake;

@@ -6,7 +6,7 @@
 
 #include "common/cli.h"
 #include "lodbake/core/errors.h"
-#include "lodbake/io/gltf.h"
+#include "lodbake/gltf/gltf.h"
 #include "lodbake/simplify/simplify.h"
 
 using namespace lodbake;

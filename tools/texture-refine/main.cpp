@@ -6,9 +6,9 @@
 
 #include "common/cli.h"
 #include "lodbake/core/errors.h"
-#include "lodbake/image/codec.h"
-#include "lodbake/io/gltf.h"
-#include "lodbake/refine/refine.h"
+#include "lodbake/texture/codec.h"
+#include "lodbake/gltf/gltf.h"
+#include "lodbake/texture_hierarchy/refine.h"
 
 using namespace lodbake;
 

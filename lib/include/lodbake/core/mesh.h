@@ -93,7 +93,7 @@ struct Image {
     std::string name;
     std::string mimeType;  // "image/png" or "image/jpeg"
     std::vector<uint8_t> encoded;
-    int width = 0, height = 0, channels = 0;  // 0 until checkImages (lodbake/image/codec.h) or an encoder fills them
+    int width = 0, height = 0, channels = 0;  // 0 until checkImages (lodbake/texture/codec.h) or an encoder fills them
 };
 
 struct LoadStats {

@@ -10,7 +10,7 @@
 
 #include "lodbake/core/mesh.h"
 #include "lodbake/core/multires.h"
-#include "lodbake/param/charts.h"
+#include "lodbake/chart/charts.h"
 #include "lodbake/param/chart_uv.h"
 
 namespace lodbake {

@@ -1,12 +1,12 @@
-#include "io/gltf_buffer.h"
+#include "gltf/gltf_buffer.h"
 
 #include <algorithm>
 #include <cstring>
 #include <filesystem>
 
-#include "io/gltf_internal.h"
+#include "gltf/gltf_internal.h"
 #include "lodbake/core/errors.h"
-#include "lodbake/io/gltf.h"
+#include "lodbake/gltf/gltf.h"
 
 namespace lodbake::gltf_detail {
 

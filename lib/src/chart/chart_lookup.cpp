@@ -1,4 +1,4 @@
-#include "lodbake/core/chart_lookup.h"
+#include "lodbake/chart/chart_lookup.h"
 
 namespace lodbake {
 namespace {

@@ -22,10 +22,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "io/gltf_buffer.h"
-#include "io/gltf_internal.h"
+#include "gltf/gltf_buffer.h"
+#include "gltf/gltf_internal.h"
 #include "lodbake/core/errors.h"
-#include "lodbake/io/gltf.h"
+#include "lodbake/gltf/gltf.h"
 
 namespace lodbake {
 namespace {

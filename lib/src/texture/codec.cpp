@@ -1,6 +1,6 @@
 // Image encoding and checking with OpenImageIO (see codec.h). Encoded bytes are read from and
 // written to memory through OpenImageIO's IO proxies.
-#include "lodbake/image/codec.h"
+#include "lodbake/texture/codec.h"
 
 #include <algorithm>
 #include <cmath>

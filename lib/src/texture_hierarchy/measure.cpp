@@ -5,10 +5,10 @@
 #include <map>
 #include <unordered_map>
 
-#include "lodbake/core/chart_lookup.h"
+#include "lodbake/chart/chart_lookup.h"
 #include "lodbake/core/closest_point.h"
 #include "lodbake/core/errors.h"
-#include "lodbake/refine/refine.h"
+#include "lodbake/texture_hierarchy/refine.h"
 
 namespace lodbake {
 namespace {

@@ -20,7 +20,7 @@
 //      border (the samplers clamp to the edge); the search skips rows whose longest free run is
 //      shorter than the chart's row needs, and jumps over a whole occupied stretch on a collision;
 //   4. placementFor: the affine UV -> texel map of each chart; utilisation figures.
-#include "lodbake/pack/atlas.h"
+#include "lodbake/atlas/atlas.h"
 
 #include <algorithm>
 #include <chrono>

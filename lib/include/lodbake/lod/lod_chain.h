@@ -16,8 +16,8 @@
 
 #include "lodbake/core/mesh.h"
 #include "lodbake/core/multires.h"
-#include "lodbake/image/codec.h"
-#include "lodbake/io/lod_chain.h"
+#include "lodbake/texture/codec.h"
+#include "lodbake/gltf/msft_lod.h"
 
 namespace lodbake {
 

@@ -12,7 +12,7 @@
 namespace lodbake {
 
 struct ReadOptions {
-    // Images stay encoded (checkImages in lodbake/image/codec.h decodes them). A missing or
+    // Images stay encoded (checkImages in lodbake/texture/codec.h decodes them). A missing or
     // unreadable image file is an error, or with false a warning (the image is then left empty).
     bool requireImageData = true;
     // MSFT_lod level to read: -1 = the scene as it is (LOD0 of an MSFT_lod chain); K >= 0 replaces

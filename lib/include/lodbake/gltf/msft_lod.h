@@ -1,7 +1,7 @@
 // Writing the final LOD chain (`pack`'s output): a glTF whose LOD0 node carries MSFT_lod, every
 // level one mesh / one primitive / one material with a baked base-colour atlas, optionally
 // compressed with KHR_draco_mesh_compression. Takes lodbake's own structs only (images already
-// encoded: lodbake/image/codec.h); tinygltf-free, Draco stays inside lib/src/io (STYLE.md practice 10).
+// encoded: lodbake/texture/codec.h); tinygltf-free, Draco stays inside lib/src/io (STYLE.md practice 10).
 #pragma once
 
 #include <cstdint>

@@ -5,7 +5,7 @@
 // (3) greedy merging of adjacent charts, cheapest merged E_region first, refusing merges that do
 // not give a disk or whose normal cone / E_region exceeds the limits; (4) dense ids ordered by
 // each chart's smallest face.
-#include "lodbake/param/charts.h"
+#include "lodbake/chart/charts.h"
 
 #include <algorithm>
 #include <cmath>

@@ -14,8 +14,8 @@
 
 #include "lodbake/bake/bake.h"
 #include "lodbake/core/errors.h"
-#include "lodbake/param/charts.h"
-#include "lodbake/refine/refine.h"
+#include "lodbake/chart/charts.h"
+#include "lodbake/texture_hierarchy/refine.h"
 
 namespace lodbake {
 namespace {

@@ -8,7 +8,7 @@
 //   3. check extensionsRequired;
 //   4. flatten the scene, decode each triangle primitive, weld by world position;
 //      (or, for a file with LODBAKE_multires, rebuild the original TriMesh exactly);
-//   5. materials, textures, samplers, images (kept encoded; lodbake/image/codec.h checks them).
+//   5. materials, textures, samplers, images (kept encoded; lodbake/texture/codec.h checks them).
 
 #include <algorithm>
 #include <cerrno>
@@ -24,9 +24,9 @@
 #include <nlohmann/json.hpp>
 #include <tiny_gltf.h>
 
-#include "io/gltf_internal.h"
+#include "gltf/gltf_internal.h"
 #include "lodbake/core/errors.h"
-#include "lodbake/io/gltf.h"
+#include "lodbake/gltf/gltf.h"
 
 namespace lodbake {
 namespace {

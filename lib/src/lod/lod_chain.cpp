@@ -13,7 +13,7 @@
 //      the mips used down to its smallest coverage; bakePage: the ORIGINAL triangles baked at the
 //      repacked UVs;
 //   4. buildLevelMesh: one indexed primitive (position, normal, atlas UV).
-#include "lodbake/pack/lod_chain.h"
+#include "lodbake/lod/lod_chain.h"
 
 #include <algorithm>
 #include <chrono>
@@ -28,11 +28,11 @@
 
 #include "lodbake/bake/bake.h"
 #include "lodbake/core/errors.h"
-#include "lodbake/io/gltf.h"
-#include "lodbake/core/chart_lookup.h"
+#include "lodbake/gltf/gltf.h"
+#include "lodbake/chart/chart_lookup.h"
 #include "lodbake/core/closest_point.h"
 #include "lodbake/metrics/distance.h"
-#include "lodbake/pack/atlas.h"
+#include "lodbake/atlas/atlas.h"
 #include "lodbake/param/parameterize.h"
 
 namespace lodbake {

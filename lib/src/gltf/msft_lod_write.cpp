@@ -16,11 +16,11 @@
 #include <draco/mesh/mesh.h>
 #include <nlohmann/json.hpp>
 
-#include "io/gltf_buffer.h"
-#include "io/gltf_internal.h"
+#include "gltf/gltf_buffer.h"
+#include "gltf/gltf_internal.h"
 #include "lodbake/core/errors.h"
-#include "lodbake/io/gltf.h"
-#include "lodbake/io/lod_chain.h"
+#include "lodbake/gltf/gltf.h"
+#include "lodbake/gltf/msft_lod.h"
 
 namespace lodbake {
 namespace {
