@@ -32,7 +32,8 @@ run() {
 chain() {
   local t="$1" in="$2" o="$WORK/out"
   run "$t.simplify" "$BIN/simplify" -i "$in" -o "$o/$t.simplify/$t.mr.glb" --ratio 0.5,0.1,0.02 --quiet
-  run "$t.agsphere" "$BIN/agsphere-build" -i "$in" -o "$o/$t.agsphere/$t.ag.glb" --quiet
+  run "$t.agsphere" "$BIN/agsphere-build" -i "$in" -o "$o/$t.agsphere/$t.ag.glb" --ratio 0.5,0.1,0.02 --quiet
+  run "$t.agsphere-view" "$BIN/agsphere-build" -i "$in" -o "$o/$t.agsphere-view/$t.ag.glb" --ratio 0.1 --view 0,0,1 --light 1,1,0 --quiet
   local mr="$o/$t.simplify/$t.mr.glb"
   [ -f "$mr" ] || return 0
   run "$t.parameterize" "$BIN/parameterize" -i "$mr" -o "$o/$t.parameterize/$t.uv.glb" --quiet
@@ -54,7 +55,7 @@ O="$WORK/out"
 run seamball.simplify-tri "$BIN/simplify" -i "$S/seamball.glb" -o "$O/seamball.simplify-tri/s.glb" --triangles 2000,400 --quiet
 run seamball.simplify-err "$BIN/simplify" -i "$S/seamball.glb" -o "$O/seamball.simplify-err/s.glb" --max-error 0.001,0.01 --quiet
 run seamball.parameterize-256 "$BIN/parameterize" -i "$O/seamball.simplify/seamball.mr.glb" -o "$O/seamball.parameterize-256/s.glb" --size 256 --quiet
-run seamball.refine-sizes "$BIN/texture-refine" -i "$O/seamball.parameterize/seamball.uv.glb" -o "$O/seamball.refine-sizes/s.glb" --sizes 8 --quiet
+run seamball.refine-sizes "$BIN/texture-refine" -i "$O/seamball.parameterize/seamball.uv.glb" -o "$O/seamball.refine-sizes/s.glb" --sizes 64,256 --quiet
 run seamball.pack-draco "$BIN/pack" -i "$O/seamball.refine/seamball.tex.glb" -o "$O/seamball.pack-draco/s.glb" --draco --qp 16 --quiet
 run hemisphere9.pack-split "$BIN/pack" -i "$O/hemisphere9.refine/hemisphere9.tex.glb" -o "$O/hemisphere9.pack-split/h.glb" --split --quiet
 run colors.pack-jpeg "$BIN/pack" -i "$O/colors.refine/colors.tex.glb" -o "$O/colors.pack-jpeg/c.gltf" --image-format jpeg --jpeg-quality 80 --pot --quiet
