@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
-# Peer comparison (issue 5): lodbake's chain (simplify -> parameterize -> pack) against Debian's
+# Peer comparison: lodbake's chain (simplify -> parameterize -> pack) against Debian's
 # gltfpack -si R, npm gltfpack -si R -sp -se 1 (permissive: may cross attribute seams, no error
 # limit) and Blender's Decimate modifier (collapse, headless), at 10% and 2% of the triangles, on
 # Duck, Avocado, CesiumMilkTruck and 2CylinderEngine. Every output is measured against the
 # original with `compare ORIGINAL OUT [--lod K] --json` (base-colour PSNR, triangles, draw calls)
-# and a Markdown table is printed (README "pack" section).
+# and a Markdown table is printed (docs/benchmarks.md, "Against the peers").
 # Usage: scripts/bench_peers.sh [BIN] [WORKDIR]
 # Environment: ASSETS="Duck Avocado" (a subset), PACK_FLAGS (default --lod0-density: compare renders
 # every level close up at 256 px, so every level is textured at LOD0's texel density, as the peers

@@ -5,9 +5,9 @@ utilisation of Avocado, Duck and CesiumMilkTruck, printed per level.
 Utilisation = chart texels / page texels, chart texels = the charts' triangle coverage. The
 packer places charts by shape, so `boxUtilisation` (their rotated bounding rectangles) may pass
 100%; `rasterUtilisation` counts the texels the charts' triangles touch and `footprintUtilisation`
-adds each chart's gutter ring. Issue 5 asks for >= 75%: CesiumMilkTruck reaches it; Duck and
+adds each chart's gutter ring. The target is >= 75%: CesiumMilkTruck reaches it; Duck and
 Avocado, a few large round charts with jagged outlines (their boundaries follow the original
-triangles), reach 66-70% (footprints fill 72-78% of the page). This asserts the reached levels as
+triangles), reach less (docs/benchmarks.md). This asserts the reached levels as
 regression guards, on LOD0's page (the largest, which dominates the bytes), and prints every level.
 """
 import json

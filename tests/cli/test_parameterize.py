@@ -103,7 +103,7 @@ class ParameterizeCli(unittest.TestCase):
         return uv, r
 
     def test_every_sample_fold_free(self):
-        # Issue 4's must-show on every generated sample; the written level UVs are re-checked here.
+        # Every generated sample is fold-free at every level; the written level UVs are re-checked here.
         self.assertGreaterEqual(len(self.samples), 4)
         for name in self.samples:
             with self.subTest(sample=name):
@@ -115,8 +115,8 @@ class ParameterizeCli(unittest.TestCase):
                     self.assertEqual(count_overlaps(tris), 0, "%s level %d" % (name, k))
 
     def test_every_asset_fold_free(self):
-        # Issue 4's must-show on every asset of ../shared/assets. StanfordBunny (69k triangles) is
-        # the slow one (see README); LODBAKE_SKIP_SLOW=1 leaves it out.
+        # Every asset of ../shared/assets is fold-free at every level. StanfordBunny (69k triangles) is
+        # the slow one; LODBAKE_SKIP_SLOW=1 leaves it out.
         if not os.path.isdir(lt.ASSETS):
             self.skipTest("../shared/assets is absent")
         for name, src in sorted(lt.require_assets().items()):

@@ -1,4 +1,4 @@
-"""simplify on every real asset of ../shared/assets at 50%, 10% and 2% (issue 2, "Must show"):
+"""simplify on every real asset of ../shared/assets at 50%, 10% and 2%:
 - each level's triangle count within 2% of the target, or the reached count and the constraint
   that stopped it in the report;
 - the output passes Khronos' glTF-Validator with 0 errors;
