@@ -5,6 +5,9 @@
 //   wall5.glb        wavy wall, 5 vertical strips each with its own image; 5,000 triangles
 //   colors.glb       closed sphere banded into 6 colour-only materials; ~5.1k triangles
 //   seamball.glb     closed cube-sphere, 6 separate UV islands in one 384x256 texture; 4,800 triangles
+//   pbrscene.glb     every material channel: a dome with base colour, metallic-roughness,
+//                    occlusion (TEXCOORD_1), emissive and normal maps on a plate whose bumps live
+//                    only in its normal map, before an alpha-masked double-sided panel; ~7.2k triangles
 //
 // `--scale S` multiplies every grid's resolution by S (about S^2 times the triangles) for
 // benchmarks; S = 1 gives the samples above.
@@ -18,12 +21,14 @@
 
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <iostream>
 #include <map>
 #include <tuple>
 
 #include "common/cli.h"
 #include "lodbake/core/errors.h"
+#include "lodbake/core/tangents.h"
 #include "lodbake/gltf/gltf.h"
 
 namespace lodbake {
@@ -80,11 +85,11 @@ void drawCell(std::vector<uint8_t>& px, int width, int x0, int y0, int w, int h,
         }
 }
 
-Image encodePng(const std::string& name, int width, int height, const std::vector<uint8_t>& rgb) {
+Image encodePng(const std::string& name, int width, int height, const std::vector<uint8_t>& rgb, int channels = 3) {
     std::vector<unsigned char> bytes;
     OIIO::Filesystem::IOVecOutput proxy(bytes);
     auto out = OIIO::ImageOutput::create("image.png", &proxy);
-    OIIO::ImageSpec spec(width, height, 3, OIIO::TypeDesc::UINT8);
+    OIIO::ImageSpec spec(width, height, channels, OIIO::TypeDesc::UINT8);
     if (!out || !out->open("image.png", spec) || !out->write_image(OIIO::TypeDesc::UINT8, rgb.data()) || !out->close())
         throw SolverError("cannot encode PNG for " + name + ": " + (out ? out->geterror() : OIIO::geterror()));
     Image img;
@@ -93,7 +98,7 @@ Image encodePng(const std::string& name, int width, int height, const std::vecto
     img.encoded.assign(bytes.begin(), bytes.end());
     img.width = width;
     img.height = height;
-    img.channels = 3;
+    img.channels = channels;
     return img;
 }
 
@@ -333,6 +338,173 @@ Asset makeSeamball(double scale) {
     return asset;
 }
 
+
+// --- pbrscene: every material channel, with a ground truth for normal maps -------------------
+
+// An RGB tangent-space normal map (glTF: +X along u, +Y up the image) of the height field
+// h(x, y) (texel units in, texel units out; y down); `gain` scales the slopes.
+std::vector<uint8_t> normalMapOf(int S, double gain, const std::function<double(double, double)>& h) {
+    std::vector<uint8_t> px(size_t(S) * S * 3);
+    for (int y = 0; y < S; ++y)
+        for (int x = 0; x < S; ++x) {
+            const double cx = x + 0.5, cy = y + 0.5, e = 0.5;
+            const double dx = (h(cx + e, cy) - h(cx - e, cy)) / (2 * e), dy = (h(cx, cy + e) - h(cx, cy - e)) / (2 * e);
+            const Vec3 n = normalize(Vec3{-gain * dx, gain * dy, 1});  // up the image = -y
+            uint8_t* p = &px[(size_t(y) * S + x) * 3];
+            p[0] = uint8_t(std::lround((n.x * 0.5 + 0.5) * 255));
+            p[1] = uint8_t(std::lround((n.y * 0.5 + 0.5) * 255));
+            p[2] = uint8_t(std::lround((n.z * 0.5 + 0.5) * 255));
+        }
+    return px;
+}
+
+int addImage(Asset& asset, Image image) {
+    asset.images.push_back(std::move(image));
+    asset.textures.push_back(Texture{int(asset.images.size()) - 1, 0});
+    return int(asset.textures.size()) - 1;
+}
+
+// A dome with all five maps (base colour, metallic-roughness, occlusion on TEXCOORD_1, emissive,
+// normal) standing on a flat plate whose bumps exist only in its normal map, in front of an
+// alpha-masked, double-sided lattice panel.
+Asset makePbrScene(double scale) {
+    Asset asset = newAsset("pbrscene");
+    const int S = 256;
+    // Dome material: every channel varies.
+    Material body;
+    body.name = "body";
+    {
+        std::vector<uint8_t> px(size_t(S) * S * 3);
+        for (int c = 0; c < 4; ++c) drawCell(px, S, (c % 2) * S / 2, (c / 2) * S / 2, S / 2, S / 2, c * 3, c + 2);
+        body.baseColor.texture = addImage(asset, encodePng("body_baseColor", S, S, px));
+        for (int y = 0; y < S; ++y)
+            for (int x = 0; x < S; ++x) {
+                uint8_t* p = &px[(size_t(y) * S + x) * 3];
+                const bool metal = (x * 8 / S) % 2 == 1;
+                p[0] = 0;
+                p[1] = uint8_t(std::lround(255 * (0.15 + 0.75 * y / double(S))));  // roughness
+                p[2] = metal ? 255 : 0;                                            // metallic
+            }
+        body.metallicRoughness.texture = addImage(asset, encodePng("body_metallicRoughness", S, S, px));
+        for (int y = 0; y < S; ++y)
+            for (int x = 0; x < S; ++x) {
+                const double d = std::fabs(std::fmod(y + 0.5, S / 4.0) - S / 8.0) / (S / 8.0);  // 1 at band centres
+                const uint8_t o = uint8_t(std::lround(255 * (0.35 + 0.65 * std::min(1.0, d * 1.6))));
+                uint8_t* p = &px[(size_t(y) * S + x) * 3];
+                p[0] = p[1] = p[2] = o;
+            }
+        body.occlusion.texture = addImage(asset, encodePng("body_occlusion", S, S, px));
+        body.occlusion.texCoord = 1;
+        for (int y = 0; y < S; ++y)
+            for (int x = 0; x < S; ++x) {
+                const double u = (x + 0.5) / S, v = (y + 0.5) / S;
+                const bool lit = std::hypot(std::fmod(u * 6, 1.0) - 0.5, std::fmod(v * 4, 1.0) - 0.5) < 0.18;
+                uint8_t* p = &px[(size_t(y) * S + x) * 3];
+                p[0] = lit ? 255 : 0;
+                p[1] = lit ? 170 : 0;
+                p[2] = lit ? 60 : 0;
+            }
+        body.emissive.texture = addImage(asset, encodePng("body_emissive", S, S, px));
+        body.emissiveFactor = {1, 1, 1};
+        body.normal.texture = addImage(asset, encodePng("body_normal", S, S, normalMapOf(S, 1.0, [&](double x, double) {
+                                                            return 2.0 * std::sin(2 * kPi * x * 12 / S);  // grooves across u
+                                                        })));
+    }
+    // Plate material: flat geometry, bumps only in the normal map.
+    Material plate;
+    plate.name = "bumps";
+    plate.metallicFactor = 0;
+    plate.roughnessFactor = 0.45;
+    {
+        std::vector<uint8_t> px(size_t(S) * S * 3);
+        for (int y = 0; y < S; ++y)
+            for (int x = 0; x < S; ++x) {
+                const bool check = ((x * 4 / S) + (y * 4 / S)) % 2 == 0;
+                uint8_t* p = &px[(size_t(y) * S + x) * 3];
+                p[0] = check ? 200 : 150;
+                p[1] = check ? 190 : 140;
+                p[2] = check ? 170 : 120;
+            }
+        plate.baseColor.texture = addImage(asset, encodePng("bumps_baseColor", S, S, px));
+        const double cell = S / 8.0, radius = 0.38 * cell;
+        plate.normal.texture = addImage(asset, encodePng("bumps_normal", S, S, normalMapOf(S, 1.0, [&](double x, double y) {
+                                                             const double dx = std::fmod(x, cell) - cell / 2, dy = std::fmod(y, cell) - cell / 2;
+                                                             const double r2 = radius * radius - dx * dx - dy * dy;
+                                                             return r2 > 0 ? std::sqrt(r2) : 0.0;  // hemispherical bumps
+                                                         })));
+    }
+    // Panel material: alpha-masked holes, double-sided.
+    Material panel;
+    panel.name = "lattice";
+    panel.metallicFactor = 0;
+    panel.roughnessFactor = 0.7;
+    panel.alphaMode = AlphaMode::Mask;
+    panel.alphaCutoff = 0.5;
+    panel.doubleSided = true;
+    {
+        std::vector<uint8_t> px(size_t(S) * S * 4);
+        for (int y = 0; y < S; ++y)
+            for (int x = 0; x < S; ++x) {
+                const double u = std::fmod((x + 0.5) / S * 6, 1.0) - 0.5, v = std::fmod((y + 0.5) / S * 5, 1.0) - 0.5;
+                const Rgb c = palette(1 + (x * 6 / S) % 3);
+                uint8_t* p = &px[(size_t(y) * S + x) * 4];
+                p[0] = c.r;
+                p[1] = c.g;
+                p[2] = c.b;
+                p[3] = std::hypot(u, v) < 0.33 ? 0 : 255;
+            }
+        panel.baseColor.texture = addImage(asset, encodePng("lattice_baseColor", S, S, px, 4));
+    }
+    asset.materials = {body, plate, panel};
+
+    MeshBuilder mb;
+    // Dome: radius 0.6 on the plate, latitude rings from the equator to the pole.
+    const int nLat = scaled(40, scale, 2), nLon = scaled(64, scale, 1), i0 = nLat / 2, rings = nLat - i0;
+    for (int i = i0; i < nLat; ++i)
+        for (int j = 0; j < nLon; ++j) {
+            auto corner = [&](int ii, int jj) {
+                const Vec3 n = spherePoint(ii, nLat, jj, nLon);
+                const uint32_t v = mb.vertex(sphereKey(ii, nLat, jj, nLon), n * 0.6);
+                double u = double(jj) / nLon;
+                if (ii == nLat) u = (j + 0.5) / nLon;
+                return mb.wedge(v, 0, {u, 1.0 - double(ii - i0) / rings}, n);
+            };
+            const uint32_t a = corner(i, j), b = corner(i, j + 1), c = corner(i + 1, j + 1), d = corner(i + 1, j);
+            mb.triangle(0, {a, b, c});
+            mb.triangle(0, {a, c, d});
+        }
+    // Plate: y = 0, x and z in [-1, 1], facing up; u along +x, v along +z.
+    const int np = scaled(48, scale, 1);
+    for (int i = 0; i < np; ++i)
+        for (int j = 0; j < np; ++j) {
+            auto corner = [&](int ii, int jj) {
+                const double x = -1 + 2.0 * jj / np, z = -1 + 2.0 * ii / np;
+                const uint32_t v = mb.vertex({ii, jj, 1 << 20}, {x, 0, z});
+                return mb.wedge(v, 1, {double(jj) / np, double(ii) / np}, {0, 1, 0});
+            };
+            const uint32_t a = corner(i, j), b = corner(i, j + 1), c = corner(i + 1, j + 1), d = corner(i + 1, j);
+            mb.triangle(1, {a, c, b});
+            mb.triangle(1, {a, d, c});
+        }
+    // Panel: z = -1, x in [-1, 1], y in [0, 1.2], facing +z.
+    const int nx = scaled(16, scale, 1), ny = scaled(12, scale, 1);
+    for (int i = 0; i < ny; ++i)
+        for (int j = 0; j < nx; ++j) {
+            auto corner = [&](int ii, int jj) {
+                const double x = -1 + 2.0 * jj / nx, y = 1.2 * ii / ny;
+                const uint32_t v = mb.vertex({ii, jj, 2 << 20}, {x, y, -1.02});
+                return mb.wedge(v, 2, {double(jj) / nx, 1.0 - double(ii) / ny}, {0, 0, 1});
+            };
+            const uint32_t a = corner(i, j), b = corner(i, j + 1), c = corner(i + 1, j + 1), d = corner(i + 1, j);
+            mb.triangle(2, {a, b, c});
+            mb.triangle(2, {a, c, d});
+        }
+    asset.mesh = mb.take();
+    asset.mesh.wedges.uv1 = asset.mesh.wedges.uv0;  // the body's occlusion reads TEXCOORD_1
+    asset.mesh.wedges.tangent = computeWedgeTangents(asset.mesh, 0);
+    return asset;
+}
+
 }  // namespace
 }  // namespace lodbake
 
@@ -342,7 +514,7 @@ int main(int argc, char** argv) {
         std::vector<std::string> dirs;
         bool verbose = false;
         double scale = 1;
-        cli::ArgParser p("make-samples", "OUTDIR\n\nWrites hemisphere9.glb, wall5.glb, colors.glb and seamball.glb into OUTDIR\n"
+        cli::ArgParser p("make-samples", "OUTDIR\n\nWrites hemisphere9.glb, wall5.glb, colors.glb, seamball.glb and pbrscene.glb into OUTDIR\n"
                                          "(created if missing). Output is byte-identical on every run.");
         p.positionals("OUTDIR", [&](const std::string& v) { dirs.push_back(v); });
         p.flag("-v", "print one line per sample", [&] { verbose = true; });
@@ -363,7 +535,8 @@ int main(int argc, char** argv) {
         const Sample samples[] = {{"hemisphere9.glb", makeHemisphere9},
                                   {"wall5.glb", makeWall5},
                                   {"colors.glb", makeColors},
-                                  {"seamball.glb", makeSeamball}};
+                                  {"seamball.glb", makeSeamball},
+                                  {"pbrscene.glb", makePbrScene}};
         for (const Sample& s : samples) {
             Asset a = s.make(scale);
             std::string path = (std::filesystem::path(dirs[0]) / s.file).string();

@@ -1,0 +1,29 @@
+// Tangent frames for normal mapping, as glTF defines them: TANGENT.xyz points along increasing u,
+// the bitangent is cross(NORMAL, TANGENT.xyz) * TANGENT.w and points along decreasing v (glTF's
+// v runs down the image, normal maps store +Y "up"), the convention MikkTSpace gives with glTF's
+// flipped v. The bake that writes a level's normal map and the file that carries the level use
+// the same tangents, so the map decodes exactly as it was encoded.
+#pragma once
+
+#include <vector>
+
+#include "lodbake/core/mesh.h"
+
+namespace lodbake {
+
+// Per-vertex tangents of an indexed triangle mesh.
+// Each triangle's tangent and bitangent (dP/du, -dP/dv) are accumulated at its corners weighted by
+// the corner angle (as MikkTSpace does), then made orthogonal to the vertex normal; w = +1 when
+// (N, T, B) is right-handed, -1 when the UVs are mirrored. A vertex with no usable UV gradient
+// (degenerate UV triangles only) gets a unit vector orthogonal to its normal and w = +1.
+// \pre normals.size() == uvs.size() == positions.size(); every index < positions.size();
+//      normals are unit length (a zero normal yields an arbitrary unit tangent).
+std::vector<Vec4> computeTangents(const std::vector<Vec3>& positions, const std::vector<Vec3>& normals,
+                                  const std::vector<Vec2>& uvs, const std::vector<Tri>& triangles);
+
+// The same for the wedges of `mesh` (a wedge is a glTF vertex) with the UV set `texCoord`
+// (0 or 1): the frames the original's normal maps were authored in when the file has no TANGENT.
+// Normals come from the wedges, or from the welded faces when the file has none.
+std::vector<Vec4> computeWedgeTangents(const TriMesh& mesh, int texCoord);
+
+}  // namespace lodbake
