@@ -27,6 +27,7 @@
 #include "lodbake/core/closest_point.h"
 #include "lodbake/core/errors.h"
 #include "lodbake/core/parallel.h"
+#include "lodbake/core/tangents.h"
 
 namespace lodbake {
 namespace {
@@ -66,26 +67,27 @@ struct SourceTexture {
     int channels = 0;
 };
 
-// Writes every image a base-colour texture uses; returns per image index its file (empty if unused).
+// Writes every image a material channel uses; returns per image index its file (empty if unused).
 std::vector<SourceTexture> writeSourceImages(const Asset& asset, const TempDir& dir, OIIO::TextureSystem& ts) {
     std::vector<SourceTexture> out(asset.images.size());
-    for (const Material& m : asset.materials) {
-        int t = m.baseColor.texture;
-        if (t < 0 || t >= int(asset.textures.size())) continue;
-        int i = asset.textures[size_t(t)].image;
-        if (i < 0 || i >= int(asset.images.size()) || !out[size_t(i)].file.empty()) continue;
-        const Image& img = asset.images[size_t(i)];
-        fs::path p = dir.path / ("image" + std::to_string(i) + extensionFor(img));
-        std::ofstream f(p, std::ios::binary);
-        f.write(reinterpret_cast<const char*>(img.encoded.data()), std::streamsize(img.encoded.size()));
-        if (!f) throw IOError("cannot write a temporary image for baking: " + p.string());
-        f.close();
-        SourceTexture st;
-        st.file = ustring(p.string());
-        if (!ts.get_texture_info(st.file, 0, ustring("channels"), OIIO::TypeDesc::INT, &st.channels) || st.channels <= 0)
-            throw IOError("image " + std::to_string(i) + " (" + img.name + ") cannot be decoded for baking");
-        out[size_t(i)] = st;
-    }
+    for (const Material& m : asset.materials)
+        for (const TextureRef* ref : {&m.baseColor, &m.metallicRoughness, &m.occlusion, &m.emissive, &m.normal}) {
+            int t = ref->texture;
+            if (t < 0 || t >= int(asset.textures.size())) continue;
+            int i = asset.textures[size_t(t)].image;
+            if (i < 0 || i >= int(asset.images.size()) || !out[size_t(i)].file.empty()) continue;
+            const Image& img = asset.images[size_t(i)];
+            fs::path p = dir.path / ("image" + std::to_string(i) + extensionFor(img));
+            std::ofstream f(p, std::ios::binary);
+            f.write(reinterpret_cast<const char*>(img.encoded.data()), std::streamsize(img.encoded.size()));
+            if (!f) throw IOError("cannot write a temporary image for baking: " + p.string());
+            f.close();
+            SourceTexture st;
+            st.file = ustring(p.string());
+            if (!ts.get_texture_info(st.file, 0, ustring("channels"), OIIO::TypeDesc::INT, &st.channels) || st.channels <= 0)
+                throw IOError("image " + std::to_string(i) + " (" + img.name + ") cannot be decoded for baking");
+            out[size_t(i)] = st;
+        }
     return out;
 }
 
@@ -231,46 +233,39 @@ void islandDerivatives(const TriMesh& mesh, const BakeIsland& isl, int size, uin
     dy = map(dXdy);
 }
 
-// What shading a texel reads: the asset, its decoded sources and the bake's UVs and islands.
+// What shading a texel reads: the asset, its decoded sources, the original's tangent frames
+// (per UV set, for its normal maps) and the bake's UVs and islands.
 struct ShadeContext {
     const Asset& asset;
     const std::vector<std::array<Vec2, 3>>& cornerUV;
     const std::vector<BakeIsland>& islands;
     const std::vector<SourceTexture>& sources;
+    const std::array<std::vector<Vec4>, 2>& tangents;
     OIIO::TextureSystem& ts;
     int size;
 };
 
-// The linear RGB of one covered texel: base colour factor x COLOR_0 x the filtered texture
-// lookup at the original UV (derivatives from the texel -> original UV Jacobian). Returns
-// whether a texture was sampled.
-bool shadeTexel(const ShadeContext& c, const TexelHit& h, double rgb[3]) {
+const Material& materialOf(const ShadeContext& c, uint32_t f) {
+    static const Material kDefault;
+    const TriMesh& mesh = c.asset.mesh;
+    int mi = f < mesh.triangleMaterial.size() ? mesh.triangleMaterial[f] : -1;
+    return (mi >= 0 && mi < int(c.asset.materials.size())) ? c.asset.materials[size_t(mi)] : kDefault;
+}
+
+// The filtered texel of texture reference `ref` at hit h: RGBA as stored (no colour conversion;
+// grey images fill RGB, images without alpha give alpha 1). False when the material has no such
+// texture (or no UVs of its set): `out` is then untouched.
+bool lookup(const ShadeContext& c, const TextureRef& ref, const TexelHit& h, float out[4]) {
     const TriMesh& mesh = c.asset.mesh;
     const uint32_t f = uint32_t(h.face);
-    int mi = f < mesh.triangleMaterial.size() ? mesh.triangleMaterial[f] : -1;
-    static const Material def;
-    const Material& m = (mi >= 0 && mi < int(c.asset.materials.size())) ? c.asset.materials[size_t(mi)] : def;
-    rgb[0] = m.baseColorFactor.x;
-    rgb[1] = m.baseColorFactor.y;
-    rgb[2] = m.baseColorFactor.z;
-    const Tri& cw = mesh.cornerWedges[f];
-    if (!mesh.wedges.color.empty()) {
-        double col[3] = {0, 0, 0};
-        for (int k = 0; k < 3; ++k) {
-            const Vec4& vc = mesh.wedges.color[cw[size_t(k)]];
-            col[0] += h.bary[size_t(k)] * vc.x;
-            col[1] += h.bary[size_t(k)] * vc.y;
-            col[2] += h.bary[size_t(k)] * vc.z;
-        }
-        for (int i = 0; i < 3; ++i) rgb[i] *= col[i];
-    }
-    int ti = m.baseColor.texture;
+    int ti = ref.texture;
     if (ti < 0 || ti >= int(c.asset.textures.size())) return false;
     const Texture& tex = c.asset.textures[size_t(ti)];
-    int set = m.baseColor.transform.texCoord >= 0 ? m.baseColor.transform.texCoord : m.baseColor.texCoord;
+    int set = ref.transform.texCoord >= 0 ? ref.transform.texCoord : ref.texCoord;
     const std::vector<Vec2>& uvs = set == 1 ? mesh.wedges.uv1 : mesh.wedges.uv0;
     if (tex.image < 0 || size_t(tex.image) >= c.sources.size() || c.sources[size_t(tex.image)].file.empty() || uvs.empty())
         return false;
+    const Tri& cw = mesh.cornerWedges[f];
     Vec2 T[3];
     for (int k = 0; k < 3; ++k) T[k] = uvs[cw[size_t(k)]];
     Vec2 uv = T[0] * h.bary[0] + T[1] * h.bary[1] + T[2] * h.bary[2];
@@ -288,7 +283,7 @@ bool shadeTexel(const ShadeContext& c, const TexelHit& h, double rgb[3]) {
         dy = (g2 * e1.x - g1 * e2.x) * (1 / det);   // d uv / d y
     }
     std::array<double, 4> lm;
-    Vec2 st = applyTransform(m.baseColor.transform, uv, lm);
+    Vec2 st = applyTransform(ref.transform, uv, lm);
     Vec2 tdx{lm[0] * dx.x + lm[2] * dx.y, lm[1] * dx.x + lm[3] * dx.y};
     Vec2 tdy{lm[0] * dy.x + lm[2] * dy.y, lm[1] * dy.x + lm[3] * dy.y};
     Sampler smp;
@@ -301,9 +296,175 @@ bool shadeTexel(const ShadeContext& c, const TexelHit& h, double rgb[3]) {
     float r[4] = {1, 1, 1, 1};
     c.ts.texture(src.file, opt, float(st.x), float(st.y), float(tdx.x), float(tdx.y), float(tdy.x), float(tdy.y),
                  std::min(src.channels, 4), r);
+    if (src.channels == 2) r[3] = r[1];
     if (src.channels <= 2) r[2] = r[1] = r[0];
-    for (int i = 0; i < 3; ++i) rgb[i] *= srgbToLinear(std::clamp(double(r[i]), 0.0, 1.0));
+    if (src.channels == 1 || src.channels == 3) r[3] = 1;
+    for (int i = 0; i < 4; ++i) out[i] = r[i];
     return true;
+}
+
+// The linear RGB of one covered texel: base colour factor x COLOR_0 x the filtered texture
+// lookup at the original UV (derivatives from the texel -> original UV Jacobian). Returns
+// whether a texture was sampled; `alpha` gets the same product's alpha.
+bool shadeTexel(const ShadeContext& c, const TexelHit& h, double rgb[3], double* alpha = nullptr) {
+    const TriMesh& mesh = c.asset.mesh;
+    const uint32_t f = uint32_t(h.face);
+    const Material& m = materialOf(c, f);
+    rgb[0] = m.baseColorFactor.x;
+    rgb[1] = m.baseColorFactor.y;
+    rgb[2] = m.baseColorFactor.z;
+    double a = m.baseColorFactor.w;
+    const Tri& cw = mesh.cornerWedges[f];
+    if (!mesh.wedges.color.empty()) {
+        double col[4] = {0, 0, 0, 0};
+        for (int k = 0; k < 3; ++k) {
+            const Vec4& vc = mesh.wedges.color[cw[size_t(k)]];
+            col[0] += h.bary[size_t(k)] * vc.x;
+            col[1] += h.bary[size_t(k)] * vc.y;
+            col[2] += h.bary[size_t(k)] * vc.z;
+            col[3] += h.bary[size_t(k)] * vc.w;
+        }
+        for (int i = 0; i < 3; ++i) rgb[i] *= col[i];
+        a *= col[3];
+    }
+    float r[4];
+    const bool textured = lookup(c, m.baseColor, h, r);
+    if (textured) {
+        for (int i = 0; i < 3; ++i) rgb[i] *= srgbToLinear(std::clamp(double(r[i]), 0.0, 1.0));
+        a *= std::clamp(double(r[3]), 0.0, 1.0);
+    }
+    if (alpha) *alpha = m.alphaMode == AlphaMode::Opaque ? 1.0 : a;
+    return textured;
+}
+
+// Occlusion, roughness and metallic of the original material at hit h (linear, [0,1]).
+void shadeOrm(const ShadeContext& c, const TexelHit& h, double orm[3]) {
+    const Material& m = materialOf(c, uint32_t(h.face));
+    orm[0] = 1;
+    orm[1] = m.roughnessFactor;
+    orm[2] = m.metallicFactor;
+    float r[4];
+    if (lookup(c, m.metallicRoughness, h, r)) {
+        orm[1] *= std::clamp(double(r[1]), 0.0, 1.0);
+        orm[2] *= std::clamp(double(r[2]), 0.0, 1.0);
+    }
+    if (lookup(c, m.occlusion, h, r)) orm[0] = 1 + m.occlusion.scale * (std::clamp(double(r[0]), 0.0, 1.0) - 1);
+    for (int i = 0; i < 3; ++i) orm[i] = std::clamp(orm[i], 0.0, 1.0);
+}
+
+// Linear emissive radiance of the original material at hit h (may exceed 1 with emissive strength).
+void shadeEmissive(const ShadeContext& c, const TexelHit& h, double e[3]) {
+    const Material& m = materialOf(c, uint32_t(h.face));
+    const Vec3 f = m.emissiveFactor * m.emissiveStrength;
+    e[0] = f.x;
+    e[1] = f.y;
+    e[2] = f.z;
+    float r[4];
+    if ((e[0] > 0 || e[1] > 0 || e[2] > 0) && lookup(c, m.emissive, h, r))
+        for (int i = 0; i < 3; ++i) e[i] *= srgbToLinear(std::clamp(double(r[i]), 0.0, 1.0));
+}
+
+// The original's shading normal at hit h, world space: interpolated normal (the face's when the
+// file has none) perturbed by the material's normal map in the original tangent frame.
+Vec3 shadingNormal(const ShadeContext& c, const TexelHit& h) {
+    const TriMesh& mesh = c.asset.mesh;
+    const uint32_t f = uint32_t(h.face);
+    const Tri& t = mesh.triangles[f];
+    const Tri& cw = mesh.cornerWedges[f];
+    const Vec3 face = normalize(cross(mesh.positions[t[1]] - mesh.positions[t[0]], mesh.positions[t[2]] - mesh.positions[t[0]]));
+    Vec3 N = face;
+    if (!mesh.wedges.normal.empty()) {
+        Vec3 n{};
+        for (int k = 0; k < 3; ++k) n += mesh.wedges.normal[cw[size_t(k)]] * h.bary[size_t(k)];
+        if (length(n) > 1e-12) N = normalize(n);
+    }
+    const Material& m = materialOf(c, f);
+    float r[4];
+    if (!lookup(c, m.normal, h, r)) return N;
+    const int set = m.normal.transform.texCoord >= 0 ? m.normal.transform.texCoord : m.normal.texCoord;
+    const std::vector<Vec4>& tangents = mesh.wedges.tangent.empty() ? c.tangents[set == 1 ? 1 : 0] : mesh.wedges.tangent;
+    if (tangents.empty()) return N;
+    Vec3 T{};
+    for (int k = 0; k < 3; ++k) {
+        const Vec4& tk = tangents[cw[size_t(k)]];
+        T += Vec3{tk.x, tk.y, tk.z} * h.bary[size_t(k)];
+    }
+    T = normalize(T - N * dot(T, N));
+    if (!(length(T) > 0.5)) return N;
+    const Vec3 B = cross(N, T) * (tangents[cw[0]].w < 0 ? -1.0 : 1.0);
+    const double s = m.normal.scale;
+    const Vec3 nt{(2.0 * r[0] - 1) * s, (2.0 * r[1] - 1) * s, 2.0 * r[2] - 1};
+    const Vec3 out = normalize(T * nt.x + B * nt.y + N * nt.z);
+    return length(out) > 0.5 ? out : N;
+}
+
+// A texel's place on the target surface: the target triangle and barycentrics (-1 = none).
+struct TargetHit {
+    int32_t tri = -1;
+    float dist = 1e30f;
+    std::array<float, 3> bary{};
+};
+
+std::vector<TargetHit> rasterizeTarget(const BakeTarget& target, const Grid& g) {
+    std::vector<TargetHit> hits(size_t(g.w) * size_t(g.h));
+    for (size_t t = 0; t < target.uv.size(); ++t) {
+        Vec2 P[3];
+        for (int k = 0; k < 3; ++k) P[k] = {target.uv[t][size_t(k)].x * g.size, target.uv[t][size_t(k)].y * g.size};
+        if (std::fabs(cross(P[1] - P[0], P[2] - P[0])) < 1e-12) continue;
+        forEachTexelNear(P, g, target.reach, [&](int x, int y, double d, const std::array<double, 3>& b) {
+            TargetHit& h = hits[g.at(x, y)];
+            if (float(d) < h.dist) h = {int32_t(t), float(d), {float(b[0]), float(b[1]), float(b[2])}};
+        });
+    }
+    return hits;
+}
+
+// World normal N expressed in the target's tangent frame at hit th, as an encoded colour.
+void encodeInTarget(const BakeTarget& target, const TargetHit& th, Vec3 N, double rgb[3]) {
+    Vec3 n{0, 0, 1};
+    if (th.tri >= 0) {
+        Vec3 Nl{}, Tl{};
+        for (size_t k = 0; k < 3; ++k) {
+            Nl += target.normal[size_t(th.tri)][k] * th.bary[k];
+            const Vec4& tk = target.tangent[size_t(th.tri)][k];
+            Tl += Vec3{tk.x, tk.y, tk.z} * th.bary[k];
+        }
+        Nl = normalize(Nl);
+        Tl = normalize(Tl - Nl * dot(Tl, Nl));
+        if (length(Nl) > 0.5 && length(Tl) > 0.5) {
+            const Vec3 Bl = cross(Nl, Tl) * (target.tangent[size_t(th.tri)][0].w < 0 ? -1.0 : 1.0);
+            n = normalize(Vec3{dot(N, Tl), dot(N, Bl), dot(N, Nl)});
+            if (!(length(n) > 0.5)) n = {0, 0, 1};
+        }
+    }
+    rgb[0] = n.x * 0.5 + 0.5;
+    rgb[1] = n.y * 0.5 + 0.5;
+    rgb[2] = n.z * 0.5 + 0.5;
+}
+
+// Pull-push fill of the uncovered texels of an RGB channel image (coverage as alpha), in place.
+void fillGaps(std::vector<float>& rgb, const std::vector<uint8_t>& covered, int w, int h) {
+    const size_t texels = size_t(w) * size_t(h);
+    std::vector<float> px(texels * 4);
+    for (size_t i = 0; i < texels; ++i) {
+        const float a = covered[i] ? 1.0f : 0.0f;
+        for (size_t k = 0; k < 3; ++k) px[i * 4 + k] = rgb[i * 3 + k] * a;
+        px[i * 4 + 3] = a;
+    }
+    OIIO::ImageSpec spec(w, h, 4, OIIO::TypeDesc::FLOAT);
+    spec.alpha_channel = 3;
+    OIIO::ImageBuf buf(spec), filled;
+    const OIIO::ROI roi(0, w, 0, h, 0, 1, 0, 4);
+    buf.set_pixels(roi, OIIO::TypeDesc::FLOAT, px.data());
+    if (!OIIO::ImageBufAlgo::fillholes_pushpull(filled, buf)) throw SolverError("bake: pull-push fill failed: " + filled.geterror());
+    filled.get_pixels(roi, OIIO::TypeDesc::FLOAT, px.data());
+    for (size_t i = 0; i < texels; ++i)
+        for (size_t k = 0; k < 3; ++k) rgb[i * 3 + k] = px[i * 4 + k];
+}
+
+// Rounds values in [0,1] to 8-bit steps, as they will be stored.
+void quantize(std::vector<float>& v) {
+    for (float& x : v) x = float(std::lround(std::clamp(double(x), 0.0, 1.0) * 255)) / 255.0f;
 }
 
 }  // namespace
@@ -313,6 +474,7 @@ struct BakeSources::Impl {
     TempDir dir;
     OIIO::TextureSystem* ts = nullptr;
     std::vector<SourceTexture> sources;
+    std::array<std::vector<Vec4>, 2> tangents;  // per UV set a normal map uses, when the file has no TANGENT
     explicit Impl(const Asset& a) : asset(a), ts(OIIO::TextureSystem::create(false)) {
         ts->attribute("automip", 1);
         try {
@@ -321,6 +483,12 @@ struct BakeSources::Impl {
             OIIO::TextureSystem::destroy(ts);
             throw;
         }
+        if (asset.mesh.wedges.tangent.empty())
+            for (const Material& m : asset.materials) {
+                if (m.normal.texture < 0) continue;
+                const int set = (m.normal.transform.texCoord >= 0 ? m.normal.transform.texCoord : m.normal.texCoord) == 1 ? 1 : 0;
+                if (tangents[size_t(set)].empty()) tangents[size_t(set)] = computeWedgeTangents(asset.mesh, set);
+            }
     }
     ~Impl() { OIIO::TextureSystem::destroy(ts); }
 };
@@ -328,6 +496,7 @@ struct BakeSources::Impl {
 struct BakeSourcesAccess {
     static const std::vector<SourceTexture>& sources(const BakeSources& s) { return s.impl_->sources; }
     static OIIO::TextureSystem* textureSystem(const BakeSources& s) { return s.impl_->ts; }
+    static const std::array<std::vector<Vec4>, 2>& tangents(const BakeSources& s) { return s.impl_->tangents; }
 };
 
 BakeSources::BakeSources(const Asset& asset) : impl_(std::make_unique<Impl>(asset)) {}
@@ -345,6 +514,13 @@ BakeResult bakeBaseColor(const Asset& asset, const std::vector<std::array<Vec2, 
 
 BakeResult bakeBaseColor(const BakeSources& bs, const std::vector<std::array<Vec2, 3>>& cornerUV, const BakeOptions& o,
                          const std::vector<BakeIsland>& islands) {
+    BakeOptions base = o;
+    base.channels = BakeChannels{};
+    return bakeMaterial(bs, cornerUV, base, islands, nullptr);
+}
+
+BakeResult bakeMaterial(const BakeSources& bs, const std::vector<std::array<Vec2, 3>>& cornerUV, const BakeOptions& o,
+                        const std::vector<BakeIsland>& islands, const BakeTarget* target) {
     auto t0 = std::chrono::steady_clock::now();
     const Asset& asset = bs.asset();
     const std::vector<SourceTexture>& sources = BakeSourcesAccess::sources(bs);
@@ -354,29 +530,57 @@ BakeResult bakeBaseColor(const BakeSources& bs, const std::vector<std::array<Vec
     if (o.size < 1) throw InvalidInput("bake: size must be >= 1");
     if (o.width < 0 || o.width > o.size || o.height < 0 || o.height > o.size)
         throw InvalidInput("bake: width and height must be in [0, size]");
+    if (target && (target->normal.size() != target->uv.size() || target->tangent.size() != target->uv.size()))
+        throw InvalidInput("bake: target UVs, normals and tangents differ in size");
     const Grid g{o.size, o.width > 0 ? o.width : o.size, o.height > 0 ? o.height : o.size};
+    const BakeChannels& ch = o.channels;
     BakeResult res;
 
     std::vector<TexelHit> hits;
     rasterizeTriangles(mesh, cornerUV, g, o.dilation, hits);
     rasterizeIslands(mesh, islands, g, o.dilation, o.threads, hits);
+    std::vector<TargetHit> targetHits;
+    if (ch.normal && target) targetHits = rasterizeTarget(*target, g);
 
     // Shade: linear RGB + coverage, rows in parallel (each texel depends only on its hit).
     const size_t texels = size_t(g.w) * size_t(g.h);
     std::vector<float> px(texels * 4, 0.0f);
+    if (ch.alpha) res.alpha.assign(texels * 3, 0.0f);  // RGB while filling, one channel at the end
+    if (ch.orm) res.orm.assign(texels * 3, 0.0f);
+    if (ch.emissive) res.emissive.assign(texels * 3, 0.0f);
+    if (ch.normal) res.normal.assign(texels * 3, 0.0f);
+    std::vector<uint8_t> covered(texels, 0);
     std::vector<size_t> rowCovered(size_t(g.h), 0), rowIsland(size_t(g.h), 0), rowLookups(size_t(g.h), 0);
-    const ShadeContext ctx{asset, cornerUV, islands, sources, *ts, g.size};
+    const ShadeContext ctx{asset, cornerUV, islands, sources, BakeSourcesAccess::tangents(bs), *ts, g.size};
     parallelFor(size_t(g.h), o.threads, [&](size_t y) {
         for (int x = 0; x < g.w; ++x) {
-            const TexelHit& h = hits[g.at(x, int(y))];
+            const size_t i = g.at(x, int(y));
+            const TexelHit& h = hits[i];
             if (h.face < 0) continue;
+            covered[i] = 1;
             ++rowCovered[y];
             if (h.island >= 0) ++rowIsland[y];
-            double rgb[3];
-            if (shadeTexel(ctx, h, rgb)) ++rowLookups[y];
-            float* p = &px[g.at(x, int(y)) * 4];
-            for (int i = 0; i < 3; ++i) p[i] = float(rgb[i]);
+            double rgb[3], a = 1;
+            if (shadeTexel(ctx, h, rgb, &a)) ++rowLookups[y];
+            float* p = &px[i * 4];
+            for (int c = 0; c < 3; ++c) p[c] = float(rgb[c]);
             p[3] = 1;
+            if (ch.alpha) res.alpha[i * 3] = float(a);
+            double v[3];
+            if (ch.orm) {
+                shadeOrm(ctx, h, v);
+                for (size_t c = 0; c < 3; ++c) res.orm[i * 3 + c] = float(v[c]);
+            }
+            if (ch.emissive) {
+                shadeEmissive(ctx, h, v);
+                for (size_t c = 0; c < 3; ++c) res.emissive[i * 3 + c] = float(v[c]);
+            }
+            if (ch.normal) {
+                const Vec3 N = shadingNormal(ctx, h);
+                if (target) encodeInTarget(*target, targetHits[i], N, v);
+                else v[0] = v[1] = 0.5, v[2] = 1;
+                for (size_t c = 0; c < 3; ++c) res.normal[i * 3 + c] = float(v[c]);
+            }
         }
     });
     for (size_t y = 0; y < size_t(g.h); ++y) {
@@ -399,6 +603,33 @@ BakeResult bakeBaseColor(const BakeSources& bs, const std::vector<std::array<Vec
         filled.copy(buf);
     }
     filled.get_pixels(roi, OIIO::TypeDesc::FLOAT, px.data());
+    const bool fill = o.fillGaps && res.coveredTexels > 0;
+    for (std::vector<float>* c : {&res.alpha, &res.orm, &res.emissive, &res.normal})
+        if (!c->empty() && fill) fillGaps(*c, covered, g.w, g.h);
+    if (ch.alpha) {
+        for (size_t i = 0; i < texels; ++i) res.alpha[i] = res.alpha[i * 3];
+        res.alpha.resize(texels);
+        quantize(res.alpha);
+    }
+    if (ch.orm) quantize(res.orm);
+    if (ch.emissive) {
+        double peak = 0;
+        for (float v : res.emissive) peak = std::max(peak, double(v));
+        res.emissiveScale = peak > 1 ? peak : 1;
+        for (float& v : res.emissive) v = float(linearToSrgb(v / res.emissiveScale));
+        quantize(res.emissive);
+    }
+    if (ch.normal) {
+        for (size_t i = 0; i < texels; ++i) {
+            float* n = &res.normal[i * 3];
+            Vec3 d = normalize(Vec3{2.0 * n[0] - 1, 2.0 * n[1] - 1, 2.0 * n[2] - 1});
+            if (!(length(d) > 0.5)) d = {0, 0, 1};
+            n[0] = float(d.x * 0.5 + 0.5);
+            n[1] = float(d.y * 0.5 + 0.5);
+            n[2] = float(d.z * 0.5 + 0.5);
+        }
+        quantize(res.normal);
+    }
 
     // Encode: sRGB 8-bit RGB.
     res.pixels.resize(texels * 3);

@@ -2,7 +2,8 @@
 //
 // Pipeline of writeLodChain:
 //   1. per level: one mesh with one primitive (plain accessors, or a Draco buffer with
-//      accessor stubs whose counts are the encoder's), one material, texture and image;
+//      accessor stubs whose counts are the encoder's), one material and its textures (base
+//      colour, ORM, emissive, normal: those the level has);
 //   2. node 0 (LOD0) with MSFT_lod.ids and extras.MSFT_screencoverage; only node 0 in the scene;
 //   3. serialise (.glb container, or .gltf + .bin [+ images]) and rename into place.
 // JSON is built with nlohmann::json (sorted keys: byte-identical output for identical input).
@@ -30,15 +31,19 @@ using namespace gltf_detail;
 
 constexpr const char* kDraco = "KHR_draco_mesh_compression";
 constexpr const char* kLod = "MSFT_lod";
+constexpr const char* kEmissiveStrength = "KHR_materials_emissive_strength";
+constexpr const char* kUnlit = "KHR_materials_unlit";
 
 using Buffer = BufferBuilder;
 
 void checkLevel(const std::string& path, const LodLevelData& L) {
     size_t n = L.positions.size() / 3;
     bool ok = n > 0 && L.positions.size() == 3 * n && L.normals.size() == 3 * n && L.uvs.size() == 2 * n &&
-              !L.indices.empty() && L.indices.size() % 3 == 0 && !L.image.encoded.empty();
+              (L.tangents.empty() || L.tangents.size() == 4 * n) && !L.indices.empty() && L.indices.size() % 3 == 0;
     for (uint32_t i : L.indices) ok = ok && i < n;
-    if (!ok) throw InvalidInput(path + ": level '" + L.name + "' has inconsistent mesh data or no image");
+    if (!ok) throw InvalidInput(path + ": level '" + L.name + "' has inconsistent mesh data");
+    if (!L.material.normal.encoded.empty() && L.tangents.empty())
+        throw InvalidInput(path + ": level '" + L.name + "' has a normal map but no tangents");
 }
 
 // Plain accessors for one primitive's attributes and indices.
@@ -46,6 +51,7 @@ json plainPrimitive(Buffer& b, const LodLevelData& L) {
     json attrs = {{"POSITION", b.addFloat(L.positions, 3, kArrayBuffer, true)},
                   {"NORMAL", b.addFloat(L.normals, 3, kArrayBuffer, false)},
                   {"TEXCOORD_0", b.addFloat(L.uvs, 2, kArrayBuffer, false)}};
+    if (!L.tangents.empty()) attrs["TANGENT"] = b.addFloat(L.tangents, 4, kArrayBuffer, false);
     return {{"attributes", attrs}, {"indices", b.addIndices(L.indices, L.positions.size() / 3)}, {"mode", 4}};
 }
 
@@ -66,6 +72,8 @@ json dracoPrimitive(Buffer& b, const LodLevelData& L, const LodChainWriteOptions
     uint32_t pid = add(draco::GeometryAttribute::POSITION, L.positions, 3);
     uint32_t nid = add(draco::GeometryAttribute::NORMAL, L.normals, 3);
     uint32_t tid = add(draco::GeometryAttribute::TEX_COORD, L.uvs, 2);
+    const bool tangents = !L.tangents.empty();
+    uint32_t gid = tangents ? add(draco::GeometryAttribute::GENERIC, L.tangents, 4) : 0;
     dm.SetNumFaces(f);
     for (size_t t = 0; t < f; ++t) {
         draco::Mesh::Face face = {draco::PointIndex(L.indices[3 * t]), draco::PointIndex(L.indices[3 * t + 1]),
@@ -76,6 +84,7 @@ json dracoPrimitive(Buffer& b, const LodLevelData& L, const LodChainWriteOptions
     enc.SetAttributeQuantization(draco::GeometryAttribute::POSITION, o.quantPosition);
     enc.SetAttributeQuantization(draco::GeometryAttribute::TEX_COORD, o.quantTexcoord);
     enc.SetAttributeQuantization(draco::GeometryAttribute::NORMAL, o.quantNormal);
+    if (tangents) enc.SetAttributeQuantization(draco::GeometryAttribute::GENERIC, o.quantNormal);
     enc.SetSpeedOptions(o.dracoSpeed, o.dracoSpeed);
     enc.SetTrackEncodedProperties(true);
     draco::EncoderBuffer out;
@@ -93,8 +102,15 @@ json dracoPrimitive(Buffer& b, const LodLevelData& L, const LodChainWriteOptions
     json ta = floatAccessorJson(L.uvs, 2, false);
     ta["count"] = points;
     attrs["TEXCOORD_0"] = b.addAccessor(ta);
+    json ids = {{"POSITION", pid}, {"NORMAL", nid}, {"TEXCOORD_0", tid}};
+    if (tangents) {
+        json ga = floatAccessorJson(L.tangents, 4, false);
+        ga["count"] = points;
+        attrs["TANGENT"] = b.addAccessor(ga);
+        ids["TANGENT"] = gid;
+    }
     int ia = b.addAccessor({{"componentType", points < 65536 ? kUnsignedShort : kUnsignedInt}, {"count", faces * 3}, {"type", "SCALAR"}});
-    json ext = {{"bufferView", view}, {"attributes", {{"POSITION", pid}, {"NORMAL", nid}, {"TEXCOORD_0", tid}}}};
+    json ext = {{"bufferView", view}, {"attributes", ids}};
     return {{"attributes", attrs}, {"indices", ia}, {"mode", 4}, {"extensions", {{kDraco, ext}}}};
 }
 
@@ -123,6 +139,7 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
          images = json::array();
     std::vector<std::pair<std::string, const Image*>> sideImages;
     std::string stem = std::filesystem::path(path).stem().string();
+    bool usesEmissiveStrength = false, usesUnlit = false;
     for (size_t i = 0; i < levels.size(); ++i) {
         const LodLevelData& L = levels[i];
         size_t before = b.size;
@@ -130,25 +147,60 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
         stats.levelGeometryBytes.push_back(b.size - before);
         prim["material"] = i;
         meshes.push_back({{"name", L.name}, {"primitives", json::array({prim})}});
-        json mat = {{"name", L.name},
-                    {"pbrMetallicRoughness",
-                     {{"baseColorTexture", {{"index", i}}}, {"metallicFactor", L.metallicFactor}, {"roughnessFactor", L.roughnessFactor}}}};
-        if (L.doubleSided) mat["doubleSided"] = true;
-        materials.push_back(mat);
-        textures.push_back({{"source", i}, {"sampler", 0}});
-        std::string mime = sniffImageMime(L.image.encoded.data(), L.image.encoded.size());
-        if (mime.empty()) mime = "image/png";
-        json img = {{"name", L.name}};
-        if (glb || options.embedImages) {
-            img["bufferView"] = b.addView(L.image.encoded.data(), L.image.encoded.size(), 0);
-            img["mimeType"] = mime;
-        } else {
-            std::string file = stem + "_" + L.name + (mime == "image/jpeg" ? ".jpg" : ".png");
-            img["uri"] = file;
-            sideImages.emplace_back(file, &L.image);
+        const LodMaterial& M = L.material;
+        size_t imageBytes = 0;
+        // Adds one texture (and its image) of this level; returns the texture index.
+        auto addTexture = [&](const Image& image, const std::string& suffix) {
+            const size_t index = textures.size();
+            textures.push_back({{"source", images.size()}, {"sampler", 0}});
+            std::string mime = sniffImageMime(image.encoded.data(), image.encoded.size());
+            if (mime.empty()) mime = "image/png";
+            const std::string name = L.name + suffix;
+            json img = {{"name", name}};
+            if (glb || options.embedImages) {
+                img["bufferView"] = b.addView(image.encoded.data(), image.encoded.size(), 0);
+                img["mimeType"] = mime;
+            } else {
+                std::string file = stem + "_" + name + (mime == "image/jpeg" ? ".jpg" : ".png");
+                img["uri"] = file;
+                sideImages.emplace_back(file, &image);
+            }
+            imageBytes += image.encoded.size();
+            images.push_back(img);
+            return index;
+        };
+        json pbr = {{"metallicFactor", M.metallicFactor}, {"roughnessFactor", M.roughnessFactor}};
+        const Vec4& bc = M.baseColorFactor;
+        if (bc.x != 1 || bc.y != 1 || bc.z != 1 || bc.w != 1) pbr["baseColorFactor"] = {bc.x, bc.y, bc.z, bc.w};
+        json mat = {{"name", L.name}};
+        if (!M.baseColor.encoded.empty()) pbr["baseColorTexture"] = {{"index", addTexture(M.baseColor, "")}};
+        if (!M.orm.encoded.empty()) {
+            const size_t t = addTexture(M.orm, "_orm");
+            if (M.metallicRoughness) pbr["metallicRoughnessTexture"] = {{"index", t}};
+            if (M.occlusion) mat["occlusionTexture"] = {{"index", t}};
         }
-        stats.levelImageBytes.push_back(L.image.encoded.size());
-        images.push_back(img);
+        if (!M.emissive.encoded.empty()) mat["emissiveTexture"] = {{"index", addTexture(M.emissive, "_emissive")}};
+        if (!M.normal.encoded.empty()) mat["normalTexture"] = {{"index", addTexture(M.normal, "_normal")}};
+        mat["pbrMetallicRoughness"] = pbr;
+        const Vec3& e = M.emissiveFactor;
+        if (e.x != 0 || e.y != 0 || e.z != 0) mat["emissiveFactor"] = {e.x, e.y, e.z};
+        if (M.emissiveStrength > 1) {
+            mat["extensions"][kEmissiveStrength] = {{"emissiveStrength", M.emissiveStrength}};
+            usesEmissiveStrength = true;
+        }
+        if (M.unlit) {
+            mat["extensions"][kUnlit] = json::object();
+            usesUnlit = true;
+        }
+        if (M.alphaMode == AlphaMode::Mask) {
+            mat["alphaMode"] = "MASK";
+            mat["alphaCutoff"] = M.alphaCutoff;
+        } else if (M.alphaMode == AlphaMode::Blend) {
+            mat["alphaMode"] = "BLEND";
+        }
+        if (M.doubleSided) mat["doubleSided"] = true;
+        materials.push_back(mat);
+        stats.levelImageBytes.push_back(imageBytes);
         nodes.push_back({{"name", L.name}, {"mesh", i}});
     }
 
@@ -162,6 +214,8 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
         if (!screenCoverage.empty()) nodes[0]["extras"]["MSFT_screencoverage"] = screenCoverage;
         used.push_back(kLod);
     }
+    if (usesEmissiveStrength) used.push_back(kEmissiveStrength);
+    if (usesUnlit) used.push_back(kUnlit);
     if (options.draco) {
         used.push_back(kDraco);
         root["extensionsRequired"] = json::array({kDraco});

@@ -84,7 +84,14 @@ void checkImages(Asset& asset, ImageCheck check) {
 
 Image encodeImage(const std::vector<float>& rgb, int width, int height, ImageFormat format, int jpegQuality,
                   const std::string& name) {
-    if (width <= 0 || height <= 0 || rgb.size() != size_t(width) * size_t(height) * 3)
+    return encodeImage(rgb, width, height, 3, format, jpegQuality, name);
+}
+
+Image encodeImage(const std::vector<float>& rgb, int width, int height, int channels, ImageFormat format, int jpegQuality,
+                  const std::string& name) {
+    if (channels < 1 || channels > 4)
+        throw InvalidInput("encodeImage: " + std::to_string(channels) + " channels");
+    if (width <= 0 || height <= 0 || rgb.size() != size_t(width) * size_t(height) * size_t(channels))
         throw InvalidInput("encodeImage: pixel array does not match " + std::to_string(width) + "x" + std::to_string(height));
     std::vector<unsigned char> px(rgb.size());
     for (size_t i = 0; i < rgb.size(); ++i) {
@@ -98,7 +105,8 @@ Image encodeImage(const std::vector<float>& rgb, int width, int height, ImageFor
     OIIO::Filesystem::IOProxy* proxy = &vec;
     auto out = OIIO::ImageOutput::create(fname, proxy);
     if (!out) throw IOError("encodeImage: no " + std::string(jpeg ? "JPEG" : "PNG") + " encoder: " + OIIO::geterror());
-    OIIO::ImageSpec spec(width, height, 3, OIIO::TypeDesc::UINT8);
+    OIIO::ImageSpec spec(width, height, channels, OIIO::TypeDesc::UINT8);
+    if (channels == 4) spec.alpha_channel = 3;
     spec.attribute("oiio:ColorSpace", "sRGB");
     if (jpeg) spec.attribute("Compression", "jpeg:" + std::to_string(std::clamp(jpegQuality, 1, 100)));
     spec.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
@@ -110,7 +118,7 @@ Image encodeImage(const std::vector<float>& rgb, int width, int height, ImageFor
     img.encoded.assign(bytes.begin(), bytes.end());
     img.width = width;
     img.height = height;
-    img.channels = 3;
+    img.channels = channels;
     return img;
 }
 

@@ -10,6 +10,15 @@
 
 namespace lodbake {
 
+// The channels a bake produces (MaterialPlan decides which the chain needs). Base colour is
+// always baked.
+struct BakeChannels {
+    bool alpha = false;     // base colour alpha: factor x texture x COLOR_0 alpha
+    bool orm = false;       // occlusion (1 + strength (ao - 1)), roughness, metallic
+    bool emissive = false;  // emissiveFactor x strength x emissive texture
+    bool normal = false;    // the original shading normal in the target's tangent frames (needs a BakeTarget)
+};
+
 struct BakeOptions {
     int size = 1024;        // square atlas side in texels: cornerUV [0,1] spans `size` texels
     // The region baked: texels [0, width) x [0, height) of the size x size grid (0 = size). A page
@@ -19,6 +28,18 @@ struct BakeOptions {
     bool fillGaps = true;   // pull-push fill of uncovered texels (ImageBufAlgo::fillholes_pushpull)
     bool encodePng = true;  // BakeResult::image (false: pixels only, for callers that encode themselves)
     int threads = 1;        // texel shading threads (0 = all cores); the result is the same for any count
+    BakeChannels channels;
+};
+
+// The surface that will wear the baked page (a level of the chain), at the page's UVs: the frames
+// its normal map is expressed in. Per triangle, per corner, in the cornerUV convention; normals
+// unit, tangents as glTF's TANGENT (lodbake/core/tangents.h). A texel takes the frame of the
+// target triangle it lies in (or the nearest within `reach` texels; beyond, the original's own).
+struct BakeTarget {
+    std::vector<std::array<Vec2, 3>> uv;
+    std::vector<std::array<Vec3, 3>> normal;
+    std::vector<std::array<Vec4, 3>> tangent;
+    double reach = 4;
 };
 
 // A UV triangle of the atlas that is not an original face (parameterize's level islands): each
@@ -38,13 +59,19 @@ std::vector<BakeIsland> layoutBakeIslands(const TriMesh& mesh, const ChartLayout
 struct BakeResult {
     Image image;                 // PNG, RGB 8-bit sRGB, width x height (empty without encodePng)
     std::vector<float> pixels;   // the same as floats in [0,1] (encoded sRGB), RGB interleaved, top row first
+    // The other channels, as they are written (8-bit steps in [0,1], top row first), each empty
+    // unless asked for: alpha (1 per texel, linear), orm (RGB = occlusion, roughness, metallic,
+    // linear), emissive (RGB, sRGB-encoded, divided by emissiveScale), normal (RGB = tangent-space
+    // xyz x 0.5 + 0.5).
+    std::vector<float> alpha, orm, emissive, normal;
+    double emissiveScale = 1;    // the largest linear emissive value when above 1 (KHR_materials_emissive_strength), else 1
     size_t coveredTexels = 0;    // texels hit by a triangle (incl. dilation)
     size_t texturedLookups = 0;  // texture lookups made through the TextureSystem
     size_t islandTexels = 0;     // texels filled from islands
     double seconds = 0;
 };
 
-// The asset's base-colour images, decoded once for every bake of that asset (OpenImageIO's
+// The asset's images, decoded once for every bake of that asset (OpenImageIO's
 // TextureSystem over temporary copies of the encoded images, MIP-maps built on first use): pack
 // bakes one page per level, texture-refine one per layout and size. The asset must outlive it.
 class BakeSources {
@@ -72,6 +99,14 @@ private:
 // \throw InvalidInput (size mismatch, island without faces), IOError (an image cannot be decoded / temp files).
 BakeResult bakeBaseColor(const BakeSources& sources, const std::vector<std::array<Vec2, 3>>& cornerUV,
                          const BakeOptions& options = {}, const std::vector<BakeIsland>& islands = {});
+// The same with every channel of options.channels: each texel shows the original material at
+// the original surface point the layout maps it to. The normal channel is the original's shading
+// normal (interpolated normal perturbed by its normal map in its own tangent frame: the file's
+// TANGENT or computeWedgeTangents) expressed in the tangent frame of `target` at that texel.
+// \pre as bakeBaseColor; target (when channels.normal) has the same UV scale as cornerUV.
+BakeResult bakeMaterial(const BakeSources& sources, const std::vector<std::array<Vec2, 3>>& cornerUV,
+                        const BakeOptions& options, const std::vector<BakeIsland>& islands = {},
+                        const BakeTarget* target = nullptr);
 // The same for one bake (the images are decoded for this call).
 BakeResult bakeBaseColor(const Asset& asset, const std::vector<std::array<Vec2, 3>>& cornerUV,
                          const BakeOptions& options = {}, const std::vector<BakeIsland>& islands = {});

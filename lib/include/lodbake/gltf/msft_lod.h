@@ -1,5 +1,5 @@
 // Writing the final LOD chain (`pack`'s output): a glTF whose LOD0 node carries MSFT_lod, every
-// level one mesh / one primitive / one material with a baked base-colour atlas, optionally
+// level one mesh / one primitive / one material with its baked atlas pages, optionally
 // compressed with KHR_draco_mesh_compression. Takes lodbake's own structs only (images already
 // encoded: lodbake/texture/codec.h); tinygltf-free, Draco stays inside lib/src/io (STYLE.md practice 10).
 #pragma once
@@ -12,17 +12,35 @@
 
 namespace lodbake {
 
+// The one material of a level: baked textures where a channel varies, factors where it does not
+// (lodbake/bake/material_plan.h). Texture images are encoded; an empty `encoded` = no texture.
+struct LodMaterial {
+    Image baseColor;              // RGB, or RGBA when alpha varies (sRGB)
+    Image orm;                    // occlusion R, roughness G, metallic B (linear); metallicRoughness and occlusion
+    Image emissive;               // RGB (sRGB)
+    Image normal;                 // tangent-space normal map (linear); needs the level's tangents
+    Vec4 baseColorFactor{1, 1, 1, 1};
+    double metallicFactor = 0;
+    double roughnessFactor = 1;
+    bool occlusion = false;       // orm's R channel is the occlusion map
+    bool metallicRoughness = false;  // orm's G and B channels are roughness and metallic
+    Vec3 emissiveFactor{0, 0, 0};
+    double emissiveStrength = 1;  // > 1: KHR_materials_emissive_strength
+    AlphaMode alphaMode = AlphaMode::Opaque;
+    double alphaCutoff = 0.5;
+    bool doubleSided = false;
+    bool unlit = false;           // KHR_materials_unlit
+};
+
 // One level of the chain, ready to write: an indexed triangle list (CCW) in world space.
 struct LodLevelData {
     std::string name;                // node / mesh / material name, e.g. "LOD1"
     std::vector<float> positions;    // xyz per vertex
     std::vector<float> normals;      // xyz per vertex, unit length (same count as positions)
     std::vector<float> uvs;          // TEXCOORD_0 per vertex (glTF: [0,1], v down)
+    std::vector<float> tangents;     // TANGENT xyzw per vertex (lodbake/core/tangents.h); empty = none
     std::vector<uint32_t> indices;   // 3 per triangle
-    Image image;                     // encoded base-colour atlas (PNG or JPEG), width/height set
-    double metallicFactor = 0;
-    double roughnessFactor = 1;
-    bool doubleSided = false;
+    LodMaterial material;
 };
 
 struct LodChainWriteOptions {
@@ -31,7 +49,7 @@ struct LodChainWriteOptions {
     bool draco = false;       // KHR_draco_mesh_compression on every primitive (then also extensionsRequired)
     int quantPosition = 14;   // Draco quantisation bits (1..30) for POSITION
     int quantTexcoord = 12;   // ... TEXCOORD_0
-    int quantNormal = 10;     // ... NORMAL
+    int quantNormal = 10;     // ... NORMAL and TANGENT
     int dracoSpeed = 3;       // Draco encoder speed 0 (best compression) .. 10 (fastest); decoding speed the same
 };
 
@@ -46,7 +64,7 @@ struct LodChainWriteStats {
 // extras.MSFT_screencoverage = `screenCoverage` (one value per level, i.e. one more than the
 // ids, decreasing: LOD k is drawn at coverage >= value k, nothing below the last); only node 0 is in the scene; MSFT_lod is listed in extensionsUsed, never required.
 // With one level and no coverage: a plain single-mesh file (pack --split).
-// \pre every level has >= 1 triangle, matching attribute sizes, an encoded image.
+// \pre every level has >= 1 triangle and matching attribute sizes; a normal map comes with tangents.
 // \throw InvalidInput (inconsistent level data), IOError (cannot write), SolverError (Draco failed).
 LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodLevelData>& levels,
                                  const std::vector<double>& screenCoverage, const LodChainWriteOptions& options = {});

@@ -18,6 +18,10 @@ enum class ImageFormat { Png, Jpeg };
 // \throw InvalidInput (size mismatch), IOError (encoder failure).
 Image encodeImage(const std::vector<float>& rgb, int width, int height, ImageFormat format, int jpegQuality = 90,
                   const std::string& name = "");
+// The same with 1 to 4 interleaved channels (4: RGBA, alpha straight). JPEG has no alpha: callers
+// encode RGBA as PNG.
+Image encodeImage(const std::vector<float>& values, int width, int height, int channels, ImageFormat format,
+                  int jpegQuality = 90, const std::string& name = "");
 
 enum class ImageCheck {
     Header,  // open each image and read its size (cheap)

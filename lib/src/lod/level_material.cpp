@@ -1,0 +1,106 @@
+// A chain level's material from its page bake (see level_material.h).
+#include "lod/level_material.h"
+
+#include <algorithm>
+
+#include "lodbake/core/tangents.h"
+
+namespace lodbake::lod_detail {
+
+BakeChannels levelChannels(const MaterialPlan& plan, bool normalMap) {
+    BakeChannels c;
+    c.alpha = plan.alphaTexture;
+    c.orm = plan.ormTexture();
+    c.emissive = plan.emissiveTexture;
+    c.normal = normalMap && !plan.unlit;
+    return c;
+}
+
+std::vector<float> levelTangents(const LodLevelData& L) {
+    const size_t n = L.positions.size() / 3;
+    std::vector<Vec3> p(n), nrm(n);
+    std::vector<Vec2> uv(n);
+    for (size_t i = 0; i < n; ++i) {
+        p[i] = {L.positions[3 * i], L.positions[3 * i + 1], L.positions[3 * i + 2]};
+        nrm[i] = {L.normals[3 * i], L.normals[3 * i + 1], L.normals[3 * i + 2]};
+        uv[i] = {L.uvs[2 * i], L.uvs[2 * i + 1]};
+    }
+    std::vector<Tri> tris(L.indices.size() / 3);
+    for (size_t t = 0; t < tris.size(); ++t) tris[t] = {L.indices[3 * t], L.indices[3 * t + 1], L.indices[3 * t + 2]};
+    const std::vector<Vec4> tan = computeTangents(p, nrm, uv, tris);
+    std::vector<float> out(4 * n);
+    for (size_t i = 0; i < n; ++i) {
+        out[4 * i] = float(tan[i].x);
+        out[4 * i + 1] = float(tan[i].y);
+        out[4 * i + 2] = float(tan[i].z);
+        out[4 * i + 3] = float(tan[i].w);
+    }
+    return out;
+}
+
+BakeTarget levelBakeTarget(const LodLevelData& L, int width, int height) {
+    BakeTarget t;
+    const double size = std::max(width, height);
+    const size_t tris = L.indices.size() / 3;
+    t.uv.resize(tris);
+    t.normal.resize(tris);
+    t.tangent.resize(tris);
+    for (size_t f = 0; f < tris; ++f)
+        for (size_t k = 0; k < 3; ++k) {
+            const size_t v = L.indices[3 * f + k];
+            t.uv[f][k] = {L.uvs[2 * v] * width / size, L.uvs[2 * v + 1] * height / size};
+            t.normal[f][k] = {L.normals[3 * v], L.normals[3 * v + 1], L.normals[3 * v + 2]};
+            if (!L.tangents.empty())
+                t.tangent[f][k] = {L.tangents[4 * v], L.tangents[4 * v + 1], L.tangents[4 * v + 2], L.tangents[4 * v + 3]};
+        }
+    return t;
+}
+
+LodMaterial levelMaterial(const MaterialPlan& plan, const BakeResult& baked, int w, int h, const LevelImageOptions& o,
+                          const std::string& name) {
+    LodMaterial m;
+    const size_t texels = size_t(w) * size_t(h);
+    if (plan.baseColorTexture) {
+        if (!baked.alpha.empty()) {
+            std::vector<float> rgba(texels * 4);
+            for (size_t i = 0; i < texels; ++i) {
+                for (size_t c = 0; c < 3; ++c) rgba[i * 4 + c] = baked.pixels[i * 3 + c];
+                rgba[i * 4 + 3] = baked.alpha[i];
+            }
+            m.baseColor = encodeImage(rgba, w, h, 4, ImageFormat::Png, o.jpegQuality, name);
+        } else {
+            m.baseColor = encodeImage(baked.pixels, w, h, 3, o.format, o.jpegQuality, name);
+        }
+        m.baseColorFactor = {1, 1, 1, plan.alphaTexture ? 1.0 : plan.baseColorFactor.w};
+    } else {
+        m.baseColorFactor = plan.baseColorFactor;
+    }
+    m.metallicFactor = plan.metallicFactor;
+    m.roughnessFactor = plan.roughnessFactor;
+    if (!baked.orm.empty()) {
+        m.orm = encodeImage(baked.orm, w, h, 3, o.format, o.jpegQuality, name + "_orm");
+        m.occlusion = plan.occlusionTexture;
+        m.metallicRoughness = plan.metallicRoughnessTexture;
+        if (m.metallicRoughness) m.metallicFactor = m.roughnessFactor = 1;
+    }
+    if (!baked.emissive.empty()) {
+        m.emissive = encodeImage(baked.emissive, w, h, 3, o.format, o.jpegQuality, name + "_emissive");
+        m.emissiveFactor = {1, 1, 1};
+        m.emissiveStrength = baked.emissiveScale;
+    } else {
+        m.emissiveFactor = plan.emissiveFactor;
+        const double peak = std::max({m.emissiveFactor.x, m.emissiveFactor.y, m.emissiveFactor.z});
+        if (peak > 1) {
+            m.emissiveFactor = m.emissiveFactor * (1 / peak);
+            m.emissiveStrength = peak;
+        }
+    }
+    if (!baked.normal.empty()) m.normal = encodeImage(baked.normal, w, h, 3, ImageFormat::Png, o.jpegQuality, name + "_normal");
+    m.alphaMode = plan.alphaMode;
+    m.alphaCutoff = plan.alphaCutoff;
+    m.doubleSided = plan.doubleSided;
+    m.unlit = plan.unlit;
+    return m;
+}
+
+}  // namespace lodbake::lod_detail

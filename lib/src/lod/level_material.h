@@ -1,0 +1,34 @@
+// A chain level's one material: the page bake's channels as the level's textures and factors.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "lodbake/bake/bake.h"
+#include "lodbake/bake/material_plan.h"
+#include "lodbake/gltf/msft_lod.h"
+#include "lodbake/texture/codec.h"
+
+namespace lodbake::lod_detail {
+
+// The channels a level's page bakes: those the plan textures, and the normal map when
+// `normalMap` (the input has normal maps, or the level is coarser than the original).
+BakeChannels levelChannels(const MaterialPlan& plan, bool normalMap);
+
+// TANGENT (xyzw per vertex) of a level's indexed mesh, from its positions, normals and page UVs.
+std::vector<float> levelTangents(const LodLevelData& level);
+
+// The level's triangles with their frames, in the bake's UV convention (page UVs scaled by
+// width / size and height / size, size = the longer page side).
+BakeTarget levelBakeTarget(const LodLevelData& level, int width, int height);
+
+struct LevelImageOptions {
+    ImageFormat format = ImageFormat::Png;  // base colour, ORM and emissive; RGBA and normal maps are PNG
+    int jpegQuality = 90;
+};
+
+// Encodes the baked channels and sets the factors of the plan's constant channels.
+LodMaterial levelMaterial(const MaterialPlan& plan, const BakeResult& baked, int width, int height,
+                          const LevelImageOptions& options, const std::string& name);
+
+}  // namespace lodbake::lod_detail
