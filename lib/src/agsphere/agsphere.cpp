@@ -22,8 +22,10 @@
 #include "lodbake/agsphere/agsphere.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include "agsphere/assemble_level.h"
 #include "agsphere/contour.h"
