@@ -14,7 +14,6 @@ modules are missing.
 import json
 import math
 import os
-import shutil
 import subprocess
 import sys
 import time
@@ -23,9 +22,8 @@ import unittest
 sys.path.insert(0, os.path.dirname(__file__))
 import lodbake_test as lt  # noqa: E402
 
-NODE_MODULES = os.path.join(lt.SOURCE, "scripts/node/node_modules")
 RENDER = os.path.join(lt.SOURCE, "scripts/render_three.py")
-CHROMIUM = os.environ.get("CHROMIUM", "/usr/bin/chromium")
+CHROMIUM = lt.CHROMIUM
 
 # LOD0 PSNR floors (dB, RGB, mean over 8 views against the original): the value measured with
 # three 0.187 in Debian 12's chromium minus LOD0_PSNR_MARGIN, for small renderer differences.
@@ -46,16 +44,7 @@ class ThreeChain(unittest.TestCase):
 
     @classmethod
     def setUpClass(cls):
-        for t in ("simplify", "parameterize", "pack", "make-samples"):
-            if not os.path.exists(lt.tool(t)):
-                lt.skip(t + " is not built")
-        if not os.path.exists(CHROMIUM):
-            lt.skip("chromium is missing (apt-get install chromium; scripts/setup-debian.sh)")
-        if shutil.which("node") is None:
-            lt.skip("node is missing")
-        for m in ("three", "playwright-core"):
-            if not os.path.isdir(os.path.join(NODE_MODULES, m)):
-                lt.skip("scripts/node/node_modules/%s is missing (cd scripts/node && npm ci)" % m)
+        lt.require_browser_chain(("three", "playwright-core"))
         cls.dir = lt.work_dir("threejs")
         samples = lt.make_samples(os.path.join(cls.dir, "samples"))
         sources = {"seamball": os.path.join(samples, "seamball.glb"), "hemisphere9": os.path.join(samples, "hemisphere9.glb")}
