@@ -1,11 +1,7 @@
 #include "lodbake/stages/agsphere_build.h"
 
-#include <set>
-
-#include "lodbake/core/errors.h"
 #include "lodbake/core/parallel.h"
-#include "lodbake/core/timing.h"
-#include "lodbake/gltf/gltf.h"
+#include "stages/multires_stage.h"
 
 namespace lodbake {
 namespace {
@@ -27,50 +23,33 @@ nlohmann::json makeReport(const AgsphereBuildSettings& s, const Asset& asset, co
     for (size_t k = 0; k < r.multires.levels.size(); ++k) {
         const Level& L = r.multires.levels[k];
         const AgsphereLevelStats& st = r.levelStats[k];
-        std::set<uint32_t> used;
-        for (const Tri& t : L.triangles) used.insert(t.begin(), t.end());
-        nlohmann::json target;
+        nlohmann::json level = levelJson(m, L, k + 1, r.diagonal);
+        nlohmann::json& target = level["target"];
         if (L.targetRatio > 0) target["ratio"] = L.targetRatio;
         target["triangles"] = L.targetTriangles;
-        levels.push_back({{"level", k + 1},
-                          {"target", target},
-                          {"triangles", L.triangles.size()},
-                          {"estimatedTriangles", st.estimatedTriangles},
-                          {"vertices", used.size()},
-                          {"ratio", m.triangleCount() ? double(L.triangles.size()) / m.triangleCount() : 0.0},
-                          {"maxDeviation", L.maxDeviation},
-                          {"meanDeviation", L.meanDeviation},
-                          {"maxDeviationRelative", r.diagonal > 0 ? L.maxDeviation / r.diagonal : 0.0},
-                          {"meanDeviationRelative", r.diagonal > 0 ? L.meanDeviation / r.diagonal : 0.0},
-                          {"regions", L.regionCount},
-                          {"pairs", L.pairs.size()},
-                          {"cellsPerDepth", st.cellsPerDepth},
-                          {"cells",
-                           {{"orthogonal", st.orthogonalCells},
-                            {"reference", st.referenceCells},
-                            {"coarsest", st.coarsestCells},
-                            {"other", st.otherCells}}},
-                          {"retriangulatedRegions", st.retriangulatedRegions},
-                          {"keptRegions", st.keptRegions},
-                          {"outlineFaces", st.outlineFaces},
-                          {"runs", st.runs},
-                          {"simplifiedRuns", st.simplifiedRuns},
-                          {"restoredRuns", st.restoredRuns},
-                          {"stopReason", st.stopReason},
-                          {"seconds", L.seconds}});
+        level.update({{"estimatedTriangles", st.estimatedTriangles},
+                      {"regions", L.regionCount},
+                      {"cellsPerDepth", st.cellsPerDepth},
+                      {"cells",
+                       {{"orthogonal", st.orthogonalCells},
+                        {"reference", st.referenceCells},
+                        {"coarsest", st.coarsestCells},
+                        {"other", st.otherCells}}},
+                      {"retriangulatedRegions", st.retriangulatedRegions},
+                      {"keptRegions", st.keptRegions},
+                      {"outlineFaces", st.outlineFaces},
+                      {"runs", st.runs},
+                      {"simplifiedRuns", st.simplifiedRuns},
+                      {"restoredRuns", st.restoredRuns},
+                      {"stopReason", st.stopReason}});
+        levels.push_back(level);
     }
     nlohmann::json views = nlohmann::json::array(), lights = nlohmann::json::array();
     for (Vec3 v : o.views) views.push_back(vec(v));
     for (Vec3 v : o.lights) lights.push_back(vec(v));
     nlohmann::json rep;
     rep["tool"] = "agsphere-build";
-    rep["input"] = {{"path", s.common.input},
-                    {"triangles", m.triangleCount()},
-                    {"vertices", m.vertexCount()},
-                    {"wedges", m.wedges.size()},
-                    {"materials", asset.materials.size()},
-                    {"primitives", asset.stats.primitives},
-                    {"diagonal", r.diagonal}};
+    rep["input"] = inputJson(s.common, asset, r.diagonal);
     rep["output"] = s.common.output;
     rep["sphere"] = {{"maxDepth", o.maxDepth},
                      {"boundaryTolerance", o.boundaryTolerance},
@@ -96,8 +75,7 @@ nlohmann::json makeReport(const AgsphereBuildSettings& s, const Asset& asset, co
 }
 
 std::string statistics(const Asset& asset, const nlohmann::json& rep) {
-    std::string out;
-    appendf(out, "input: %zu triangles, %zu vertices\n", asset.mesh.triangleCount(), asset.mesh.vertexCount());
+    std::string out = inputStatistics(asset);
     for (const auto& d : rep["sphere"]["depths"])
         appendf(out, "sphere depth %d: %d cells, %d regions, ~%d triangles\n", d["depth"].get<int>(),
                 d["cells"].get<int>(), d["regions"].get<int>(), d["estimatedTriangles"].get<int>());
@@ -113,19 +91,13 @@ std::string statistics(const Asset& asset, const nlohmann::json& rep) {
 
 StageResult runAgsphereBuild(const AgsphereBuildSettings& s) {
     double loadSeconds = 0;
-    Asset asset = loadStageInput(s.common, loadSeconds);
-    if (asset.mesh.triangleCount() == 0) throw Impossible(s.common.input + ": the scene has no triangles");
+    Asset asset = loadMeshInput(s.common, loadSeconds, "the scene has no triangles");
 
     AgsphereOptions opt = s.agsphere;
     opt.threads = resolveThreads(s.common.threads);
     opt.progress = s.common.progress;
     AgsphereResult result = buildAgsphere(asset.mesh, opt);
-
-    Clock::time_point t2 = Clock::now();
-    WriteOptions wopt;
-    wopt.generator = "lodbake agsphere-build 0.1.0";
-    writeGltf(s.common.output, asset, &result.multires, wopt);
-    double writeSeconds = secondsSince(t2);
+    double writeSeconds = writeMultiresOutput(s.common, asset, result.multires, "agsphere-build");
 
     StageResult out;
     out.report = makeReport(s, asset, result, loadSeconds, writeSeconds);
