@@ -104,6 +104,7 @@ private:
     bool enabled_;
     int last_ = -1;
 };
+
 // Progress is drawn when stderr is a terminal and --quiet was not given.
 bool progressEnabled(bool quiet);
 
