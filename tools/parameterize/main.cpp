@@ -86,10 +86,10 @@ int run(const Settings& s) {
     if (!multires) throw Impossible(s.common.input + ": no LODBAKE_multires extension; run simplify first");
 
     ParameterizeOptions opt;
-    opt.alpha = s.alpha;
-    opt.beta = s.beta;
+    opt.solve.energy.alpha = s.alpha;
+    opt.solve.energy.beta = s.beta;
     opt.textureSize = s.size;
-    opt.maxIterations = s.iterations;
+    opt.solve.maxIterations = s.iterations;
     opt.charts.maxCharts = uint32_t(s.maxCharts);
     opt.threads = s.common.threads;
     opt.levelIslands = s.levelIslands;

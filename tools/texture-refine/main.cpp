@@ -24,7 +24,7 @@ Settings parseArgs(int argc, char** argv, bool& proceed) {
     cli::ArgParser p("texture-refine", "-i INPUT.uv.glb -o OUTPUT.tex.glb [options]");
     p.addCommon(s.common);
     p.option("--size", "N", "side of the atlas the rank layouts are packed for, texels; E is reported at this resolution (default 512)",
-             [&](const std::string& v) { s.refine.size = cli::parseInt("--size", v); });
+             [&](const std::string& v) { s.refine.param.textureSize = cli::parseInt("--size", v); });
     p.option("--sizes", "LIST", "MIP-style hierarchy: every layout is baked at each of these sides (default 128,256,512,1024)",
              [&](const std::string& v) {
                  s.refine.sizes.clear();
@@ -46,18 +46,18 @@ Settings parseArgs(int argc, char** argv, bool& proceed) {
     p.option("--split", "N", "charts each chart is split into per rank (default 4)",
              [&](const std::string& v) { s.refine.splitPerChart = uint32_t(std::max(0, cli::parseInt("--split", v))); });
     p.option("--alpha", "A", "edge vs area weight in E_pixel, in [0,1] (default 0.8)",
-             [&](const std::string& v) { s.refine.alpha = cli::parseDouble("--alpha", v); });
+             [&](const std::string& v) { s.refine.param.solve.energy.alpha = cli::parseDouble("--alpha", v); });
     p.option("--beta", "B", "E_pixel vs E_poly weight, in [0,1] (default 0.7)",
-             [&](const std::string& v) { s.refine.beta = cli::parseDouble("--beta", v); });
+             [&](const std::string& v) { s.refine.param.solve.energy.beta = cli::parseDouble("--beta", v); });
     p.option("--iterations", "N", "Ceres iterations per chart (0 = Tutte maps; default 50)",
-             [&](const std::string& v) { s.refine.maxIterations = cli::parseInt("--iterations", v); });
+             [&](const std::string& v) { s.refine.param.solve.maxIterations = cli::parseInt("--iterations", v); });
     proceed = p.parse(argc, argv);
     return s;
 }
 
 void validate(const Settings& s) {
     const RefineOptions& o = s.refine;
-    if (o.size < 16 || o.size > 16384) throw UsageError("--size must be in [16, 16384]");
+    if (o.param.textureSize < 16 || o.param.textureSize > 16384) throw UsageError("--size must be in [16, 16384]");
     if (o.sizes.empty()) throw UsageError("--sizes must list at least one size");
     for (int x : o.sizes)
         if (x < 16 || x > 16384) throw UsageError("--sizes entries must be in [16, 16384]");
@@ -66,9 +66,9 @@ void validate(const Settings& s) {
     if (!(o.maxExtraCutFraction >= 0 && o.maxExtraCutFraction <= 1)) throw UsageError("--max-extra-cuts must be in [0, 1]");
     if (o.ranks < 0 || o.ranks > 16) throw UsageError("--ranks must be in [0, 16]");
     if (o.splitPerChart < 2) throw UsageError("--split must be >= 2");
-    if (!(o.alpha >= 0 && o.alpha <= 1)) throw UsageError("--alpha must be in [0, 1]");
-    if (!(o.beta >= 0 && o.beta <= 1)) throw UsageError("--beta must be in [0, 1]");
-    if (o.maxIterations < 0) throw UsageError("--iterations must be >= 0");
+    if (!(o.param.solve.energy.alpha >= 0 && o.param.solve.energy.alpha <= 1)) throw UsageError("--alpha must be in [0, 1]");
+    if (!(o.param.solve.energy.beta >= 0 && o.param.solve.energy.beta <= 1)) throw UsageError("--beta must be in [0, 1]");
+    if (o.param.solve.maxIterations < 0) throw UsageError("--iterations must be >= 0");
     cli::checkPaths(s.common);
 }
 
@@ -104,7 +104,7 @@ int run(Settings s) {
 
     cli::Progress progress("texture-refine", cli::progressEnabled(s.common));
     s.refine.progress = [&progress](double f) { return progress(f); };
-    s.refine.threads = s.common.threads;
+    s.refine.param.threads = s.common.threads;
     RefineResult res = refineTextures(asset, *multires, s.refine);
     progress.done();
     size_t flips = 0, overlaps = 0;
@@ -114,14 +114,14 @@ int run(Settings s) {
     }
 
     nlohmann::json ranks = nlohmann::json::array(), textures = nlohmann::json::array();
-    const double rSize = (512.0 * 512.0) / (double(s.refine.size) * s.refine.size);
+    const double rSize = (512.0 * 512.0) / (double(s.refine.param.textureSize) * s.refine.param.textureSize);
     for (const RankResult& r : res.ranks) {
         nlohmann::json j = {{"rank", r.rank},
                             {"validLevels", {r.firstLevel, r.lastLevel}},
                             {"regions", r.regions},
                             {"charts", r.layout.chartCount},
                             {"levelIslands", r.layout.islands.size()},
-                            {"resolution", s.refine.size},
+                            {"resolution", s.refine.param.textureSize},
                             {"refined", measureJson(r.measure, rSize)},
                             {"T0", measureJson(r.base, rSize)},
                             {"lowerE", r.measure.energy.E < r.base.energy.E},
@@ -130,7 +130,7 @@ int run(Settings s) {
             j["parameterize"] = {{"flips", r.chartFlips}, {"overlaps", r.chartOverlaps}, {"levelFlipsInSolve", r.levelFlipsInSolve},
                                  {"methods", r.methods}, {"resplits", r.resplits}, {"unsplitCharts", r.unsplit},
                                  {"seconds", r.parameterizeSeconds}};
-            j["comparison"] = "T0 measured over the same levels at the same texel count (" + std::to_string(s.refine.size) +
+            j["comparison"] = "T0 measured over the same levels at the same texel count (" + std::to_string(s.refine.param.textureSize) +
                               "^2 texels each)";
         }
         ranks.push_back(j);
@@ -164,11 +164,11 @@ int run(Settings s) {
     rep["input"] = {{"path", s.common.input}, {"triangles", asset.mesh.triangleCount()}, {"levels", multires->levels.size()},
                     {"charts", multires->charts.chartCount}};
     rep["output"] = s.common.output;
-    rep["options"] = {{"size", s.refine.size}, {"sizes", s.refine.sizes}, {"ranks", s.refine.ranks},
+    rep["options"] = {{"size", s.refine.param.textureSize}, {"sizes", s.refine.sizes}, {"ranks", s.refine.ranks},
                       {"minRefinedSize", s.refine.minRefinedSize}, {"keepLevelTrianglesWhole", s.refine.keepLevelTrianglesWhole}, {"minStdDev", s.refine.minAreaRatioStdDev},
                       {"maxExtraCuts", s.refine.maxExtraCutFraction},
-                      {"split", s.refine.splitPerChart}, {"alpha", s.refine.alpha}, {"beta", s.refine.beta},
-                      {"iterations", s.refine.maxIterations}};
+                      {"split", s.refine.splitPerChart}, {"alpha", s.refine.param.solve.energy.alpha}, {"beta", s.refine.param.solve.energy.beta},
+                      {"iterations", s.refine.param.solve.maxIterations}};
     rep["levelNumbering"] = "0 = original mesh, k = multires level k (coarser as k grows); a texture is valid for levels validLevels[0]..validLevels[1]";
     rep["energyDefinition"] = "E = beta E_pixel + (1 - beta) E_poly over the layout's charts in model-unit UVs, pairs of the "
                               "levels served, r = 512^2 / texels; areaRatioStdDev over the triangles of the levels served";
