@@ -22,15 +22,15 @@ Args parseArgs(int argc, char** argv, bool& proceed) {
     p.addCommon(a.stage.common, a.quiet);
     p.option("--size", "N", "atlas side in texels (default " + std::to_string(o.textureSize) + ")",
              [&](const std::string& v) { o.textureSize = cli::parseInt("--size", v); });
-    p.option("--alpha", "A", "edge vs area weight in E_pixel, in [0,1] (default " + cli::number(o.alpha) + ")",
-             [&](const std::string& v) { o.alpha = cli::parseDouble("--alpha", v); });
-    p.option("--beta", "B", "E_pixel vs E_poly weight, in [0,1] (default " + cli::number(o.beta) + ")",
-             [&](const std::string& v) { o.beta = cli::parseDouble("--beta", v); });
+    p.option("--alpha", "A", "edge vs area weight in E_pixel, in [0,1] (default " + cli::number(o.solve.energy.alpha) + ")",
+             [&](const std::string& v) { o.solve.energy.alpha = cli::parseDouble("--alpha", v); });
+    p.option("--beta", "B", "E_pixel vs E_poly weight, in [0,1] (default " + cli::number(o.solve.energy.beta) + ")",
+             [&](const std::string& v) { o.solve.energy.beta = cli::parseDouble("--beta", v); });
     p.option("--max-charts", "N", "merge charts down to at most N (0 = by shape limits only)",
              [&](const std::string& v) { a.maxCharts = cli::parseInt("--max-charts", v); });
     p.option("--iterations", "N",
-             "Ceres iterations per chart (0 = keep the Tutte maps; default " + std::to_string(o.maxIterations) + ")",
-             [&](const std::string& v) { o.maxIterations = cli::parseInt("--iterations", v); });
+             "Ceres iterations per chart (0 = keep the Tutte maps; default " + std::to_string(o.solve.maxIterations) + ")",
+             [&](const std::string& v) { o.solve.maxIterations = cli::parseInt("--iterations", v); });
     p.flag("--no-level-islands",
            "no fallback islands: a level triangle that folds in its chart keeps its folded UVs (then exit 4 unless "
            "--allow-level-folds)",
@@ -59,10 +59,10 @@ Args parseArgs(int argc, char** argv, bool& proceed) {
 void validate(Args& a) {
     const ParameterizeOptions& o = a.stage.parameterize;
     if (o.textureSize < 16 || o.textureSize > 16384) throw UsageError("--size must be in [16, 16384]");
-    if (!(o.alpha >= 0 && o.alpha <= 1)) throw UsageError("--alpha must be in [0, 1]");
-    if (!(o.beta >= 0 && o.beta <= 1)) throw UsageError("--beta must be in [0, 1]");
+    if (!(o.solve.energy.alpha >= 0 && o.solve.energy.alpha <= 1)) throw UsageError("--alpha must be in [0, 1]");
+    if (!(o.solve.energy.beta >= 0 && o.solve.energy.beta <= 1)) throw UsageError("--beta must be in [0, 1]");
     if (a.maxCharts < 0) throw UsageError("--max-charts must be >= 0");
-    if (o.maxIterations < 0) throw UsageError("--iterations must be >= 0");
+    if (o.solve.maxIterations < 0) throw UsageError("--iterations must be >= 0");
     cli::checkPaths(a.stage.common);
     a.stage.parameterize.charts.maxCharts = uint32_t(a.maxCharts);
 }

@@ -27,8 +27,8 @@ Args parseArgs(int argc, char** argv, bool& proceed) {
     p.addCommon(a.stage.common, a.quiet);
     p.option("--size", "N",
              "side of the atlas the rank layouts are packed for, texels; E is reported at this resolution (default " +
-                 std::to_string(o.size) + ")",
-             [&](const std::string& v) { o.size = cli::parseInt("--size", v); });
+                 std::to_string(o.param.textureSize) + ")",
+             [&](const std::string& v) { o.param.textureSize = cli::parseInt("--size", v); });
     p.option("--sizes", "LIST",
              "MIP-style hierarchy: every layout is baked at each of these sides (default " + list(o.sizes) + ")",
              [&](const std::string& v) {
@@ -58,19 +58,19 @@ Args parseArgs(int argc, char** argv, bool& proceed) {
              [&](const std::string& v) { o.ranks = cli::parseInt("--ranks", v); });
     p.option("--split", "N", "charts each chart is split into per rank (default " + std::to_string(o.splitPerChart) + ")",
              [&](const std::string& v) { o.splitPerChart = uint32_t(std::max(0, cli::parseInt("--split", v))); });
-    p.option("--alpha", "A", "edge vs area weight in E_pixel, in [0,1] (default " + cli::number(o.alpha) + ")",
-             [&](const std::string& v) { o.alpha = cli::parseDouble("--alpha", v); });
-    p.option("--beta", "B", "E_pixel vs E_poly weight, in [0,1] (default " + cli::number(o.beta) + ")",
-             [&](const std::string& v) { o.beta = cli::parseDouble("--beta", v); });
-    p.option("--iterations", "N", "Ceres iterations per chart (0 = Tutte maps; default " + std::to_string(o.maxIterations) + ")",
-             [&](const std::string& v) { o.maxIterations = cli::parseInt("--iterations", v); });
+    p.option("--alpha", "A", "edge vs area weight in E_pixel, in [0,1] (default " + cli::number(o.param.solve.energy.alpha) + ")",
+             [&](const std::string& v) { o.param.solve.energy.alpha = cli::parseDouble("--alpha", v); });
+    p.option("--beta", "B", "E_pixel vs E_poly weight, in [0,1] (default " + cli::number(o.param.solve.energy.beta) + ")",
+             [&](const std::string& v) { o.param.solve.energy.beta = cli::parseDouble("--beta", v); });
+    p.option("--iterations", "N", "Ceres iterations per chart (0 = Tutte maps; default " + std::to_string(o.param.solve.maxIterations) + ")",
+             [&](const std::string& v) { o.param.solve.maxIterations = cli::parseInt("--iterations", v); });
     proceed = p.parse(argc, argv);
     return a;
 }
 
 void validate(const Args& a) {
     const RefineOptions& o = a.stage.refine;
-    if (o.size < 16 || o.size > 16384) throw UsageError("--size must be in [16, 16384]");
+    if (o.param.textureSize < 16 || o.param.textureSize > 16384) throw UsageError("--size must be in [16, 16384]");
     if (o.sizes.empty()) throw UsageError("--sizes must list at least one size");
     for (int x : o.sizes)
         if (x < 16 || x > 16384) throw UsageError("--sizes entries must be in [16, 16384]");
@@ -79,9 +79,9 @@ void validate(const Args& a) {
     if (!(o.maxExtraCutFraction >= 0 && o.maxExtraCutFraction <= 1)) throw UsageError("--max-extra-cuts must be in [0, 1]");
     if (o.ranks < 0 || o.ranks > 16) throw UsageError("--ranks must be in [0, 16]");
     if (o.splitPerChart < 2) throw UsageError("--split must be >= 2");
-    if (!(o.alpha >= 0 && o.alpha <= 1)) throw UsageError("--alpha must be in [0, 1]");
-    if (!(o.beta >= 0 && o.beta <= 1)) throw UsageError("--beta must be in [0, 1]");
-    if (o.maxIterations < 0) throw UsageError("--iterations must be >= 0");
+    if (!(o.param.solve.energy.alpha >= 0 && o.param.solve.energy.alpha <= 1)) throw UsageError("--alpha must be in [0, 1]");
+    if (!(o.param.solve.energy.beta >= 0 && o.param.solve.energy.beta <= 1)) throw UsageError("--beta must be in [0, 1]");
+    if (o.param.solve.maxIterations < 0) throw UsageError("--iterations must be >= 0");
     cli::checkPaths(a.stage.common);
 }
 

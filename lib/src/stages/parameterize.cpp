@@ -73,8 +73,8 @@ nlohmann::json makeReport(const ParameterizeSettings& s, const Asset& asset, con
                     {"triangles", asset.mesh.triangleCount()},
                     {"levels", multires.levels.size()}};
     rep["output"] = s.common.output;
-    rep["options"] = {{"size", o.textureSize}, {"alpha", o.alpha}, {"beta", o.beta}, {"maxCharts", o.charts.maxCharts},
-                      {"iterations", o.maxIterations}};
+    rep["options"] = {{"size", o.textureSize}, {"alpha", o.solve.energy.alpha}, {"beta", o.solve.energy.beta}, {"maxCharts", o.charts.maxCharts},
+                      {"iterations", o.solve.maxIterations}};
     rep["charts"] = charts;
     nlohmann::json levels = nlohmann::json::array();
     for (size_t k = 0; k < levelChecks.size(); ++k)

@@ -42,14 +42,14 @@ nlohmann::json makeReport(const TextureRefineSettings& s, const Asset& asset, co
         overlaps += r.measure.overlaps;
     }
     nlohmann::json ranks = nlohmann::json::array(), textures = nlohmann::json::array();
-    const double rSize = resolutionModifier(o.size);
+    const double rSize = resolutionModifier(o.param.textureSize);
     for (const RankResult& r : res.ranks) {
         nlohmann::json j = {{"rank", r.rank},
                             {"validLevels", {r.firstLevel, r.lastLevel}},
                             {"regions", r.regions},
                             {"charts", r.layout.chartCount},
                             {"levelIslands", r.layout.islands.size()},
-                            {"resolution", o.size},
+                            {"resolution", o.param.textureSize},
                             {"refined", measureJson(r.measure, rSize)},
                             {"T0", measureJson(r.base, rSize)},
                             {"lowerE", r.measure.energy.E < r.base.energy.E},
@@ -58,7 +58,7 @@ nlohmann::json makeReport(const TextureRefineSettings& s, const Asset& asset, co
             j["parameterize"] = {{"flips", r.chartFlips}, {"overlaps", r.chartOverlaps}, {"levelFlipsInSolve", r.levelFlipsInSolve},
                                  {"methods", r.methods}, {"resplits", r.resplits}, {"unsplitCharts", r.unsplit},
                                  {"seconds", r.parameterizeSeconds}};
-            j["comparison"] = "T0 measured over the same levels at the same texel count (" + std::to_string(o.size) +
+            j["comparison"] = "T0 measured over the same levels at the same texel count (" + std::to_string(o.param.textureSize) +
                               "^2 texels each)";
         }
         ranks.push_back(j);
@@ -84,10 +84,10 @@ nlohmann::json makeReport(const TextureRefineSettings& s, const Asset& asset, co
     rep["input"] = {{"path", s.common.input}, {"triangles", asset.mesh.triangleCount()}, {"levels", multires.levels.size()},
                     {"charts", multires.charts.chartCount}};
     rep["output"] = s.common.output;
-    rep["options"] = {{"size", o.size}, {"sizes", o.sizes}, {"ranks", o.ranks},
+    rep["options"] = {{"size", o.param.textureSize}, {"sizes", o.sizes}, {"ranks", o.ranks},
                       {"minRefinedSize", o.minRefinedSize}, {"keepLevelTrianglesWhole", o.keepLevelTrianglesWhole},
                       {"minStdDev", o.minAreaRatioStdDev}, {"maxExtraCuts", o.maxExtraCutFraction},
-                      {"split", o.splitPerChart}, {"alpha", o.alpha}, {"beta", o.beta}, {"iterations", o.maxIterations}};
+                      {"split", o.splitPerChart}, {"alpha", o.param.solve.energy.alpha}, {"beta", o.param.solve.energy.beta}, {"iterations", o.param.solve.maxIterations}};
     rep["levelNumbering"] = "0 = original mesh, k = multires level k (coarser as k grows); a texture is valid for levels validLevels[0]..validLevels[1]";
     rep["energyDefinition"] = "E = beta E_pixel + (1 - beta) E_poly over the layout's charts in model-unit UVs, pairs of the "
                               "levels served, r = 512^2 / texels; areaRatioStdDev over the triangles of the levels served";
@@ -104,7 +104,7 @@ nlohmann::json makeReport(const TextureRefineSettings& s, const Asset& asset, co
 
 std::string statistics(const TextureRefineSettings& s, const RefineResult& res, double writeSeconds) {
     std::string out;
-    const double rSize = resolutionModifier(s.refine.size);
+    const double rSize = resolutionModifier(s.refine.param.textureSize);
     for (const RankResult& r : res.ranks)
         appendf(out, "rank %u: levels %u..%u, %u charts, E %.6g (T0 %.6g), area-ratio std-dev %.4f (T0 %.4f), flips %zu, overlaps %zu\n",
                 r.rank, r.firstLevel, r.lastLevel, r.layout.chartCount, r.measure.energy.E * rSize,
@@ -124,7 +124,7 @@ StageResult runTextureRefine(const TextureRefineSettings& s) {
     if (multires->charts.empty()) throw Impossible(s.common.input + ": no chart layout; run parameterize first");
 
     RefineOptions opt = s.refine;
-    opt.threads = s.common.threads;
+    opt.param.threads = s.common.threads;
     opt.progress = s.common.progress;
     RefineResult res = refineTextures(asset, *multires, opt);
 

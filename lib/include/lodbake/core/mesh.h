@@ -19,6 +19,9 @@ namespace lodbake {
 
 using Tri = std::array<uint32_t, 3>;
 
+// True when a triangle repeats a vertex index: it has no area and no edges of its own.
+inline bool degenerateIndices(const Tri& t) { return t[0] == t[1] || t[1] == t[2] || t[0] == t[2]; }
+
 // Per-wedge attribute arrays; an array is either empty (attribute absent) or wedgeCount long.
 struct Wedges {
     std::vector<uint32_t> vertex;  // welded vertex index of each wedge (always present)

@@ -1,10 +1,10 @@
-// pack: the final glTF LOD chain (issue 5). From a parameterized multiresolution asset, every
+// pack: the final glTF LOD chain. From a parameterized multiresolution asset, every
 // level (LOD0 = the original triangles, LOD k = multires level k) gets its own atlas page: the
 // charts of its layout repacked at the texel density the level can show, the ORIGINAL appearance
 // baked into it (bakeBaseColor, pull-push gap fill), one mesh / one material / one draw call per
 // level. The layout is T0 (multires.charts) or, when texture-refine added a texture hierarchy
 // (multires.textures), the highest-rank texture valid for the level that the hierarchy offers at
-// the page side the level needs (issue 7).
+// the page side the level needs.
 // Screen coverage thresholds come from each level's measured two-sided Hausdorff distance to
 // the original.
 #pragma once
