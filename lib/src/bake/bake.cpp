@@ -390,7 +390,7 @@ BakeResult bakeBaseColor(const BakeSources& bs, const std::vector<std::array<Vec
     std::vector<uint8_t> rgb8(res.pixels.size());
     for (size_t i = 0; i < texels; ++i)
         for (int c = 0; c < 3; ++c) {
-            double v = linearToSrgb(px[i * 4 + size_t(c)]);
+            double v = linearToSrgb(double(px[i * 4 + size_t(c)]));
             uint8_t b = uint8_t(std::lround(v * 255));
             rgb8[i * 3 + size_t(c)] = b;
             res.pixels[i * 3 + size_t(c)] = float(b) / 255.0f;

@@ -1,4 +1,5 @@
-// The sRGB transfer function (IEC 61966-2-1), both directions, for float or double channels.
+// The sRGB transfer function (IEC 61966-2-1), both directions, computed in the argument's type
+// (float or double: convert a float channel to double for double precision).
 // glTF base-colour textures and vertex-colour-free outputs are sRGB-encoded; shading happens in
 // linear light.
 #pragma once
