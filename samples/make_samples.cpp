@@ -12,10 +12,7 @@
 // Every mesh is welded: positions shared across UV seams and material boundaries are computed
 // from the same integer lattice coordinates, so they are bit-identical and weld. Each wedge carries
 // a normal and uv0. Images are drawn procedurally (checkerboard + a 7-segment digit in distinct
-// colours) and PNG-encoded in memory with OpenImageIO.
-#include <OpenImageIO/filesystem.h>
-#include <OpenImageIO/imageio.h>
-
+// colours) and PNG-encoded in memory (lodbake/texture/codec.h).
 #include <cmath>
 #include <filesystem>
 #include <iostream>
@@ -25,6 +22,7 @@
 #include "common/cli.h"
 #include "lodbake/core/errors.h"
 #include "lodbake/gltf/gltf.h"
+#include "lodbake/texture/codec.h"
 
 namespace lodbake {
 namespace {
@@ -78,23 +76,6 @@ void drawCell(std::vector<uint8_t>& px, int width, int x0, int y0, int w, int h,
             p[1] = col.g;
             p[2] = col.b;
         }
-}
-
-Image encodePng(const std::string& name, int width, int height, const std::vector<uint8_t>& rgb) {
-    std::vector<unsigned char> bytes;
-    OIIO::Filesystem::IOVecOutput proxy(bytes);
-    auto out = OIIO::ImageOutput::create("image.png", &proxy);
-    OIIO::ImageSpec spec(width, height, 3, OIIO::TypeDesc::UINT8);
-    if (!out || !out->open("image.png", spec) || !out->write_image(OIIO::TypeDesc::UINT8, rgb.data()) || !out->close())
-        throw SolverError("cannot encode PNG for " + name + ": " + (out ? out->geterror() : OIIO::geterror()));
-    Image img;
-    img.name = name;
-    img.mimeType = "image/png";
-    img.encoded.assign(bytes.begin(), bytes.end());
-    img.width = width;
-    img.height = height;
-    img.channels = 3;
-    return img;
 }
 
 // Adds an image, a texture using it and a material using the texture; returns the material index.
@@ -187,7 +168,7 @@ Asset makeHemisphere9(double scale) {
         const int S = 128;
         std::vector<uint8_t> px(S * S * 3);
         drawCell(px, S, 0, 0, S, S, m, m + 1);
-        addTexturedMaterial(asset, "patch" + std::to_string(m + 1), encodePng("patch" + std::to_string(m + 1), S, S, px));
+        addTexturedMaterial(asset, "patch" + std::to_string(m + 1), encodePng(px, S, S, "patch" + std::to_string(m + 1)));
     }
     const int nLat = scaled(80, scale, 2), nLon = scaled(120, scale, 3);  // full-sphere counts; the hemisphere uses half the rings
     const int i0 = nLat / 2, rings = nLat - i0;
@@ -222,7 +203,7 @@ Asset makeWall5(double scale) {
         const int S = 128;
         std::vector<uint8_t> px(S * S * 3);
         drawCell(px, S, 0, 0, S, S, 2 * m + 1, m + 1);
-        addTexturedMaterial(asset, "strip" + std::to_string(m + 1), encodePng("strip" + std::to_string(m + 1), S, S, px));
+        addTexturedMaterial(asset, "strip" + std::to_string(m + 1), encodePng(px, S, S, "strip" + std::to_string(m + 1)));
     }
     const int nx = scaled(50, scale, 5), ny = scaled(50, scale, 1);
     auto height = [](double x, double y) { return 0.04 * std::sin(3 * kPi * x) * std::cos(2 * kPi * y) + 0.02 * std::sin(7 * x + 5 * y); };
@@ -295,7 +276,7 @@ Asset makeSeamball(double scale) {
     const int C = 128, W = 3 * C, H = 2 * C;
     std::vector<uint8_t> px(static_cast<size_t>(W) * H * 3);
     for (int f = 0; f < 6; ++f) drawCell(px, W, (f % 3) * C, (f / 3) * C, C, C, f * 2, f + 1);
-    int mat = addTexturedMaterial(asset, "seamball", encodePng("seamball", W, H, px));
+    int mat = addTexturedMaterial(asset, "seamball", encodePng(px, W, H, "seamball"));
     asset.samplers[0].wrapS = asset.samplers[0].wrapT = 33071;  // clamp: islands must not bleed across
     const int n = scaled(20, scale, 2), h = n / 2;
     // Face frames: origin corner + two axes on the integer lattice; normal = cross(du, dv) outward.

@@ -11,6 +11,9 @@
 #include <cmath>
 #include <limits>
 
+#include "lodbake/texture/color_space.h"
+#include "lodbake/texture/texture_transform.h"
+
 namespace lodbake {
 namespace {
 
@@ -120,20 +123,6 @@ void sampleTexture(const MipImage& mip, Vec2 uv, Vec2 duvdx, Vec2 duvdy, int wra
     }
 }
 
-// KHR_texture_transform: uv' = offset + R(rotation) * S(scale) * uv (glTF extension spec matrices).
-Vec2 applyTransform(const TextureTransform& t, Vec2 uv, bool linearOnly) {
-    if (!t.present) return uv;
-    double c = std::cos(t.rotation), s = std::sin(t.rotation);
-    double su = uv.x * t.scale.x, sv = uv.y * t.scale.y;
-    Vec2 r{c * su + s * sv, -s * su + c * sv};
-    return linearOnly ? r : r + t.offset;
-}
-
-float linearToSrgb(float c) {
-    c = std::fmin(std::fmax(c, 0.f), 1.f);
-    return c <= 0.0031308f ? c * 12.92f : 1.055f * std::pow(c, 1 / 2.4f) - 0.055f;
-}
-
 // Per-triangle material data resolved once.
 struct TriMaterial {
     Vec4 factor{1, 1, 1, 1};
@@ -225,7 +214,7 @@ CornerAttributes cornerAttributes(const TriMesh& mesh, size_t t, const TriMateri
         const std::vector<Vec2>& set = mat.texCoord == 1 ? mesh.wedges.uv1 : mesh.wedges.uv0;
         if (set.size() != mesh.wedges.size()) at.textured = false;
         else
-            for (int k = 0; k < 3; ++k) at.uv[k] = applyTransform(*mat.transform, set[(*cw)[k]], false);
+            for (int k = 0; k < 3; ++k) at.uv[k] = applyTextureTransform(*mat.transform, set[(*cw)[k]]);
     }
     at.colored = !shaded && cw != nullptr && mesh.wedges.color.size() == mesh.wedges.size() && !mesh.wedges.color.empty();
     if (at.colored)
