@@ -7,7 +7,7 @@
 //   seamball.glb     closed cube-sphere, 6 separate UV islands in one 384x256 texture; 4,800 triangles
 //   pbrscene.glb     every material channel: a dome with base colour, metallic-roughness,
 //                    occlusion (TEXCOORD_1), emissive and normal maps on a plate whose bumps live
-//                    only in its normal map, before an alpha-masked double-sided panel; ~7.2k triangles
+//                    only in its normal map, before an alpha-masked double-sided panel; 7,488 triangles
 //
 // `--scale S` multiplies every grid's resolution by S (about S^2 times the triangles) for
 // benchmarks; S = 1 gives the samples above.
@@ -15,10 +15,7 @@
 // Every mesh is welded: positions shared across UV seams and material boundaries are computed
 // from the same integer lattice coordinates, so they are bit-identical and weld. Each wedge carries
 // a normal and uv0. Images are drawn procedurally (checkerboard + a 7-segment digit in distinct
-// colours) and PNG-encoded in memory with OpenImageIO.
-#include <OpenImageIO/filesystem.h>
-#include <OpenImageIO/imageio.h>
-
+// colours) and PNG-encoded in memory (lodbake/texture/codec.h).
 #include <cmath>
 #include <filesystem>
 #include <functional>
@@ -30,6 +27,7 @@
 #include "lodbake/core/errors.h"
 #include "lodbake/core/tangents.h"
 #include "lodbake/gltf/gltf.h"
+#include "lodbake/texture/codec.h"
 
 namespace lodbake {
 namespace {
@@ -83,23 +81,6 @@ void drawCell(std::vector<uint8_t>& px, int width, int x0, int y0, int w, int h,
             p[1] = col.g;
             p[2] = col.b;
         }
-}
-
-Image encodePng(const std::string& name, int width, int height, const std::vector<uint8_t>& rgb, int channels = 3) {
-    std::vector<unsigned char> bytes;
-    OIIO::Filesystem::IOVecOutput proxy(bytes);
-    auto out = OIIO::ImageOutput::create("image.png", &proxy);
-    OIIO::ImageSpec spec(width, height, channels, OIIO::TypeDesc::UINT8);
-    if (!out || !out->open("image.png", spec) || !out->write_image(OIIO::TypeDesc::UINT8, rgb.data()) || !out->close())
-        throw SolverError("cannot encode PNG for " + name + ": " + (out ? out->geterror() : OIIO::geterror()));
-    Image img;
-    img.name = name;
-    img.mimeType = "image/png";
-    img.encoded.assign(bytes.begin(), bytes.end());
-    img.width = width;
-    img.height = height;
-    img.channels = channels;
-    return img;
 }
 
 // Adds an image, a texture using it and a material using the texture; returns the material index.
@@ -192,7 +173,7 @@ Asset makeHemisphere9(double scale) {
         const int S = 128;
         std::vector<uint8_t> px(S * S * 3);
         drawCell(px, S, 0, 0, S, S, m, m + 1);
-        addTexturedMaterial(asset, "patch" + std::to_string(m + 1), encodePng("patch" + std::to_string(m + 1), S, S, px));
+        addTexturedMaterial(asset, "patch" + std::to_string(m + 1), encodePng(px, S, S, "patch" + std::to_string(m + 1)));
     }
     const int nLat = scaled(80, scale, 2), nLon = scaled(120, scale, 3);  // full-sphere counts; the hemisphere uses half the rings
     const int i0 = nLat / 2, rings = nLat - i0;
@@ -227,7 +208,7 @@ Asset makeWall5(double scale) {
         const int S = 128;
         std::vector<uint8_t> px(S * S * 3);
         drawCell(px, S, 0, 0, S, S, 2 * m + 1, m + 1);
-        addTexturedMaterial(asset, "strip" + std::to_string(m + 1), encodePng("strip" + std::to_string(m + 1), S, S, px));
+        addTexturedMaterial(asset, "strip" + std::to_string(m + 1), encodePng(px, S, S, "strip" + std::to_string(m + 1)));
     }
     const int nx = scaled(50, scale, 5), ny = scaled(50, scale, 1);
     auto height = [](double x, double y) { return 0.04 * std::sin(3 * kPi * x) * std::cos(2 * kPi * y) + 0.02 * std::sin(7 * x + 5 * y); };
@@ -300,7 +281,7 @@ Asset makeSeamball(double scale) {
     const int C = 128, W = 3 * C, H = 2 * C;
     std::vector<uint8_t> px(static_cast<size_t>(W) * H * 3);
     for (int f = 0; f < 6; ++f) drawCell(px, W, (f % 3) * C, (f / 3) * C, C, C, f * 2, f + 1);
-    int mat = addTexturedMaterial(asset, "seamball", encodePng("seamball", W, H, px));
+    int mat = addTexturedMaterial(asset, "seamball", encodePng(px, W, H, "seamball"));
     asset.samplers[0].wrapS = asset.samplers[0].wrapT = 33071;  // clamp: islands must not bleed across
     const int n = scaled(20, scale, 2), h = n / 2;
     // Face frames: origin corner + two axes on the integer lattice; normal = cross(du, dv) outward.
@@ -337,7 +318,6 @@ Asset makeSeamball(double scale) {
     asset.mesh = mb.take();
     return asset;
 }
-
 
 // --- pbrscene: every material channel, with a ground truth for normal maps -------------------
 
@@ -376,7 +356,7 @@ Asset makePbrScene(double scale) {
     {
         std::vector<uint8_t> px(size_t(S) * S * 3);
         for (int c = 0; c < 4; ++c) drawCell(px, S, (c % 2) * S / 2, (c / 2) * S / 2, S / 2, S / 2, c * 3, c + 2);
-        body.baseColor.texture = addImage(asset, encodePng("body_baseColor", S, S, px));
+        body.baseColor.texture = addImage(asset, encodePng(px, S, S, "body_baseColor"));
         for (int y = 0; y < S; ++y)
             for (int x = 0; x < S; ++x) {
                 uint8_t* p = &px[(size_t(y) * S + x) * 3];
@@ -385,7 +365,7 @@ Asset makePbrScene(double scale) {
                 p[1] = uint8_t(std::lround(255 * (0.15 + 0.75 * y / double(S))));  // roughness
                 p[2] = metal ? 255 : 0;                                            // metallic
             }
-        body.metallicRoughness.texture = addImage(asset, encodePng("body_metallicRoughness", S, S, px));
+        body.metallicRoughness.texture = addImage(asset, encodePng(px, S, S, "body_metallicRoughness"));
         for (int y = 0; y < S; ++y)
             for (int x = 0; x < S; ++x) {
                 const double d = std::fabs(std::fmod(y + 0.5, S / 4.0) - S / 8.0) / (S / 8.0);  // 1 at band centres
@@ -393,7 +373,7 @@ Asset makePbrScene(double scale) {
                 uint8_t* p = &px[(size_t(y) * S + x) * 3];
                 p[0] = p[1] = p[2] = o;
             }
-        body.occlusion.texture = addImage(asset, encodePng("body_occlusion", S, S, px));
+        body.occlusion.texture = addImage(asset, encodePng(px, S, S, "body_occlusion"));
         body.occlusion.texCoord = 1;
         for (int y = 0; y < S; ++y)
             for (int x = 0; x < S; ++x) {
@@ -404,11 +384,10 @@ Asset makePbrScene(double scale) {
                 p[1] = lit ? 170 : 0;
                 p[2] = lit ? 60 : 0;
             }
-        body.emissive.texture = addImage(asset, encodePng("body_emissive", S, S, px));
+        body.emissive.texture = addImage(asset, encodePng(px, S, S, "body_emissive"));
         body.emissiveFactor = {1, 1, 1};
-        body.normal.texture = addImage(asset, encodePng("body_normal", S, S, normalMapOf(S, 1.0, [&](double x, double) {
-                                                            return 2.0 * std::sin(2 * kPi * x * 12 / S);  // grooves across u
-                                                        })));
+        const auto grooves = [&](double x, double) { return 2.0 * std::sin(2 * kPi * x * 12 / S); };  // across u
+        body.normal.texture = addImage(asset, encodePng(normalMapOf(S, 1.0, grooves), S, S, "body_normal"));
     }
     // Plate material: flat geometry, bumps only in the normal map.
     Material plate;
@@ -425,13 +404,14 @@ Asset makePbrScene(double scale) {
                 p[1] = check ? 190 : 140;
                 p[2] = check ? 170 : 120;
             }
-        plate.baseColor.texture = addImage(asset, encodePng("bumps_baseColor", S, S, px));
+        plate.baseColor.texture = addImage(asset, encodePng(px, S, S, "bumps_baseColor"));
         const double cell = S / 8.0, radius = 0.38 * cell;
-        plate.normal.texture = addImage(asset, encodePng("bumps_normal", S, S, normalMapOf(S, 1.0, [&](double x, double y) {
-                                                             const double dx = std::fmod(x, cell) - cell / 2, dy = std::fmod(y, cell) - cell / 2;
-                                                             const double r2 = radius * radius - dx * dx - dy * dy;
-                                                             return r2 > 0 ? std::sqrt(r2) : 0.0;  // hemispherical bumps
-                                                         })));
+        const auto bumps = [&](double x, double y) {  // hemispherical bumps
+            const double dx = std::fmod(x, cell) - cell / 2, dy = std::fmod(y, cell) - cell / 2;
+            const double r2 = radius * radius - dx * dx - dy * dy;
+            return r2 > 0 ? std::sqrt(r2) : 0.0;
+        };
+        plate.normal.texture = addImage(asset, encodePng(normalMapOf(S, 1.0, bumps), S, S, "bumps_normal"));
     }
     // Panel material: alpha-masked holes, double-sided.
     Material panel;
@@ -453,7 +433,7 @@ Asset makePbrScene(double scale) {
                 p[2] = c.b;
                 p[3] = std::hypot(u, v) < 0.33 ? 0 : 255;
             }
-        panel.baseColor.texture = addImage(asset, encodePng("lattice_baseColor", S, S, px, 4));
+        panel.baseColor.texture = addImage(asset, encodePng(px, S, S, "lattice_baseColor", 4));
     }
     asset.materials = {body, plate, panel};
 

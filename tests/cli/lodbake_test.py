@@ -68,6 +68,24 @@ def make_samples(out_dir):
     return out_dir
 
 
+NODE_MODULES = os.path.join(SOURCE, "scripts/node/node_modules")
+CHROMIUM = os.environ.get("CHROMIUM", "/usr/bin/chromium")
+
+
+def require_browser_chain(node_modules):
+    """Skips unless the chain tools, Debian's chromium, node and these scripts/node modules exist."""
+    for t in ("simplify", "parameterize", "pack", "make-samples"):
+        if not os.path.exists(tool(t)):
+            skip(t + " is not built")
+    if not os.path.exists(CHROMIUM):
+        skip("chromium is missing (apt-get install chromium; scripts/setup-debian.sh)")
+    if shutil.which("node") is None:
+        skip("node is missing")
+    for m in node_modules:
+        if not os.path.isdir(os.path.join(NODE_MODULES, m)):
+            skip("scripts/node/node_modules/%s is missing (cd scripts/node && npm ci)" % m)
+
+
 VALIDATOR = os.path.join(SOURCE, "scripts/node/validate.js")
 
 

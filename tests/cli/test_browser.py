@@ -19,9 +19,9 @@ import unittest
 sys.path.insert(0, os.path.dirname(__file__))
 import lodbake_test as lt  # noqa: E402
 
-NODE_MODULES = os.path.join(lt.SOURCE, "scripts/node/node_modules")
+NODE_MODULES = lt.NODE_MODULES
 BROWSER_DIR = os.path.join(lt.SOURCE, "tests/browser")
-CHROMIUM = os.environ.get("CHROMIUM", "/usr/bin/chromium")
+CHROMIUM = lt.CHROMIUM
 
 
 class QuietHandler(http.server.SimpleHTTPRequestHandler):
@@ -32,16 +32,7 @@ class QuietHandler(http.server.SimpleHTTPRequestHandler):
 class BrowserChain(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
-        for t in ("simplify", "parameterize", "pack", "make-samples"):
-            if not os.path.exists(lt.tool(t)):
-                lt.skip(t + " is not built")
-        if not os.path.exists(CHROMIUM):
-            lt.skip("chromium is missing (apt-get install chromium; scripts/setup-debian.sh)")
-        if shutil.which("node") is None:
-            lt.skip("node is missing")
-        for m in ("babylonjs", "babylonjs-loaders", "playwright-core", "draco3dgltf"):
-            if not os.path.isdir(os.path.join(NODE_MODULES, m)):
-                lt.skip("scripts/node/node_modules/%s is missing (cd scripts/node && npm ci)" % m)
+        lt.require_browser_chain(("babylonjs", "babylonjs-loaders", "playwright-core", "draco3dgltf"))
         cls.dir = lt.work_dir("browser")
         site = os.path.join(cls.dir, "site")
         os.makedirs(site)

@@ -91,7 +91,7 @@ TEST(RefineMeasure, T0IsInjectiveOnTheOriginalAndEnergyGrowsWithLevels) {
 TEST(RefineHierarchy, RanksLowerEnergyAndAreaRatioSpread) {
     const Parameterized& p = hemisphereAsset();
     RefineOptions o;
-    o.size = 256;
+    o.param.textureSize = 256;
     o.sizes = {64, 128};
     o.minRefinedSize = 0;
     RefineResult r = refineTextures(p.asset, p.mr, o);
@@ -134,7 +134,7 @@ TEST(RefineHierarchy, RanksLowerEnergyAndAreaRatioSpread) {
 
     // Deterministic, whatever the number of threads.
     RefineOptions o2 = o;
-    o2.threads = 2;
+    o2.param.threads = 2;
     RefineResult again = refineTextures(p.asset, p.mr, o2);
     ASSERT_EQ(again.ranks.size(), r.ranks.size());
     for (size_t j = 0; j < r.ranks.size(); ++j) {

@@ -10,10 +10,7 @@
 #include <filesystem>
 #include <iostream>
 #include <sstream>
-#include <thread>
 
-#include "lodbake/core/errors.h"
-#include "lodbake/gltf/gltf.h"
 
 namespace lodbake::cli {
 
@@ -55,7 +52,7 @@ void ArgParser::positionals(const std::string& names, std::function<void(const s
     positional_ = std::move(handler);
 }
 
-void ArgParser::addCommon(CommonSettings& s, bool needsOutput) {
+void ArgParser::addCommon(StageCommon& s, bool& quiet, bool needsOutput) {
     option("-i,--input", "FILE", "input glTF (.gltf or .glb)", [&s](const std::string& v) { s.input = v; });
     if (needsOutput)
         option("-o,--output", "FILE", "output file; .glb or .gltf (+ .bin) chosen by its extension",
@@ -68,7 +65,7 @@ void ArgParser::addCommon(CommonSettings& s, bool needsOutput) {
                s.threads = parseInt("--threads", v);
                if (s.threads < 0) throw UsageError("--threads must be >= 0");
            });
-    flag("-q,--quiet", "no progress on stderr, even on a terminal", [&s] { s.quiet = true; });
+    flag("-q,--quiet", "no progress on stderr, even on a terminal", [&quiet] { quiet = true; });
 }
 
 bool ArgParser::parse(int argc, char** argv) {
@@ -171,6 +168,24 @@ std::vector<double> parseVec3(const std::string& flag, const std::string& v) {
     return out;
 }
 
+std::string number(double v) {
+    std::ostringstream os;
+    os << v;
+    return os.str();
+}
+
+int exitCodeFor(ErrorKind kind) {
+    switch (kind) {
+        case ErrorKind::Usage: return kUsage;
+        case ErrorKind::IO: return kBadInput;
+        case ErrorKind::InvalidInput: return kBadInput;
+        case ErrorKind::Unsupported: return kBadInput;
+        case ErrorKind::Impossible: return kImpossible;
+        case ErrorKind::Solver: return kInternal;
+    }
+    return kInternal;
+}
+
 int runTool(const std::string& tool, const std::function<int()>& body) {
     try {
         return body();
@@ -188,7 +203,7 @@ int runTool(const std::string& tool, const std::function<int()>& body) {
     }
 }
 
-void checkPaths(const CommonSettings& s, const std::vector<std::string>& allowedExt) {
+void checkPaths(const StageCommon& s, const std::vector<std::string>& allowedExt) {
     namespace fs = std::filesystem;
     if (s.input.empty()) throw UsageError("missing input (-i FILE)");
     if (s.output.empty()) throw UsageError("missing output (-o FILE)");
@@ -215,10 +230,6 @@ void checkPaths(const CommonSettings& s, const std::vector<std::string>& allowed
     }
 }
 
-void writeReport(const std::string& path, const nlohmann::json& report) {
-    writeFileAtomic(path, report.dump(2) + "\n");
-}
-
 Progress::Progress(std::string stage, bool enabled) : stage_(std::move(stage)), enabled_(enabled) {}
 
 Progress::~Progress() { done(); }
@@ -241,22 +252,10 @@ void Progress::done() {
     }
 }
 
-bool progressEnabled(const CommonSettings& s) { return !s.quiet && isatty(STDERR_FILENO); }
+bool progressEnabled(bool quiet) { return !quiet && isatty(STDERR_FILENO); }
 
-int resolveThreads(int requested) {
-    if (requested > 0) return requested;
-    unsigned n = std::thread::hardware_concurrency();
-    return n ? static_cast<int>(n) : 1;
-}
-
-Asset loadInput(const std::string& tool, const CommonSettings& s, double& seconds, std::optional<Multires>* multires,
-                void (*check)(Asset&)) {
-    auto t0 = std::chrono::steady_clock::now();
-    Asset asset = readGltf(s.input, {}, multires);
-    if (check) check(asset);
-    seconds = secondsSince(t0);
-    for (const std::string& w : asset.warnings) std::cerr << tool << " warning: " << w << "\n";
-    return asset;
+void printWarning(const std::string& tool, const std::string& message) {
+    std::cerr << tool << " warning: " << message << "\n";
 }
 
 }  // namespace lodbake::cli

@@ -1,39 +1,32 @@
-// The CLI kit every lodbake tool uses (STYLE.md practice 9): option groups, the reporter,
-// exit codes, JSON reports, progress on a terminal.
+// The CLI kit every lodbake tool uses (STYLE.md practice 9): option groups, the reporter, the
+// exit-code table, progress on a terminal. The tools' work itself is in the stages
+// (lodbake/stages/*.h); a tool's main parses flags into a stage's settings, validates them and
+// runs the stage through runTool, which maps the errors of lodbake/core/errors.h to exit codes.
 //
-// Exit codes (DESIGN.md, "Command-line contract"):
+// Exit codes (DESIGN.md, "Command-line contract"), the one table of lodbake:
 //   0 success
-//   1 usage error (unknown flag, bad value, missing -i/-o)
-//   2 unreadable or invalid input (missing file, malformed glTF, unsupported required extension)
-//   3 the input is valid but the operation is impossible (the message says why)
-//   4 internal or solver failure
+//   1 usage error (unknown flag, bad value, missing -i/-o)                      UsageError
+//   2 unreadable or invalid input (missing file, malformed glTF, unsupported    IOError, InvalidInput,
+//     required extension)                                                       Unsupported
+//   3 the input is valid but the operation is impossible (the message says why) Impossible
+//   4 internal or solver failure                                                SolverError, any other
 #pragma once
 
-#include <chrono>
+#include <cstdio>
 #include <functional>
-#include <map>
-#include <optional>
+#include <iostream>
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
-#include "lodbake/core/mesh.h"
-#include "lodbake/core/multires.h"
+#include "lodbake/core/errors.h"
+#include "lodbake/stages/stage.h"
 
 namespace lodbake::cli {
 
 enum ExitCode { kOk = 0, kUsage = 1, kBadInput = 2, kImpossible = 3, kInternal = 4 };
 
-// Flags every tool shares.
-struct CommonSettings {
-    std::string input;   // -i
-    std::string output;  // -o
-    std::string report;  // --report FILE.json
-    int verbose = 0;     // -v (stats on stdout), -vv
-    int threads = 0;     // --threads N; 0 = all cores
-    bool quiet = false;  // --quiet: no progress even on a terminal
-};
+// The exit code of an error kind (the table above).
+int exitCodeFor(ErrorKind kind);
 
 // A minimal declarative flag parser. Unknown flags are fatal (UsageError).
 class ArgParser {
@@ -46,8 +39,8 @@ public:
     void flag(const std::string& names, const std::string& help, std::function<void()> handler);
     // Positional arguments (tools such as compare); if not set, positionals are usage errors.
     void positionals(const std::string& names, std::function<void(const std::string&)> handler);
-    // Adds -i, -o, --report, -v/-vv, --threads, --quiet bound to `s`.
-    void addCommon(CommonSettings& s, bool needsOutput = true);
+    // Adds -i, -o, --report, -v/-vv, --threads bound to `s`, and -q/--quiet bound to `quiet`.
+    void addCommon(StageCommon& s, bool& quiet, bool needsOutput = true);
     // Replaces the standard exit-code table at the end of --help (for tools whose codes differ).
     void exitCodes(std::string text) { exitCodes_ = std::move(text); }
     // Parses argv. Returns false when --help or --version was handled (exit 0).
@@ -76,6 +69,9 @@ int parseInt(const std::string& flag, const std::string& v);
 std::vector<double> parseDoubleList(const std::string& flag, const std::string& v);
 std::vector<double> parseVec3(const std::string& flag, const std::string& v);
 
+// A default value as help texts print it: "0.8", "0.005", "100000".
+std::string number(double v);
+
 // Runs `body` inside the single try/catch that maps lodbake errors to exit codes and prints
 // "TOOL error: message" (one line) on stderr. Usage errors add "See 'TOOL --help'.".
 int runTool(const std::string& tool, const std::function<int()>& body);
@@ -91,24 +87,9 @@ int runMain(const std::string& tool, int argc, char** argv, Settings (*parse)(in
     });
 }
 
-// Reads the tool's input (-i) and, when `multires` is given, its LODBAKE_multires extension;
-// `check`, when given, runs on the asset as part of loading (tools that use the images pass
-// lodbake::checkImages here; the others keep images encoded and never load OpenImageIO); prints
-// the reader's warnings on stderr ("TOOL warning: ..."); `seconds` gets the load time.
-Asset loadInput(const std::string& tool, const CommonSettings& s, double& seconds,
-                std::optional<Multires>* multires = nullptr, void (*check)(Asset&) = nullptr);
-
-// Seconds of wall time since t0 (the tools' per-stage report times).
-inline double secondsSince(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
 // Validates -i/-o before any heavy work: input exists, output extension is .glb/.gltf (or any of
 // `allowedExt`), output folder exists. Throws UsageError / IOError.
-void checkPaths(const CommonSettings& s, const std::vector<std::string>& allowedExt = {".glb", ".gltf"});
-
-// Writes a JSON report atomically (pretty-printed, keys sorted, deterministic).
-void writeReport(const std::string& path, const nlohmann::json& report);
+void checkPaths(const StageCommon& s, const std::vector<std::string>& allowedExt = {".glb", ".gltf"});
 
 // Progress printer: draws on stderr only when stderr is a terminal and !quiet.
 class Progress {
@@ -123,9 +104,25 @@ private:
     bool enabled_;
     int last_ = -1;
 };
-bool progressEnabled(const CommonSettings& s);
 
-// Number of threads to use for `--threads N` (0 -> hardware concurrency).
-int resolveThreads(int requested);
+// Progress is drawn when stderr is a terminal and --quiet was not given.
+bool progressEnabled(bool quiet);
+
+// Prints "TOOL warning: message" on stderr.
+void printWarning(const std::string& tool, const std::string& message);
+
+// Runs a stage for `tool` with the progress printer (see progressEnabled) and the warning printer
+// installed in settings.common, then prints the stage's statistics on stdout. Returns kOk; the
+// stage's errors propagate to runTool.
+template <class Settings, class Stage>
+int runStage(const std::string& tool, Settings settings, bool quiet, Stage stage) {
+    Progress progress(tool, progressEnabled(quiet));
+    settings.common.progress = [&progress](double f) { return progress(f); };
+    settings.common.warning = [&tool](const std::string& w) { printWarning(tool, w); };
+    StageResult result = stage(settings);
+    progress.done();
+    std::fputs(result.statistics.c_str(), stdout);
+    return kOk;
+}
 
 }  // namespace lodbake::cli

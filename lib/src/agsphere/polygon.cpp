@@ -18,6 +18,8 @@
 #include <numeric>
 #include <unordered_map>
 
+#include "lodbake/core/adjacency.h"
+
 namespace lodbake {
 namespace {
 
@@ -208,11 +210,6 @@ bool pointInTriangle(Vec2 a, Vec2 b, Vec2 c, Vec2 p) {
     return orient(a, b, p) >= 0 && orient(b, c, p) >= 0 && orient(c, a, p) >= 0;
 }
 
-uint64_t idKey(uint32_t a, uint32_t b) {
-    if (a > b) std::swap(a, b);
-    return (uint64_t(a) << 32) | b;
-}
-
 bool clipEars(Ring& ring, uint32_t start, std::vector<Tri>& out, const std::function<bool(uint32_t, uint32_t)>& allow,
               const std::function<bool(uint32_t, uint32_t, uint32_t)>& allowTriangle) {
     size_t count = 0;
@@ -230,7 +227,7 @@ bool clipEars(Ring& ring, uint32_t start, std::vector<Tri>& out, const std::func
     std::unordered_map<uint64_t, uint32_t> edges;  // current ring edges (undirected id pairs)
     for (uint32_t i = start;;) {
         grid.insert(ring.nodes[i].p, ring.nodes[i].p, i);
-        ++edges[idKey(ring.nodes[i].id, ring.nodes[ring.nodes[i].next].id)];
+        ++edges[edgeKey(ring.nodes[i].id, ring.nodes[ring.nodes[i].next].id)];
         i = ring.nodes[i].next;
         if (i == start) break;
     }
@@ -240,7 +237,7 @@ bool clipEars(Ring& ring, uint32_t start, std::vector<Tri>& out, const std::func
         const Node& X = ring.nodes[N.next];
         if (orient(P.p, N.p, X.p) <= minArea) return false;
         if (count > 3) {
-            auto it = edges.find(idKey(P.id, X.id));
+            auto it = edges.find(edgeKey(P.id, X.id));
             if (it != edges.end() && it->second > 0) return false;
             if (allow && !allow(P.id, X.id)) return false;
         }
@@ -266,9 +263,9 @@ bool clipEars(Ring& ring, uint32_t start, std::vector<Tri>& out, const std::func
         if (isEar(cur)) {
             Node& N = ring.nodes[cur];
             tris.push_back({ring.nodes[N.prev].id, N.id, ring.nodes[N.next].id});
-            --edges[idKey(ring.nodes[N.prev].id, N.id)];
-            --edges[idKey(N.id, ring.nodes[N.next].id)];
-            ++edges[idKey(ring.nodes[N.prev].id, ring.nodes[N.next].id)];
+            --edges[edgeKey(ring.nodes[N.prev].id, N.id)];
+            --edges[edgeKey(N.id, ring.nodes[N.next].id)];
+            ++edges[edgeKey(ring.nodes[N.prev].id, ring.nodes[N.next].id)];
             N.alive = false;
             ring.nodes[N.prev].next = N.next;
             ring.nodes[N.next].prev = N.prev;

@@ -1,4 +1,4 @@
-// Atlas packing (pack, DESIGN.md "Tools").
+// Shape-aware page packing of `pack` (packAtlas). The T0 shelf packer is shelf_pack.cpp.
 //
 // References: Freeman & Shapira, "Determining the minimum-area encasing rectangle for an
 // arbitrary closed curve" (1975), minimum-area rectangle from a hull edge; bitmap ("tetris")
@@ -6,20 +6,22 @@
 //
 // Pipeline of packAtlas:
 //   1. chartOrientations: convex hull of each chart's UV points, minimum-area bounding rectangle;
+//      chartOrders: the chart orders tried;
 //   2. footprintsAt: chartMask rasterises each chart (conservatively) at the density and grows it
 //      by the gutter radius; the four quarter turns of the (block-rounded) mask, computed once per
 //      density and shared by every page tried;
-//   3. page size and density: packBitmap at the density limit into twenty strip widths (five for
-//      very many charts), three sorted chart orders plus eight shuffled ones (few charts) and two
-//      placement rules for free sizes (smallest page wins; the trials run on
+//   3. page size and density: packFreeSize runs packBitmap at the density limit into twenty strip
+//      widths (five for very many charts), three sorted chart orders plus eight shuffled ones (few
+//      charts) and two placement rules (smallest page wins; the trials run on
 //      AtlasOptions::threads threads, the winner is picked in trial order), then, for few charts,
-//      a local search of pairwise swaps on the winner's order (improveOrder); the largest
-//      power-of-two page not far above the need for --pot; binary search on the density when the
-//      charts do not fit; packBitmap places each chart at the lowest free position of each quarter
-//      turn (the lowest top edge, or the lowest centre of gravity, wins); no gutter along the page
-//      border (the samplers clamp to the edge); the search skips rows whose longest free run is
-//      shorter than the chart's row needs, and jumps over a whole occupied stretch on a collision;
-//   4. placementFor: the affine UV -> texel map of each chart; utilisation figures.
+//      a local search of pairwise swaps on the winner's order (improveOrder); packPowerOfTwo
+//      takes the largest power-of-two page not far above the need; densestFit searches the
+//      density when the charts do not fit. packBitmap places each chart at the lowest free
+//      position of each quarter turn (the lowest top edge, or the lowest centre of gravity, wins);
+//      no gutter along the page border (the samplers clamp to the edge); the search skips rows
+//      whose longest free run is shorter than the chart's row needs, and jumps over a whole
+//      occupied stretch on a collision;
+//   4. placeCharts: the affine UV -> texel map of each chart (placementFor); utilisation figures.
 #include "lodbake/atlas/atlas.h"
 
 #include <algorithm>
@@ -85,8 +87,8 @@ Oriented frameAt(const AtlasChart& chart, const std::vector<Vec2>& hull, double 
 }
 
 // The orientations a chart is tried in (each with the placement's four quarter turns): its
-// minimum-area rectangle. (Adding the 45-degree turn cost 3-8x the time and gained nothing on the
-// sample assets: Duck 66.5 -> 66.4%, CesiumMilkTruck 65.9 -> 66.0%, Avocado 64.2 -> 61.5%.)
+// minimum-area rectangle only (further angles cost time in proportion and pack no tighter; see
+// docs/benchmarks.md).
 std::vector<Oriented> chartOrientations(const AtlasChart& chart) {
     std::vector<Vec2> hull = convexHull(chart.points);
     double bestC = 1, bestS = 0, bestArea = 1e300;
@@ -458,7 +460,7 @@ std::optional<Packing> packBitmap(const Orientations& charts, const std::vector<
 // winner's strip width and rule (on `threads` threads); the swap giving the smallest page, if it
 // beats the best so far, is kept and the search goes on from it, for at most kOrderSweeps rounds.
 // `keep(packing)` takes a packing when it is the smallest page yet and says whether it did.
-// (Duck LOD0: 66.5 -> 69.7% utilisation; more random orders instead, even 1,024, reach 69.3%.)
+// It finds tighter pages than many more random orders would.
 template <class Keep>
 void improveOrder(const Footprints& fp, std::vector<size_t> order, int width, int maxSize, Placement rule, int threads, Keep&& keep) {
     std::vector<std::pair<size_t, size_t>> swaps;
@@ -536,17 +538,12 @@ std::array<double, 6> placementFor(const Oriented& c, const Slot& s, double t, i
     return m;
 }
 
-}  // namespace
-
-AtlasResult packAtlas(const std::vector<AtlasChart>& input, const AtlasOptions& options) {
-    // 1. Orientation.
-    Orientations turned;
-    std::vector<Oriented> charts;  // each chart's first orientation (sizes and orders)
-    turned.reserve(input.size());
-    for (const AtlasChart& c : input) {
-        turned.push_back(chartOrientations(c));
-        charts.push_back(turned.back()[0]);
-    }
+// The chart orders tried: largest rectangle first (ties: longest side), longest side first and
+// largest coverage first. With many charts the order matters less than the time it costs (the
+// hundreds of charts of coarse levels and CAD assemblies): only the first. With fewer,
+// kShuffledOrders shuffles of the first from a fixed seed (deterministic), which find nestings
+// the sorted orders miss.
+std::vector<std::vector<size_t>> chartOrders(const std::vector<Oriented>& charts) {
     std::vector<size_t> order(charts.size());
     std::iota(order.begin(), order.end(), size_t(0));
     std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
@@ -554,17 +551,11 @@ AtlasResult packAtlas(const std::vector<AtlasChart>& input, const AtlasOptions& 
         if (aa != ab) return aa > ab;
         return std::max(charts[a].w, charts[a].h) > std::max(charts[b].w, charts[b].h);
     });
-    // Other orders tried: longest side first, largest coverage first.
     std::vector<std::vector<size_t>> orders{order, order, order};
     std::stable_sort(orders[1].begin(), orders[1].end(), [&](size_t a, size_t b) {
         return std::max(charts[a].w, charts[a].h) > std::max(charts[b].w, charts[b].h);
     });
     std::stable_sort(orders[2].begin(), orders[2].end(), [&](size_t a, size_t b) { return charts[a].uvArea > charts[b].uvArea; });
-    // With many charts the order matters less than the time it costs (the hundreds of charts of
-    // coarse levels and CAD assemblies): only the first.
-    // With fewer, kShuffledOrders more: shuffles from a fixed seed (deterministic), which find the
-    // nestings the sorted orders miss (Avocado LOD0: 64.2 -> 67.1% utilisation; CesiumMilkTruck
-    // LOD0, 59 charts: 74.6 -> 75.1%, pack 3.6 -> 4.2 s).
     if (charts.size() > kManyChartsForOrders) orders.resize(1);
     else {
         uint64_t seed = 0x9e3779b97f4a7c15ull;
@@ -577,122 +568,104 @@ AtlasResult packAtlas(const std::vector<AtlasChart>& input, const AtlasOptions& 
             orders.push_back(o);
         }
     }
-    const int maxSize = std::max(8, options.maxSize);
-    int gutter = std::max(0, options.gutter);
-    double tMax = options.maxTexelsPerUnit;
+    return orders;
+}
 
-    // Gutters wider than the charts they separate (many small charts) cost more than the mips
-    // they protect: narrow them until they take at most half of the padded area.
-    while (gutter > 2 && paddedArea(charts, tMax, gutter) > 2 * paddedArea(charts, tMax, 0)) gutter /= 2;
+// The chosen packing: density, packing and page size.
+struct PagePick {
+    std::optional<std::pair<double, Packing>> best;  // density (texels per UV unit) and packing
+    int width = 0, height = 0;                       // page, texels
+};
 
-    // 2-3. Page and density.
-    std::optional<std::pair<double, Packing>> best;
-    int pageW = 0, pageH = 0;
-    for (;;) {
-        if (!options.powerOfTwo) {
-            // Packing at the density limit into strip widths around the side of the charts' padded
-            // area (their coverage plus a gutter ring), in the chart orders above; the smallest page
-            // (rounded to 4 texels) wins. (Growing
-            // the charts afterwards to fill that page gained nothing measurable at LOD0.)
-            double a = 0;
-            for (const Oriented& c : charts) a += std::pow(std::sqrt(c.uvArea) * tMax + gutter, 2);
-            const int scale = searchScale(std::sqrt(a));
-            Footprints fp = footprintsAt(turned, tMax, gutter, scale, options.threads);
-            double bestArea = 1e300;
-            // Both placement rules and every strip width, except for very many charts
-            // (2CylinderEngine: 2,500), where the second rule would double a search that already
-            // takes tens of seconds and every kManyChartsWidthStride-th width is tried: with that
-            // many charts the page area varies by under 0.5% across the widths (2CylinderEngine,
-            // every level; the pages of the five widths kept are at most 0.2% larger, pack 38 ->
-            // 26 s). (Charts whose padded area exceeds the page cannot fit at the density limit:
-            // straight to the density search.)
-            const bool manyCharts = charts.size() > kManyChartsForRules;
-            const std::vector<Placement> rules = manyCharts ? std::vector<Placement>{Placement::TopEdge}
-                                                            : std::vector<Placement>{Placement::TopEdge, Placement::Gravity};
-            const size_t widthStride = manyCharts ? kManyChartsWidthStride : 1;
-            auto stripWidth = [&](size_t k) { return std::clamp(int(std::ceil(std::sqrt(a) * kStripWidths[k])), 1, maxSize); };
-            // Every (rule, order, strip width) is packed on options.threads threads, each into its
-            // own slot; the smallest page is then chosen in that fixed order, so the result does
-            // not depend on the thread count.
-            struct Trial {
-                Placement rule;
-                size_t order;
-                int width;
-            };
-            std::vector<Trial> trials;
-            if (a <= double(maxSize) * maxSize)
-                for (Placement rule : rules)
-                    for (size_t o = 0; o < orders.size(); ++o)
-                        for (size_t k = 0; k < std::size(kStripWidths); k += widthStride)
-                            if (k == 0 || stripWidth(k) != stripWidth(k - widthStride)) trials.push_back({rule, o, stripWidth(k)});
-            std::vector<std::optional<Packing>> packed(trials.size());
-            parallelFor(trials.size(), options.threads, [&](size_t i) {
-                packed[i] = packBitmap(fp, orders[trials[i].order], trials[i].width, maxSize, trials[i].rule);
-            });
-            // The smallest page wins; on equal areas the squarer one, then the first tried.
-            auto keepIfSmaller = [&](std::optional<Packing>& p) {
-                if (!p) return false;
-                int pw = std::min(maxSize, (std::max(p->width, 4) + 3) / 4 * 4);
-                int ph = std::min(maxSize, (std::max(p->height, 4) + 3) / 4 * 4);
-                double area = double(pw) * ph + 1e-3 * std::max(pw, ph);
-                if (area >= bestArea) return false;
-                bestArea = area;
-                best = std::make_pair(tMax, std::move(*p));
-                pageW = pw;
-                pageH = ph;
-                return true;
-            };
-            size_t winner = trials.size();
-            for (size_t i = 0; i < packed.size(); ++i)
-                if (keepIfSmaller(packed[i])) winner = i;
-            if (winner < trials.size() && charts.size() > 2 && charts.size() <= kManyCharts)
-                improveOrder(fp, orders[trials[winner].order], trials[winner].width, maxSize, trials[winner].rule,
-                             options.threads, keepIfSmaller);
-            if (!best) {
-                best = densestFit(turned, order, options.threads, tMax, gutter, maxSize, maxSize);
-                if (best) { pageW = best->second.width; pageH = best->second.height; }
-            }
-        } else {
-            // The largest power-of-two page (square or 2:1) whose area is at most ~1.1x the need
-            // at the density limit; then the densest packing that fits it.
-            double need = paddedArea(charts, tMax, gutter);
-            std::vector<std::pair<int, int>> pages;
-            for (int w = 8; w <= maxSize; w *= 2) {
-                pages.push_back({w, w});
-                if (w / 2 >= 8) pages.push_back({w, w / 2});
-            }
-            std::sort(pages.begin(), pages.end(), [](auto a, auto b) { return double(a.first) * a.second < double(b.first) * b.second; });
-            size_t pick = 0;
-            for (size_t i = 0; i < pages.size(); ++i)
-                if (double(pages[i].first) * pages[i].second <= 1.1 * need) pick = i;
-            for (size_t i = pick; i < pages.size() && !best; ++i) {
-                best = densestFit(turned, order, options.threads, tMax, gutter, pages[i].first, pages[i].second);
-                if (best) { pageW = pages[i].first; pageH = pages[i].second; }
-            }
-        }
-        if (best || gutter == 0) break;
-        gutter /= 2;  // too many charts for the page even at minimal size: narrower gutters
+// Page side rounded up to a multiple of 4 texels (block-compression friendly, aligned rows).
+int roundToFour(int side, int maxSize) { return std::min(maxSize, (std::max(side, 4) + 3) / 4 * 4); }
+
+// A page of free size: every (placement rule, chart order, strip width) packed at the density
+// limit tMax, on options.threads threads, each into its own slot; the smallest page (rounded to 4
+// texels; on equal areas the squarer one, then the first tried) wins, in that fixed order, so the
+// result does not depend on the thread count. Strip widths lie around the side of the charts'
+// padded area (their coverage plus a gutter ring). For few charts a local search of pairwise
+// swaps on the winner's order follows. Very many charts try one rule and every
+// kManyChartsWidthStride-th width only (the page area varies little across widths there). When
+// the padded area exceeds the page, or nothing fits, the densest fit of maxSize x maxSize.
+PagePick packFreeSize(const Orientations& turned, const std::vector<Oriented>& charts, const std::vector<std::vector<size_t>>& orders,
+                      double tMax, int gutter, int maxSize, int threads) {
+    PagePick pick;
+    double a = 0;
+    for (const Oriented& c : charts) a += std::pow(std::sqrt(c.uvArea) * tMax + gutter, 2);
+    const int scale = searchScale(std::sqrt(a));
+    Footprints fp = footprintsAt(turned, tMax, gutter, scale, threads);
+    double bestArea = 1e300;
+    const bool manyCharts = charts.size() > kManyChartsForRules;
+    const std::vector<Placement> rules = manyCharts ? std::vector<Placement>{Placement::TopEdge}
+                                                    : std::vector<Placement>{Placement::TopEdge, Placement::Gravity};
+    const size_t widthStride = manyCharts ? kManyChartsWidthStride : 1;
+    auto stripWidth = [&](size_t k) { return std::clamp(int(std::ceil(std::sqrt(a) * kStripWidths[k])), 1, maxSize); };
+    struct Trial {
+        Placement rule;
+        size_t order;
+        int width;
+    };
+    std::vector<Trial> trials;
+    if (a <= double(maxSize) * maxSize)
+        for (Placement rule : rules)
+            for (size_t o = 0; o < orders.size(); ++o)
+                for (size_t k = 0; k < std::size(kStripWidths); k += widthStride)
+                    if (k == 0 || stripWidth(k) != stripWidth(k - widthStride)) trials.push_back({rule, o, stripWidth(k)});
+    std::vector<std::optional<Packing>> packed(trials.size());
+    parallelFor(trials.size(), threads, [&](size_t i) {
+        packed[i] = packBitmap(fp, orders[trials[i].order], trials[i].width, maxSize, trials[i].rule);
+    });
+    auto keepIfSmaller = [&](std::optional<Packing>& p) {
+        if (!p) return false;
+        int pw = roundToFour(p->width, maxSize);
+        int ph = roundToFour(p->height, maxSize);
+        double area = double(pw) * ph + 1e-3 * std::max(pw, ph);
+        if (area >= bestArea) return false;
+        bestArea = area;
+        pick.best = std::make_pair(tMax, std::move(*p));
+        pick.width = pw;
+        pick.height = ph;
+        return true;
+    };
+    size_t winner = trials.size();
+    for (size_t i = 0; i < packed.size(); ++i)
+        if (keepIfSmaller(packed[i])) winner = i;
+    if (winner < trials.size() && charts.size() > 2 && charts.size() <= kManyCharts)
+        improveOrder(fp, orders[trials[winner].order], trials[winner].width, maxSize, trials[winner].rule, threads, keepIfSmaller);
+    if (!pick.best) {
+        pick.best = densestFit(turned, orders[0], threads, tMax, gutter, maxSize, maxSize);
+        if (pick.best) { pick.width = pick.best->second.width; pick.height = pick.best->second.height; }
     }
+    return pick;
+}
 
-    AtlasResult res;
-    res.gutter = gutter;
-    if (!best) {  // cannot happen for sane inputs (every chart at least 1 texel); keep a valid result
-        res.width = res.height = 1;
-        res.charts.resize(input.size());
-        return res;
+// A power-of-two page: the largest one (square or 2:1) whose area is at most 1.1x the padded
+// area needed at the density limit, then the densest packing that fits it (larger pages when
+// none does).
+PagePick packPowerOfTwo(const Orientations& turned, const std::vector<Oriented>& charts, const std::vector<size_t>& order,
+                        double tMax, int gutter, int maxSize, int threads) {
+    PagePick pick;
+    double need = paddedArea(charts, tMax, gutter);
+    std::vector<std::pair<int, int>> pages;
+    for (int w = 8; w <= maxSize; w *= 2) {
+        pages.push_back({w, w});
+        if (w / 2 >= 8) pages.push_back({w, w / 2});
     }
-    double t = best->first;
-    const Packing& pk = best->second;
-    // Non-power-of-two pages are a multiple of 4 texels (block-compression friendly, aligned rows).
-    if (!options.powerOfTwo) {
-        pageW = std::min(maxSize, (std::max(pageW, 4) + 3) / 4 * 4);
-        pageH = std::min(maxSize, (std::max(pageH, 4) + 3) / 4 * 4);
+    std::sort(pages.begin(), pages.end(), [](auto a, auto b) { return double(a.first) * a.second < double(b.first) * b.second; });
+    size_t first = 0;
+    for (size_t i = 0; i < pages.size(); ++i)
+        if (double(pages[i].first) * pages[i].second <= 1.1 * need) first = i;
+    for (size_t i = first; i < pages.size() && !pick.best; ++i) {
+        pick.best = densestFit(turned, order, threads, tMax, gutter, pages[i].first, pages[i].second);
+        if (pick.best) { pick.width = pages[i].first; pick.height = pages[i].second; }
     }
-    res.width = pageW;
-    res.height = pageH;
-    res.texelsPerUnit = t;
+    return pick;
+}
 
-    // 4. Placements and utilisation.
+// The affine UV -> page map of every chart, and the utilisation figures of the page.
+void placeCharts(const Orientations& turned, const std::vector<Oriented>& charts, const Packing& pk, double t, int gutter,
+                 AtlasResult& res) {
     double chartTexels = 0, boxTexels = 0;
     res.charts.resize(charts.size());
     for (size_t i = 0; i < charts.size(); ++i) {
@@ -708,6 +681,51 @@ AtlasResult packAtlas(const std::vector<AtlasChart>& input, const AtlasOptions& 
     res.boxUtilisation = boxTexels / page;
     res.rasterUtilisation = double(pk.rasterTexels) / page;
     res.footprintUtilisation = double(pk.footprintTexels) / page;
+}
+
+}  // namespace
+
+AtlasResult packAtlas(const std::vector<AtlasChart>& input, const AtlasOptions& options) {
+    // 1. Orientation: each chart turned to its minimum-area rectangle.
+    Orientations turned;
+    std::vector<Oriented> charts;  // each chart's first orientation (sizes and orders)
+    turned.reserve(input.size());
+    for (const AtlasChart& c : input) {
+        turned.push_back(chartOrientations(c));
+        charts.push_back(turned.back()[0]);
+    }
+    const std::vector<std::vector<size_t>> orders = chartOrders(charts);
+    const int maxSize = std::max(8, options.maxSize);
+    int gutter = std::max(0, options.gutter);
+    const double tMax = options.maxTexelsPerUnit;
+
+    // Gutters wider than the charts they separate (many small charts) cost more than the mips
+    // they protect: narrow them until they take at most half of the padded area.
+    while (gutter > 2 && paddedArea(charts, tMax, gutter) > 2 * paddedArea(charts, tMax, 0)) gutter /= 2;
+
+    // 2-3. Page and density; narrower gutters while the charts do not fit even at minimal size.
+    PagePick pick;
+    for (;;) {
+        pick = options.powerOfTwo ? packPowerOfTwo(turned, charts, orders[0], tMax, gutter, maxSize, options.threads)
+                                  : packFreeSize(turned, charts, orders, tMax, gutter, maxSize, options.threads);
+        if (pick.best || gutter == 0) break;
+        gutter /= 2;
+    }
+
+    AtlasResult res;
+    res.gutter = gutter;
+    if (!pick.best) {  // cannot happen for sane inputs (every chart at least 1 texel); keep a valid result
+        res.width = res.height = 1;
+        res.charts.resize(input.size());
+        return res;
+    }
+    // Non-power-of-two pages are a multiple of 4 texels.
+    res.width = options.powerOfTwo ? pick.width : roundToFour(pick.width, maxSize);
+    res.height = options.powerOfTwo ? pick.height : roundToFour(pick.height, maxSize);
+    res.texelsPerUnit = pick.best->first;
+
+    // 4. Placements and utilisation.
+    placeCharts(turned, charts, pick.best->second, res.texelsPerUnit, gutter, res);
     return res;
 }
 

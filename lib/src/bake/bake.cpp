@@ -28,18 +28,15 @@
 #include "lodbake/core/errors.h"
 #include "lodbake/core/parallel.h"
 #include "lodbake/core/tangents.h"
+#include "lodbake/texture/codec.h"
+#include "lodbake/texture/color_space.h"
+#include "lodbake/texture/texture_transform.h"
 
 namespace lodbake {
 namespace {
 
 namespace fs = std::filesystem;
 using OIIO::ustring;
-
-double srgbToLinear(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); }
-double linearToSrgb(double c) {
-    c = std::clamp(c, 0.0, 1.0);
-    return c <= 0.0031308 ? c * 12.92 : 1.055 * std::pow(c, 1 / 2.4) - 0.055;
-}
 
 // A temp folder removed on scope exit.
 struct TempDir {
@@ -71,7 +68,7 @@ struct SourceTexture {
 std::vector<SourceTexture> writeSourceImages(const Asset& asset, const TempDir& dir, OIIO::TextureSystem& ts) {
     std::vector<SourceTexture> out(asset.images.size());
     for (const Material& m : asset.materials)
-        for (const TextureRef* ref : {&m.baseColor, &m.metallicRoughness, &m.occlusion, &m.emissive, &m.normal}) {
+        for (const TextureRef* ref : {&m.baseColor, &m.metallicRoughness, &m.occlusion, &m.emissive, &m.normal, &m.specularGlossiness}) {
             int t = ref->texture;
             if (t < 0 || t >= int(asset.textures.size())) continue;
             int i = asset.textures[size_t(t)].image;
@@ -95,18 +92,6 @@ OIIO::Tex::Wrap wrapMode(int gl) {
     if (gl == 33071) return OIIO::Tex::Wrap::Clamp;
     if (gl == 33648) return OIIO::Tex::Wrap::Mirror;
     return OIIO::Tex::Wrap::Periodic;
-}
-
-// KHR_texture_transform: uv' = T R S uv (linear part returned in m, column-major 2x2).
-Vec2 applyTransform(const TextureTransform& tt, Vec2 uv, std::array<double, 4>& m) {
-    if (!tt.present) {
-        m = {1, 0, 0, 1};
-        return uv;
-    }
-    double c = std::cos(tt.rotation), s = std::sin(tt.rotation);
-    // columns: (c sx, s sx), (-s sy, c sy)
-    m = {c * tt.scale.x, s * tt.scale.x, -s * tt.scale.y, c * tt.scale.y};
-    return {m[0] * uv.x + m[2] * uv.y + tt.offset.x, m[1] * uv.x + m[3] * uv.y + tt.offset.y};
 }
 
 struct TexelHit {
@@ -282,10 +267,10 @@ bool lookup(const ShadeContext& c, const TextureRef& ref, const TexelHit& h, flo
         dx = (g1 * e2.y - g2 * e1.y) * (1 / det);   // d uv / d x
         dy = (g2 * e1.x - g1 * e2.x) * (1 / det);   // d uv / d y
     }
-    std::array<double, 4> lm;
-    Vec2 st = applyTransform(ref.transform, uv, lm);
-    Vec2 tdx{lm[0] * dx.x + lm[2] * dx.y, lm[1] * dx.x + lm[3] * dx.y};
-    Vec2 tdy{lm[0] * dy.x + lm[2] * dy.y, lm[1] * dy.x + lm[3] * dy.y};
+    const std::array<double, 4> lm = textureTransformLinear(ref.transform);
+    Vec2 st = applyTextureTransform(ref.transform, uv);
+    Vec2 tdx = applyLinear(lm, dx);
+    Vec2 tdy = applyLinear(lm, dy);
     Sampler smp;
     if (tex.sampler >= 0 && tex.sampler < int(c.asset.samplers.size())) smp = c.asset.samplers[size_t(tex.sampler)];
     OIIO::TextureOpt opt;
@@ -348,6 +333,7 @@ void shadeOrm(const ShadeContext& c, const TexelHit& h, double orm[3]) {
         orm[1] *= std::clamp(double(r[1]), 0.0, 1.0);
         orm[2] *= std::clamp(double(r[2]), 0.0, 1.0);
     }
+    if (lookup(c, m.specularGlossiness, h, r)) orm[1] = 1 - m.glossinessFactor * std::clamp(double(r[3]), 0.0, 1.0);
     if (lookup(c, m.occlusion, h, r)) orm[0] = 1 + m.occlusion.scale * (std::clamp(double(r[0]), 0.0, 1.0) - 1);
     for (int i = 0; i < 3; ++i) orm[i] = std::clamp(orm[i], 0.0, 1.0);
 }
@@ -636,26 +622,12 @@ BakeResult bakeMaterial(const BakeSources& bs, const std::vector<std::array<Vec2
     std::vector<uint8_t> rgb8(res.pixels.size());
     for (size_t i = 0; i < texels; ++i)
         for (int c = 0; c < 3; ++c) {
-            double v = linearToSrgb(px[i * 4 + size_t(c)]);
+            double v = linearToSrgb(double(px[i * 4 + size_t(c)]));
             uint8_t b = uint8_t(std::lround(v * 255));
             rgb8[i * 3 + size_t(c)] = b;
             res.pixels[i * 3 + size_t(c)] = float(b) / 255.0f;
         }
-    if (o.encodePng) {
-        TempDir dir;
-        OIIO::ImageBuf out(OIIO::ImageSpec(g.w, g.h, 3, OIIO::TypeDesc::UINT8));
-        out.set_pixels(OIIO::ROI(0, g.w, 0, g.h, 0, 1, 0, 3), OIIO::TypeDesc::UINT8, rgb8.data());
-        fs::path png = dir.path / "atlas.png";
-        if (!out.write(png.string(), OIIO::TypeDesc::UINT8, "png")) throw IOError("bake: cannot encode PNG: " + out.geterror());
-        std::ifstream in(png, std::ios::binary);
-        res.image.encoded.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-        if (res.image.encoded.empty()) throw IOError("bake: PNG encoding produced no data");
-        res.image.name = "lodbake_baseColor";
-        res.image.mimeType = "image/png";
-        res.image.width = g.w;
-        res.image.height = g.h;
-        res.image.channels = 3;
-    }
+    if (o.encodePng) res.image = encodePng(rgb8, g.w, g.h, "lodbake_baseColor");
     res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return res;
 }

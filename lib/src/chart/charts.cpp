@@ -15,57 +15,13 @@
 #include <unordered_map>
 #include <unordered_set>
 
+#include "lodbake/core/adjacency.h"
 #include "lodbake/core/errors.h"
 
 namespace lodbake {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-
-uint64_t edgeKey(uint32_t a, uint32_t b) {
-    if (a > b) std::swap(a, b);
-    return (uint64_t(a) << 32) | b;
-}
-
-bool degenerateIndices(const Tri& t) { return t[0] == t[1] || t[1] == t[2] || t[0] == t[2]; }
-
-// Face adjacency across welded edges (all faces sharing an edge are neighbours, also on
-// non-manifold edges).
-struct Adjacency {
-    std::vector<uint32_t> offsets;  // CSR over faces
-    std::vector<uint32_t> faces;
-};
-
-Adjacency buildAdjacency(const TriMesh& mesh) {
-    const size_t nf = mesh.triangleCount();
-    std::vector<std::pair<uint64_t, uint32_t>> edges;
-    edges.reserve(nf * 3);
-    for (uint32_t f = 0; f < nf; ++f) {
-        const Tri& t = mesh.triangles[f];
-        if (degenerateIndices(t)) continue;
-        for (int k = 0; k < 3; ++k) edges.push_back({edgeKey(t[k], t[(k + 1) % 3]), f});
-    }
-    std::sort(edges.begin(), edges.end());
-    std::vector<std::vector<uint32_t>> nb(nf);
-    for (size_t i = 0; i < edges.size();) {
-        size_t j = i;
-        while (j < edges.size() && edges[j].first == edges[i].first) ++j;
-        for (size_t a = i; a < j; ++a)
-            for (size_t b = i; b < j; ++b)
-                if (a != b && edges[a].second != edges[b].second) nb[edges[a].second].push_back(edges[b].second);
-        i = j;
-    }
-    Adjacency adj;
-    adj.offsets.assign(nf + 1, 0);
-    for (size_t f = 0; f < nf; ++f) {
-        std::sort(nb[f].begin(), nb[f].end());
-        nb[f].erase(std::unique(nb[f].begin(), nb[f].end()), nb[f].end());
-        adj.offsets[f + 1] = adj.offsets[f] + uint32_t(nb[f].size());
-    }
-    adj.faces.reserve(adj.offsets[nf]);
-    for (size_t f = 0; f < nf; ++f) adj.faces.insert(adj.faces.end(), nb[f].begin(), nb[f].end());
-    return adj;
-}
 
 // Shape of a face set: E_region and the normal cone, plus the disk test.
 struct Shape {
@@ -79,128 +35,135 @@ Vec3 faceNormalArea(const TriMesh& m, uint32_t f) {
     return cross(m.positions[t[1]] - m.positions[t[0]], m.positions[t[2]] - m.positions[t[0]]) * 0.5;
 }
 
-// Disk test and shape in one pass over `faces`.
-Shape measure(const TriMesh& mesh, const std::vector<uint32_t>& faces, double totalArea, double diagonal,
-              bool wantShape) {
-    Shape s;
-    if (faces.empty()) return s;
-    // Edge counts inside the set.
-    std::unordered_map<uint64_t, int> edgeCount;
-    edgeCount.reserve(faces.size() * 2);
-    std::unordered_map<uint32_t, uint32_t> vertexSlot;  // vertex -> local index
-    vertexSlot.reserve(faces.size());
+// The vertices and undirected edges of a face set, with how many of its faces use each edge.
+struct FaceSetEdges {
+    std::unordered_map<uint64_t, int> edgeCount;       // edgeKey -> faces of the set using the edge
+    std::unordered_map<uint32_t, uint32_t> vertexSlot;  // vertex -> local index, in first-use order
+};
+
+// \pre no face of `faces` is index-degenerate (checked by the caller).
+FaceSetEdges collectEdges(const TriMesh& mesh, const std::vector<uint32_t>& faces) {
+    FaceSetEdges e;
+    e.edgeCount.reserve(faces.size() * 2);
+    e.vertexSlot.reserve(faces.size());
     for (uint32_t f : faces) {
         const Tri& t = mesh.triangles[f];
-        if (degenerateIndices(t)) return s;
         for (int k = 0; k < 3; ++k) {
-            ++edgeCount[edgeKey(t[k], t[(k + 1) % 3])];
-            vertexSlot.emplace(t[k], uint32_t(vertexSlot.size()));
+            ++e.edgeCount[edgeKey(t[k], t[(k + 1) % 3])];
+            e.vertexSlot.emplace(t[k], uint32_t(e.vertexSlot.size()));
         }
     }
-    long V = long(vertexSlot.size()), E = long(edgeCount.size()), F = long(faces.size());
+    return e;
+}
+
+// Euler characteristic 1, no edge used by more than two faces, and the boundary edges form one
+// closed loop through vertices of exactly two boundary edges each. `boundaryNext` receives, per
+// local vertex, its neighbours along the boundary (empty for interior vertices).
+bool singleBoundaryLoop(const FaceSetEdges& e, size_t faceCount, std::vector<std::vector<uint32_t>>& boundaryNext) {
+    long V = long(e.vertexSlot.size()), E = long(e.edgeCount.size()), F = long(faceCount);
     bool ok = (V - E + F == 1);
-    // Boundary edges: each boundary vertex has exactly two, and they form one loop.
-    std::vector<std::vector<uint32_t>> bnext(vertexSlot.size());
+    boundaryNext.assign(e.vertexSlot.size(), {});
     size_t boundaryEdges = 0;
-    for (const auto& [key, c] : edgeCount) {
+    for (const auto& [key, c] : e.edgeCount) {
         if (c > 2) ok = false;
         if (c == 1) {
-            uint32_t a = uint32_t(key >> 32), b = uint32_t(key & 0xffffffffu);
-            bnext[vertexSlot[a]].push_back(vertexSlot[b]);
-            bnext[vertexSlot[b]].push_back(vertexSlot[a]);
+            uint32_t a = e.vertexSlot.at(uint32_t(key >> 32)), b = e.vertexSlot.at(uint32_t(key & 0xffffffffu));
+            boundaryNext[a].push_back(b);
+            boundaryNext[b].push_back(a);
             ++boundaryEdges;
         }
     }
     uint32_t start = UINT32_MAX;
-    for (uint32_t v = 0; v < bnext.size() && ok; ++v) {
-        if (!bnext[v].empty() && bnext[v].size() != 2) ok = false;
-        if (bnext[v].size() == 2 && start == UINT32_MAX) start = v;
+    for (uint32_t v = 0; v < boundaryNext.size() && ok; ++v) {
+        if (!boundaryNext[v].empty() && boundaryNext[v].size() != 2) ok = false;
+        if (boundaryNext[v].size() == 2 && start == UINT32_MAX) start = v;
     }
     if (ok && start == UINT32_MAX) ok = false;  // closed
     if (ok) {
         size_t steps = 0;
-        uint32_t prev = start, cur = bnext[start][0];
+        uint32_t prev = start, cur = boundaryNext[start][0];
         ++steps;
         while (cur != start && steps <= boundaryEdges) {
-            uint32_t nxt = bnext[cur][0] == prev ? bnext[cur][1] : bnext[cur][0];
+            uint32_t nxt = boundaryNext[cur][0] == prev ? boundaryNext[cur][1] : boundaryNext[cur][0];
             prev = cur;
             cur = nxt;
             ++steps;
         }
         if (steps != boundaryEdges) ok = false;
     }
-    if (ok) {
-        // Connectivity over interior edges and single fans per vertex: union-find on face corners.
-        // Two corners (f, v) and (g, v) are joined when f and g share an edge containing v; faces
-        // are joined when they share an edge.
-        std::unordered_map<uint32_t, uint32_t> faceSlot;
-        faceSlot.reserve(faces.size());
-        for (uint32_t i = 0; i < faces.size(); ++i) faceSlot.emplace(faces[i], i);
-        std::vector<uint32_t> parent(faces.size() * 3);
-        for (uint32_t i = 0; i < parent.size(); ++i) parent[i] = i;
-        auto find = [&](uint32_t x) {
-            while (parent[x] != x) x = parent[x] = parent[parent[x]];
-            return x;
-        };
-        auto unite = [&](uint32_t a, uint32_t b) {
-            a = find(a);
-            b = find(b);
-            if (a != b) parent[std::max(a, b)] = std::min(a, b);
-        };
-        std::unordered_map<uint64_t, std::pair<uint32_t, int>> firstEdge;  // edge -> (face slot, corner)
-        firstEdge.reserve(edgeCount.size());
-        for (uint32_t i = 0; i < faces.size(); ++i) {
-            const Tri& t = mesh.triangles[faces[i]];
-            for (int k = 0; k < 3; ++k) {
-                uint64_t key = edgeKey(t[k], t[(k + 1) % 3]);
-                auto it = firstEdge.find(key);
-                if (it == firstEdge.end()) {
-                    firstEdge.emplace(key, std::make_pair(i, k));
-                    continue;
-                }
-                uint32_t j = it->second.first;
-                const Tri& u = mesh.triangles[faces[j]];
-                // corners of vertex t[k] and t[k+1] in face j
-                for (int a = 0; a < 2; ++a) {
-                    uint32_t v = t[(k + a) % 3];
-                    int cj = u[0] == v ? 0 : (u[1] == v ? 1 : 2);
-                    unite(i * 3 + uint32_t((k + a) % 3), j * 3 + uint32_t(cj));
-                }
+    return ok;
+}
+
+// Every vertex has a single fan of faces (its corners are joined through shared edges) and the
+// faces form one edge-connected piece: union-find on face corners, where corners (f, v) and
+// (g, v) are joined when f and g share an edge containing v.
+bool connectedWithSingleFans(const TriMesh& mesh, const std::vector<uint32_t>& faces, const FaceSetEdges& e) {
+    std::vector<uint32_t> parent(faces.size() * 3);
+    for (uint32_t i = 0; i < parent.size(); ++i) parent[i] = i;
+    auto find = [&](uint32_t x) {
+        while (parent[x] != x) x = parent[x] = parent[parent[x]];
+        return x;
+    };
+    auto unite = [&](uint32_t a, uint32_t b) {
+        a = find(a);
+        b = find(b);
+        if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    };
+    std::unordered_map<uint64_t, std::pair<uint32_t, int>> firstEdge;  // edge -> (face slot, corner)
+    firstEdge.reserve(e.edgeCount.size());
+    for (uint32_t i = 0; i < faces.size(); ++i) {
+        const Tri& t = mesh.triangles[faces[i]];
+        for (int k = 0; k < 3; ++k) {
+            uint64_t key = edgeKey(t[k], t[(k + 1) % 3]);
+            auto it = firstEdge.find(key);
+            if (it == firstEdge.end()) {
+                firstEdge.emplace(key, std::make_pair(i, k));
+                continue;
             }
-        }
-        // Fans: corners of the same vertex must all be in one set; and all faces connected.
-        std::unordered_map<uint32_t, uint32_t> vertexRoot;
-        vertexRoot.reserve(vertexSlot.size());
-        for (uint32_t i = 0; i < faces.size() && ok; ++i) {
-            const Tri& t = mesh.triangles[faces[i]];
-            for (int k = 0; k < 3; ++k) {
-                uint32_t r = find(i * 3 + uint32_t(k));
-                auto [it, inserted] = vertexRoot.emplace(t[k], r);
-                if (!inserted && it->second != r) ok = false;
+            uint32_t j = it->second.first;
+            const Tri& u = mesh.triangles[faces[j]];
+            // corners of vertex t[k] and t[k+1] in face j
+            for (int a = 0; a < 2; ++a) {
+                uint32_t v = t[(k + a) % 3];
+                int cj = u[0] == v ? 0 : (u[1] == v ? 1 : 2);
+                unite(i * 3 + uint32_t((k + a) % 3), j * 3 + uint32_t(cj));
             }
-        }
-        if (ok) {
-            // Face connectivity: corners of one face belong together.
-            std::vector<uint32_t> fparent(faces.size());
-            for (uint32_t i = 0; i < faces.size(); ++i) fparent[i] = i;
-            auto ffind = [&](uint32_t x) {
-                while (fparent[x] != x) x = fparent[x] = fparent[fparent[x]];
-                return x;
-            };
-            for (uint32_t i = 0; i < faces.size(); ++i)
-                for (int k = 0; k < 3; ++k) {
-                    uint32_t r = find(i * 3 + uint32_t(k)) / 3;
-                    uint32_t a = ffind(i), b = ffind(r);
-                    if (a != b) fparent[std::max(a, b)] = std::min(a, b);
-                }
-            for (uint32_t i = 0; i < faces.size() && ok; ++i)
-                if (ffind(i) != 0) ok = false;
         }
     }
-    s.disk = ok;
-    if (!wantShape) return s;
+    // Fans: corners of the same vertex must all be in one set.
+    std::unordered_map<uint32_t, uint32_t> vertexRoot;
+    vertexRoot.reserve(e.vertexSlot.size());
+    for (uint32_t i = 0; i < faces.size(); ++i) {
+        const Tri& t = mesh.triangles[faces[i]];
+        for (int k = 0; k < 3; ++k) {
+            uint32_t r = find(i * 3 + uint32_t(k));
+            auto [it, inserted] = vertexRoot.emplace(t[k], r);
+            if (!inserted && it->second != r) return false;
+        }
+    }
+    // Face connectivity: corners of one face belong together.
+    std::vector<uint32_t> fparent(faces.size());
+    for (uint32_t i = 0; i < faces.size(); ++i) fparent[i] = i;
+    auto ffind = [&](uint32_t x) {
+        while (fparent[x] != x) x = fparent[x] = fparent[fparent[x]];
+        return x;
+    };
+    for (uint32_t i = 0; i < faces.size(); ++i)
+        for (int k = 0; k < 3; ++k) {
+            uint32_t r = find(i * 3 + uint32_t(k)) / 3;
+            uint32_t a = ffind(i), b = ffind(r);
+            if (a != b) fparent[std::max(a, b)] = std::min(a, b);
+        }
+    for (uint32_t i = 0; i < faces.size(); ++i)
+        if (ffind(i) != 0) return false;
+    return true;
+}
 
-    // Shape: plane through the area-weighted centroid with the mean normal.
+// Normal cone and E_region of a face set: the plane through the area-weighted centroid with the
+// mean normal; E_region = (set area / total area) x (largest distance to that plane + spread of
+// the boundary vertices' distances to the centroid) / diagonal.
+void regionShape(const TriMesh& mesh, const std::vector<uint32_t>& faces, const FaceSetEdges& e,
+                 const std::vector<std::vector<uint32_t>>& boundaryNext, double totalArea, double diagonal, Shape& s) {
     Vec3 nsum{}, csum{};
     double area = 0;
     for (uint32_t f : faces) {
@@ -221,10 +184,10 @@ Shape measure(const TriMesh& mesh, const std::vector<uint32_t>& faces, double to
     if (length2(n) == 0) minCos = -1;
     s.coneDegrees = std::acos(std::clamp(minCos, -1.0, 1.0)) * 180 / kPi;
     double maxPlane = 0;
-    for (const auto& [v, slot] : vertexSlot) maxPlane = std::max(maxPlane, std::fabs(dot(mesh.positions[v] - c, n)));
+    for (const auto& [v, slot] : e.vertexSlot) maxPlane = std::max(maxPlane, std::fabs(dot(mesh.positions[v] - c, n)));
     double bmax = 0, bmin = 1e300;
-    for (const auto& [v, slot] : vertexSlot) {
-        if (bnext[slot].empty()) continue;
+    for (const auto& [v, slot] : e.vertexSlot) {
+        if (boundaryNext[slot].empty()) continue;
         double d = length(mesh.positions[v] - c);
         bmax = std::max(bmax, d);
         bmin = std::min(bmin, d);
@@ -232,11 +195,25 @@ Shape measure(const TriMesh& mesh, const std::vector<uint32_t>& faces, double to
     if (bmin > bmax) bmin = bmax;
     double diag = diagonal > 0 ? diagonal : 1;
     s.energy = (totalArea > 0 ? area / totalArea : 0) * (maxPlane + bmax - bmin) / diag;
+}
+
+// Disk test of `faces` and, with wantShape, its normal cone and E_region (lengths relative to
+// `diagonal`, area relative to `totalArea`). A set with an index-degenerate face is no disk.
+Shape measure(const TriMesh& mesh, const std::vector<uint32_t>& faces, double totalArea, double diagonal,
+              bool wantShape) {
+    Shape s;
+    if (faces.empty()) return s;
+    for (uint32_t f : faces)
+        if (degenerateIndices(mesh.triangles[f])) return s;
+    const FaceSetEdges e = collectEdges(mesh, faces);
+    std::vector<std::vector<uint32_t>> boundaryNext;
+    s.disk = singleBoundaryLoop(e, faces.size(), boundaryNext) && connectedWithSingleFans(mesh, faces, e);
+    if (wantShape) regionShape(mesh, faces, e, boundaryNext, totalArea, diagonal, s);
     return s;
 }
 
 // Connected components of `faces` (edge adjacency restricted to the set), each sorted.
-std::vector<std::vector<uint32_t>> components(const Adjacency& adj, const std::vector<uint32_t>& faces,
+std::vector<std::vector<uint32_t>> components(const CompressedRows& adj, const std::vector<uint32_t>& faces,
                                               std::vector<int32_t>& mark, int32_t tag) {
     for (uint32_t f : faces) mark[f] = tag;
     std::vector<std::vector<uint32_t>> out;
@@ -246,7 +223,7 @@ std::vector<std::vector<uint32_t>> components(const Adjacency& adj, const std::v
         mark[seed] = -1;
         for (size_t i = 0; i < comp.size(); ++i)
             for (uint32_t k = adj.offsets[comp[i]]; k < adj.offsets[comp[i] + 1]; ++k) {
-                uint32_t g = adj.faces[k];
+                uint32_t g = adj.items[k];
                 if (mark[g] == tag) {
                     mark[g] = -1;
                     comp.push_back(g);
@@ -260,7 +237,7 @@ std::vector<std::vector<uint32_t>> components(const Adjacency& adj, const std::v
 }
 
 // Multi-source BFS from two far-apart faces of a connected set; returns the two halves.
-std::pair<std::vector<uint32_t>, std::vector<uint32_t>> splitInTwo(const Adjacency& adj,
+std::pair<std::vector<uint32_t>, std::vector<uint32_t>> splitInTwo(const CompressedRows& adj,
                                                                    const std::vector<uint32_t>& faces,
                                                                    std::vector<int32_t>& mark) {
     const int32_t inSet = -2;
@@ -270,7 +247,7 @@ std::pair<std::vector<uint32_t>, std::vector<uint32_t>> splitInTwo(const Adjacen
         std::unordered_set<uint32_t> seen{seed};
         for (size_t i = 0; i < order.size(); ++i)
             for (uint32_t k = adj.offsets[order[i]]; k < adj.offsets[order[i] + 1]; ++k) {
-                uint32_t g = adj.faces[k];
+                uint32_t g = adj.items[k];
                 if (mark[g] == inSet && seen.insert(g).second) order.push_back(g);
             }
         return order.back();
@@ -283,7 +260,7 @@ std::pair<std::vector<uint32_t>, std::vector<uint32_t>> splitInTwo(const Adjacen
     for (size_t i = 0; i < queue.size(); ++i) {
         uint32_t f = queue[i];
         for (uint32_t k = adj.offsets[f]; k < adj.offsets[f + 1]; ++k) {
-            uint32_t g = adj.faces[k];
+            uint32_t g = adj.items[k];
             if (mark[g] == inSet) {
                 mark[g] = mark[f];
                 queue.push_back(g);
@@ -326,7 +303,7 @@ ChartResult buildCharts(const TriMesh& mesh, const std::vector<uint32_t>& faceRe
     ChartResult result;
     result.faceChart.assign(nf, -1);
     if (nf == 0) return result;
-    const Adjacency adj = buildAdjacency(mesh);
+    const CompressedRows adj = faceNeighbours(mesh.triangles);  // across welded edges, non-manifold ones too
     double totalArea = 0;
     for (uint32_t f = 0; f < nf; ++f) totalArea += length(faceNormalArea(mesh, f));
     const double diagonal = bounds(mesh).diagonal();
@@ -375,7 +352,7 @@ ChartResult buildCharts(const TriMesh& mesh, const std::vector<uint32_t>& faceRe
         std::vector<uint32_t> out;
         for (uint32_t f : charts[c].faces)
             for (uint32_t k = adj.offsets[f]; k < adj.offsets[f + 1]; ++k) {
-                uint32_t o = faceOwner[adj.faces[k]];
+                uint32_t o = faceOwner[adj.items[k]];
                 if (o != UINT32_MAX && o != c) out.push_back(o);
             }
         std::sort(out.begin(), out.end());

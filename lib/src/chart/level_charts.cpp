@@ -15,7 +15,7 @@ std::vector<uint32_t> levelTriangleCharts(const TriMesh& mesh, const std::vector
     std::vector<std::vector<uint32_t>> vertexCharts(mesh.vertexCount());
     for (size_t f = 0; f < nf; ++f) {
         const Tri& t = mesh.triangles[f];
-        if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2] || faceChart[f] >= chartCount) continue;
+        if (degenerateIndices(t) || faceChart[f] >= chartCount) continue;
         for (uint32_t v : t) {
             auto& list = vertexCharts[v];
             auto it = std::lower_bound(list.begin(), list.end(), faceChart[f]);

@@ -1,5 +1,5 @@
-// Private to lib/src/io: the binary buffer, buffer views and accessors of a glTF being written,
-// and the .glb / .gltf+.bin serialisation both writers (gltf_write.cpp, lod_chain_write.cpp) share.
+// Private to lib/src/gltf: the binary buffer, buffer views and accessors of a glTF being written,
+// and the .glb / .gltf+.bin serialisation both writers (gltf_write.cpp, msft_lod_write.cpp) share.
 #pragma once
 
 #include <cstdint>

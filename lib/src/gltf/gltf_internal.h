@@ -1,4 +1,4 @@
-// Private helpers shared by the glTF reader and writer (lib/src/io only).
+// Private helpers shared by the glTF reader and writer (lib/src/gltf only).
 #pragma once
 
 #include <cstdint>
@@ -10,9 +10,6 @@ namespace lodbake::gltf_detail {
 constexpr int kByte = 5120, kUnsignedByte = 5121, kShort = 5122, kUnsignedShort = 5123,
               kUnsignedInt = 5125, kFloat = 5126;
 constexpr int kArrayBuffer = 34962, kElementArrayBuffer = 34963;
-
-constexpr const char* kMultiresExtension = "LODBAKE_multires";
-constexpr int kMultiresVersion = 2;  // 2: regionUpdates per region (oldRep, newRep), was per face
 
 // "image/png" / "image/jpeg" from magic bytes, "" when unknown.
 inline std::string sniffImageMime(const uint8_t* p, size_t n) {

@@ -5,7 +5,7 @@
 //   1. mesh 0 = the original, one primitive per material (vertices = distinct (vertex, wedge)
 //      corners in order of first use); meshes 1..n = the multires levels;
 //   2. materials, textures, samplers, images (embedded in the buffer);
-//   3. LODBAKE_multires extension (docs/LODBAKE_multires.md) with its arrays as accessors;
+//   3. LODBAKE_multires extension (multires_codec.cpp) with its arrays as accessors;
 //   4. serialise (.glb container, or .gltf + .bin) and rename into place.
 
 #include <unistd.h>
@@ -24,6 +24,7 @@
 
 #include "gltf/gltf_buffer.h"
 #include "gltf/gltf_internal.h"
+#include "gltf/multires_codec.h"
 #include "lodbake/core/errors.h"
 #include "lodbake/gltf/gltf.h"
 
@@ -34,12 +35,6 @@ using json = nlohmann::json;
 using namespace gltf_detail;
 
 using Writer = BufferBuilder;
-
-// One written primitive: which (vertex, wedge) each glTF vertex is and which face each triangle is.
-struct PrimMap {
-    int material = -1;
-    std::vector<uint32_t> vertex, wedge, faces;
-};
 
 Vec3 unitOr(Vec3 n, Vec3 fallback) {
     double l = length(n);
@@ -169,7 +164,12 @@ json textureRefJson(const TextureRef& r, const char* scaleKey, double scaleDefau
     return o;
 }
 
-json materialJson(const Material& m, size_t textureCount, bool& usedTransform, bool& usedUnlit) {
+// The material extensions a file uses, for extensionsUsed.
+struct MaterialExtensions {
+    bool unlit = false, emissiveStrength = false, specularGlossiness = false;
+};
+
+json materialJson(const Material& m, size_t textureCount, bool& usedTransform, MaterialExtensions& used) {
     auto valid = [&](const TextureRef& r) { return r.texture >= 0 && size_t(r.texture) < textureCount; };
     json pbr = {{"baseColorFactor", {m.baseColorFactor.x, m.baseColorFactor.y, m.baseColorFactor.z, m.baseColorFactor.w}},
                 {"metallicFactor", m.metallicFactor},
@@ -186,140 +186,20 @@ json materialJson(const Material& m, size_t textureCount, bool& usedTransform, b
     if (m.alphaMode == AlphaMode::Mask) { o["alphaMode"] = "MASK"; o["alphaCutoff"] = m.alphaCutoff; }
     if (m.alphaMode == AlphaMode::Blend) o["alphaMode"] = "BLEND";
     if (m.doubleSided) o["doubleSided"] = true;
-    if (m.unlit) { o["extensions"]["KHR_materials_unlit"] = json::object(); usedUnlit = true; }
+    if (m.unlit) { o["extensions"]["KHR_materials_unlit"] = json::object(); used.unlit = true; }
+    if (m.emissiveStrength != 1) {
+        o["extensions"]["KHR_materials_emissive_strength"] = {{"emissiveStrength", m.emissiveStrength}};
+        used.emissiveStrength = true;
+    }
+    if (valid(m.specularGlossiness)) {
+        // Converted on reading (metallic 0, roughness 1 - glossiness); the texture's alpha still
+        // carries the glossiness, so the extension travels with the intermediate files.
+        json sg = {{"glossinessFactor", m.glossinessFactor},
+                   {"specularGlossinessTexture", textureRefJson(m.specularGlossiness, nullptr, 1, textureCount, usedTransform)}};
+        o["extensions"]["KHR_materials_pbrSpecularGlossiness"] = sg;
+        used.specularGlossiness = true;
+    }
     return o;
-}
-
-std::vector<uint32_t> flatten(const std::vector<Tri>& t) {
-    std::vector<uint32_t> out;
-    out.reserve(t.size() * 3);
-    for (const Tri& x : t) out.insert(out.end(), x.begin(), x.end());
-    return out;
-}
-
-void setIfValid(json& o, const char* key, int accessor) {
-    if (accessor >= 0) o[key] = accessor;
-}
-
-// A chart layout (charts, or a textureHierarchy rank): count, image, faceChart, cornerUV and the
-// optional level-triangle islands.
-json layoutJson(Writer& w, const ChartLayout& ch) {
-    std::vector<float> uv;
-    uv.reserve(6 * ch.cornerUV.size());
-    for (const auto& corners : ch.cornerUV)
-        for (const Vec2& c : corners) { uv.push_back(float(c.x)); uv.push_back(float(c.y)); }
-    json out = {{"count", ch.chartCount}, {"image", ch.image}};
-    setIfValid(out, "faceChart", w.addU32(ch.faceChart, 1));
-    setIfValid(out, "cornerUV", w.addFloat(uv, 2, 0, false));
-    if (!ch.islands.empty()) {
-        std::vector<uint32_t> iv;
-        std::vector<float> iuv;
-        for (const LayoutIsland& isl : ch.islands)
-            for (size_t k = 0; k < 3; ++k) {
-                iv.push_back(isl.vertices[k]);
-                iuv.push_back(float(isl.uv[k].x));
-                iuv.push_back(float(isl.uv[k].y));
-            }
-        setIfValid(out, "islandVertices", w.addU32(iv, 1));
-        setIfValid(out, "islandUV", w.addFloat(iuv, 2, 0, false));
-    }
-    return out;
-}
-
-json multiresJson(Writer& w, const Asset& asset, const Multires& mr, const std::vector<PrimMap>& originalPrims,
-                  int originalMesh, const std::vector<int>& levelMeshes,
-                  const std::vector<std::vector<PrimMap>>& levelPrims, const WriteOptions& options) {
-    const TriMesh& mesh = asset.mesh;
-    json ext = {{"version", kMultiresVersion}, {"generator", mr.generator}, {"writer", options.generator}};
-    json orig = {{"node", 0}, {"vertexCount", mesh.vertexCount()}, {"faceCount", mesh.triangleCount()},
-                 {"wedgeCount", mesh.wedges.size()}};
-    if (originalMesh >= 0) orig["mesh"] = originalMesh;
-    setIfValid(orig, "wedgeVertex", w.addU32(mesh.wedges.vertex, 1));
-    setIfValid(orig, "faceVertices", w.addU32(flatten(mesh.triangles), 3));
-    json prims = json::array();
-    for (const PrimMap& pm : originalPrims) {
-        json p = json::object();
-        setIfValid(p, "wedges", w.addU32(pm.wedge, 1));
-        setIfValid(p, "faces", w.addU32(pm.faces, 1));
-        prims.push_back(p);
-    }
-    orig["primitives"] = prims;
-    ext["original"] = orig;
-    json levels = json::array();
-    for (size_t i = 0; i < mr.levels.size(); ++i) {
-        const Level& L = mr.levels[i];
-        json l = {{"node", i + 1}, {"targetRatio", L.targetRatio}, {"targetTriangles", L.targetTriangles},
-                  {"targetError", L.targetError}, {"stopReason", L.stopReason}, {"collapseCount", L.collapseCount},
-                  {"maxDeviation", L.maxDeviation}, {"meanDeviation", L.meanDeviation}, {"regionCount", L.regionCount},
-                  {"triangleCount", L.faces.size()}, {"pairCount", L.pairs.size()}};
-        if (levelMeshes[i] >= 0) l["mesh"] = levelMeshes[i];
-        // Wedge of each level vertex: levels may use wedges no original face uses (parameterize's
-        // chart-split atlas UVs); their attributes are read back from the level's primitives.
-        json lprims = json::array();
-        for (const PrimMap& pm : levelPrims[i]) {
-            json p = json::object();
-            setIfValid(p, "wedges", w.addU32(pm.wedge, 1));
-            lprims.push_back(p);
-        }
-        if (!lprims.empty()) l["primitives"] = lprims;
-        setIfValid(l, "faces", w.addU32(L.faces, 1));
-        setIfValid(l, "triangles", w.addU32(flatten(L.triangles), 3));
-        setIfValid(l, "cornerWedges", w.addU32(flatten(L.cornerWedges), 3));
-        setIfValid(l, "faceRegion", w.addU32(L.faceRegion, 1));
-        if (!L.triangleMaterial.empty()) {  // int32 bit patterns: 4294967295 = -1 (no material)
-            std::vector<uint32_t> tm(L.triangleMaterial.begin(), L.triangleMaterial.end());
-            setIfValid(l, "triangleMaterial", w.addU32(tm, 1));
-        }
-        if (!L.pairs.empty()) {
-            size_t n = L.pairs.size();
-            std::vector<uint32_t> pv(n), pc(3 * n), pf(n);
-            std::vector<float> pb(3 * n), pd(n);
-            for (size_t k = 0; k < n; ++k) {
-                const SimplificationPair& s = L.pairs[k];
-                pv[k] = s.vertex;
-                pf[k] = s.face;
-                pd[k] = s.deviation;
-                for (int j = 0; j < 3; ++j) { pc[3 * k + size_t(j)] = s.coarse[size_t(j)]; pb[3 * k + size_t(j)] = s.bary[size_t(j)]; }
-            }
-            l["pairs"] = {{"vertex", w.addU32(pv, 1)}, {"coarse", w.addU32(pc, 3)}, {"bary", w.addFloat(pb, 3, 0, false)},
-                          {"face", w.addU32(pf, 1)}, {"deviation", w.addFloat(pd, 1, 0, false)}};
-        }
-        levels.push_back(l);
-    }
-    ext["levels"] = levels;
-    if (!mr.collapses.empty()) {
-        size_t n = mr.collapses.size();
-        std::vector<uint32_t> vk(2 * n), rg(2 * n);
-        std::vector<float> dev(n);
-        for (size_t k = 0; k < n; ++k) {
-            const CollapseRecord& c = mr.collapses[k];
-            vk[2 * k] = c.removed; vk[2 * k + 1] = c.kept;
-            rg[2 * k] = c.regionBegin; rg[2 * k + 1] = c.regionEnd;
-            dev[k] = c.deviation;
-        }
-        ext["collapses"] = {{"count", n}, {"vertices", w.addU32(vk, 2)}, {"deviation", w.addFloat(dev, 1, 0, false)},
-                            {"regions", w.addU32(rg, 2)}};
-    }
-    if (!mr.regionUpdates.empty()) {
-        std::vector<uint32_t> ru;
-        ru.reserve(2 * mr.regionUpdates.size());
-        for (const RegionUpdate& u : mr.regionUpdates) { ru.push_back(u.oldRep); ru.push_back(u.newRep); }
-        ext["regionUpdates"] = w.addU32(ru, 2);
-    }
-    if (!mr.charts.empty()) {
-        json charts = layoutJson(w, mr.charts);
-        charts["material"] = mr.charts.material;
-        ext["charts"] = charts;
-    }
-    if (!mr.textures.empty()) {
-        // texture-refine's hierarchy: rank layouts (schema of charts) and the textures.
-        json ranks = json::array(), textures = json::array();
-        for (const ChartLayout& lay : mr.textures.ranks) ranks.push_back(layoutJson(w, lay));
-        for (const HierarchyTexture& h : mr.textures.textures)
-            textures.push_back({{"rank", h.rank}, {"levels", {h.firstLevel, h.lastLevel}}, {"image", h.image}, {"size", h.size}});
-        ext["textureHierarchy"] = {{"ranks", ranks}, {"textures", textures}};
-    }
-    return ext;
 }
 
 std::string lowerExt(const std::string& path) {
@@ -369,15 +249,14 @@ void writeGltf(const std::string& path, const Asset& asset, const Multires* mult
         return m;
     };
     json meshes = json::array(), nodes = json::array(), sceneNodes = json::array();
-    std::vector<PrimMap> originalPrims;
-    int originalMesh = writeMesh(w, meshes, mesh, mesh.triangles, mesh.cornerWedges,
-                                 materialsOf(nullptr, mesh.triangleCount()), "original", &originalPrims);
+    WrittenMeshes written;
+    const int originalMesh = writeMesh(w, meshes, mesh, mesh.triangles, mesh.cornerWedges,
+                                       materialsOf(nullptr, mesh.triangleCount()), "original", &written.originalPrims);
+    written.originalMesh = originalMesh;
     json node0 = {{"name", "original"}};
     if (originalMesh >= 0) node0["mesh"] = originalMesh;
     nodes.push_back(node0);
     sceneNodes.push_back(0);
-    std::vector<int> levelMeshes;
-    std::vector<std::vector<PrimMap>> levelPrims;
     if (multires) {
         Box3 b = bounds(mesh);
         double width = b.empty() ? 1.0 : b.max.x - b.min.x;
@@ -399,9 +278,9 @@ void writeGltf(const std::string& path, const Asset& asset, const Multires* mult
                     int x = L.triangleMaterial[t];
                     levelMaterials[t] = (x >= 0 && size_t(x) < nMat) ? x : -1;
                 }
-            levelPrims.emplace_back();
-            int mi = writeMesh(w, meshes, mesh, L.triangles, L.cornerWedges, levelMaterials, name, &levelPrims.back());
-            levelMeshes.push_back(mi);
+            written.levelPrims.emplace_back();
+            int mi = writeMesh(w, meshes, mesh, L.triangles, L.cornerWedges, levelMaterials, name, &written.levelPrims.back());
+            written.levelMeshes.push_back(mi);
             json n = {{"name", name}, {"translation", {double(i + 1) * 1.25 * width, 0.0, 0.0}}};
             if (mi >= 0) n["mesh"] = mi;
             nodes.push_back(n);
@@ -414,10 +293,11 @@ void writeGltf(const std::string& path, const Asset& asset, const Multires* mult
     if (!meshes.empty()) root["meshes"] = meshes;
 
     // 2. Materials, textures, samplers, images.
-    bool usedTransform = false, usedUnlit = false;
+    bool usedTransform = false;
+    MaterialExtensions usedMaterial;
     if (!asset.materials.empty()) {
         json mats = json::array();
-        for (const Material& m : asset.materials) mats.push_back(materialJson(m, asset.textures.size(), usedTransform, usedUnlit));
+        for (const Material& m : asset.materials) mats.push_back(materialJson(m, asset.textures.size(), usedTransform, usedMaterial));
         root["materials"] = mats;
     }
     if (!asset.textures.empty()) {
@@ -463,11 +343,13 @@ void writeGltf(const std::string& path, const Asset& asset, const Multires* mult
         root["images"] = imgs;
     }
     if (usedTransform) used.push_back("KHR_texture_transform");
-    if (usedUnlit) used.push_back("KHR_materials_unlit");
+    if (usedMaterial.unlit) used.push_back("KHR_materials_unlit");
+    if (usedMaterial.emissiveStrength) used.push_back("KHR_materials_emissive_strength");
+    if (usedMaterial.specularGlossiness) used.push_back("KHR_materials_pbrSpecularGlossiness");
 
     // 3. LODBAKE_multires.
     if (multires) {
-        root["extensions"][kMultiresExtension] = multiresJson(w, asset, *multires, originalPrims, originalMesh, levelMeshes, levelPrims, options);
+        root["extensions"][kMultiresExtension] = writeMultires(w, asset, *multires, written, options);
         used.push_back(kMultiresExtension);
     }
     if (!used.empty()) {

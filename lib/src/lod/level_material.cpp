@@ -56,6 +56,16 @@ BakeTarget levelBakeTarget(const LodLevelData& L, int width, int height) {
     return t;
 }
 
+std::vector<std::string> channelNames(const LodMaterial& m) {
+    std::vector<std::string> out;
+    if (!m.baseColor.encoded.empty()) out.push_back(m.baseColor.channels == 4 ? "baseColorAlpha" : "baseColor");
+    if (m.occlusion) out.push_back("occlusion");
+    if (m.metallicRoughness) out.push_back("metallicRoughness");
+    if (!m.emissive.encoded.empty()) out.push_back("emissive");
+    if (!m.normal.encoded.empty()) out.push_back("normal");
+    return out;
+}
+
 LodMaterial levelMaterial(const MaterialPlan& plan, const BakeResult& baked, int w, int h, const LevelImageOptions& o,
                           const std::string& name) {
     LodMaterial m;
@@ -67,9 +77,9 @@ LodMaterial levelMaterial(const MaterialPlan& plan, const BakeResult& baked, int
                 for (size_t c = 0; c < 3; ++c) rgba[i * 4 + c] = baked.pixels[i * 3 + c];
                 rgba[i * 4 + 3] = baked.alpha[i];
             }
-            m.baseColor = encodeImage(rgba, w, h, 4, ImageFormat::Png, o.jpegQuality, name);
+            m.baseColor = encodeImage(rgba, w, h, EncodeOptions{ImageFormat::Png, o.jpegQuality, 4, true}, name);
         } else {
-            m.baseColor = encodeImage(baked.pixels, w, h, 3, o.format, o.jpegQuality, name);
+            m.baseColor = encodeImage(baked.pixels, w, h, EncodeOptions{o.format, o.jpegQuality, 3, true}, name);
         }
         m.baseColorFactor = {1, 1, 1, plan.alphaTexture ? 1.0 : plan.baseColorFactor.w};
     } else {
@@ -78,13 +88,13 @@ LodMaterial levelMaterial(const MaterialPlan& plan, const BakeResult& baked, int
     m.metallicFactor = plan.metallicFactor;
     m.roughnessFactor = plan.roughnessFactor;
     if (!baked.orm.empty()) {
-        m.orm = encodeImage(baked.orm, w, h, 3, o.format, o.jpegQuality, name + "_orm");
+        m.orm = encodeImage(baked.orm, w, h, EncodeOptions{o.format, o.jpegQuality, 3, false}, name + "_orm");
         m.occlusion = plan.occlusionTexture;
         m.metallicRoughness = plan.metallicRoughnessTexture;
         if (m.metallicRoughness) m.metallicFactor = m.roughnessFactor = 1;
     }
     if (!baked.emissive.empty()) {
-        m.emissive = encodeImage(baked.emissive, w, h, 3, o.format, o.jpegQuality, name + "_emissive");
+        m.emissive = encodeImage(baked.emissive, w, h, EncodeOptions{o.format, o.jpegQuality, 3, true}, name + "_emissive");
         m.emissiveFactor = {1, 1, 1};
         m.emissiveStrength = baked.emissiveScale;
     } else {
@@ -95,7 +105,8 @@ LodMaterial levelMaterial(const MaterialPlan& plan, const BakeResult& baked, int
             m.emissiveStrength = peak;
         }
     }
-    if (!baked.normal.empty()) m.normal = encodeImage(baked.normal, w, h, 3, ImageFormat::Png, o.jpegQuality, name + "_normal");
+    if (!baked.normal.empty())
+        m.normal = encodeImage(baked.normal, w, h, EncodeOptions{ImageFormat::Png, o.jpegQuality, 3, false}, name + "_normal");
     m.alphaMode = plan.alphaMode;
     m.alphaCutoff = plan.alphaCutoff;
     m.doubleSided = plan.doubleSided;

@@ -27,6 +27,10 @@ struct LevelImageOptions {
     int jpegQuality = 90;
 };
 
+// The channels a level's material carries as textures, for reports ("baseColor" or
+// "baseColorAlpha", "occlusion", "metallicRoughness", "emissive", "normal").
+std::vector<std::string> channelNames(const LodMaterial& material);
+
 // Encodes the baked channels and sets the factors of the plan's constant channels.
 LodMaterial levelMaterial(const MaterialPlan& plan, const BakeResult& baked, int width, int height,
                           const LevelImageOptions& options, const std::string& name);

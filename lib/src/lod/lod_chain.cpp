@@ -1,22 +1,21 @@
-// pack: parameterized multiresolution asset -> glTF LOD chain (issue 5).
+// pack: parameterized multiresolution asset -> glTF LOD chain.
 //
 // Pipeline of packLodChain:
-//   1. measureLevels: two-sided Hausdorff / RMS distance of each level to the original
+//   1. layoutsOf: T0 (multires.charts) and, with a texture hierarchy, every rank layout;
+//   2. measureLevels: two-sided Hausdorff / RMS distance of each level to the original
 //      (Metro-style sampling, lodbake/metrics/distance.h);
-//   2. screenCoverages: level k is good while its deviation e_k projects to <= p pixels on a
+//   3. screenCoverages: level k is good while its deviation e_k projects to <= p pixels on a
 //      viewport H pixels tall; with the bounding sphere radius R that is coverage <= 2 R p / (e_k H)
 //      (independent of the field of view: coverage = projected sphere height / viewport height);
-//   3. per level, selectTexture: the layout it is textured with: T0 (multires.charts) or, when the
-//      file has a texture hierarchy (texture-refine), the highest-rank texture valid for the level;
-//      levelUVs: the layout UV of every level corner; packLevelAtlas: the charts its triangles use
-//      repacked at the texel density the level can show at its largest coverage, gutters sized for
-//      the mips used down to its smallest coverage; bakePage: the ORIGINAL triangles baked at the
-//      repacked UVs;
-//   4. buildLevelMesh: one indexed primitive (position, normal, atlas UV).
+//   4. per level: levelCoverage (its coverage range and the texel density it can show);
+//      selectTexture (T0, or the highest-rank texture of the hierarchy valid for the level);
+//      levelUVs (the layout UV of every level corner); packLevelPage (the charts its triangles
+//      use repacked at that density, gutters sized for the mips used down to its smallest
+//      coverage); bakePage (the ORIGINAL triangles baked at the repacked UVs); buildLevelMesh
+//      (one indexed primitive: position, normal, atlas UV).
 #include "lodbake/lod/lod_chain.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -27,7 +26,10 @@
 #include <nlohmann/json.hpp>
 
 #include "lodbake/bake/bake.h"
+#include "lodbake/bake/material_plan.h"
+#include "lod/level_material.h"
 #include "lodbake/core/errors.h"
+#include "lodbake/core/timing.h"
 #include "lodbake/gltf/gltf.h"
 #include "lodbake/chart/chart_lookup.h"
 #include "lodbake/core/closest_point.h"
@@ -37,6 +39,8 @@
 
 namespace lodbake {
 namespace {
+
+using namespace lod_detail;
 
 constexpr double kPi = 3.14159265358979323846;
 
@@ -254,8 +258,10 @@ LevelAtlas packLevelAtlas(const LayoutData& L, const LevelUVs& luv, bool origina
     return la;
 }
 
-// Bakes the original triangles at the page UVs; returns RGB floats of the width x height page.
-std::vector<float> bakePage(const BakeSources& sources, const LayoutData& L, const LevelAtlas& la, int threads, double& seconds) {
+// Bakes the original triangles at the page UVs: every channel of `channels`, the normal map in
+// the frames of `target` (the level's own mesh on this page).
+BakeResult bakePage(const BakeSources& sources, const LayoutData& L, const LevelAtlas& la, const BakeChannels& channels,
+                    const BakeTarget& target, int threads) {
     const Asset& asset = sources.asset();
     const ChartLayout& ch = *L.ch;
     const AtlasResult& a = la.atlas;
@@ -290,9 +296,8 @@ std::vector<float> bakePage(const BakeSources& sources, const LayoutData& L, con
     bo.height = a.height;
     bo.encodePng = false;
     bo.threads = threads;
-    BakeResult baked = bakeBaseColor(sources, uv, bo, islands);
-    seconds = baked.seconds;
-    return std::move(baked.pixels);
+    bo.channels = channels;
+    return bakeMaterial(sources, uv, bo, islands, channels.normal ? &target : nullptr);
 }
 
 // Twice the signed UV area in the glTF convention (v down): > 0 for a front-facing triangle.
@@ -301,10 +306,13 @@ double uvArea2(const P& a, const P& b, const P& c) {
     return double(b.x - a.x) * double(a.y - c.y) - double(a.y - b.y) * double(c.x - a.x);
 }
 
-// A sliver whose page UVs are unfolded in double precision may turn flat or flipped once they
-// are rounded to float: it gets its own copy of the corner opposite its longest edge, moved by
-// float steps until the rounded triangle faces the right way (a few ulps, far below a texel).
-void repairFloatSlivers(const std::vector<std::array<Vec2, 3>>& placed, LodLevelData& out) {
+// A sliver whose page UVs face the right way in double precision may turn flat or flipped once
+// they are rounded to float. The level mesh is indexed (a vertex is shared by the triangles
+// around it), so the sliver gets its own copy of the corner opposite its longest edge, moved one
+// float ulp at a time along the gradient of its area (at most 64 ulps, far below a texel) until
+// the rounded triangle faces the right way. parameterize has its own repair for per-face-corner
+// UVs that are rounded later (nudgeRoundedSliverCorners); this one works on the float buffers.
+void splitRoundedSliverCorners(const std::vector<std::array<Vec2, 3>>& placed, LodLevelData& out) {
     struct F2 { float x, y; };
     for (size_t t = 0; t < placed.size(); ++t) {
         const auto& e = placed[t];
@@ -312,13 +320,7 @@ void repairFloatSlivers(const std::vector<std::array<Vec2, 3>>& placed, LodLevel
         uint32_t* idx = &out.indices[3 * t];
         auto uvOf = [&](uint32_t v) { return F2{out.uvs[2 * v], out.uvs[2 * v + 1]}; };
         if (uvArea2(uvOf(idx[0]), uvOf(idx[1]), uvOf(idx[2])) > 0) continue;
-        size_t k = 0;  // the corner opposite the longest edge
-        double longest = -1;
-        for (size_t j = 0; j < 3; ++j) {
-            Vec2 d = e[(j + 1) % 3] - e[(j + 2) % 3];
-            double l = d.x * d.x + d.y * d.y;
-            if (l > longest) { longest = l; k = j; }
-        }
+        const size_t k = cornerOppositeLongestEdge(e);
         // The area is invariant under cyclic turns: with c the moved corner, a and b the others,
         // dA/dc = (-(a.y - b.y), -(b.x - a.x)).
         F2 a = uvOf(idx[(k + 1) % 3]), b = uvOf(idx[(k + 2) % 3]), c = uvOf(idx[k]);
@@ -377,36 +379,23 @@ void buildLevelMesh(const Asset& asset, const LevelView& lv, const LevelUVs& luv
             placed[t][j] = {q.x / a.width, q.y / a.height};
         }
     }
-    repairFloatSlivers(placed, out);
+    splitRoundedSliverCorners(placed, out);
 }
 
-}  // namespace
-
-PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOptions& options) {
-    auto t0 = std::chrono::steady_clock::now();
-    checkInput(asset, mr);
-    const TriMesh& mesh = asset.mesh;
-    const ChartLayout& ch = mr.charts;
-    PackResult res;
-    Box3 box = bounds(mesh);
-    res.diagonal = box.diagonal();
-    res.radius = 0.5 * res.diagonal;
-    if (!(res.radius > 0)) throw Impossible(asset.sourcePath + ": the mesh has no extent");
-    std::vector<LevelView> views = levelViews(asset, mr);
-    const BakeSources sources(asset);  // the original images, decoded once for every level's bake
-    size_t n = views.size();
-    auto progress = [&](double f) { if (options.progress) options.progress(f); };
-
-    // Layouts: T0 and, with a texture hierarchy, every rank (faces, UV area, UV-to-model scale).
+// 1. T0 and, with a texture hierarchy, every rank (faces, UV area, UV-to-model scale).
+std::vector<LayoutData> layoutsOf(const Asset& asset, const Multires& mr, bool hierarchy) {
     std::vector<LayoutData> layouts;
-    layouts.push_back(layoutData(asset, ch, 0));
-    const bool hierarchy = options.useTextureHierarchy && !mr.textures.empty();
-    double area3D = 0;
-    for (const Tri& t : mesh.triangles) area3D += triArea3(mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]);
+    layouts.push_back(layoutData(asset, mr.charts, 0));
     if (hierarchy)
         for (size_t j = 0; j < mr.textures.ranks.size(); ++j) layouts.push_back(layoutData(asset, mr.textures.ranks[j], uint32_t(j + 1)));
+    return layouts;
+}
 
-    // 1. Measured deviation of each level.
+// 2. The measured deviation of each level from the original (LOD0: none). Progress to 0.3.
+template <class Progress>
+void measureLevels(const TriMesh& mesh, const std::vector<LevelView>& views, const PackOptions& options, PackResult& res,
+                   Progress&& progress) {
+    const size_t n = views.size();
     res.reports.resize(n);
     DistanceOptions dopt;
     dopt.samplesPerSide = options.distanceSamples;
@@ -423,131 +412,186 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
         r.relRms = d.relRms;
         progress(0.3 * double(k) / double(n));
     }
+}
 
-    // 2. Screen coverage: value k = the smallest coverage at which LOD k is drawn.
+// 3. Screen coverage: value k = the smallest coverage at which LOD k is drawn (decreasing); the
+// last one culls the coarsest level below cutoffPixels (and at half the previous value at most).
+constexpr double kExactDeviation = 1e-7;  // relative to the diagonal
+
+std::vector<double> screenCoverages(const PackResult& res, const PackOptions& options) {
+    const size_t n = res.reports.size();
     const double H = options.viewportHeight, p = options.pixelError;
-    res.screenCoverage.assign(n, 0);
+    std::vector<double> coverage(n, 0);
     for (size_t k = 0; k + 1 < n; ++k) {
-        double e = res.reports[k + 1].hausdorff;
-        double c = e > 0 ? 2 * res.radius * p / (e * H) : options.lod0Coverage;
-        if (k > 0) c = std::min(c, res.screenCoverage[k - 1]);
-        res.screenCoverage[k] = c;
+        // A deviation below float precision of the positions is no deviation: the coarser level is
+        // as good as this one at any size.
+        const double e = res.reports[k + 1].hausdorff;
+        double c = e > kExactDeviation * res.diagonal ? 2 * res.radius * p / (e * H) : options.lod0Coverage;
+        if (k > 0) c = std::min(c, coverage[k - 1]);
+        coverage[k] = c;
     }
     double cutoff = options.cutoffPixels / H;
-    if (n >= 2) cutoff = std::min(cutoff, 0.5 * res.screenCoverage[n - 2]);
-    res.screenCoverage[n - 1] = cutoff;
-    double tanHalf = std::tan(options.fovY * kPi / 360);
+    if (n >= 2) cutoff = std::min(cutoff, 0.5 * coverage[n - 2]);
+    coverage[n - 1] = cutoff;
+    return coverage;
+}
 
-    // 3-4. Per level: atlas, bake, mesh.
-    double metallic = 0, roughness = 1;
-    bool doubleSided = false;
-    if (ch.material >= 0 && size_t(ch.material) < asset.materials.size()) {
-        const Material& bm = asset.materials[size_t(ch.material)];
-        metallic = bm.metallicFactor;
-        roughness = bm.roughnessFactor;
-        doubleSided = bm.doubleSided;
+// Level k's coverage range, switch distance and the texel density it can show: one texel per
+// pixel at its largest coverage (texels per model unit).
+void levelCoverage(const PackResult& res, size_t k, const PackOptions& options, PackLevelReport& r) {
+    const double H = options.viewportHeight;
+    const double tanHalf = std::tan(options.fovY * kPi / 360);
+    r.coverage = res.screenCoverage[k];
+    r.maxCoverage = k == 0 ? std::max(options.lod0Coverage, r.coverage) : res.screenCoverage[k - 1];
+    r.switchDistance = res.radius / (r.coverage * tanHalf);
+    r.texelLimit = (options.lod0Density ? res.reports[0].maxCoverage : r.maxCoverage) * H / (2 * res.radius);
+}
+
+// The highest-rank texture valid for level `level` that the hierarchy offers at the page side the
+// level needs (a rank whose smallest texture is larger than that page is not used: its extra
+// chart seams and gutters only pay at the resolutions it was made for), and of its sizes the
+// smallest that gives the density the level can show (the largest when none does). The page side
+// estimate does not depend on the layout: sqrt(3D area) x texel limit / 0.8. Sets r.sideNeeded,
+// r.rank and r.textureSize (0 without a hierarchy).
+void selectTexture(const Multires& mr, const std::vector<LayoutData>& layouts, size_t level, bool hierarchy, double area3D,
+                   const PackOptions& options, PackLevelReport& r) {
+    const double sideNeeded = std::min(double(options.maxSize), std::sqrt(area3D) * r.texelLimit / 0.8);
+    r.sideNeeded = sideNeeded;
+    r.rank = 0;
+    if (hierarchy) {
+        std::vector<int> smallest(layouts.size(), 0);
+        for (const HierarchyTexture& h : mr.textures.textures)
+            if (h.rank < layouts.size() && (smallest[h.rank] == 0 || h.size < smallest[h.rank])) smallest[h.rank] = h.size;
+        for (const HierarchyTexture& h : mr.textures.textures)
+            if (h.firstLevel <= level && level <= h.lastLevel && h.rank < layouts.size() && smallest[h.rank] <= sideNeeded)
+                r.rank = std::max(r.rank, h.rank);
     }
-    for (const Material& om : asset.materials) doubleSided = doubleSided || om.doubleSided;
+    const double tMax = r.texelLimit / layouts[r.rank].uvPerUnit;
+    r.textureSize = 0;
+    if (hierarchy)
+        for (const HierarchyTexture& h : mr.textures.textures)
+            if (h.rank == r.rank && (r.textureSize == 0 || (r.textureSize < tMax && h.size > r.textureSize) ||
+                                     (h.size >= tMax && h.size < r.textureSize)))
+                r.textureSize = h.size;
+}
+
+// The page of level k: the charts its triangles use, packed at the density limit tMax (layout
+// units) with gutters for the mips used between its largest and smallest coverage (at most
+// maxMips, none for pages below minMipSide). A page held below the density limit (maxSize) is
+// magnified at the largest coverage and uses fewer mips: the gutter is narrowed to the fewest mips
+// that the denser packing it allows still covers. A coarser level never carries more texels than
+// the finer one (packing fewer, larger gutters can come out bigger at the same density): its
+// density is lowered until it does not (at most 8 tries). `reports` holds levels 0..k-1.
+LevelAtlas packLevelPage(const LayoutData& lay, const LevelUVs& luv, size_t k, const PackLevelReport& r,
+                         const std::vector<PackLevelReport>& reports, const PackOptions& options) {
+    const double tMax = r.texelLimit / lay.uvPerUnit;
+    // At density d (layout units) the smallest coverage samples mip log2(d / (tMax x cov / maxCov)).
+    const double minCoverageRatio = std::max(r.coverage, 1e-12) / r.maxCoverage;
+    auto mipsAt = [&](double d) { return int(std::ceil(std::log2(std::max(1.0, d / (tMax * minCoverageRatio)) - 1e-9))); };
+    int mips = mipsAt(tMax);
+    double usedUv = 0;
+    {
+        std::vector<char> seen(lay.chartUvArea.size(), 0);
+        for (uint32_t c : luv.chart)
+            if (!seen[c]) { seen[c] = 1; usedUv += lay.chartUvArea[c]; }
+    }
+    double side = std::min(double(options.maxSize), std::sqrt(usedUv) * tMax / 0.8);
+    int mipLimit = side > options.minMipSide ? int(std::floor(std::log2(side / options.minMipSide))) : 0;
+    mips = std::clamp(mips, 0, std::min(options.maxMips, mipLimit));
+    AtlasOptions ao;
+    ao.maxTexelsPerUnit = tMax;
+    ao.gutter = 2 << mips;
+    ao.maxSize = options.maxSize;
+    ao.powerOfTwo = options.powerOfTwo;
+    ao.threads = options.threads;
+    LevelAtlas la = packLevelAtlas(lay, luv, k == 0, ao);
+    for (int m = std::clamp(mipsAt(la.atlas.texelsPerUnit), 0, mips); m < mips; ++m) {
+        AtlasOptions narrow = ao;
+        narrow.gutter = 2 << m;
+        LevelAtlas denser = packLevelAtlas(lay, luv, k == 0, narrow);
+        if (mipsAt(denser.atlas.texelsPerUnit) > m) continue;
+        mips = m;
+        ao = narrow;
+        la = std::move(denser);
+        break;
+    }
+    for (int tries = 0; k > 0 && tries < 8; ++tries) {
+        double previous = double(reports[k - 1].width) * reports[k - 1].height;
+        double now = double(la.atlas.width) * la.atlas.height;
+        if (now <= previous) break;
+        ao.maxTexelsPerUnit = std::min(ao.maxTexelsPerUnit, la.atlas.texelsPerUnit) * std::sqrt(previous / now) * 0.98;
+        la = packLevelAtlas(lay, luv, false, ao);
+    }
+    return la;
+}
+
+// The page figures of the report.
+void recordPage(const LevelAtlas& la, const LayoutData& lay, PackLevelReport& r) {
+    r.gutter = la.atlas.gutter;
+    r.mips = std::max(0, int(std::log2(std::max(2, r.gutter) / 2)));  // the packer may narrow the gutter
+    r.width = la.atlas.width;
+    r.height = la.atlas.height;
+    r.charts = la.charts;
+    r.utilisation = la.atlas.utilisation;
+    r.boxUtilisation = la.atlas.boxUtilisation;
+    r.rasterUtilisation = la.atlas.rasterUtilisation;
+    r.footprintUtilisation = la.atlas.footprintUtilisation;
+    r.texelsPerUnit = la.atlas.texelsPerUnit * lay.uvPerUnit;
+}
+
+}  // namespace
+
+PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOptions& options) {
+    auto t0 = Clock::now();
+    checkInput(asset, mr);
+    const TriMesh& mesh = asset.mesh;
+    PackResult res;
+    res.diagonal = bounds(mesh).diagonal();
+    res.radius = 0.5 * res.diagonal;
+    if (!(res.radius > 0)) throw Impossible(asset.sourcePath + ": the mesh has no extent");
+    const std::vector<LevelView> views = levelViews(asset, mr);
+    const BakeSources sources(asset);  // the original images, decoded once for every level's bake
+    const size_t n = views.size();
+    auto progress = [&](double f) { if (options.progress) options.progress(f); };
+
+    const bool hierarchy = options.useTextureHierarchy && !mr.textures.empty();
+    const std::vector<LayoutData> layouts = layoutsOf(asset, mr, hierarchy);  // 1
+    double area3D = 0;
+    for (const Tri& t : mesh.triangles) area3D += triArea3(mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]);
+    measureLevels(mesh, views, options, res, progress);  // 2
+    res.screenCoverage = screenCoverages(res, options);  // 3
+
+    // 4. Per level: texture, page, mesh, bake.
+    const MaterialPlan plan = planMaterial(asset);
+    res.warnings = plan.warnings;
+    LevelImageOptions io;
+    io.format = options.imageFormat;
+    io.jpegQuality = options.jpegQuality;
     res.levels.resize(n);
     for (size_t k = 0; k < n; ++k) {
         PackLevelReport& r = res.reports[k];
-        r.coverage = res.screenCoverage[k];
-        r.maxCoverage = k == 0 ? std::max(options.lod0Coverage, r.coverage) : res.screenCoverage[k - 1];
-        r.switchDistance = res.radius / (r.coverage * tanHalf);
-        // Texel density the level can show: one texel per pixel at its largest coverage.
-        r.texelLimit = (options.lod0Density ? res.reports[0].maxCoverage : r.maxCoverage) * H / (2 * res.radius);
-        // The highest-rank texture valid for this level that the hierarchy offers at the page side
-        // the level needs (a rank whose smallest texture is larger than that page is not used: its
-        // extra chart seams and gutters only pay at the resolutions it was made for), and of its
-        // sizes the smallest that gives the density the level can show (the largest when none does).
-        // The page side estimate does not depend on the layout: sqrt(3D area) x texel limit / 0.8.
-        const double sideNeeded = std::min(double(options.maxSize), std::sqrt(area3D) * r.texelLimit / 0.8);
-        r.sideNeeded = sideNeeded;
-        r.rank = 0;
-        if (hierarchy) {
-            std::vector<int> smallest(layouts.size(), 0);
-            for (const HierarchyTexture& h : mr.textures.textures)
-                if (h.rank < layouts.size() && (smallest[h.rank] == 0 || h.size < smallest[h.rank])) smallest[h.rank] = h.size;
-            for (const HierarchyTexture& h : mr.textures.textures)
-                if (h.firstLevel <= views[k].level && views[k].level <= h.lastLevel && h.rank < layouts.size() &&
-                    smallest[h.rank] <= sideNeeded)
-                    r.rank = std::max(r.rank, h.rank);
-        }
+        levelCoverage(res, k, options, r);
+        selectTexture(mr, layouts, views[k].level, hierarchy, area3D, options, r);
         const LayoutData& lay = layouts[r.rank];
-        double tMax = r.texelLimit / lay.uvPerUnit;
-        r.textureSize = 0;
-        if (hierarchy)
-            for (const HierarchyTexture& h : mr.textures.textures)
-                if (h.rank == r.rank && (r.textureSize == 0 || (r.textureSize < tMax && h.size > r.textureSize) ||
-                                         (h.size >= tMax && h.size < r.textureSize)))
-                    r.textureSize = h.size;
-        LevelUVs luv = levelUVs(mesh, lay, views[k], views[k].data);
-        // Mips used between its largest and smallest coverage, limited to pages >= minMipSide: at
-        // density d (layout units) the smallest coverage samples mip log2(d / (tMax x cov / maxCov)).
-        const double minCoverageRatio = std::max(r.coverage, 1e-12) / r.maxCoverage;
-        auto mipsAt = [&](double d) { return int(std::ceil(std::log2(std::max(1.0, d / (tMax * minCoverageRatio)) - 1e-9))); };
-        int mips = mipsAt(tMax);
-        double usedUv = 0;
-        {
-            std::vector<char> seen(lay.chartUvArea.size(), 0);
-            for (uint32_t c : luv.chart)
-                if (!seen[c]) { seen[c] = 1; usedUv += lay.chartUvArea[c]; }
-        }
-        double side = std::min(double(options.maxSize), std::sqrt(usedUv) * tMax / 0.8);
-        int mipLimit = side > options.minMipSide ? int(std::floor(std::log2(side / options.minMipSide))) : 0;
-        mips = std::clamp(mips, 0, std::min(options.maxMips, mipLimit));
-        AtlasOptions ao;
-        ao.maxTexelsPerUnit = tMax;
-        ao.gutter = 2 << mips;
-        ao.maxSize = options.maxSize;
-        ao.powerOfTwo = options.powerOfTwo;
-        ao.threads = options.threads;
-        LevelAtlas la = packLevelAtlas(lay, luv, k == 0, ao);
-        // A page held below the density limit (--max-size) is magnified at the largest coverage and
-        // uses fewer mips: narrow the gutter to the fewest mips that the denser packing it allows
-        // still covers.
-        for (int m = std::clamp(mipsAt(la.atlas.texelsPerUnit), 0, mips); m < mips; ++m) {
-            AtlasOptions narrow = ao;
-            narrow.gutter = 2 << m;
-            LevelAtlas denser = packLevelAtlas(lay, luv, k == 0, narrow);
-            if (mipsAt(denser.atlas.texelsPerUnit) > m) continue;
-            mips = m;
-            ao = narrow;
-            la = std::move(denser);
-            break;
-        }
-        // A coarser level never carries more texels than the finer one (packing of fewer, larger
-        // gutters can come out bigger at the same density): lower its density until it does not.
-        for (int tries = 0; k > 0 && tries < 8; ++tries) {
-            double previous = double(res.reports[k - 1].width) * res.reports[k - 1].height;
-            double now = double(la.atlas.width) * la.atlas.height;
-            if (now <= previous) break;
-            ao.maxTexelsPerUnit = std::min(ao.maxTexelsPerUnit, la.atlas.texelsPerUnit) * std::sqrt(previous / now) * 0.98;
-            la = packLevelAtlas(lay, luv, false, ao);
-        }
-        r.gutter = la.atlas.gutter;
-        r.mips = std::max(0, int(std::log2(std::max(2, r.gutter) / 2)));  // the packer may narrow the gutter
-        r.width = la.atlas.width;
-        r.height = la.atlas.height;
-        r.charts = la.charts;
-        r.utilisation = la.atlas.utilisation;
-        r.boxUtilisation = la.atlas.boxUtilisation;
-        r.rasterUtilisation = la.atlas.rasterUtilisation;
-        r.footprintUtilisation = la.atlas.footprintUtilisation;
-        r.texelsPerUnit = la.atlas.texelsPerUnit * lay.uvPerUnit;
-        std::vector<float> pixels = bakePage(sources, lay, la, options.threads, r.bakeSeconds);
+        const LevelUVs luv = levelUVs(mesh, lay, views[k], views[k].data);
+        const LevelAtlas la = packLevelPage(lay, luv, k, r, res.reports, options);
+        recordPage(la, lay, r);
         LodLevelData& L = res.levels[k];
         L.name = "LOD" + std::to_string(k);
-        L.metallicFactor = metallic;
-        L.roughnessFactor = roughness;
-        L.doubleSided = doubleSided;
-        L.image = encodeImage(pixels, la.atlas.width, la.atlas.height, options.imageFormat, options.jpegQuality, L.name);
         buildLevelMesh(asset, views[k], luv, la, L);
+        const bool normalMap = options.normalMaps == NormalMaps::Always ||
+                               (options.normalMaps == NormalMaps::Auto && (plan.normalTexture || k > 0));
+        const BakeChannels channels = levelChannels(plan, normalMap);
+        if (channels.normal) L.tangents = levelTangents(L);
+        const BakeResult baked = bakePage(sources, lay, la, channels, levelBakeTarget(L, la.atlas.width, la.atlas.height), options.threads);
+        r.bakeSeconds = baked.seconds;
+        L.material = levelMaterial(plan, baked, la.atlas.width, la.atlas.height, io, L.name);
+        r.channels = channelNames(L.material);
         r.triangles = L.indices.size() / 3;
         r.vertices = L.positions.size() / 3;
         progress(0.3 + 0.7 * double(k + 1) / double(n));
     }
-    res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    res.seconds = secondsSince(t0);
     return res;
 }
 

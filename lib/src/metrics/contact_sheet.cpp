@@ -1,13 +1,15 @@
-// writeContactSheet (compare.h): the renders kept by compareAssets tiled into one PNG with
-// OpenImageIO, written to a temporary file beside the target and renamed into place.
-#include <OpenImageIO/imageio.h>
-
+// writeContactSheet (compare.h): the renders kept by compareAssets tiled into one PNG
+// (texture/codec.h), written to a temporary file beside the target and renamed into place.
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
 
 #include "lodbake/core/errors.h"
 #include "lodbake/metrics/compare.h"
+#include "lodbake/texture/codec.h"
 
 namespace lodbake {
 
@@ -43,11 +45,12 @@ void writeContactSheet(const std::string& path, const CompareResult& result, con
         }
     std::filesystem::path target(path);
     std::string tmp = (target.parent_path() / ("." + target.filename().string() + ".tmp.png")).string();
-    auto out = OIIO::ImageOutput::create("png");
-    if (!out) throw IOError(path + ": no PNG writer available");
-    OIIO::ImageSpec spec(W, H, 3, OIIO::TypeDesc::UINT8);
-    if (!out->open(tmp, spec) || !out->write_image(OIIO::TypeDesc::UINT8, pixels.data()) || !out->close()) {
-        std::string e = out->geterror();
+    const Image png = encodePng(pixels, W, H);
+    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
+    f.write(reinterpret_cast<const char*>(png.encoded.data()), std::streamsize(png.encoded.size()));
+    f.close();
+    if (!f) {
+        std::string e = std::strerror(errno);
         std::remove(tmp.c_str());
         throw IOError(path + ": cannot write contact sheet: " + e);
     }

@@ -1,6 +1,7 @@
 // The software rasteriser of render.h, laid out as a pipeline:
-//   sphereViews -> per triangle: cullBackFace -> toCamera -> clipNear -> per sub-triangle:
-//   setupInterpolants -> scan pixels (z-test) -> shadeBaseColor / shadeGrey -> encodeSrgb.
+//   sphereViews; per triangle: cullBackFace, cornerAttributes, toScreen (toCamera, clipNear,
+//   projection); per sub-triangle: rasterizeTriangle (setupInterpolants, pixel scan with z-test,
+//   shadeBaseColor or Lambert grey); encodeSrgb.
 // Perspective-correct interpolation: 1/z and b_k/z (b = barycentrics of the original triangle)
 // are affine in screen space; their screen gradients give exact UV derivatives for the mip level
 // (trilinear filtering, as in the OpenGL spec's scale factor rho).
@@ -9,6 +10,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+
+#include "lodbake/texture/color_space.h"
+#include "lodbake/texture/texture_transform.h"
 
 namespace lodbake {
 namespace {
@@ -119,20 +123,6 @@ void sampleTexture(const MipImage& mip, Vec2 uv, Vec2 duvdx, Vec2 duvdy, int wra
     }
 }
 
-// KHR_texture_transform: uv' = offset + R(rotation) * S(scale) * uv (glTF extension spec matrices).
-Vec2 applyTransform(const TextureTransform& t, Vec2 uv, bool linearOnly) {
-    if (!t.present) return uv;
-    double c = std::cos(t.rotation), s = std::sin(t.rotation);
-    double su = uv.x * t.scale.x, sv = uv.y * t.scale.y;
-    Vec2 r{c * su + s * sv, -s * su + c * sv};
-    return linearOnly ? r : r + t.offset;
-}
-
-float linearToSrgb(float c) {
-    c = std::fmin(std::fmax(c, 0.f), 1.f);
-    return c <= 0.0031308f ? c * 12.92f : 1.055f * std::pow(c, 1 / 2.4f) - 0.055f;
-}
-
 // Per-triangle material data resolved once.
 struct TriMaterial {
     Vec4 factor{1, 1, 1, 1};
@@ -197,6 +187,168 @@ std::vector<Camera> sphereViews(int count, Vec3 center, double radius, double fo
     return views;
 }
 
+namespace {
+
+// The render target while triangles are drawn: linear colour and depth per pixel.
+struct Target {
+    int width = 0, height = 0;
+    std::vector<float> linear;  // RGB, linear
+    std::vector<double> depth;  // camera z of the nearest fragment; +inf where nothing is drawn
+};
+
+// What a triangle carries to its pixels: corner UVs (after the texture transform) and colours,
+// and the grey of Lambert shading (shaded mode: one value per triangle).
+struct CornerAttributes {
+    bool textured = false, colored = false;
+    Vec2 uv[3] = {};
+    Vec4 col[3];
+    float grey = 0;
+};
+
+// \pre n is the triangle's unit normal.
+CornerAttributes cornerAttributes(const TriMesh& mesh, size_t t, const TriMaterial& mat, bool shaded, Vec3 n, const Frame& f) {
+    CornerAttributes at;
+    const Tri* cw = mesh.cornerWedges.size() == mesh.triangles.size() ? &mesh.cornerWedges[t] : nullptr;
+    at.textured = !shaded && mat.texture != nullptr && cw != nullptr;
+    if (at.textured) {
+        const std::vector<Vec2>& set = mat.texCoord == 1 ? mesh.wedges.uv1 : mesh.wedges.uv0;
+        if (set.size() != mesh.wedges.size()) at.textured = false;
+        else
+            for (int k = 0; k < 3; ++k) at.uv[k] = applyTextureTransform(*mat.transform, set[(*cw)[k]]);
+    }
+    at.colored = !shaded && cw != nullptr && mesh.wedges.color.size() == mesh.wedges.size() && !mesh.wedges.color.empty();
+    if (at.colored)
+        for (int k = 0; k < 3; ++k) at.col[k] = mesh.wedges.color[(*cw)[k]];
+    if (shaded) {
+        double lambert = std::fabs(dot(n, f.forward));
+        at.grey = static_cast<float>(0.8 * (0.1 + 0.9 * lambert));
+    }
+    return at;
+}
+
+// A clipped vertex on screen: pixel coordinates, 1/z and barycentrics / z.
+struct Screen {
+    double x, y, q;
+    Vec3 bq;
+};
+
+// toCamera + clipNear + projection of triangle P; returns the polygon's vertex count (< 3: nothing
+// in front of the near plane).
+int toScreen(const Vec3 P[3], const Frame& f, double zNear, Screen s[4]) {
+    ClipVertex cv[3];
+    for (int k = 0; k < 3; ++k) {
+        Vec3 d = P[k] - f.eye;
+        cv[k].cam = {dot(d, f.right), dot(d, f.up), dot(d, f.forward)};
+    }
+    cv[0].bary = {1, 0, 0};
+    cv[1].bary = {0, 1, 0};
+    cv[2].bary = {0, 0, 1};
+    ClipVertex poly[4];
+    const int np = clipNear(cv, zNear, poly);
+    if (np < 3) return np;
+    const double halfH = 0.5 * f.height, halfW = 0.5 * f.width;
+    for (int k = 0; k < np; ++k) {
+        double q = 1.0 / poly[k].cam.z;
+        s[k].x = halfW + poly[k].cam.x * q * f.focal * halfH;
+        s[k].y = halfH - poly[k].cam.y * q * f.focal * halfH;
+        s[k].q = q;
+        s[k].bq = poly[k].bary * q;
+    }
+    return np;
+}
+
+// Screen gradients of 1/z and b/z over a screen triangle (affine in screen space).
+struct Interpolants {
+    double qdx = 0, qdy = 0;
+    Vec3 bdx, bdy;
+};
+
+// \pre area = twice the signed screen area of (a, b, c), not 0.
+Interpolants setupInterpolants(const Screen& a, const Screen& b, const Screen& c, double area) {
+    auto grad = [&](double fa, double fb, double fc, double& dx, double& dy) {
+        dx = ((fb - fa) * (c.y - a.y) - (fc - fa) * (b.y - a.y)) / area;
+        dy = ((fc - fa) * (b.x - a.x) - (fb - fa) * (c.x - a.x)) / area;
+    };
+    Interpolants in;
+    grad(a.q, b.q, c.q, in.qdx, in.qdy);
+    for (int j = 0; j < 3; ++j) grad(a.bq[j], b.bq[j], c.bq[j], in.bdx[j], in.bdy[j]);
+    return in;
+}
+
+// Base colour at a pixel (dx, dy from screen vertex a, depth z): material factor x texture x
+// vertex colour. Returns false when alpha masking discards the fragment.
+bool shadeBaseColor(const TriMaterial& mat, const CornerAttributes& at, const Screen& a, const Interpolants& in, double dx,
+                    double dy, double z, float out[3]) {
+    Vec3 bq = a.bq + in.bdx * dx + in.bdy * dy;
+    Vec3 bar = bq * z;
+    float rgba[4] = {static_cast<float>(mat.factor.x), static_cast<float>(mat.factor.y), static_cast<float>(mat.factor.z),
+                     static_cast<float>(mat.factor.w)};
+    if (at.textured) {
+        Vec2 tc = at.uv[0] * bar[0] + at.uv[1] * bar[1] + at.uv[2] * bar[2];
+        // d(b/z)/dx * z - b * z * dq/dx  = db/dx
+        Vec3 dbx = (in.bdx - bar * in.qdx) * z, dby = (in.bdy - bar * in.qdy) * z;
+        Vec2 dtx = at.uv[0] * dbx[0] + at.uv[1] * dbx[1] + at.uv[2] * dbx[2];
+        Vec2 dty = at.uv[0] * dby[0] + at.uv[1] * dby[1] + at.uv[2] * dby[2];
+        float tex[4];
+        sampleTexture(*mat.texture, tc, dtx, dty, mat.wrapS, mat.wrapT, tex);
+        for (int ch = 0; ch < 4; ++ch) rgba[ch] *= tex[ch];
+    }
+    if (at.colored) {
+        double cc[4] = {0, 0, 0, 0};
+        for (int k = 0; k < 3; ++k) {
+            cc[0] += at.col[k].x * bar[k];
+            cc[1] += at.col[k].y * bar[k];
+            cc[2] += at.col[k].z * bar[k];
+            cc[3] += at.col[k].w * bar[k];
+        }
+        for (int ch = 0; ch < 4; ++ch) rgba[ch] *= static_cast<float>(cc[ch]);
+    }
+    if (mat.mask && rgba[3] < mat.cutoff) return false;
+    out[0] = rgba[0];
+    out[1] = rgba[1];
+    out[2] = rgba[2];
+    return true;
+}
+
+// Scans the pixels whose centres lie inside screen triangle (a, b, c) (either winding), depth-
+// tests them and writes the shaded colour, its depth and coverage.
+void rasterizeTriangle(const Screen& a, const Screen& b, const Screen& c, const TriMaterial& mat, const CornerAttributes& at,
+                       bool shaded, Target& target, Rendering& img) {
+    double area = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+    if (std::fabs(area) < 1e-12) return;
+    const Interpolants in = setupInterpolants(a, b, c, area);
+    const int W = target.width, H = target.height;
+    int x0 = std::max(0, static_cast<int>(std::floor(std::min({a.x, b.x, c.x}))));
+    int x1 = std::min(W - 1, static_cast<int>(std::ceil(std::max({a.x, b.x, c.x}))));
+    int y0 = std::max(0, static_cast<int>(std::floor(std::min({a.y, b.y, c.y}))));
+    int y1 = std::min(H - 1, static_cast<int>(std::ceil(std::max({a.y, b.y, c.y}))));
+    const double sign = area > 0 ? 1 : -1;
+    for (int py = y0; py <= y1; ++py) {
+        double y = py + 0.5;
+        for (int px = x0; px <= x1; ++px) {
+            double x = px + 0.5;
+            double w0 = sign * ((b.x - x) * (c.y - y) - (b.y - y) * (c.x - x));
+            double w1 = sign * ((c.x - x) * (a.y - y) - (c.y - y) * (a.x - x));
+            double w2 = sign * ((a.x - x) * (b.y - y) - (a.y - y) * (b.x - x));
+            if (w0 < 0 || w1 < 0 || w2 < 0) continue;
+            double dx = x - a.x, dy = y - a.y;
+            double q = a.q + in.qdx * dx + in.qdy * dy;
+            if (!(q > 0)) continue;
+            double z = 1.0 / q;
+            size_t pix = static_cast<size_t>(py) * W + px;
+            if (!(z < target.depth[pix])) continue;
+            float out[3];
+            if (shaded) out[0] = out[1] = out[2] = at.grey;
+            else if (!shadeBaseColor(mat, at, a, in, dx, dy, z, out)) continue;
+            target.depth[pix] = z;
+            img.coverage[pix] = 1;
+            for (int ch = 0; ch < 3; ++ch) target.linear[pix * 3 + ch] = out[ch];
+        }
+    }
+}
+
+}  // namespace
+
 Rendering render(const RenderScene& scene, const Camera& camera, const RenderOptions& options) {
     const TriMesh& mesh = *scene.mesh;
     const int W = options.width, H = options.height;
@@ -205,12 +357,16 @@ Rendering render(const RenderScene& scene, const Camera& camera, const RenderOpt
     img.height = H;
     img.rgb.assign(static_cast<size_t>(W) * H * 3, 0.f);
     img.coverage.assign(static_cast<size_t>(W) * H, 0);
-    std::vector<float> linear(static_cast<size_t>(W) * H * 3, 0.f);
-    std::vector<double> depth(static_cast<size_t>(W) * H, std::numeric_limits<double>::infinity());
+    Target target;
+    target.width = W;
+    target.height = H;
+    target.linear.assign(static_cast<size_t>(W) * H * 3, 0.f);
+    target.depth.assign(static_cast<size_t>(W) * H, std::numeric_limits<double>::infinity());
     const Frame f = makeFrame(camera, W, H);
-    const double halfH = 0.5 * H, halfW = 0.5 * W;
     const bool shaded = options.mode == RenderMode::Shaded;
 
+    // Materials by index + 1 (slot 0: no material, also for out-of-range indices), resolved when
+    // the first triangle is drawn.
     std::vector<TriMaterial> materials;
     auto materialOf = [&](int32_t m) -> const TriMaterial& {
         size_t slot = static_cast<size_t>(m + 1);
@@ -233,128 +389,13 @@ Rendering render(const RenderScene& scene, const Camera& camera, const RenderOpt
         // cullBackFace
         double facing = dot(n, f.eye - P[0]);
         if (facing <= 0 && !mat.doubleSided) continue;
-
-        // Corner attributes.
-        const Tri* cw = mesh.cornerWedges.size() == mesh.triangles.size() ? &mesh.cornerWedges[t] : nullptr;
-        Vec2 uv[3] = {};
-        bool textured = !shaded && mat.texture != nullptr && cw != nullptr;
-        if (textured) {
-            const std::vector<Vec2>& set = mat.texCoord == 1 ? mesh.wedges.uv1 : mesh.wedges.uv0;
-            if (set.size() != mesh.wedges.size()) textured = false;
-            else
-                for (int k = 0; k < 3; ++k) uv[k] = applyTransform(*mat.transform, set[(*cw)[k]], false);
-        }
-        bool colored = !shaded && cw != nullptr && mesh.wedges.color.size() == mesh.wedges.size() && !mesh.wedges.color.empty();
-        Vec4 col[3];
-        if (colored)
-            for (int k = 0; k < 3; ++k) col[k] = mesh.wedges.color[(*cw)[k]];
-        float grey = 0;
-        if (shaded) {
-            double lambert = std::fabs(dot(n, f.forward));
-            grey = static_cast<float>(0.8 * (0.1 + 0.9 * lambert));
-        }
-
-        // toCamera + clipNear
-        ClipVertex cv[3];
-        for (int k = 0; k < 3; ++k) {
-            Vec3 d = P[k] - f.eye;
-            cv[k].cam = {dot(d, f.right), dot(d, f.up), dot(d, f.forward)};
-        }
-        cv[0].bary = {1, 0, 0};
-        cv[1].bary = {0, 1, 0};
-        cv[2].bary = {0, 0, 1};
-        ClipVertex poly[4];
-        int np = clipNear(cv, camera.zNear, poly);
-        if (np < 3) continue;
-
-        struct Screen {
-            double x, y, q;  // pixel coords, 1/z
-            Vec3 bq;         // bary / z
-        } s[4];
-        for (int k = 0; k < np; ++k) {
-            double q = 1.0 / poly[k].cam.z;
-            s[k].x = halfW + poly[k].cam.x * q * f.focal * halfH;
-            s[k].y = halfH - poly[k].cam.y * q * f.focal * halfH;
-            s[k].q = q;
-            s[k].bq = poly[k].bary * q;
-        }
-        for (int fan = 1; fan + 1 < np; ++fan) {
-            const Screen& a = s[0];
-            const Screen& b = s[fan];
-            const Screen& c = s[fan + 1];
-            double area = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
-            if (std::fabs(area) < 1e-12) continue;
-            // setupInterpolants: gradient of an affine function from its values at a, b, c.
-            auto grad = [&](double fa, double fb, double fc, double& dx, double& dy) {
-                dx = ((fb - fa) * (c.y - a.y) - (fc - fa) * (b.y - a.y)) / area;
-                dy = ((fc - fa) * (b.x - a.x) - (fb - fa) * (c.x - a.x)) / area;
-            };
-            double qdx, qdy;
-            grad(a.q, b.q, c.q, qdx, qdy);
-            Vec3 bdx, bdy;
-            for (int j = 0; j < 3; ++j) grad(a.bq[j], b.bq[j], c.bq[j], bdx[j], bdy[j]);
-
-            int x0 = std::max(0, static_cast<int>(std::floor(std::min({a.x, b.x, c.x}))));
-            int x1 = std::min(W - 1, static_cast<int>(std::ceil(std::max({a.x, b.x, c.x}))));
-            int y0 = std::max(0, static_cast<int>(std::floor(std::min({a.y, b.y, c.y}))));
-            int y1 = std::min(H - 1, static_cast<int>(std::ceil(std::max({a.y, b.y, c.y}))));
-            const double sign = area > 0 ? 1 : -1;
-            for (int py = y0; py <= y1; ++py) {
-                double y = py + 0.5;
-                for (int px = x0; px <= x1; ++px) {
-                    double x = px + 0.5;
-                    double w0 = sign * ((b.x - x) * (c.y - y) - (b.y - y) * (c.x - x));
-                    double w1 = sign * ((c.x - x) * (a.y - y) - (c.y - y) * (a.x - x));
-                    double w2 = sign * ((a.x - x) * (b.y - y) - (a.y - y) * (b.x - x));
-                    if (w0 < 0 || w1 < 0 || w2 < 0) continue;
-                    double dx = x - a.x, dy = y - a.y;
-                    double q = a.q + qdx * dx + qdy * dy;
-                    if (!(q > 0)) continue;
-                    double z = 1.0 / q;
-                    size_t pix = static_cast<size_t>(py) * W + px;
-                    if (!(z < depth[pix])) continue;
-                    float out[3];
-                    if (shaded) {
-                        out[0] = out[1] = out[2] = grey;
-                    } else {
-                        Vec3 bq = a.bq + bdx * dx + bdy * dy;
-                        Vec3 bar = bq * z;
-                        float rgba[4] = {static_cast<float>(mat.factor.x), static_cast<float>(mat.factor.y),
-                                         static_cast<float>(mat.factor.z), static_cast<float>(mat.factor.w)};
-                        if (textured) {
-                            Vec2 tc = uv[0] * bar[0] + uv[1] * bar[1] + uv[2] * bar[2];
-                            // d(b/z)/dx * z - b * z * dq/dx  = db/dx
-                            Vec3 dbx = (bdx - bar * qdx) * z, dby = (bdy - bar * qdy) * z;
-                            Vec2 dtx = uv[0] * dbx[0] + uv[1] * dbx[1] + uv[2] * dbx[2];
-                            Vec2 dty = uv[0] * dby[0] + uv[1] * dby[1] + uv[2] * dby[2];
-                            float tex[4];
-                            sampleTexture(*mat.texture, tc, dtx, dty, mat.wrapS, mat.wrapT, tex);
-                            for (int ch = 0; ch < 4; ++ch) rgba[ch] *= tex[ch];
-                        }
-                        if (colored) {
-                            double cc[4] = {0, 0, 0, 0};
-                            for (int k = 0; k < 3; ++k) {
-                                cc[0] += col[k].x * bar[k];
-                                cc[1] += col[k].y * bar[k];
-                                cc[2] += col[k].z * bar[k];
-                                cc[3] += col[k].w * bar[k];
-                            }
-                            for (int ch = 0; ch < 4; ++ch) rgba[ch] *= static_cast<float>(cc[ch]);
-                        }
-                        if (mat.mask && rgba[3] < mat.cutoff) continue;
-                        out[0] = rgba[0];
-                        out[1] = rgba[1];
-                        out[2] = rgba[2];
-                    }
-                    depth[pix] = z;
-                    img.coverage[pix] = 1;
-                    for (int ch = 0; ch < 3; ++ch) linear[pix * 3 + ch] = out[ch];
-                }
-            }
-        }
+        const CornerAttributes at = cornerAttributes(mesh, t, mat, shaded, n, f);
+        Screen s[4];
+        const int np = toScreen(P, f, camera.zNear, s);
+        for (int fan = 1; fan + 1 < np; ++fan) rasterizeTriangle(s[0], s[fan], s[fan + 1], mat, at, shaded, target, img);
     }
     // encodeSrgb
-    for (size_t i = 0; i < linear.size(); ++i) img.rgb[i] = linearToSrgb(linear[i]);
+    for (size_t i = 0; i < target.linear.size(); ++i) img.rgb[i] = linearToSrgb(target.linear[i]);
     return img;
 }
 

@@ -1,50 +1,23 @@
-// Decoding of an asset's images for the rasteriser (render.h): OpenImageIO reads the encoded
-// bytes from memory; texels are converted from sRGB to linear light (base colour textures are
-// sRGB by the glTF spec) and box-filtered into a mip pyramid.
-#include <OpenImageIO/filesystem.h>
-#include <OpenImageIO/imageio.h>
-
+// Decoding of an asset's images for the rasteriser (render.h): texture/codec.h decodes the
+// encoded bytes; texels are converted from sRGB to linear light (base colour textures are sRGB by
+// the glTF spec) and box-filtered into a mip pyramid.
 #include <cmath>
 #include <set>
 
 #include "lodbake/core/errors.h"
 #include "lodbake/metrics/render.h"
+#include "lodbake/texture/codec.h"
+#include "lodbake/texture/color_space.h"
 
 namespace lodbake {
 namespace {
 
-float srgbToLinear(float c) {
-    c = std::fmin(std::fmax(c, 0.f), 1.f);
-    return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
-}
-
-// Decodes `image` to linear RGBA level 0; false when it cannot be decoded.
-bool decodeImage(const Image& image, MipImage::Level& out, std::string& error) {
-    if (image.encoded.empty()) {
-        error = "image '" + image.name + "' has no data";
-        return false;
-    }
-    std::string name = image.mimeType == "image/jpeg" ? "image.jpg" : "image.png";
-    OIIO::Filesystem::IOMemReader reader(const_cast<uint8_t*>(image.encoded.data()), image.encoded.size());
-    // create + set_ioproxy: OIIO 2.4.7's ImageInput::open(name, config, proxy) fails on memory proxies.
-    auto in = OIIO::ImageInput::create(image.mimeType == "image/jpeg" ? "jpeg" : "png");
-    OIIO::ImageSpec opened;
-    if (!in || !in->set_ioproxy(&reader) || !in->open(name, opened)) {
-        error = "image '" + image.name + "' cannot be decoded: " + OIIO::geterror();
-        return false;
-    }
-    const OIIO::ImageSpec& spec = in->spec();
-    int w = spec.width, h = spec.height, nc = spec.nchannels;
-    if (w <= 0 || h <= 0 || nc <= 0) {
-        error = "image '" + image.name + "' is empty";
-        return false;
-    }
-    std::vector<float> pixels(static_cast<size_t>(w) * h * nc);
-    if (!in->read_image(0, 0, 0, nc, OIIO::TypeDesc::FLOAT, pixels.data())) {
-        error = "image '" + image.name + "' cannot be decoded: " + in->geterror();
-        return false;
-    }
-    in->close();
+// Decodes `image` (texture/codec.h) to linear RGBA level 0; false when it cannot be decoded.
+bool decodeLinear(const Image& image, MipImage::Level& out, std::string& error) {
+    DecodedImage decoded;
+    if (!decodeImage(image, decoded, error)) return false;
+    const int w = decoded.width, h = decoded.height, nc = decoded.channels;
+    const std::vector<float>& pixels = decoded.pixels;
     out.width = w;
     out.height = h;
     out.rgba.assign(static_cast<size_t>(w) * h * 4, 1.f);
@@ -101,7 +74,7 @@ RenderScene prepareRenderScene(const Asset& asset, const TriMesh& mesh) {
     for (int i : used) {
         MipImage::Level level0;
         std::string error;
-        if (!decodeImage(asset.images[i], level0, error)) {
+        if (!decodeLinear(asset.images[i], level0, error)) {
             scene.warnings.push_back(error + " (rendered white)");
             continue;
         }

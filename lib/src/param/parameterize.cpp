@@ -1,18 +1,21 @@
-// parameterize: charts -> Tutte -> Ceres (E = beta E_pixel + (1 - beta) E_poly) -> checks and
-// fallbacks -> shelf-packed atlas -> per-corner UVs (thesis 3.3; DESIGN.md).
+// parameterize: charts, Tutte, Ceres (E = beta E_pixel + (1 - beta) E_poly), checks and
+// fallbacks, shelf-packed atlas, per-corner and per-level UVs (thesis 3.3; DESIGN.md).
 //
-// Pipeline, in execution order:
-//   gatherCharts        charts from the coarsest level's base regions (charts.cpp)
-//   extractChart        each chart as a local mesh, its simplification pairs (all levels)
-//   solveChart          Tutte map, Ceres, injectivity check; fallback beta = 1, then Tutte
-//   measureChart        stretch (Sander et al. 2001), UV/3D area ratios
-//   packCharts          uniform texel density, shelf packing with gutters, density shrunk until it fits
-//   writeCornerUVs      atlas UV per original face corner (glTF convention)
+// Pipeline of parameterize, in execution order:
+//   (1) buildCharts         charts from the coarsest level's base regions (chart/charts.cpp)
+//   (2) localCharts         each chart as a local mesh with its simplification pairs and the level
+//                           triangles it carries (all levels)
+//   (3) solveCharts         per chart (solveChart): Tutte map, Ceres, injectivity and level-fold
+//                           checks; fallback beta = 1, then Tutte
+//   (4) measureCharts       stretch (Sander et al. 2001), UV/3D area ratios; alignChart
+//   (5)-(7) layoutAtlas     rounds of packCharts (shelfPack at a uniform density), writeCornerUVs,
+//                           writeLevelUVs, and addFoldIslands (level triangles that fold or cross a
+//                           chart boundary get their own island) until no level folds
+//   nudgeRoundedSliverCorners   sliver faces that flip once their UVs are rounded to float
 #include "lodbake/param/parameterize.h"
 
 #include <algorithm>
 #include <atomic>
-#include <chrono>
 #include <cmath>
 #include <map>
 #include <numeric>
@@ -20,15 +23,15 @@
 #include <thread>
 #include <unordered_map>
 
-#include "lodbake/core/errors.h"
+#include "lodbake/atlas/atlas.h"
 #include "lodbake/core/closest_point.h"
+#include "lodbake/core/errors.h"
+#include "lodbake/core/timing.h"
 #include "lodbake/core/parallel.h"
 #include "param/uv_check_detail.h"
 
 namespace lodbake {
 namespace {
-
-bool degenerateIndices(const Tri& t) { return t[0] == t[1] || t[1] == t[2] || t[0] == t[2]; }
 
 struct LocalChart {
     std::vector<uint32_t> faces;            // original faces (non-degenerate)
@@ -121,7 +124,7 @@ void gatherLevelTriangles(const TriMesh& mesh, const ChartResult& cr, const Mult
         const std::vector<uint32_t> triChart = levelTriangleCharts(mesh, faceChart, cr.chartCount, L);
         for (size_t t = 0; t < L.triangles.size() && t < L.faces.size(); ++t) {
             const Tri& v = L.triangles[t];
-            if (v[0] == v[1] || v[1] == v[2] || v[0] == v[2] || L.faces[t] >= cr.faceChart.size()) continue;
+            if (degenerateIndices(v) || L.faces[t] >= cr.faceChart.size()) continue;
             int32_t c = int32_t(triChart[t]);
             if (c < 0 || size_t(c) >= charts.size() || charts[size_t(c)].faces.empty()) continue;
             LocalChart& ch = charts[size_t(c)];
@@ -214,14 +217,10 @@ size_t levelFolds(const ChartMesh& chart, const std::vector<Vec2>& uv) {
 }
 
 void solveChart(LocalChart& c, const ParameterizeOptions& o, double resolution, ChartReport& rep) {
-    auto t0 = std::chrono::steady_clock::now();
+    auto t0 = Clock::now();
     std::vector<Vec2> tutte = tutteEmbedding(c.mesh);
-    ChartSolveOptions so;
-    so.energy.alpha = o.alpha;
-    so.energy.beta = o.beta;
+    ChartSolveOptions so = o.solve;
     so.energy.resolution = resolution;
-    so.maxIterations = o.maxIterations;
-    so.levelRounds = o.levelRounds;
     rep.tutte = chartEnergy(c.mesh, c.pairs, tutte, so.energy);
     auto valid = [&](const std::vector<Vec2>& uv) {
         return countFlips(c.mesh, uv) == 0 && countOverlaps(c.mesh, uv) == 0;
@@ -242,11 +241,11 @@ void solveChart(LocalChart& c, const ParameterizeOptions& o, double resolution, 
         rep.method = method;
         bestFolds = folds;
     };
-    if (o.maxIterations > 0) {
+    if (so.maxIterations > 0) {
         ChartSolveResult r = optimizeChartUV(c.mesh, c.pairs, tutte, so);
         rep.iterations = r.iterations;
         consider(r, "ceres");
-        if (o.beta < 1 && (rep.method == "tutte" || bestFolds > 0)) {
+        if (so.energy.beta < 1 && (rep.method == "tutte" || bestFolds > 0)) {
             ChartSolveOptions s1 = so;
             s1.energy.beta = 1;
             ChartSolveResult r1 = optimizeChartUV(c.mesh, c.pairs, tutte, s1);
@@ -258,7 +257,7 @@ void solveChart(LocalChart& c, const ParameterizeOptions& o, double resolution, 
     rep.final = chartEnergy(c.mesh, c.pairs, c.uv, so.energy);
     rep.flips = countFlips(c.mesh, c.uv);
     rep.overlaps = countOverlaps(c.mesh, c.uv);
-    rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    rep.seconds = secondsSince(t0);
 }
 
 // Rotates a chart so its principal UV axis is horizontal (tighter shelf packing).
@@ -282,59 +281,6 @@ void alignChart(std::vector<Vec2>& uv) {
     }
 }
 
-struct Placement {
-    double x = 0, y = 0;  // texel offset of the chart's bbox min
-    Vec2 min{};           // chart bbox min in model units
-};
-
-// Shelf packing of point sets (charts and level islands, model units) at density d; returns
-// false when they do not fit.
-bool shelfPack(const std::vector<const std::vector<Vec2>*>& sets, double d, int size, int gutter, std::vector<Placement>& out) {
-    struct Item {
-        uint32_t id;
-        int w, h;
-        Vec2 min;
-    };
-    std::vector<Item> items;
-    for (uint32_t i = 0; i < sets.size(); ++i) {
-        Vec2 lo{1e300, 1e300}, hi{-1e300, -1e300};
-        for (Vec2 p : *sets[i]) {
-            lo = {std::min(lo.x, p.x), std::min(lo.y, p.y)};
-            hi = {std::max(hi.x, p.x), std::max(hi.y, p.y)};
-        }
-        if (sets[i]->empty()) lo = hi = {0, 0};
-        items.push_back({i, int(std::ceil((hi.x - lo.x) * d)) + 1, int(std::ceil((hi.y - lo.y) * d)) + 1, lo});
-    }
-    std::sort(items.begin(), items.end(), [](const Item& a, const Item& b) { return a.h != b.h ? a.h > b.h : a.id < b.id; });
-    out.assign(sets.size(), {});
-    int x = gutter, y = gutter, shelf = 0;
-    for (const Item& it : items) {
-        if (it.w + 2 * gutter > size) return false;
-        if (x + it.w + gutter > size) {
-            x = gutter;
-            y += shelf + gutter;
-            shelf = 0;
-        }
-        if (y + it.h + gutter > size) return false;
-        out[it.id] = {double(x), double(y), it.min};
-        x += it.w + gutter;
-        shelf = std::max(shelf, it.h);
-    }
-    return true;
-}
-
-// Uniform density, shrunk until everything fits; returns the density (texels per model unit).
-double packAll(const std::vector<const std::vector<Vec2>*>& sets, double uvArea, int size, int gutter,
-               std::vector<Placement>& place) {
-    double d = std::sqrt(0.7 * double(size) * size / (uvArea > 0 ? uvArea : 1));
-    int attempts = 0;
-    while (!shelfPack(sets, d, size, gutter, place)) {
-        d *= 0.95;
-        if (++attempts > 400) throw Impossible("charts do not fit into a " + std::to_string(size) + " texture");
-    }
-    return d;
-}
-
 // Model-unit UVs of a level triangle's island: the 3D triangle laid flat (A at the origin, B on
 // +u, C above), each side and the height at least `minSize` so the island keeps texels and a
 // positive float area. Counter-clockwise.
@@ -348,11 +294,14 @@ std::vector<Vec2> islandLayout(Vec3 a, Vec3 b, Vec3 c, double minSize) {
     return {Vec2{0, 0}, Vec2{lab, 0}, Vec2{x, y}};
 }
 
-// glTF stores UVs as floats: an original face that is a sliver in 3D (hence in UV) can flip when
-// its corners are rounded. Such a face's corner opposite its longest edge is moved by one or a
-// few float steps (2^-24, below the overlap tolerance of the checks) to the positive side. Only
-// this face's corner UVs change (cornerUV is per face corner); returns the faces repaired.
-size_t repairFloatSlivers(const TriMesh& mesh, const std::vector<int32_t>& faceChart, std::vector<std::array<Vec2, 3>>& cornerUV) {
+// glTF stores UVs as floats: an original face that is a sliver in 3D (hence in UV) can come out
+// flat or flipped once its corner UVs are rounded to float, whatever their double values. Such a
+// face's corner opposite its longest (rounded) edge is moved on a grid of 2^-24 steps (one float
+// step for UVs in [0.5, 1), below the overlap tolerance of the checks) in the first of eight
+// directions, up to eight steps out, that makes the rounded triangle face the right way. Only this
+// face's corner UVs change (cornerUV holds UVs per face corner, nothing is shared); returns the
+// faces nudged. `pack` has its own repair for its indexed float meshes (lod_chain.cpp).
+size_t nudgeRoundedSliverCorners(const TriMesh& mesh, const std::vector<int32_t>& faceChart, std::vector<std::array<Vec2, 3>>& cornerUV) {
     auto rounded = [](Vec2 p) { return Vec2{double(float(p.x)), double(float(p.y))}; };
     auto area = [&](const std::array<Vec2, 3>& t) {  // math orientation (v up) of glTF UVs
         Vec2 a = rounded(t[0]), b = rounded(t[1]), c = rounded(t[2]);
@@ -367,15 +316,7 @@ size_t repairFloatSlivers(const TriMesh& mesh, const std::vector<int32_t>& faceC
     for (size_t f = 0; f < cornerUV.size(); ++f) {
         if (faceChart[f] < 0 || degenerateIndices(mesh.triangles[f]) || area(cornerUV[f]) > 0) continue;
         std::array<Vec2, 3>& t = cornerUV[f];
-        size_t apex = 0;
-        double longest = -1;
-        for (size_t k = 0; k < 3; ++k) {
-            Vec2 e = rounded(t[(k + 1) % 3]) - rounded(t[(k + 2) % 3]);
-            if (dot(e, e) > longest) {
-                longest = dot(e, e);
-                apex = k;
-            }
-        }
+        const size_t apex = cornerOppositeLongestEdge({rounded(t[0]), rounded(t[1]), rounded(t[2])});
         bool done = false;
         for (int step = 1; step <= 8 && !done; ++step)
             for (const Vec2& dir : dirs) {
@@ -398,30 +339,31 @@ struct Projection {
     std::array<double, 3> bary{1, 0, 0};
 };
 
-}  // namespace
+// The chart tables and island state shared by the packing rounds (islands grow between rounds).
+struct AtlasState {
+    std::vector<uint32_t> faceChart;                    // chart per original face (unassigned -> 0)
+    std::vector<std::vector<uint32_t>> levelTriChart;   // per level: chart each triangle takes UVs from
+    std::vector<std::vector<uint32_t>> vertexCharts;    // per vertex: the charts holding it
+    std::map<Tri, uint32_t> islandOf;                   // level vertex triple -> island
+    std::vector<std::vector<Vec2>> islandModel;         // island UVs, model units
+    std::unordered_map<uint64_t, Projection> projections;  // (chart << 32 | vertex) -> closest chart point
+    std::vector<std::vector<uint8_t>> projectedCount;   // per level triangle: corners not in its chart
+};
 
-ParameterizeResult parameterize(const TriMesh& mesh, const Multires& multires, const ParameterizeOptions& options) {
-    auto t0 = std::chrono::steady_clock::now();
-    ParameterizeResult res;
-    const size_t nf = mesh.triangleCount();
-    if (nf == 0) throw Impossible("the mesh has no triangles");
-    if (!(options.textureSize >= 16)) throw InvalidInput("texture size must be >= 16");
-
-    // (1) Charts from the coarsest level's base regions.
-    static const std::vector<uint32_t> kNoRegions;
-    const std::vector<uint32_t>& regions = multires.levels.empty() ? kNoRegions : multires.levels.back().faceRegion;
-    res.charts = buildCharts(mesh, regions, options.charts);
-
-    // (2) Local chart meshes and their pairs.
+// (2) The charts as local meshes with their simplification pairs and level triangles.
+std::vector<LocalChart> localCharts(const TriMesh& mesh, const Multires& multires, const ChartResult& cr) {
     std::vector<LocalChart> charts;
-    extractCharts(mesh, res.charts, charts);
+    extractCharts(mesh, cr, charts);
     gatherPairs(mesh, multires, charts);
-    gatherLevelTriangles(mesh, res.charts, multires, charts);
+    gatherLevelTriangles(mesh, cr, multires, charts);
+    return charts;
+}
 
-    // (3) Per chart: Tutte, Ceres, checks (fixed order, deterministic).
+// (3) Tutte, Ceres and checks per chart. Charts are independent: solved on up to options.threads
+// threads, largest first, results kept per chart and summed in chart order (identical for any
+// thread count). Progress runs to 0.9.
+void solveCharts(std::vector<LocalChart>& charts, const ParameterizeOptions& options, ParameterizeResult& res) {
     const double resolution = (512.0 * 512.0) / (double(options.textureSize) * options.textureSize);
-    // Charts are independent: solved on up to options.threads threads, largest first, results
-    // kept per chart and summed in chart order (identical for any thread count).
     res.chartReports.resize(charts.size());
     std::vector<size_t> bySize(charts.size());
     std::iota(bySize.begin(), bySize.end(), size_t(0));
@@ -446,8 +388,11 @@ ParameterizeResult parameterize(const TriMesh& mesh, const Multires& multires, c
         res.overlaps += rep.overlaps;
         res.levelFlips += rep.levelFlips;
     }
+}
 
-    // (4) Measures: per chart and whole atlas (uniform density, so model-unit UVs compare).
+// (4) Stretch and area-ratio measures per chart and for the whole atlas (uniform density, so
+// model-unit UVs compare). Returns the charts' total UV area (model units^2).
+double measureCharts(const std::vector<LocalChart>& charts, ParameterizeResult& res) {
     Stretch all;
     double allL2 = 0, allG = 0;
     for (size_t c = 0; c < charts.size(); ++c) {
@@ -470,182 +415,245 @@ ParameterizeResult parameterize(const TriMesh& mesh, const Multires& multires, c
         int bin = std::clamp(int(r / meanRatio / 0.2), 0, 9);
         ++res.areaRatioHistogram[size_t(bin)];
     }
+    return all.sumUV;
+}
 
-    // (5) Packing, (6) corner UVs, (7) level UVs with the island fallback: a level triangle still
-    // flipped or overlapping in the packed atlas gets its own island; islands take atlas space, so
-    // the atlas is packed again and every level re-checked until no level folds.
-    for (LocalChart& c : charts) alignChart(c.uv);
-    const int size = options.textureSize;
-    const double uvArea = all.sumUV > 0 ? all.sumUV : 1;
-    std::vector<std::vector<uint32_t>> chartFaces(charts.size());
-    for (size_t c = 0; c < charts.size(); ++c) chartFaces[c] = charts[c].faces;
-    std::map<Tri, uint32_t> islandOf;               // vertex triple -> island
-    std::vector<std::vector<Vec2>> islandModel;     // island UVs in model units
-    std::unordered_map<uint64_t, Projection> projections;  // (chart, vertex) -> closest chart point
-    const uint32_t chartCount = res.charts.chartCount;
-    std::vector<uint32_t> faceChart(nf);
-    for (size_t f = 0; f < nf; ++f) faceChart[f] = uint32_t(std::max(res.charts.faceChart[f], 0));
-    std::vector<std::vector<uint32_t>> levelTriChart(multires.levels.size());
+// The per-face, per-level and per-vertex chart tables the packing rounds read.
+// \throw InvalidInput when a level's faces and triangles disagree or a face id is out of range.
+AtlasState atlasState(const TriMesh& mesh, const Multires& multires, const ChartResult& cr, const std::vector<LocalChart>& charts) {
+    const size_t nf = mesh.triangleCount();
+    AtlasState st;
+    st.faceChart.resize(nf);
+    for (size_t f = 0; f < nf; ++f) st.faceChart[f] = uint32_t(std::max(cr.faceChart[f], 0));
+    st.levelTriChart.resize(multires.levels.size());
     for (size_t li = 0; li < multires.levels.size(); ++li) {
         const Level& L = multires.levels[li];
         if (L.faces.size() != L.triangles.size()) throw InvalidInput("level faces and triangles differ in size");
         for (uint32_t f : L.faces)
             if (f >= nf) throw InvalidInput("level face id out of range");
-        levelTriChart[li] = levelTriangleCharts(mesh, faceChart, chartCount, L);
+        st.levelTriChart[li] = levelTriangleCharts(mesh, st.faceChart, cr.chartCount, L);
     }
-    std::vector<std::vector<uint32_t>> vertexCharts(mesh.vertexCount());
+    st.vertexCharts.resize(mesh.vertexCount());
     for (uint32_t c = 0; c < charts.size(); ++c)
-        for (uint32_t v : charts[c].vertices) vertexCharts[v].push_back(c);
-    constexpr int kMaxRounds = 8;
-    bool crossing = options.crossingIslands;
-    for (int round = 0;; ++round) {
-        std::vector<const std::vector<Vec2>*> sets;
-        double islandArea = 0;
-        for (const LocalChart& c : charts) sets.push_back(&c.uv);
-        for (const auto& m : islandModel) {
-            sets.push_back(&m);
-            islandArea += 0.5 * cross(m[1] - m[0], m[2] - m[0]);
+        for (uint32_t v : charts[c].vertices) st.vertexCharts[v].push_back(c);
+    return st;
+}
+
+// (5) Shelf-packs the charts and the islands made so far; sets the density and fill figures.
+ShelfPackResult packCharts(const std::vector<LocalChart>& charts, const AtlasState& st, double uvArea,
+                           const ParameterizeOptions& options, ParameterizeResult& res) {
+    std::vector<const std::vector<Vec2>*> sets;
+    double islandArea = 0;
+    for (const LocalChart& c : charts) sets.push_back(&c.uv);
+    for (const auto& m : st.islandModel) {
+        sets.push_back(&m);
+        islandArea += 0.5 * cross(m[1] - m[0], m[2] - m[0]);
+    }
+    ShelfPackOptions so;
+    so.size = options.textureSize;
+    so.gutter = options.gutter;
+    ShelfPackResult atlas = shelfPack(sets, uvArea + islandArea, so);
+    const double d = atlas.texelsPerUnit;
+    const int size = options.textureSize;
+    res.texelsPerUnit = d;
+    res.atlasFill = (uvArea + islandArea) * d * d / (double(size) * size);
+    return atlas;
+}
+
+// (6) Atlas UV of every original face corner and of every island corner.
+void writeCornerUVs(const TriMesh& mesh, const std::vector<LocalChart>& charts, const AtlasState& st,
+                    const ShelfPackResult& atlas, ParameterizeResult& res) {
+    const size_t nf = mesh.triangleCount();
+    res.cornerUV.assign(nf, {});
+    for (uint32_t f = 0; f < nf; ++f) {
+        int32_t c = res.charts.faceChart[f];
+        if (c < 0 || charts[size_t(c)].uv.empty()) continue;
+        for (int k = 0; k < 3; ++k) {
+            auto it = charts[size_t(c)].local.find(mesh.triangles[f][k]);
+            uint32_t local = it != charts[size_t(c)].local.end() ? it->second : 0;
+            res.cornerUV[f][size_t(k)] = atlas.atlasUV(size_t(c), charts[size_t(c)].uv[local]);
         }
-        std::vector<Placement> place;
-        const double d = packAll(sets, uvArea + islandArea, size, options.gutter, place);
-        res.texelsPerUnit = d;
-        res.atlasFill = (uvArea + islandArea) * d * d / (double(size) * size);
-        auto toAtlas = [&](size_t item, Vec2 p) {
-            double X = place[item].x + (p.x - place[item].min.x) * d + 0.5;
-            double Y = place[item].y + (p.y - place[item].min.y) * d + 0.5;
-            return Vec2{X / size, 1.0 - Y / size};
-        };
-        res.cornerUV.assign(nf, {});
-        for (uint32_t f = 0; f < nf; ++f) {
-            int32_t c = res.charts.faceChart[f];
-            if (c < 0 || charts[size_t(c)].uv.empty()) continue;
-            for (int k = 0; k < 3; ++k) {
-                auto it = charts[size_t(c)].local.find(mesh.triangles[f][k]);
-                uint32_t local = it != charts[size_t(c)].local.end() ? it->second : 0;
-                res.cornerUV[f][size_t(k)] = toAtlas(size_t(c), charts[size_t(c)].uv[local]);
+    }
+    res.islands.resize(st.islandModel.size());
+    for (size_t i = 0; i < st.islandModel.size(); ++i)
+        for (size_t k = 0; k < 3; ++k) res.islands[i].uv[k] = atlas.atlasUV(charts.size() + i, st.islandModel[i][k]);
+}
+
+// The closest point of chart c's faces to vertex v (cached per chart and vertex).
+const Projection& projectOntoChart(const TriMesh& mesh, const LocalChart& chart, uint32_t c, uint32_t v, AtlasState& st) {
+    uint64_t key = (uint64_t(c) << 32) | v;
+    auto pj = st.projections.find(key);
+    if (pj == st.projections.end()) {
+        Projection pr;
+        double best = 1e300;
+        for (uint32_t f : chart.faces) {
+            const Tri& ft = mesh.triangles[f];
+            auto bb = closestOnTriangle(mesh.positions[v], mesh.positions[ft[0]], mesh.positions[ft[1]], mesh.positions[ft[2]]);
+            Vec3 q = mesh.positions[ft[0]] * bb[0] + mesh.positions[ft[1]] * bb[1] + mesh.positions[ft[2]] * bb[2];
+            double dd = length2(q - mesh.positions[v]);
+            if (dd < best) {
+                best = dd;
+                pr = {f, bb};
             }
         }
-        res.islands.resize(islandModel.size());
-        for (size_t i = 0; i < islandModel.size(); ++i)
-            for (size_t k = 0; k < 3; ++k) res.islands[i].uv[k] = toAtlas(charts.size() + i, islandModel[i][k]);
+        pj = st.projections.emplace(key, pr).first;
+    }
+    return pj->second;
+}
 
-        // Level UVs as applyAtlas writes them.
-        res.levels.assign(multires.levels.size(), {});
-        std::vector<std::vector<uint8_t>> projectedCount(multires.levels.size());
-        for (size_t li = 0; li < multires.levels.size(); ++li) {
-            const Level& L = multires.levels[li];
-            LevelUV& out = res.levels[li];
-            out.chart = levelTriChart[li];
-            out.uv.resize(L.triangles.size());
-            projectedCount[li].assign(L.triangles.size(), 0);
-            for (size_t t = 0; t < L.triangles.size(); ++t) {
-                auto isl = islandOf.find(L.triangles[t]);
-                if (isl != islandOf.end()) {
-                    out.chart[t] = chartCount + isl->second;
-                    out.uv[t] = res.islands[isl->second].uv;
-                    ++out.islands;
+// (7) Level UVs exactly as applyAtlas writes them: an island's UVs for an island's vertex triple,
+// else each corner's UV in the triangle's chart, a corner outside the chart the UV of its closest
+// point on the chart's surface (counted in st.projectedCount).
+void writeLevelUVs(const TriMesh& mesh, const Multires& multires, const std::vector<LocalChart>& charts, const ShelfPackResult& atlas,
+                   AtlasState& st, ParameterizeResult& res) {
+    const uint32_t chartCount = res.charts.chartCount;
+    res.levels.assign(multires.levels.size(), {});
+    st.projectedCount.assign(multires.levels.size(), {});
+    for (size_t li = 0; li < multires.levels.size(); ++li) {
+        const Level& L = multires.levels[li];
+        LevelUV& out = res.levels[li];
+        out.chart = st.levelTriChart[li];
+        out.uv.resize(L.triangles.size());
+        st.projectedCount[li].assign(L.triangles.size(), 0);
+        for (size_t t = 0; t < L.triangles.size(); ++t) {
+            auto isl = st.islandOf.find(L.triangles[t]);
+            if (isl != st.islandOf.end()) {
+                out.chart[t] = chartCount + isl->second;
+                out.uv[t] = res.islands[isl->second].uv;
+                ++out.islands;
+                continue;
+            }
+            const uint32_t c = out.chart[t];
+            const LocalChart& ch = charts[c];
+            for (size_t k = 0; k < 3; ++k) {
+                const uint32_t v = L.triangles[t][k];
+                auto it = ch.local.find(v);
+                if (it != ch.local.end()) {
+                    out.uv[t][k] = atlas.atlasUV(c, ch.uv[it->second]);
                     continue;
                 }
-                const uint32_t c = out.chart[t];
-                const LocalChart& ch = charts[c];
-                for (size_t k = 0; k < 3; ++k) {
-                    const uint32_t v = L.triangles[t][k];
-                    auto it = ch.local.find(v);
-                    if (it != ch.local.end()) {
-                        out.uv[t][k] = toAtlas(c, ch.uv[it->second]);
-                        continue;
-                    }
-                    ++projectedCount[li][t];
-                    ++out.projectedCorners;
-                    uint64_t key = (uint64_t(c) << 32) | v;
-                    auto pj = projections.find(key);
-                    if (pj == projections.end()) {
-                        Projection pr;
-                        double best = 1e300;
-                        for (uint32_t f : chartFaces[c]) {
-                            const Tri& ft = mesh.triangles[f];
-                            auto bb = closestOnTriangle(mesh.positions[v], mesh.positions[ft[0]], mesh.positions[ft[1]], mesh.positions[ft[2]]);
-                            Vec3 q = mesh.positions[ft[0]] * bb[0] + mesh.positions[ft[1]] * bb[1] + mesh.positions[ft[2]] * bb[2];
-                            double dd = length2(q - mesh.positions[v]);
-                            if (dd < best) {
-                                best = dd;
-                                pr = {f, bb};
-                            }
-                        }
-                        pj = projections.emplace(key, pr).first;
-                    }
-                    const auto& cu = res.cornerUV[pj->second.face];
-                    const auto& bb = pj->second.bary;
-                    out.uv[t][k] = cu[0] * bb[0] + cu[1] * bb[1] + cu[2] * bb[2];
-                }
+                ++st.projectedCount[li][t];
+                ++out.projectedCorners;
+                const Projection& pj = projectOntoChart(mesh, ch, c, v, st);
+                const auto& cu = res.cornerUV[pj.face];
+                const auto& bb = pj.bary;
+                out.uv[t][k] = cu[0] * bb[0] + cu[1] * bb[1] + cu[2] * bb[2];
             }
         }
-        if (!options.levelIslands || chartCount == 0 || round >= kMaxRounds) break;
-        if (round == 0 && crossing) {
-            // Crossing islands only while their smallest footprint (2 texels plus the gutter a
-            // side) fits in a quarter of the atlas; beyond that (thousands of tiny crossing
-            // triangles, 2CylinderEngine) they would crush the charts' density and float precision.
-            std::set<Tri> crossingTriples;
-            for (size_t li = 0; li < multires.levels.size(); ++li)
-                for (size_t t = 0; t < multires.levels[li].triangles.size(); ++t)
-                    if (projectedCount[li][t] > 0) crossingTriples.insert(multires.levels[li].triangles[t]);
-            const double footprint = std::pow(2.0 + options.gutter, 2.0);
-            crossing = double(crossingTriples.size()) * footprint <= 0.25 * double(size) * double(size);
-            res.crossingIslandsSkipped = crossing ? 0 : crossingTriples.size();
-        }
-
-        // Check every level in the atlas exactly as the tool does (float UVs); fold -> island.
-        size_t added = 0;
-        for (size_t li = 0; li < multires.levels.size(); ++li) {
-            const Level& L = multires.levels[li];
-            std::vector<std::array<Vec2, 3>> tris;
-            std::vector<uint32_t> which;
-            for (size_t t = 0; t < L.triangles.size(); ++t) {
-                const Tri& v = L.triangles[t];
-                if (degenerateIndices(v) || islandOf.count(v)) continue;  // islands never overlap a chart
-                tris.push_back(res.levels[li].uv[t]);
-                which.push_back(uint32_t(t));
-            }
-            param_detail::UVFolds folds = param_detail::findUVFolds(tris, 1e-7);
-            std::vector<char> pick(tris.size(), 0);
-            for (size_t i = 0; i < tris.size(); ++i)
-                pick[i] = folds.flipped[i] || (crossing && projectedCount[li][which[i]] > 0);
-            auto area3 = [&](uint32_t t) {
-                const Tri& v = L.triangles[t];
-                return length(cross(mesh.positions[v[1]] - mesh.positions[v[0]], mesh.positions[v[2]] - mesh.positions[v[0]]));
-            };
-            for (const auto& [i, j] : folds.overlapping) {
-                if (pick[i] || pick[j]) continue;
-                // The one with more projected corners (it straddles a chart cut), else the smaller.
-                uint8_t pi = projectedCount[li][which[i]], pjc = projectedCount[li][which[j]];
-                bool takeI = pi != pjc ? pi > pjc : area3(which[i]) < area3(which[j]);
-                pick[takeI ? i : j] = 1;
-            }
-            for (size_t i = 0; i < tris.size(); ++i) {
-                if (!pick[i]) continue;
-                const uint32_t t = which[i];
-                const Tri& v = L.triangles[t];
-                if (islandOf.count(v)) continue;
-                islandOf.emplace(v, uint32_t(islandModel.size()));
-                islandModel.push_back(islandLayout(mesh.positions[v[0]], mesh.positions[v[1]], mesh.positions[v[2]], 2.0 / d));
-                LevelIsland isl;
-                isl.vertices = v;
-                isl.level = uint32_t(li + 1);
-                std::vector<uint32_t> cs{faceChart[L.faces[t]]};
-                for (uint32_t vv : v) cs.insert(cs.end(), vertexCharts[vv].begin(), vertexCharts[vv].end());
-                std::sort(cs.begin(), cs.end());
-                cs.erase(std::unique(cs.begin(), cs.end()), cs.end());
-                for (uint32_t c : cs) isl.faces.insert(isl.faces.end(), chartFaces[c].begin(), chartFaces[c].end());
-                std::sort(isl.faces.begin(), isl.faces.end());
-                res.islands.push_back(std::move(isl));
-                ++added;
-            }
-        }
-        if (added == 0) break;
     }
-    res.floatRepairs = repairFloatSlivers(mesh, res.charts.faceChart, res.cornerUV);
+}
+
+// Crossing islands only while their smallest footprint (2 texels plus the gutter a side) fits in
+// a quarter of the atlas; beyond that (thousands of tiny crossing triangles) they would crush the
+// charts' density and float precision. Records the skipped count; returns whether they are made.
+bool crossingIslandsFit(const Multires& multires, const AtlasState& st, const ParameterizeOptions& options, ParameterizeResult& res) {
+    std::set<Tri> crossingTriples;
+    for (size_t li = 0; li < multires.levels.size(); ++li)
+        for (size_t t = 0; t < multires.levels[li].triangles.size(); ++t)
+            if (st.projectedCount[li][t] > 0) crossingTriples.insert(multires.levels[li].triangles[t]);
+    const double footprint = std::pow(2.0 + options.gutter, 2.0);
+    const int size = options.textureSize;
+    const bool fits = double(crossingTriples.size()) * footprint <= 0.25 * double(size) * double(size);
+    res.crossingIslandsSkipped = fits ? 0 : crossingTriples.size();
+    return fits;
+}
+
+// Checks every level in the atlas as the tool does (float UVs, overlap tolerance 1e-7) and gives
+// an island to each level triangle that is flipped, crossing (with `crossing`), or the one of an
+// overlapping pair with more projected corners (it straddles a chart cut), else the smaller.
+// Islands are laid out at density d (at least 2 texels a side). Returns the islands added.
+size_t addFoldIslands(const TriMesh& mesh, const Multires& multires, const std::vector<LocalChart>& charts, bool crossing,
+                      double d, AtlasState& st, ParameterizeResult& res) {
+    size_t added = 0;
+    for (size_t li = 0; li < multires.levels.size(); ++li) {
+        const Level& L = multires.levels[li];
+        std::vector<std::array<Vec2, 3>> tris;
+        std::vector<uint32_t> which;
+        for (size_t t = 0; t < L.triangles.size(); ++t) {
+            const Tri& v = L.triangles[t];
+            if (degenerateIndices(v) || st.islandOf.count(v)) continue;  // islands never overlap a chart
+            tris.push_back(res.levels[li].uv[t]);
+            which.push_back(uint32_t(t));
+        }
+        param_detail::UVFolds folds = param_detail::findUVFolds(tris, 1e-7);
+        std::vector<char> pick(tris.size(), 0);
+        for (size_t i = 0; i < tris.size(); ++i)
+            pick[i] = folds.flipped[i] || (crossing && st.projectedCount[li][which[i]] > 0);
+        auto area3 = [&](uint32_t t) {
+            const Tri& v = L.triangles[t];
+            return length(cross(mesh.positions[v[1]] - mesh.positions[v[0]], mesh.positions[v[2]] - mesh.positions[v[0]]));
+        };
+        for (const auto& [i, j] : folds.overlapping) {
+            if (pick[i] || pick[j]) continue;
+            uint8_t pi = st.projectedCount[li][which[i]], pjc = st.projectedCount[li][which[j]];
+            bool takeI = pi != pjc ? pi > pjc : area3(which[i]) < area3(which[j]);
+            pick[takeI ? i : j] = 1;
+        }
+        for (size_t i = 0; i < tris.size(); ++i) {
+            if (!pick[i]) continue;
+            const uint32_t t = which[i];
+            const Tri& v = L.triangles[t];
+            if (st.islandOf.count(v)) continue;
+            st.islandOf.emplace(v, uint32_t(st.islandModel.size()));
+            st.islandModel.push_back(islandLayout(mesh.positions[v[0]], mesh.positions[v[1]], mesh.positions[v[2]], 2.0 / d));
+            // The island's bake samples the charts of its face and of its corners.
+            LevelIsland isl;
+            isl.vertices = v;
+            isl.level = uint32_t(li + 1);
+            std::vector<uint32_t> cs{st.faceChart[L.faces[t]]};
+            for (uint32_t vv : v) cs.insert(cs.end(), st.vertexCharts[vv].begin(), st.vertexCharts[vv].end());
+            std::sort(cs.begin(), cs.end());
+            cs.erase(std::unique(cs.begin(), cs.end()), cs.end());
+            for (uint32_t c : cs) isl.faces.insert(isl.faces.end(), charts[c].faces.begin(), charts[c].faces.end());
+            std::sort(isl.faces.begin(), isl.faces.end());
+            res.islands.push_back(std::move(isl));
+            ++added;
+        }
+    }
+    return added;
+}
+
+// (5)-(7) with the island fallback: pack, write corner and level UVs; a level triangle still
+// folded in the packed atlas (or crossing a chart boundary) gets its own island, and as islands
+// take atlas space the atlas is packed again and every level re-checked until none folds (at
+// most kMaxRounds repacks).
+void layoutAtlas(const TriMesh& mesh, const Multires& multires, const std::vector<LocalChart>& charts, double chartUvArea,
+                 const ParameterizeOptions& options, ParameterizeResult& res) {
+    constexpr int kMaxRounds = 8;
+    AtlasState st = atlasState(mesh, multires, res.charts, charts);
+    const double uvArea = chartUvArea > 0 ? chartUvArea : 1;
+    bool crossing = options.crossingIslands;
+    for (int round = 0;; ++round) {
+        const ShelfPackResult atlas = packCharts(charts, st, uvArea, options, res);
+        writeCornerUVs(mesh, charts, st, atlas, res);
+        writeLevelUVs(mesh, multires, charts, atlas, st, res);
+        if (!options.levelIslands || res.charts.chartCount == 0 || round >= kMaxRounds) break;
+        if (round == 0 && crossing) crossing = crossingIslandsFit(multires, st, options, res);
+        if (addFoldIslands(mesh, multires, charts, crossing, atlas.texelsPerUnit, st, res) == 0) break;
+    }
+}
+
+}  // namespace
+
+ParameterizeResult parameterize(const TriMesh& mesh, const Multires& multires, const ParameterizeOptions& options) {
+    auto t0 = Clock::now();
+    ParameterizeResult res;
+    if (mesh.triangleCount() == 0) throw Impossible("the mesh has no triangles");
+    if (!(options.textureSize >= 16)) throw InvalidInput("texture size must be >= 16");
+
+    // (1) Charts from the coarsest level's base regions (every face its own region without levels).
+    static const std::vector<uint32_t> kNoRegions;
+    const std::vector<uint32_t>& regions = multires.levels.empty() ? kNoRegions : multires.levels.back().faceRegion;
+    res.charts = buildCharts(mesh, regions, options.charts);
+
+    std::vector<LocalChart> charts = localCharts(mesh, multires, res.charts);  // (2)
+    solveCharts(charts, options, res);                                         // (3)
+    const double chartUvArea = measureCharts(charts, res);                     // (4)
+    for (LocalChart& c : charts) alignChart(c.uv);
+    layoutAtlas(mesh, multires, charts, chartUvArea, options, res);            // (5)-(7)
+    res.floatRepairs = nudgeRoundedSliverCorners(mesh, res.charts.faceChart, res.cornerUV);
     if (options.progress) options.progress(1.0);
-    res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    res.seconds = secondsSince(t0);
     return res;
 }
 

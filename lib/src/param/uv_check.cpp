@@ -106,7 +106,7 @@ UVInjectivity checkLevelUVs(const TriMesh& mesh, const std::vector<Tri>& triangl
     tris.reserve(triangles.size());
     for (size_t t = 0; t < triangles.size(); ++t) {
         const Tri& v = triangles[t];
-        if (v[0] == v[1] || v[1] == v[2] || v[0] == v[2]) continue;
+        if (degenerateIndices(v)) continue;
         std::array<Vec2, 3> uv{};
         for (size_t k = 0; k < 3; ++k) {
             uint32_t w = t < cornerWedges.size() ? cornerWedges[t][k] : UINT32_MAX;

@@ -1,5 +1,5 @@
-// Image encoding and checking with OpenImageIO (see codec.h). Encoded bytes are read from and
-// written to memory through OpenImageIO's IO proxies.
+// Image decoding, encoding and checking with OpenImageIO (see codec.h). Encoded bytes are read
+// from and written to memory through OpenImageIO's IO proxies.
 #include "lodbake/texture/codec.h"
 
 #include <algorithm>
@@ -76,28 +76,10 @@ void checkImage(const std::string& path, Image& img, size_t index, ImageCheck ch
     in->close();
 }
 
-}  // namespace
-
-void checkImages(Asset& asset, ImageCheck check) {
-    for (size_t i = 0; i < asset.images.size(); ++i) checkImage(asset.sourcePath, asset.images[i], i, check);
-}
-
-Image encodeImage(const std::vector<float>& rgb, int width, int height, ImageFormat format, int jpegQuality,
-                  const std::string& name) {
-    return encodeImage(rgb, width, height, 3, format, jpegQuality, name);
-}
-
-Image encodeImage(const std::vector<float>& rgb, int width, int height, int channels, ImageFormat format, int jpegQuality,
-                  const std::string& name) {
-    if (channels < 1 || channels > 4)
-        throw InvalidInput("encodeImage: " + std::to_string(channels) + " channels");
-    if (width <= 0 || height <= 0 || rgb.size() != size_t(width) * size_t(height) * size_t(channels))
-        throw InvalidInput("encodeImage: pixel array does not match " + std::to_string(width) + "x" + std::to_string(height));
-    std::vector<unsigned char> px(rgb.size());
-    for (size_t i = 0; i < rgb.size(); ++i) {
-        float v = std::isfinite(rgb[i]) ? std::clamp(rgb[i], 0.f, 1.f) : 0.f;
-        px[i] = static_cast<unsigned char>(std::lround(v * 255.f));
-    }
+// Encodes 8-bit pixels (`channels` interleaved) as PNG or JPEG in memory; `tagSrgb` records the
+// sRGB colour space in the file (PNG: an sRGB chunk).
+std::vector<unsigned char> encode8(const unsigned char* px, int width, int height, int channels, ImageFormat format,
+                                   int jpegQuality, bool tagSrgb) {
     bool jpeg = format == ImageFormat::Jpeg;
     std::string fname = jpeg ? "atlas.jpg" : "atlas.png";
     std::vector<unsigned char> bytes;
@@ -107,19 +89,94 @@ Image encodeImage(const std::vector<float>& rgb, int width, int height, int chan
     if (!out) throw IOError("encodeImage: no " + std::string(jpeg ? "JPEG" : "PNG") + " encoder: " + OIIO::geterror());
     OIIO::ImageSpec spec(width, height, channels, OIIO::TypeDesc::UINT8);
     if (channels == 4) spec.alpha_channel = 3;
-    spec.attribute("oiio:ColorSpace", "sRGB");
+    if (tagSrgb) spec.attribute("oiio:ColorSpace", "sRGB");
     if (jpeg) spec.attribute("Compression", "jpeg:" + std::to_string(std::clamp(jpegQuality, 1, 100)));
     spec.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
-    if (!out->open(fname, spec) || !out->write_image(OIIO::TypeDesc::UINT8, px.data()) || !out->close())
+    if (!out->open(fname, spec) || !out->write_image(OIIO::TypeDesc::UINT8, px) || !out->close())
         throw IOError("encodeImage: cannot encode: " + out->geterror());
+    return bytes;
+}
+
+void checkSize(const char* what, size_t values, int width, int height, int channels = 3) {
+    if (channels < 1 || channels > 4) throw InvalidInput(std::string(what) + ": " + std::to_string(channels) + " channels");
+    if (width <= 0 || height <= 0 || values != size_t(width) * size_t(height) * size_t(channels))
+        throw InvalidInput(std::string(what) + ": pixel array does not match " + std::to_string(width) + "x" + std::to_string(height));
+}
+
+Image encodedImage(std::vector<unsigned char> bytes, ImageFormat format, int width, int height, int channels,
+                   const std::string& name) {
     Image img;
     img.name = name;
-    img.mimeType = jpeg ? "image/jpeg" : "image/png";
+    img.mimeType = format == ImageFormat::Jpeg ? "image/jpeg" : "image/png";
     img.encoded.assign(bytes.begin(), bytes.end());
     img.width = width;
     img.height = height;
     img.channels = channels;
     return img;
+}
+
+}  // namespace
+
+bool decodeImage(const Image& image, DecodedImage& out, std::string& error) {
+    if (image.encoded.empty()) {
+        error = "image '" + image.name + "' has no data";
+        return false;
+    }
+    std::string name = image.mimeType == "image/jpeg" ? "image.jpg" : "image.png";
+    OIIO::Filesystem::IOMemReader reader(const_cast<uint8_t*>(image.encoded.data()), image.encoded.size());
+    // create + set_ioproxy: OIIO 2.4.7's ImageInput::open(name, config, proxy) fails on memory proxies.
+    auto in = OIIO::ImageInput::create(image.mimeType == "image/jpeg" ? "jpeg" : "png");
+    OIIO::ImageSpec opened;
+    if (!in || !in->set_ioproxy(&reader) || !in->open(name, opened)) {
+        error = "image '" + image.name + "' cannot be decoded: " + OIIO::geterror();
+        return false;
+    }
+    const OIIO::ImageSpec& spec = in->spec();
+    int w = spec.width, h = spec.height, nc = spec.nchannels;
+    if (w <= 0 || h <= 0 || nc <= 0) {
+        error = "image '" + image.name + "' is empty";
+        return false;
+    }
+    out.pixels.assign(static_cast<size_t>(w) * h * nc, 0.f);
+    if (!in->read_image(0, 0, 0, nc, OIIO::TypeDesc::FLOAT, out.pixels.data())) {
+        error = "image '" + image.name + "' cannot be decoded: " + in->geterror();
+        return false;
+    }
+    in->close();
+    out.width = w;
+    out.height = h;
+    out.channels = nc;
+    return true;
+}
+
+void checkImages(Asset& asset, ImageCheck check) {
+    for (size_t i = 0; i < asset.images.size(); ++i) checkImage(asset.sourcePath, asset.images[i], i, check);
+}
+
+Image encodeImage(const std::vector<float>& rgb, int width, int height, ImageFormat format, int jpegQuality,
+                  const std::string& name) {
+    EncodeOptions o;
+    o.format = format;
+    o.jpegQuality = jpegQuality;
+    return encodeImage(rgb, width, height, o, name);
+}
+
+Image encodeImage(const std::vector<float>& values, int width, int height, const EncodeOptions& o, const std::string& name) {
+    checkSize("encodeImage", values.size(), width, height, o.channels);
+    if (o.channels == 4 && o.format == ImageFormat::Jpeg) throw InvalidInput("encodeImage: JPEG has no alpha channel");
+    std::vector<unsigned char> px(values.size());
+    for (size_t i = 0; i < values.size(); ++i) {
+        float v = std::isfinite(values[i]) ? std::clamp(values[i], 0.f, 1.f) : 0.f;
+        px[i] = static_cast<unsigned char>(std::lround(v * 255.f));
+    }
+    return encodedImage(encode8(px.data(), width, height, o.channels, o.format, o.jpegQuality, o.srgb), o.format, width, height,
+                        o.channels, name);
+}
+
+Image encodePng(const std::vector<uint8_t>& pixels, int width, int height, const std::string& name, int channels) {
+    checkSize("encodePng", pixels.size(), width, height, channels);
+    return encodedImage(encode8(pixels.data(), width, height, channels, ImageFormat::Png, 90, false), ImageFormat::Png, width,
+                        height, channels, name);
 }
 
 }  // namespace lodbake

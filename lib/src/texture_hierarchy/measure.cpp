@@ -13,8 +13,6 @@
 namespace lodbake {
 namespace {
 
-bool degenerateIndices(const Tri& t) { return t[0] == t[1] || t[1] == t[2] || t[0] == t[2]; }
-
 double triArea3(const TriMesh& m, const Tri& t) {
     return 0.5 * length(cross(m.positions[t[1]] - m.positions[t[0]], m.positions[t[2]] - m.positions[t[0]]));
 }

@@ -1,28 +1,28 @@
 // refineTextures: rank layouts by chart splitting + parameterize, and the MIP-style bakes.
 //
-// Pipeline, in execution order:
-//   splitCharts        per parent chart, its faces as a small mesh with the finer level's regions,
-//                      merged down to ~4 disks by buildCharts (E_region order)
-//   rankLayout         parameterize() over levels 1..n-j with the split charts as the last level's
-//                      regions (merging disabled), so the rank-j charts are exactly the split ones
-//   measureLayout      the rank layout and T0 over the same levels (measure.cpp)
-//   bake               every layout at every size with bakeBaseColor (original appearance)
+// Pipeline of refineTextures, in execution order:
+//   rankZero                  T0 as it is, measured over every level (measure.cpp)
+//   per rank j:
+//     nextSplit               the next finer level whose regions split rank j-1's charts: per
+//                             parent chart, its faces as a small mesh with that level's regions,
+//                             merged down to ~splitPerChart disks by buildCharts (splitCharts)
+//     keepLevelTrianglesWhole (optional) fewer pieces where the split cuts level triangles
+//     solveRankLayout         parameterize() with the split charts as the last level's regions
+//                             (merging disabled, rankLayout); worse pieces are split again
+//     trimServedLevels        the levels 0..v the rank serves, against T0 over the same levels
+//   bakeHierarchy             every layout at every size with bakeBaseColor (original appearance)
 #include <algorithm>
-#include <chrono>
 #include <map>
 #include <unordered_map>
 
 #include "lodbake/bake/bake.h"
 #include "lodbake/core/errors.h"
+#include "lodbake/core/timing.h"
 #include "lodbake/chart/charts.h"
 #include "lodbake/texture_hierarchy/refine.h"
 
 namespace lodbake {
 namespace {
-
-double secondsSince(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 uint32_t countRegions(const std::vector<uint32_t>& faceRegion) {
     std::vector<uint32_t> reps = faceRegion;
@@ -44,17 +44,13 @@ ChartLayout rankLayout(const TriMesh& mesh, const Multires& mr, uint32_t last, c
     if (last == 0) sub.levels.emplace_back();
     sub.levels.back().faceRegion = charts;
     sub.levels.back().regionCount = countRegions(charts);
-    ParameterizeOptions po;
-    po.alpha = o.alpha;
-    po.beta = o.beta;
-    po.maxIterations = o.maxIterations;
-    po.textureSize = o.size;
-    po.gutter = o.gutter;
-    po.threads = o.threads;
+    ParameterizeOptions po = o.param;
     // A level triangle that would fold in the rank's charts gets its own island, as in T0.
     po.levelIslands = true;
+    po.charts = ChartOptions{};
     po.charts.maxCharts = 0;
     po.charts.maxRegionEnergy = 1e-300;  // refuse every merge: the split charts are final
+    po.progress = nullptr;
     ParameterizeResult pr = parameterize(mesh, sub, po);
     rr.chartFlips = pr.flips;
     rr.chartOverlaps = pr.overlaps;
@@ -62,7 +58,7 @@ ChartLayout rankLayout(const TriMesh& mesh, const Multires& mr, uint32_t last, c
     rr.parameterizeSeconds = pr.seconds;
     rr.methods.clear();
     for (const ChartReport& c : pr.chartReports) ++rr.methods[c.method];
-    const double r = (512.0 * 512.0) / (double(o.size) * o.size);
+    const double r = (512.0 * 512.0) / (double(o.param.textureSize) * o.param.textureSize);
     std::vector<double> childE(parentE.size(), 0);
     std::vector<char> tutte(parentE.size(), 0), counted(pr.charts.chartCount, 0);
     for (size_t f = 0; f < mesh.triangleCount(); ++f) {
@@ -71,7 +67,7 @@ ChartLayout rankLayout(const TriMesh& mesh, const Multires& mr, uint32_t last, c
         counted[size_t(c)] = 1;
         childE[parentChart[f]] += pr.chartReports[size_t(c)].final.E / r;
         const ChartReport& cr = pr.chartReports[size_t(c)];
-        if (cr.method == "tutte" && o.maxIterations > 0) tutte[parentChart[f]] = 1;
+        if (cr.method == "tutte" && o.param.solve.maxIterations > 0) tutte[parentChart[f]] = 1;
     }
     badParents.clear();
     for (uint32_t p = 0; p < parentE.size(); ++p)
@@ -111,7 +107,7 @@ std::vector<size_t> crossingPerParent(const TriMesh& mesh, const Multires& mr, u
         std::vector<uint32_t> tc = levelTriangleCharts(mesh, faceChart, count, L);
         for (size_t t = 0; t < L.triangles.size(); ++t) {
             const Tri& v = L.triangles[t];
-            if (v[0] == v[1] || v[1] == v[2] || v[0] == v[2]) continue;
+            if (degenerateIndices(v)) continue;
             for (uint32_t x : v)
                 if (!member.count((uint64_t(x) << 32) | tc[t])) {
                     ++out[parentChart[L.faces[t]]];
@@ -182,10 +178,11 @@ std::vector<uint32_t> splitCharts(const TriMesh& mesh, const std::vector<uint32_
     return out;
 }
 
-RefineResult refineTextures(const Asset& asset, const Multires& mr, const RefineOptions& o) {
-    auto t0 = std::chrono::steady_clock::now();
-    const TriMesh& mesh = asset.mesh;
-    const size_t nf = mesh.triangleCount();
+namespace {
+
+// \throw Impossible / InvalidInput as refineTextures documents.
+void checkRefineInput(const Asset& asset, const Multires& mr, const RefineOptions& o) {
+    const size_t nf = asset.mesh.triangleCount();
     if (nf == 0) throw Impossible(asset.sourcePath + ": no triangles");
     if (mr.charts.empty()) throw Impossible(asset.sourcePath + ": no chart layout (LODBAKE_multires charts); run parameterize first");
     if (mr.charts.faceChart.size() != nf || mr.charts.cornerUV.size() != nf)
@@ -193,16 +190,11 @@ RefineResult refineTextures(const Asset& asset, const Multires& mr, const Refine
     for (const Level& L : mr.levels)
         if (L.faceRegion.size() != nf) throw InvalidInput(asset.sourcePath + ": level regions do not match the original mesh");
     if (o.sizes.empty()) throw InvalidInput("no texture sizes");
-    const uint32_t n = uint32_t(mr.levels.size());
-    const uint32_t maxRank = std::min<uint32_t>(uint32_t(std::max(0, o.ranks)), n);
-    auto progress = [&](double f) { if (o.progress) o.progress(f); };
-    const double steps = double(maxRank + 1) * double(o.sizes.size()) + 2.0 * maxRank + 1;
-    double done = 0;
+}
 
-    ChartEnergyOptions eo;
-    eo.alpha = o.alpha;
-    eo.beta = o.beta;
-    RefineResult res;
+// Rank 0: T0 as it is, valid for every level.
+RankResult rankZero(const TriMesh& mesh, const Multires& mr, const ChartEnergyOptions& eo) {
+    const uint32_t n = uint32_t(mr.levels.size());
     RankResult r0;
     r0.rank = 0;
     r0.lastLevel = n;
@@ -210,110 +202,110 @@ RefineResult refineTextures(const Asset& asset, const Multires& mr, const Refine
     r0.layout.material = -1;
     r0.measure = measureLayout(mesh, mr, r0.layout, n, eo);
     r0.base = r0.measure;
-    r0.regions = n > 0 ? countRegions(mr.levels.back().faceRegion) : uint32_t(nf);
-    res.ranks.push_back(std::move(r0));
-    progress(++done / steps);
-    // Rank j: the coarsest level finer than rank j-1's whose regions split its charts (levels whose
-    // regions coincide with the coarser level's add nothing); level 0 = every face its own region.
-    uint32_t source = n;
-    // A candidate is kept only when it lowers both E and the area-ratio spread of T0 over the
-    // levels it serves; else the next finer level is tried.
-    for (uint32_t j = 1; j <= maxRank && source > 0;) {
-        const ChartLayout& parent = res.ranks.back().layout;
-        std::vector<uint32_t> charts, regions;
-        uint32_t count = 0, level = source;
-        while (level > 0) {
-            --level;
-            if (level == 0) {
-                regions.resize(nf);
-                for (uint32_t f = 0; f < nf; ++f) regions[f] = f;
-            } else {
-                regions = mr.levels[level - 1].faceRegion;
-            }
-            charts = splitCharts(mesh, parent.faceChart, parent.chartCount, regions, o.splitPerChart, count);
-            if (count > parent.chartCount) break;
-        }
-        if (count <= parent.chartCount) break;
-        source = level;
-        if (measureLayout(mesh, mr, mr.charts, level, eo).areaRatioStdDev < o.minAreaRatioStdDev) {
-            res.rejected.push_back({level, count, "T0 is already near-isometric on these levels (area-ratio std-dev below the limit)"});
-            continue;
-        }
-        RankResult rr;
-        rr.rank = j;
-        rr.lastLevel = level;
-        rr.regions = level == 0 ? uint32_t(nf) : countRegions(mr.levels[level - 1].faceRegion);
-        // The parent layout's own energy per chart over the levels this rank serves.
-        const std::vector<ChartEnergy> parentE = measureLayout(mesh, mr, parent, level, eo).chartEnergies;
-        std::vector<uint32_t> per(parent.chartCount, o.splitPerChart), bad;
-        // Pieces whose new boundaries cut level triangles of the levels served (boundaries that are
-        // not p-boundaries there, e.g. from splitting a non-disk region) lose continuity where the
-        // parent had it: split such parents into fewer pieces, down to keeping them whole.
-        const std::vector<size_t> parentCrossing =
-            crossingPerParent(mesh, mr, level, parent.faceChart, false, parent.faceChart, parent.chartCount);
-        for (int round = 0; round < 3 && o.keepLevelTrianglesWhole; ++round) {
-            std::vector<size_t> crossing = crossingPerParent(mesh, mr, level, charts, true, parent.faceChart, parent.chartCount);
-            bool changed = false;
-            for (uint32_t p = 0; p < parent.chartCount; ++p)
-                if (crossing[p] > parentCrossing[p] && per[p] > 1) {
-                    per[p] = round < 2 ? std::max(2u, per[p] / 2) : 1;
-                    changed = true;
-                }
-            if (!changed) break;
-            charts = splitCharts(mesh, parent.faceChart, parent.chartCount, regions, per, count);
-        }
-        if (count <= parent.chartCount) {
-            res.rejected.push_back({level, count, "keeping level triangles whole leaves nothing to split"});
-            continue;
-        }
-        for (int attempt = 0;; ++attempt) {
-            rr.layout = rankLayout(mesh, mr, rr.lastLevel, charts, o, parent.faceChart, parentE, rr, bad);
-            if (bad.empty() || attempt == 3) break;
-            for (uint32_t p : bad) per[p] = attempt < 2 ? per[p] * 2 : 1;
-            charts = splitCharts(mesh, parent.faceChart, parent.chartCount, regions, per, count);
-            ++rr.resplits;
-        }
-        for (uint32_t p : per) rr.unsplit += p == 1 ? 1 : 0;
-        if (rr.layout.chartCount <= parent.chartCount) {
-            res.rejected.push_back({level, rr.layout.chartCount, "no piece solved better than its parent"});
-            continue;
-        }
-        progress(++done / steps);
-        rr.measure = measureLayout(mesh, mr, rr.layout, rr.lastLevel, eo);
-        rr.base = measureLayout(mesh, mr, mr.charts, rr.lastLevel, eo);
-        // Served levels: the longest run 0..v (v <= the level of its regions) on which the rank
-        // has no flipped and no overlapping level triangle (UVs as pack assigns them), its chart
-        // boundaries cut at most maxExtraCutFraction of the level's triangles more than T0's do
-        // (a cut triangle's corners outside its chart take projected UVs, which smear the texture;
-        // cut boundaries are not p-boundaries there), and, over 0..v, it lowers both E and the
-        // area-ratio std-dev of T0.
-        auto serves = [&](uint32_t l) {
-            const UVInjectivity& a = rr.measure.levels[l];
-            const double extra = o.maxExtraCutFraction * double(a.triangles);
-            return a.flips == 0 && a.overlaps == 0 && double(rr.measure.crossing[l]) <= double(rr.base.crossing[l]) + extra;
-        };
-        uint32_t valid = 0;
-        while (valid < rr.lastLevel && serves(valid + 1)) ++valid;
-        bool better = false;
-        for (;;) {
-            if (valid < rr.lastLevel) {
-                rr.lastLevel = valid;
-                rr.measure = measureLayout(mesh, mr, rr.layout, rr.lastLevel, eo);
-                rr.base = measureLayout(mesh, mr, mr.charts, rr.lastLevel, eo);
-            }
-            better = rr.measure.energy.E < rr.base.energy.E && rr.measure.areaRatioStdDev < rr.base.areaRatioStdDev;
-            if (better || valid == 0) break;
-            --valid;
-        }
-        progress(++done / steps);
-        if (!better) {
-            res.rejected.push_back({level, rr.layout.chartCount, "does not lower both E and the area-ratio std-dev of T0"});
-            continue;
-        }
-        res.ranks.push_back(std::move(rr));
-        ++j;
-    }
+    r0.regions = n > 0 ? countRegions(mr.levels.back().faceRegion) : uint32_t(mesh.triangleCount());
+    return r0;
+}
 
+// A candidate split of the parent layout's charts by the regions of one geometry level.
+struct SplitCandidate {
+    uint32_t level = 0;              // the level whose regions split the charts
+    std::vector<uint32_t> regions;   // that level's faceRegion (level 0: every face its own region)
+    std::vector<uint32_t> charts;    // the split charts (splitCharts' faceRegion form)
+    uint32_t count = 0;              // how many
+};
+
+// The coarsest level finer than `source` whose regions split the parent's charts into more
+// charts (levels whose regions coincide with the coarser level's add nothing). count <= the
+// parent's chart count when no level does.
+SplitCandidate nextSplit(const TriMesh& mesh, const Multires& mr, const ChartLayout& parent, uint32_t source, uint32_t perChart) {
+    const size_t nf = mesh.triangleCount();
+    SplitCandidate c;
+    c.level = source;
+    while (c.level > 0) {
+        --c.level;
+        if (c.level == 0) {
+            c.regions.resize(nf);
+            for (uint32_t f = 0; f < nf; ++f) c.regions[f] = f;
+        } else {
+            c.regions = mr.levels[c.level - 1].faceRegion;
+        }
+        c.charts = splitCharts(mesh, parent.faceChart, parent.chartCount, c.regions, perChart, c.count);
+        if (c.count > parent.chartCount) break;
+    }
+    return c;
+}
+
+// Pieces whose new boundaries cut level triangles of the levels served (boundaries that are not
+// p-boundaries there, e.g. from splitting a non-disk region) lose continuity where the parent had
+// it: such parents are split into fewer pieces, down to keeping them whole (at most 3 rounds).
+// Updates `per` (pieces per parent chart) and the candidate's charts.
+void keepLevelTrianglesWhole(const TriMesh& mesh, const Multires& mr, const ChartLayout& parent, std::vector<uint32_t>& per,
+                             SplitCandidate& cand) {
+    const std::vector<size_t> parentCrossing =
+        crossingPerParent(mesh, mr, cand.level, parent.faceChart, false, parent.faceChart, parent.chartCount);
+    for (int round = 0; round < 3; ++round) {
+        std::vector<size_t> crossing = crossingPerParent(mesh, mr, cand.level, cand.charts, true, parent.faceChart, parent.chartCount);
+        bool changed = false;
+        for (uint32_t p = 0; p < parent.chartCount; ++p)
+            if (crossing[p] > parentCrossing[p] && per[p] > 1) {
+                per[p] = round < 2 ? std::max(2u, per[p] / 2) : 1;
+                changed = true;
+            }
+        if (!changed) break;
+        cand.charts = splitCharts(mesh, parent.faceChart, parent.chartCount, cand.regions, per, cand.count);
+    }
+}
+
+// Parameterises the candidate's charts; parents whose pieces came out worse than the parent are
+// split again, finer (twice as many pieces) for two rounds and then not at all.
+void solveRankLayout(const TriMesh& mesh, const Multires& mr, const ChartLayout& parent, const RefineOptions& o,
+                     const ChartEnergyOptions& eo, std::vector<uint32_t>& per, SplitCandidate& cand, RankResult& rr) {
+    // The parent layout's own energy per chart over the levels this rank serves.
+    const std::vector<ChartEnergy> parentE = measureLayout(mesh, mr, parent, cand.level, eo).chartEnergies;
+    std::vector<uint32_t> bad;
+    for (int attempt = 0;; ++attempt) {
+        rr.layout = rankLayout(mesh, mr, rr.lastLevel, cand.charts, o, parent.faceChart, parentE, rr, bad);
+        if (bad.empty() || attempt == 3) break;
+        for (uint32_t p : bad) per[p] = attempt < 2 ? per[p] * 2 : 1;
+        cand.charts = splitCharts(mesh, parent.faceChart, parent.chartCount, cand.regions, per, cand.count);
+        ++rr.resplits;
+    }
+    for (uint32_t p : per) rr.unsplit += p == 1 ? 1 : 0;
+}
+
+// Served levels: the longest run 0..v (v <= the level of its regions) on which the rank has no
+// flipped and no overlapping level triangle (UVs as pack assigns them), its chart boundaries cut
+// at most maxExtraCutFraction of the level's triangles more than T0's do (a cut triangle's corners
+// outside its chart take projected UVs, which smear the texture; cut boundaries are not
+// p-boundaries there), and, over 0..v, it lowers both E and the area-ratio std-dev of T0.
+// Sets rr.lastLevel, rr.measure and rr.base; returns whether such a run exists.
+bool trimServedLevels(const TriMesh& mesh, const Multires& mr, const RefineOptions& o, const ChartEnergyOptions& eo, RankResult& rr) {
+    rr.measure = measureLayout(mesh, mr, rr.layout, rr.lastLevel, eo);
+    rr.base = measureLayout(mesh, mr, mr.charts, rr.lastLevel, eo);
+    auto serves = [&](uint32_t l) {
+        const UVInjectivity& a = rr.measure.levels[l];
+        const double extra = o.maxExtraCutFraction * double(a.triangles);
+        return a.flips == 0 && a.overlaps == 0 && double(rr.measure.crossing[l]) <= double(rr.base.crossing[l]) + extra;
+    };
+    uint32_t valid = 0;
+    while (valid < rr.lastLevel && serves(valid + 1)) ++valid;
+    for (;;) {
+        if (valid < rr.lastLevel) {
+            rr.lastLevel = valid;
+            rr.measure = measureLayout(mesh, mr, rr.layout, rr.lastLevel, eo);
+            rr.base = measureLayout(mesh, mr, mr.charts, rr.lastLevel, eo);
+        }
+        const bool better = rr.measure.energy.E < rr.base.energy.E && rr.measure.areaRatioStdDev < rr.base.areaRatioStdDev;
+        if (better) return true;
+        if (valid == 0) return false;
+        --valid;
+    }
+}
+
+// Every layout at every size (a rank >= 1 only at sizes >= minRefinedSize, and at the largest),
+// baked from the original appearance; `step` is called after each bake.
+template <class Step>
+void bakeHierarchy(const Asset& asset, const RefineOptions& o, RefineResult& res, Step&& step) {
     std::vector<int> sizes = o.sizes;
     std::sort(sizes.begin(), sizes.end());
     sizes.erase(std::unique(sizes.begin(), sizes.end()), sizes.end());
@@ -323,8 +315,8 @@ RefineResult refineTextures(const Asset& asset, const Multires& mr, const Refine
             if (rr.rank > 0 && size < o.minRefinedSize && size != sizes.back()) continue;
             BakeOptions bo;
             bo.size = size;
-            bo.threads = o.threads;
-            BakeResult b = bakeBaseColor(sources, rr.layout.cornerUV, bo, layoutBakeIslands(mesh, rr.layout));
+            bo.threads = o.param.threads;
+            BakeResult b = bakeBaseColor(sources, rr.layout.cornerUV, bo, layoutBakeIslands(asset.mesh, rr.layout));
             RefinedImage img;
             img.rank = rr.rank;
             img.size = size;
@@ -333,8 +325,67 @@ RefineResult refineTextures(const Asset& asset, const Multires& mr, const Refine
             img.coveredTexels = b.coveredTexels;
             img.seconds = b.seconds;
             res.images.push_back(std::move(img));
-            progress(++done / steps);
+            step();
         }
+}
+
+}  // namespace
+
+RefineResult refineTextures(const Asset& asset, const Multires& mr, const RefineOptions& o) {
+    auto t0 = Clock::now();
+    checkRefineInput(asset, mr, o);
+    const TriMesh& mesh = asset.mesh;
+    const uint32_t n = uint32_t(mr.levels.size());
+    const uint32_t maxRank = std::min<uint32_t>(uint32_t(std::max(0, o.ranks)), n);
+    const double steps = double(maxRank + 1) * double(o.sizes.size()) + 2.0 * maxRank + 1;
+    double done = 0;
+    auto step = [&] { if (o.progress) o.progress(++done / steps); };
+
+    ChartEnergyOptions eo;  // E at r = 1 with the rank layouts' alpha and beta
+    eo.alpha = o.param.solve.energy.alpha;
+    eo.beta = o.param.solve.energy.beta;
+    RefineResult res;
+    res.ranks.push_back(rankZero(mesh, mr, eo));
+    step();
+    // Rank j splits rank j-1's charts by the regions of the next finer level that splits them; a
+    // candidate is kept only when it lowers both E and the area-ratio spread of T0 over the levels
+    // it serves, else the next finer level is tried.
+    uint32_t source = n;
+    for (uint32_t j = 1; j <= maxRank && source > 0;) {
+        const ChartLayout& parent = res.ranks.back().layout;
+        SplitCandidate cand = nextSplit(mesh, mr, parent, source, o.splitPerChart);
+        if (cand.count <= parent.chartCount) break;
+        source = cand.level;
+        if (measureLayout(mesh, mr, mr.charts, cand.level, eo).areaRatioStdDev < o.minAreaRatioStdDev) {
+            res.rejected.push_back({cand.level, cand.count, "T0 is already near-isometric on these levels (area-ratio std-dev below the limit)"});
+            continue;
+        }
+        RankResult rr;
+        rr.rank = j;
+        rr.lastLevel = cand.level;
+        rr.regions = cand.level == 0 ? uint32_t(mesh.triangleCount()) : countRegions(mr.levels[cand.level - 1].faceRegion);
+        std::vector<uint32_t> per(parent.chartCount, o.splitPerChart);
+        if (o.keepLevelTrianglesWhole) keepLevelTrianglesWhole(mesh, mr, parent, per, cand);
+        if (cand.count <= parent.chartCount) {
+            res.rejected.push_back({cand.level, cand.count, "keeping level triangles whole leaves nothing to split"});
+            continue;
+        }
+        solveRankLayout(mesh, mr, parent, o, eo, per, cand, rr);
+        if (rr.layout.chartCount <= parent.chartCount) {
+            res.rejected.push_back({cand.level, rr.layout.chartCount, "no piece solved better than its parent"});
+            continue;
+        }
+        step();
+        const bool better = trimServedLevels(mesh, mr, o, eo, rr);
+        step();
+        if (!better) {
+            res.rejected.push_back({cand.level, rr.layout.chartCount, "does not lower both E and the area-ratio std-dev of T0"});
+            continue;
+        }
+        res.ranks.push_back(std::move(rr));
+        ++j;
+    }
+    bakeHierarchy(asset, o, res, step);
     res.seconds = secondsSince(t0);
     return res;
 }

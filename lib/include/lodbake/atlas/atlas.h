@@ -1,18 +1,58 @@
-// Atlas packing: the charts of a texture layout (T0 from `parameterize`) placed into one page by
-// their shapes. Each chart is turned to its minimum-area bounding rectangle, rasterised at the
-// page density (the texels its triangles touch, grown by half the gutter) and placed, in a few
-// orders (largest first, longest first, ...), at the lowest free position of a page bitmap over
-// the four quarter turns, so charts nest into each other's concavities; the smallest page wins.
-// Charts keep the gutter between each other but not along the page border (the chain's samplers
-// clamp to the edge).
+// Atlas packing: the one home of chart packing, with two packers.
+//   - shelfPack: the T0 atlas of `parameterize`. Point sets (charts and level islands, model units)
+//     at one uniform density, their bounding boxes in rows ("shelves") on a square page.
+//   - packAtlas: the pages of `pack`. The charts of a texture layout placed by their shapes: each
+//     chart is turned to its minimum-area bounding rectangle, rasterised at the page density (the
+//     texels its triangles touch, grown by half the gutter) and placed, in a few orders (largest
+//     first, longest first, ...), at the lowest free position of a page bitmap over the four
+//     quarter turns, so charts nest into each other's concavities; the smallest page wins. Charts
+//     keep the gutter between each other but not along the page border (the chain's samplers
+//     clamp to the edge).
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <vector>
 
 #include "lodbake/core/math.h"
 
 namespace lodbake {
+
+// ---- Shelf packing (T0) ----
+
+struct ShelfPackOptions {
+    int size = 1024;  // page side, texels (square)
+    int gutter = 4;   // texels between items and along the page border
+};
+
+// Where one item went: its bounding-box minimum `min` (model units) sits at texel (x, y).
+struct ShelfPlacement {
+    double x = 0, y = 0;
+    Vec2 min{};
+};
+
+struct ShelfPackResult {
+    int size = 0;                         // page side, texels
+    double texelsPerUnit = 0;             // the uniform density reached (texels per model unit)
+    std::vector<ShelfPlacement> items;    // per input point set
+    // Atlas UV (glTF: [0,1], v down) of point p (model units) of item i; texel centres at +0.5.
+    Vec2 atlasUV(size_t i, Vec2 p) const {
+        const ShelfPlacement& s = items[i];
+        double X = s.x + (p.x - s.min.x) * texelsPerUnit + 0.5;
+        double Y = s.y + (p.y - s.min.y) * texelsPerUnit + 0.5;
+        return Vec2{X / size, 1.0 - Y / size};
+    }
+};
+
+// Packs the bounding boxes of `items` (point sets in model units; an empty set is a 1-texel box)
+// tallest first, left to right in shelves, at one density for all: it starts where `area`
+// (the items' total area, model units^2; <= 0 counts as 1) fills 70% of the page and shrinks by
+// 5% per attempt until every box fits with its gutters.
+// \pre options.size >= 16, options.gutter >= 0; the pointers are valid.
+// \throw Impossible when nothing fits after 400 attempts.
+ShelfPackResult shelfPack(const std::vector<const std::vector<Vec2>*>& items, double area, const ShelfPackOptions& options);
+
+// ---- Shape-aware page packing (pack) ----
 
 // One chart to place: the UV points it covers and its UV area (T0 units).
 struct AtlasChart {

@@ -19,9 +19,6 @@ inline uint64_t edgeKey(uint32_t a, uint32_t b) {
 // Key of the directed edge a -> b.
 inline uint64_t directedEdgeKey(uint32_t a, uint32_t b) { return (uint64_t(a) << 32) | b; }
 
-// True when a triangle repeats a vertex index: it has no area and no edges of its own.
-inline bool degenerateIndices(const Tri& t) { return t[0] == t[1] || t[1] == t[2] || t[0] == t[2]; }
-
 // Compressed rows: row r is items[offsets[r] .. offsets[r + 1]).
 struct CompressedRows {
     std::vector<uint32_t> offsets;  // rows + 1 entries

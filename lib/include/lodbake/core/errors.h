@@ -1,14 +1,14 @@
 // The one error taxonomy of lodbake. Library code throws these; nothing below a tool's main
-// prints or exits. Each tool's main maps them to the exit codes in tools/common/cli.h:
+// prints or exits. The tools map them to the exit-code table of tools/common/cli.h.
 //
-//   Error kind      exit code   meaning
-//   UsageError          1       bad command line (thrown by tools/common only)
-//   IOError             2       file missing, unreadable or unwritable
-//   InvalidInput        2       the file is read but is not valid glTF / holds invalid data
-//   Unsupported         2       the input needs something lodbake does not support
-//                               (an extensionsRequired entry, a feature), named in the message
-//   Impossible          3       the input is valid but the operation cannot be done (say why)
-//   SolverError         4       internal or numerical failure (Ceres did not converge, ...)
+//   Error kind      meaning
+//   UsageError      bad command line (thrown by tools/ only)
+//   IOError         file missing, unreadable or unwritable
+//   InvalidInput    the file is read but is not valid glTF / holds invalid data
+//   Unsupported     the input needs something lodbake does not support
+//                   (an extensionsRequired entry, a feature), named in the message
+//   Impossible      the input is valid but the operation cannot be done (say why)
+//   SolverError     internal or numerical failure (Ceres did not converge, ...)
 //
 // Every message is one line and, when a file is involved, starts with the file path.
 #pragma once
@@ -56,19 +56,6 @@ inline std::string firstLine(std::string s) {
     if (nl != std::string::npos) s.resize(nl);
     while (!s.empty() && (s.back() == '\r' || s.back() == ' ' || s.back() == '.')) s.pop_back();
     return s;
-}
-
-// Exit code for an error kind (0 is success).
-inline int exitCodeFor(ErrorKind k) {
-    switch (k) {
-        case ErrorKind::Usage: return 1;
-        case ErrorKind::IO: return 2;
-        case ErrorKind::InvalidInput: return 2;
-        case ErrorKind::Unsupported: return 2;
-        case ErrorKind::Impossible: return 3;
-        case ErrorKind::Solver: return 4;
-    }
-    return 4;
 }
 
 }  // namespace lodbake

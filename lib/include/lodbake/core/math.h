@@ -3,6 +3,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 
 namespace lodbake {
@@ -26,6 +27,19 @@ inline Vec2 operator-(Vec2 a, Vec2 b) { return {a.x - b.x, a.y - b.y}; }
 inline Vec2 operator*(Vec2 a, double s) { return {a.x * s, a.y * s}; }
 inline double cross(Vec2 a, Vec2 b) { return a.x * b.y - a.y * b.x; }
 inline double dot(Vec2 a, Vec2 b) { return a.x * b.x + a.y * b.y; }
+// Index of the triangle corner opposite its longest edge (the first on ties).
+inline size_t cornerOppositeLongestEdge(const std::array<Vec2, 3>& t) {
+    size_t apex = 0;
+    double longest = -1;
+    for (size_t k = 0; k < 3; ++k) {
+        Vec2 e = t[(k + 1) % 3] - t[(k + 2) % 3];
+        if (dot(e, e) > longest) {
+            longest = dot(e, e);
+            apex = k;
+        }
+    }
+    return apex;
+}
 
 inline Vec3 operator+(Vec3 a, Vec3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
 inline Vec3 operator-(Vec3 a, Vec3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }

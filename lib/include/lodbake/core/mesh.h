@@ -19,6 +19,9 @@ namespace lodbake {
 
 using Tri = std::array<uint32_t, 3>;
 
+// True when a triangle repeats a vertex index: it has no area and no edges of its own.
+inline bool degenerateIndices(const Tri& t) { return t[0] == t[1] || t[1] == t[2] || t[0] == t[2]; }
+
 // Per-wedge attribute arrays; an array is either empty (attribute absent) or wedgeCount long.
 struct Wedges {
     std::vector<uint32_t> vertex;  // welded vertex index of each wedge (always present)
@@ -71,6 +74,10 @@ struct Material {
     TextureRef emissive;
     Vec3 emissiveFactor{0, 0, 0};
     double emissiveStrength = 1;  // KHR_materials_emissive_strength (multiplies emissiveFactor)
+    // KHR_materials_pbrSpecularGlossiness, converted on reading (baseColor = diffuse, metallic 0,
+    // roughness 1 - glossiness): the texture whose alpha is glossiness, and the glossiness factor.
+    TextureRef specularGlossiness;
+    double glossinessFactor = 1;
     AlphaMode alphaMode = AlphaMode::Opaque;
     double alphaCutoff = 0.5;
     bool doubleSided = false;

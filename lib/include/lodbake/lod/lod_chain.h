@@ -1,10 +1,10 @@
-// pack: the final glTF LOD chain (issue 5). From a parameterized multiresolution asset, every
+// pack: the final glTF LOD chain. From a parameterized multiresolution asset, every
 // level (LOD0 = the original triangles, LOD k = multires level k) gets its own atlas page: the
 // charts of its layout repacked at the texel density the level can show, the ORIGINAL appearance
 // baked into it (bakeBaseColor, pull-push gap fill), one mesh / one material / one draw call per
 // level. The layout is T0 (multires.charts) or, when texture-refine added a texture hierarchy
 // (multires.textures), the highest-rank texture valid for the level that the hierarchy offers at
-// the page side the level needs (issue 7).
+// the page side the level needs.
 // Screen coverage thresholds come from each level's measured two-sided Hausdorff distance to
 // the original.
 #pragma once
@@ -20,6 +20,13 @@
 #include "lodbake/gltf/msft_lod.h"
 
 namespace lodbake {
+
+// When a level's page gets a baked normal map.
+enum class NormalMaps {
+    Auto,    // when the input has normal maps, and on every level coarser than the original
+    Always,  // on every level, LOD0 included
+    Never,
+};
 
 struct PackOptions {
     double pixelError = 1;       // a level is used while its deviation projects to <= this many pixels
@@ -39,6 +46,7 @@ struct PackOptions {
     // density it can show at its largest coverage: for comparisons at equal texel density that
     // render every level close up (scripts/bench_peers.sh).
     bool lod0Density = false;
+    NormalMaps normalMaps = NormalMaps::Auto;
     bool useTextureHierarchy = true;  // false: every level uses T0 even when the file has a texture hierarchy
     std::function<bool(double)> progress;  // fraction done; may be empty
 };
@@ -62,6 +70,7 @@ struct PackLevelReport {
     double maxCoverage = 0;       // ... and below this (the next finer level's threshold; LOD0: lod0Coverage)
     double switchDistance = 0;    // camera distance (model units, fovY) at which the next coarser level takes over
     double bakeSeconds = 0;
+    std::vector<std::string> channels;  // the textures of the level's material (level_material.h channelNames)
     double sideNeeded = 0;        // page side estimate the level needs: sqrt(3D area) x texelLimit / 0.8, capped by maxSize
     uint32_t rank = 0;            // texture hierarchy rank the level is textured with (0 = T0)
     int textureSize = 0;          // the hierarchy texture of that rank whose resolution the level needs
@@ -73,6 +82,7 @@ struct PackResult {
     std::vector<double> screenCoverage;     // one per level (= ids + 1), decreasing; the last culls the coarsest
     std::vector<PackLevelReport> reports;   // per level
     double radius = 0, diagonal = 0;        // bounding sphere radius (half the bbox diagonal) and the diagonal
+    std::vector<std::string> warnings;      // the material plan's (mixed alpha modes, sidedness, shading)
     double seconds = 0;
 };
 

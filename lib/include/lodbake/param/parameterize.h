@@ -1,5 +1,6 @@
 // parameterize: charts from the coarsest level's base regions, one injective UV map per chart
-// minimising E = beta E_pixel + (1 - beta) E_poly, and a shelf-packed square atlas (thesis 3.3).
+// minimising E = beta E_pixel + (1 - beta) E_poly, and a shelf-packed square atlas (thesis 3.3;
+// the packer is shelfPack of lodbake/atlas/atlas.h).
 #pragma once
 
 #include <array>
@@ -17,13 +18,9 @@ namespace lodbake {
 
 struct ParameterizeOptions {
     ChartOptions charts;
-    double alpha = 0.8;        // edge vs area weight inside E_pixel
-    double beta = 0.7;         // pixel vs polygon resolution error
-    int maxIterations = 50;    // Ceres iterations per chart; 0 = keep the Tutte maps
-    // Ceres solves per chart while level triangles stay flipped (ChartSolveOptions::levelRounds).
-    // 2 by measurement: 8 rounds cost StanfordBunny 2x the time for about the same island count,
-    // and what stays folded gets an island anyway.
-    int levelRounds = 2;
+    // The per-chart solve: E's alpha and beta, Ceres iterations (0 = keep the Tutte maps) and the
+    // level rounds. solve.energy.resolution is not read: parameterize sets it from textureSize.
+    ChartSolveOptions solve;
     int textureSize = 1024;    // atlas side in texels (square)
     int gutter = 4;            // texels between charts and around the border (>= 4 recommended)
     int threads = 1;           // charts solved in parallel (0 = all cores); results are identical for any value

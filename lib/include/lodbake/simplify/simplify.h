@@ -7,7 +7,7 @@
 // vertices never move but absorb their manifold neighbours; inconsistent winding is no lock.
 // Regions start as single faces and merge as collapses happen; the three p-boundary rules of
 // DESIGN.md are applied. Every level records its regions and its
-// simplification pairs.
+// simplification pairs. The method: docs/simplify.md.
 #pragma once
 
 #include <cstdint>
@@ -43,7 +43,6 @@ struct SimplifyOptions {
     // When a triangle target cannot be reached otherwise (parts locked by non-manifold edges or
     // pinch vertices, rule 1), whole components whose half bounding-box diagonal is below this fraction of the
     // model's diagonal are removed, smallest first; their size enters the level's maxDeviation. 0 disables.
-    // (0.2: 2CylinderEngine reaches 2.00% instead of 2.13%.)
     double pruneStuckSize = 0.2;
     // Candidate evaluation and simplification pairs run on this many threads (the collapse walk
     // is sequential); results are identical for any value.

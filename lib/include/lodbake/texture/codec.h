@@ -1,9 +1,11 @@
-// Image encoding and checking with OpenImageIO, the only module that links it besides the texture
-// samplers (bake, metrics). The glTF reader keeps images encoded, so tools that only pass images
+// Image decoding, encoding and checking with OpenImageIO: every encoded image lodbake reads or
+// writes goes through this file (the bake's filtered lookups use OpenImageIO's TextureSystem on
+// the same bytes). The glTF reader keeps images encoded, so tools that only pass images
 // through (simplify, agsphere-build) never load OpenImageIO and its ~250 shared libraries, whose
 // symbol binding alone takes 0.2-0.4 s per process.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -22,6 +24,33 @@ Image encodeImage(const std::vector<float>& rgb, int width, int height, ImageFor
 // encode RGBA as PNG.
 Image encodeImage(const std::vector<float>& values, int width, int height, int channels, ImageFormat format,
                   int jpegQuality = 90, const std::string& name = "");
+
+struct EncodeOptions {
+    ImageFormat format = ImageFormat::Png;
+    int jpegQuality = 90;  // [1,100], JPEG only
+    int channels = 3;      // 1..4 interleaved (4 = RGBA, straight alpha; PNG only)
+    bool srgb = true;      // tag the file as sRGB colour (false for data: normals, roughness, occlusion)
+};
+
+// Encodes an 8-bit image from floats in [0,1] as they are to be stored, top row first.
+// \throw InvalidInput (size mismatch, RGBA as JPEG), IOError (encoder failure).
+Image encodeImage(const std::vector<float>& values, int width, int height, const EncodeOptions& options,
+                  const std::string& name = "");
+
+// Encodes an 8-bit image (`channels` interleaved, top row first) as PNG, without a colour-space chunk.
+// \throw InvalidInput (size mismatch), IOError (encoder failure).
+Image encodePng(const std::vector<uint8_t>& pixels, int width, int height, const std::string& name = "", int channels = 3);
+
+// Pixels of a decoded image: floats in [0,1] as stored (sRGB-encoded for colour), `channels`
+// interleaved per texel, top row first.
+struct DecodedImage {
+    int width = 0, height = 0, channels = 0;
+    std::vector<float> pixels;  // width * height * channels
+};
+
+// Decodes `image` into `out`; false, with a one-line `error` naming the image, when it has no data
+// or cannot be decoded.
+bool decodeImage(const Image& image, DecodedImage& out, std::string& error);
 
 enum class ImageCheck {
     Header,  // open each image and read its size (cheap)

@@ -68,8 +68,22 @@ std::vector<uint32_t> splitCharts(const TriMesh& mesh, const std::vector<uint32_
                                   const std::vector<uint32_t>& faceRegion, const std::vector<uint32_t>& perChart,
                                   uint32_t& count);
 
+// How refineTextures parameterises rank layouts by default: parameterize's defaults on a
+// 512-texel atlas.
+inline ParameterizeOptions rankParameterizeDefaults() {
+    ParameterizeOptions p;
+    p.textureSize = 512;
+    return p;
+}
+
 struct RefineOptions {
-    int size = 512;                        // atlas side the rank layouts are packed for; E resolution
+    // The parameterisation of the rank layouts: E's alpha and beta, Ceres iterations and level
+    // rounds (param.solve); the atlas side they are packed for, texels, which is also the
+    // resolution E is measured at (param.textureSize); the gutter between their charts, texels
+    // (param.gutter); and the threads charts are solved and textures baked on (param.threads,
+    // 0 = all cores; output identical for any value). refineTextures sets param.charts (no
+    // merging: the split charts are final), param.levelIslands and param.progress itself.
+    ParameterizeOptions param = rankParameterizeDefaults();
     std::vector<int> sizes{128, 256, 512, 1024};  // MIP-style: every layout baked at each of these sides
     // Rank layouts (j >= 1) are baked only at sizes >= this (the largest size when none is): their
     // extra chart seams and gutters cost more than they give on small pages. `pack` uses a rank
@@ -86,10 +100,6 @@ struct RefineOptions {
     double minAreaRatioStdDev = 0.05;
     int ranks = 2;                         // refine up to this rank (fewer when no finer level splits the charts)
     uint32_t splitPerChart = 4;            // charts per parent chart
-    double alpha = 0.8, beta = 0.7;        // the energy of parameterize
-    int maxIterations = 50;                // Ceres iterations per chart
-    int gutter = 4;                        // texels between charts in a rank layout
-    int threads = 1;                       // charts solved and textures baked in parallel (0 = all cores); output identical for any value
     std::function<bool(double)> progress;  // fraction done; may be empty
 };
 

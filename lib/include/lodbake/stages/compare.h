@@ -1,0 +1,41 @@
+// The compare stage: how far B (usually a LOD) is from A (usually the original): budgets,
+// geometric distance and image distance, checked against optional tolerances.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "lodbake/metrics/compare.h"
+#include "lodbake/stages/stage.h"
+
+namespace lodbake {
+
+// Limits the comparison must respect; an unset limit is not checked.
+struct CompareTolerances {
+    std::optional<double> maxHausdorff, maxRms;  // relative to A's bounding-box diagonal
+    std::optional<double> minPsnr, minShadedPsnr, minIou, minSsim;  // dB, dB, [0,1], [0,1]
+};
+
+struct CompareSettings {
+    std::string a, b;          // the two glTF files
+    int lodA = 0, lodB = 0;    // level compared: LODBAKE_multires level, or MSFT_lod level; 0 = original / LOD0
+    CompareOptions compare;    // threads and keepRenders are set from `threads` and `sheet`
+    CompareTolerances tolerances;
+    bool json = false;         // statistics = the JSON report instead of the table
+    std::string report;        // JSON report to write; empty = none
+    std::string sheet;         // contact sheet PNG to write; empty = none
+    int verbose = 0;           // > 0: per-view image metrics in the table and the report
+    int threads = 0;           // 0 = all cores; never changes the result
+};
+
+struct CompareStageResult : StageResult {
+    // StageResult::statistics holds what the tool prints on stdout (the table, or the JSON report).
+    std::vector<std::string> exceeded;  // one line per tolerance that does not hold
+};
+
+// \throw Impossible when a --lod level is not present or a mesh has no non-degenerate triangle;
+//        the errors of reading and writing.
+CompareStageResult runCompare(const CompareSettings& settings);
+
+}  // namespace lodbake

@@ -1,0 +1,27 @@
+// The parameterize stage: multiresolution glTF in, the same plus the chart layout, atlas UVs for
+// every level and one baked base-colour texture valid for every level out (thesis 3.3).
+// Pipeline: parameterize (charts, per-chart flattening, atlas) -> bake -> apply the atlas ->
+// check every level's UVs -> texture deviation of the coarsest level -> report -> write.
+#pragma once
+
+#include "lodbake/param/parameterize.h"
+#include "lodbake/stages/stage.h"
+
+namespace lodbake {
+
+struct ParameterizeSettings {
+    StageCommon common;
+    // The algorithm's options (textureSize is also the baked atlas side). threads and progress
+    // are taken from `common`.
+    ParameterizeOptions parameterize;
+    // Write the output even when a level keeps flipped/overlapping UV triangles (reported);
+    // false: SolverError.
+    bool allowLevelFolds = false;
+};
+
+// \throw Impossible when the input has no LODBAKE_multires extension; SolverError when charts
+//        stay flipped or overlapping, or a level does (unless allowLevelFolds; the report is
+//        written first); the errors of reading, decoding images and writing.
+StageResult runParameterize(const ParameterizeSettings& settings);
+
+}  // namespace lodbake

@@ -1,0 +1,21 @@
+// The simplify stage: any glTF in, multiresolution glTF out (half-edge collapse with region
+// hierarchy, lodbake/simplify/simplify.h).
+#pragma once
+
+#include "lodbake/simplify/simplify.h"
+#include "lodbake/stages/stage.h"
+
+namespace lodbake {
+
+struct SimplifySettings {
+    StageCommon common;
+    // The algorithm's options; `levels` must be set (at least one target). threads and progress
+    // are taken from `common`.
+    SimplifyOptions simplify;
+};
+
+// Reads common.input, simplifies it, writes common.output with LODBAKE_multires and the report.
+// \throw Impossible when the scene has no triangles; the errors of reading and writing.
+StageResult runSimplify(const SimplifySettings& settings);
+
+}  // namespace lodbake

@@ -1,0 +1,52 @@
+// Removal of small and stuck parts (pruning.h, docs/simplify.md).
+
+#include "pruning.h"
+
+#include <algorithm>
+
+namespace lodbake::simplify_detail {
+
+// Removes component `comp` entirely: its faces leave the level (they keep their regions, so their
+// representatives are not surviving faces) and its vertices are removed without a collapse target.
+static void pruneComponent(CollapseState& s, HierarchyRecorder& rec, uint32_t comp) {
+    Components& c = s.components;
+    c.pruned[comp] = 1;
+    float dev = float(c.size[comp]);
+    uint32_t at = rec.regionMark();
+    for (uint32_t k = c.vertexStart[comp]; k < c.vertexStart[comp + 1]; ++k) {
+        uint32_t v = c.vertices[k];
+        if (s.removed[v] || s.vfaces[v].empty()) continue;
+        for (uint32_t f : s.vfaces[v])
+            if (s.faceAlive[f]) {
+                s.faceAlive[f] = 0;
+                --s.aliveFaces;
+            }
+    }
+    for (uint32_t k = c.vertexStart[comp]; k < c.vertexStart[comp + 1]; ++k) {
+        uint32_t v = c.vertices[k];
+        if (s.removed[v] || s.vfaces[v].empty()) continue;
+        s.vfaces[v].release();
+        s.removed[v] = 1;
+        s.collapsedInto[v] = kNone;
+        rec.collapsed({v, v, dev, at, at});
+    }
+    c.faces[comp] = 0;
+    rec.accepted(double(dev));
+}
+
+bool pruneComponents(CollapseState& s, HierarchyRecorder& rec, double limit, uint64_t target, bool closedOnly) {
+    const Components& c = s.components;
+    bool any = false;
+    for (uint32_t comp : c.order) {
+        if (s.aliveFaces <= target) break;
+        if (!(c.size[comp] < limit)) break;
+        if (c.pruned[comp] || (closedOnly && c.open[comp] != 0)) continue;
+        // Never undershoot the target, never prune the last faces.
+        if (s.aliveFaces - c.faces[comp] < std::max<uint64_t>(target, 1)) continue;
+        pruneComponent(s, rec, comp);
+        any = true;
+    }
+    return any;
+}
+
+}  // namespace lodbake::simplify_detail

@@ -1,0 +1,237 @@
+#include "lodbake/stages/compare.h"
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "lodbake/core/errors.h"
+#include "lodbake/gltf/gltf.h"
+#include "lodbake/texture/codec.h"
+
+namespace lodbake {
+namespace {
+
+// --- loading ------------------------------------------------------------------------------
+
+// Bytes on disk: the file, plus for .gltf the external buffers and images it names.
+uint64_t fileBytes(const std::string& path) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    uint64_t total = fs::file_size(path, ec);
+    if (ec) return 0;
+    std::string ext = fs::path(path).extension().string();
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (ext != ".gltf") return total;
+    std::ifstream in(path);
+    nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+    if (j.is_discarded()) return total;
+    fs::path dir = fs::path(path).parent_path();
+    for (const char* key : {"buffers", "images"}) {
+        if (!j.contains(key) || !j[key].is_array()) continue;
+        for (const auto& e : j[key]) {
+            if (!e.contains("uri") || !e["uri"].is_string()) continue;
+            std::string uri = e["uri"].get<std::string>();
+            if (uri.rfind("data:", 0) == 0) continue;
+            std::string decoded;  // percent-decoding
+            for (size_t i = 0; i < uri.size(); ++i) {
+                if (uri[i] == '%' && i + 2 < uri.size()) {
+                    decoded += static_cast<char>(std::stoi(uri.substr(i + 1, 2), nullptr, 16));
+                    i += 2;
+                } else {
+                    decoded += uri[i];
+                }
+            }
+            uint64_t s = fs::file_size(dir / decoded, ec);
+            if (!ec) total += s;
+        }
+    }
+    return total;
+}
+
+struct Loaded {
+    Asset asset;
+    TriMesh mesh;  // the level being compared
+    size_t levels = 0;  // levels in LODBAKE_multires (0 if none)
+    uint64_t bytes = 0;
+    uint64_t drawCalls = 0;
+};
+
+Loaded load(const std::string& path, int lod) {
+    Loaded l;
+    std::optional<Multires> multires;
+    // compare decodes the images it renders itself (prepareRenderScene) and only reads the sizes
+    // of the others from their headers.
+    ReadOptions ro;
+    l.asset = readGltf(path, ro, &multires);
+    checkImages(l.asset, ImageCheck::Header);
+    l.levels = multires ? multires->levels.size() : 0;
+    l.bytes = fileBytes(path);
+    if (lod > 0 && !multires) {
+        // An MSFT_lod chain (pack's output): read level `lod` of each chain in place of LOD0.
+        ro.lod = lod;
+        l.asset = readGltf(path, ro, nullptr);
+        checkImages(l.asset, ImageCheck::Header);
+    }
+    if (lod == 0 || !multires) {
+        l.mesh = std::move(l.asset.mesh);
+        l.drawCalls = l.asset.stats.primitives;
+    } else {
+        if (static_cast<size_t>(lod) > multires->levels.size())
+            throw Impossible(path + ": --lod " + std::to_string(lod) + " asked but the file has " +
+                             std::to_string(multires->levels.size()) + " levels");
+        l.mesh = levelMesh(l.asset.mesh, *multires, static_cast<size_t>(lod));
+        l.drawCalls = 0;  // one primitive per used material: taken from the counts
+    }
+    return l;
+}
+
+// --- output -------------------------------------------------------------------------------
+
+nlohmann::json countsJson(const ModelCounts& c, uint64_t bytes) {
+    return {{"triangles", c.triangles}, {"vertices", c.vertices},   {"positions", c.positions},
+            {"materials", c.materials}, {"drawCalls", c.drawCalls}, {"texels", c.texels},
+            {"fileBytes", bytes}};
+}
+
+nlohmann::json sideJson(const OneSidedDistance& d, double diag) {
+    return {{"max", d.max}, {"mean", d.mean}, {"rms", d.rms}, {"samples", d.samples},
+            {"relMax", diag > 0 ? d.max / diag : 0.0}};
+}
+
+nlohmann::json imageJson(const ImageMetrics& m) {
+    return {{"psnr", m.psnr}, {"worstPsnr", m.worstPsnr}, {"ssim", m.ssim},
+            {"worstSsim", m.worstSsim}, {"iou", m.iou}, {"worstIou", m.worstIou}};
+}
+
+std::string fmt(double v, int prec = 6) {
+    std::ostringstream os;
+    os.precision(prec);
+    os << v;
+    return os.str();
+}
+
+nlohmann::json makeReport(const CompareSettings& s, const CompareResult& r, const Loaded& A, const Loaded& B,
+                          const std::vector<std::string>& violations) {
+    nlohmann::json j;
+    j["tool"] = "compare";
+    j["a"] = {{"path", s.a}, {"lod", s.lodA}, {"levels", A.levels}};
+    j["b"] = {{"path", s.b}, {"lod", s.lodB}, {"levels", B.levels}};
+    j["counts"] = {{"a", countsJson(r.a, A.bytes)}, {"b", countsJson(r.b, B.bytes)}};
+    if (s.compare.geometry) {
+        const GeometricDistance& d = r.distance;
+        j["geometry"] = {{"hausdorff", d.hausdorff}, {"mean", d.mean}, {"rms", d.rms},
+                         {"relHausdorff", d.relHausdorff}, {"relMean", d.relMean}, {"relRms", d.relRms},
+                         {"diagonal", d.diagonal}, {"aToB", sideJson(d.aToB, d.diagonal)},
+                         {"bToA", sideJson(d.bToA, d.diagonal)}};
+    }
+    if (s.compare.images && s.compare.views > 0) {
+        j["images"] = {{"views", s.compare.views}, {"resolution", s.compare.resolution},
+                       {"baseColor", imageJson(r.baseColor)}, {"shaded", imageJson(r.shaded)}};
+        if (s.verbose > 0) {
+            nlohmann::json pv = nlohmann::json::array();
+            for (size_t v = 0; v < r.baseColorPerView.size(); ++v)
+                pv.push_back({{"baseColor", imageJson(r.baseColorPerView[v])}, {"shaded", imageJson(r.shadedPerView[v])}});
+            j["images"]["perView"] = pv;
+        }
+    }
+    nlohmann::json warn = nlohmann::json::array();
+    for (const auto& w : A.asset.warnings) warn.push_back("A: " + w);
+    for (const auto& w : B.asset.warnings) warn.push_back("B: " + w);
+    for (const auto& w : r.warnings) warn.push_back(w);
+    j["warnings"] = warn;
+    j["pass"] = violations.empty();
+    j["exceeded"] = violations;
+    return j;
+}
+
+std::string table(const CompareSettings& s, const CompareResult& r, const Loaded& A, const Loaded& B,
+                  const std::vector<std::string>& violations) {
+    std::ostringstream os;
+    auto row = [&](const std::string& name, const std::string& a, const std::string& b) {
+        os << "  " << name << std::string(name.size() < 22 ? 22 - name.size() : 1, ' ') << a
+           << std::string(a.size() < 16 ? 16 - a.size() : 1, ' ') << b << "\n";
+    };
+    os << "A: " << s.a << (s.lodA ? " (lod " + std::to_string(s.lodA) + ")" : "") << "\n";
+    os << "B: " << s.b << (s.lodB ? " (lod " + std::to_string(s.lodB) + ")" : "") << "\n\n";
+    row("", "A", "B");
+    row("triangles", std::to_string(r.a.triangles), std::to_string(r.b.triangles));
+    row("vertices", std::to_string(r.a.vertices), std::to_string(r.b.vertices));
+    row("materials", std::to_string(r.a.materials), std::to_string(r.b.materials));
+    row("draw calls", std::to_string(r.a.drawCalls), std::to_string(r.b.drawCalls));
+    row("texels", std::to_string(r.a.texels), std::to_string(r.b.texels));
+    row("file bytes", std::to_string(A.bytes), std::to_string(B.bytes));
+    if (s.compare.geometry) {
+        const GeometricDistance& d = r.distance;
+        os << "\ngeometric distance (A diagonal " << fmt(d.diagonal) << ")\n";
+        row("", "absolute", "relative");
+        row("hausdorff", fmt(d.hausdorff), fmt(d.relHausdorff));
+        row("mean", fmt(d.mean), fmt(d.relMean));
+        row("rms", fmt(d.rms), fmt(d.relRms));
+        row("A->B max", fmt(d.aToB.max), fmt(d.diagonal > 0 ? d.aToB.max / d.diagonal : 0));
+        row("B->A max", fmt(d.bToA.max), fmt(d.diagonal > 0 ? d.bToA.max / d.diagonal : 0));
+    }
+    if (s.compare.images && s.compare.views > 0) {
+        os << "\nimages (" << s.compare.views << " views, " << s.compare.resolution << "x" << s.compare.resolution << ")\n";
+        row("", "base colour", "shaded");
+        row("psnr dB", fmt(r.baseColor.psnr, 5), fmt(r.shaded.psnr, 5));
+        row("worst view psnr dB", fmt(r.baseColor.worstPsnr, 5), fmt(r.shaded.worstPsnr, 5));
+        row("ssim", fmt(r.baseColor.ssim, 5), fmt(r.shaded.ssim, 5));
+        row("silhouette iou", fmt(r.baseColor.iou, 5), fmt(r.shaded.iou, 5));
+        if (s.verbose > 0)
+            for (size_t v = 0; v < r.baseColorPerView.size(); ++v)
+                row("view " + std::to_string(v) + " psnr/ssim",
+                    fmt(r.baseColorPerView[v].psnr, 4) + "/" + fmt(r.baseColorPerView[v].ssim, 3),
+                    fmt(r.shadedPerView[v].psnr, 4) + "/" + fmt(r.shadedPerView[v].ssim, 3));
+    }
+    os << "\n" << (violations.empty() ? "result: pass" : "result: FAIL") << "\n";
+    for (const std::string& v : violations) os << "  exceeded: " << v << "\n";
+    return os.str();
+}
+
+// --- tolerances ---------------------------------------------------------------------------
+
+std::vector<std::string> checkTolerances(const CompareTolerances& t, const CompareResult& r, const CompareOptions& o) {
+    std::vector<std::string> v;
+    auto above = [&](const char* name, const std::optional<double>& lim, double value) {
+        if (lim && !(value <= *lim)) v.push_back(std::string(name) + " " + fmt(value) + " > " + fmt(*lim));
+    };
+    auto below = [&](const char* name, const std::optional<double>& lim, double value) {
+        if (lim && !(value >= *lim)) v.push_back(std::string(name) + " " + fmt(value) + " < " + fmt(*lim));
+    };
+    if (o.geometry) {
+        above("relative hausdorff", t.maxHausdorff, r.distance.relHausdorff);
+        above("relative rms", t.maxRms, r.distance.relRms);
+    }
+    if (o.images && o.views > 0) {
+        below("base colour psnr", t.minPsnr, r.baseColor.psnr);
+        below("shaded psnr", t.minShadedPsnr, r.shaded.psnr);
+        below("silhouette iou", t.minIou, std::min(r.baseColor.iou, r.shaded.iou));
+        below("ssim", t.minSsim, std::min(r.baseColor.ssim, r.shaded.ssim));
+    }
+    return v;
+}
+
+}  // namespace
+
+CompareStageResult runCompare(const CompareSettings& s) {
+    Loaded A = load(s.a, s.lodA);
+    Loaded B = load(s.b, s.lodB);
+    CompareOptions opt = s.compare;
+    opt.threads = s.threads;
+    opt.keepRenders = !s.sheet.empty();
+    CompareResult r = compareAssets(A.asset, A.mesh, B.asset, B.mesh, opt);
+    if (A.drawCalls) r.a.drawCalls = A.drawCalls;
+    if (B.drawCalls) r.b.drawCalls = B.drawCalls;
+
+    CompareStageResult out;
+    out.exceeded = checkTolerances(s.tolerances, r, opt);
+    out.report = makeReport(s, r, A, B, out.exceeded);
+    if (!s.sheet.empty()) writeContactSheet(s.sheet, r);
+    if (!s.report.empty()) writeReport(s.report, out.report);
+    out.statistics = s.json ? out.report.dump(2) + "\n" : table(s, r, A, B, out.exceeded);
+    return out;
+}
+
+}  // namespace lodbake

@@ -1,0 +1,117 @@
+#include "lodbake/stages/pack.h"
+
+#include "lodbake/core/errors.h"
+#include "lodbake/core/timing.h"
+#include "lodbake/gltf/gltf.h"
+#include "lodbake/texture/codec.h"
+
+namespace lodbake {
+namespace {
+
+nlohmann::json makeReport(const PackSettings& s, const Asset& asset, const Multires& multires, const PackResult& res,
+                          const PackWriteStats& ws, double loadSeconds, double writeSeconds) {
+    const PackOptions& o = s.pack;
+    const LodChainWriteOptions& c = s.write.chain;
+    nlohmann::json levels = nlohmann::json::array();
+    for (size_t k = 0; k < res.reports.size(); ++k) {
+        const PackLevelReport& r = res.reports[k];
+        levels.push_back({{"lod", k},
+                          {"source", r.source},
+                          {"triangles", r.triangles},
+                          {"vertices", r.vertices},
+                          {"drawCalls", 1},
+                          {"texels", uint64_t(r.width) * uint64_t(r.height)},
+                          {"width", r.width},
+                          {"height", r.height},
+                          {"bytes", ws.levelBytes[k]},
+                          {"charts", r.charts},
+                          {"gutter", r.gutter},
+                          {"mips", r.mips},
+                          {"utilisation", r.utilisation},
+                          {"boxUtilisation", r.boxUtilisation},
+                          {"rasterUtilisation", r.rasterUtilisation},
+                          {"footprintUtilisation", r.footprintUtilisation},
+                          {"texelsPerUnit", r.texelsPerUnit},
+                          {"texelLimit", r.texelLimit},
+                          {"deviation", {{"hausdorff", r.hausdorff}, {"relHausdorff", r.relHausdorff}, {"rms", r.rms},
+                                         {"relRms", r.relRms}, {"simplifyMax", r.maxDeviation}}},
+                          {"screenCoverage", r.coverage},
+                          {"maxScreenCoverage", r.maxCoverage},
+                          {"switchDistance", r.switchDistance},
+                          {"bakeSeconds", r.bakeSeconds},
+                          {"channels", r.channels},
+                          {"textureRank", r.rank},
+                          {"pageSideNeeded", r.sideNeeded},
+                          {"hierarchyTextureSize", r.textureSize}});
+    }
+    nlohmann::json rep;
+    rep["tool"] = "pack";
+    rep["input"] = {{"path", s.common.input}, {"triangles", asset.mesh.triangleCount()}, {"levels", multires.levels.size()},
+                    {"charts", multires.charts.chartCount}};
+    rep["output"] = {{"path", s.common.output}, {"files", ws.files}, {"bytes", ws.totalBytes}};
+    rep["options"] = {{"pixelError", o.pixelError}, {"viewportHeight", o.viewportHeight}, {"fov", o.fovY},
+                      {"cutoffPixels", o.cutoffPixels}, {"maxSize", o.maxSize}, {"pot", o.powerOfTwo},
+                      {"maxMips", o.maxMips},
+                      {"imageFormat", s.imageFormatName.empty() ? imageFormatName(o.imageFormat) : s.imageFormatName},
+                      {"jpegQuality", o.jpegQuality}, {"split", s.write.split}, {"textureHierarchy", o.useTextureHierarchy},
+                      {"lod0Density", o.lod0Density}, {"draco", c.draco}, {"normalMaps", normalMapsName(o.normalMaps)},
+                      {"qp", c.quantPosition}, {"qt", c.quantTexcoord}, {"qn", c.quantNormal}};
+    rep["utilisationDefinition"] = "chart texels / page texels; chart texels = the charts' triangle coverage (UV area); "
+                                   "boxUtilisation uses the charts' rotated bounding rectangles (above 1 when charts nest), "
+                                   "rasterUtilisation the texels their triangles touch, footprintUtilisation adds each "
+                                   "chart's gutter ring (which may reach past the page border)";
+    rep["radius"] = res.radius;
+    rep["diagonal"] = res.diagonal;
+    rep["screenCoverage"] = res.screenCoverage;
+    rep["levels"] = levels;
+    std::vector<std::string> warnings = asset.warnings;
+    warnings.insert(warnings.end(), res.warnings.begin(), res.warnings.end());
+    rep["warnings"] = warnings;
+    rep["time"] = {{"load", loadSeconds}, {"pack", res.seconds}, {"write", writeSeconds}};
+    return rep;
+}
+
+std::string statistics(const PackSettings& s, const PackResult& res, const PackWriteStats& ws, double writeSeconds) {
+    std::string out;
+    appendf(out, "lod  triangles  page        util   box    gutter  hausdorff(rel)  coverage\n");
+    for (size_t k = 0; k < res.reports.size(); ++k) {
+        const PackLevelReport& r = res.reports[k];
+        appendf(out, "%3zu  %9zu  %4dx%-5d  %5.1f%% %5.1f%% %6d  %.3g (%.2e)  %.4g\n", k, r.triangles, r.width, r.height,
+                100 * r.utilisation, 100 * r.boxUtilisation, r.gutter, r.hausdorff, r.relHausdorff, r.coverage);
+    }
+    appendf(out, "output: %s (%llu bytes), time: pack %.2fs, write %.2fs\n", s.common.output.c_str(),
+            static_cast<unsigned long long>(ws.totalBytes), res.seconds, writeSeconds);
+    return out;
+}
+
+}  // namespace
+
+const char* imageFormatName(ImageFormat format) { return format == ImageFormat::Png ? "png" : "jpeg"; }
+
+const char* normalMapsName(NormalMaps mode) {
+    return mode == NormalMaps::Auto ? "auto" : mode == NormalMaps::Always ? "always" : "never";
+}
+
+StageResult runPack(const PackSettings& s) {
+    std::optional<Multires> multires;
+    double loadSeconds = 0;
+    Asset asset = loadStageInput(s.common, loadSeconds, &multires, [](Asset& a) { checkImages(a); });
+    if (!multires) throw Impossible(s.common.input + ": no LODBAKE_multires extension; run simplify and parameterize first");
+
+    PackOptions opt = s.pack;
+    opt.threads = s.common.threads;
+    opt.progress = s.common.progress;
+    PackResult res = packLodChain(asset, *multires, opt);
+
+    Clock::time_point t1 = Clock::now();
+    PackWriteStats ws = writePackResult(s.common.output, res, s.write);
+    double writeSeconds = secondsSince(t1);
+
+    StageResult out;
+    out.report = makeReport(s, asset, *multires, res, ws, loadSeconds, writeSeconds);
+    if (!s.common.report.empty()) writeReport(s.common.report, out.report);
+    if (s.common.verbose) out.statistics = statistics(s, res, ws, writeSeconds);
+    return out;
+}
+
+}  // namespace lodbake

@@ -1,0 +1,66 @@
+#include "lodbake/stages/simplify.h"
+
+#include "lodbake/core/parallel.h"
+#include "lodbake/core/timing.h"
+#include "stages/multires_stage.h"
+
+namespace lodbake {
+namespace {
+
+nlohmann::json makeReport(const SimplifySettings& s, const Asset& asset, const SimplifyResult& r, double loadSeconds,
+                          double simplifySeconds, double writeSeconds) {
+    nlohmann::json levels = nlohmann::json::array();
+    for (size_t k = 0; k < r.multires.levels.size(); ++k) {
+        const Level& L = r.multires.levels[k];
+        nlohmann::json level = levelJson(asset.mesh, L, k + 1, r.diagonal);
+        nlohmann::json& target = level["target"];
+        if (L.targetRatio > 0) target["ratio"] = L.targetRatio;
+        if (L.targetError > 0) target["maxError"] = L.targetError / (r.diagonal > 0 ? r.diagonal : 1);
+        target["triangles"] = L.targetTriangles;
+        level["baseRegions"] = L.regionCount;
+        level["collapses"] = L.collapseCount;
+        level["stopReason"] = L.stopReason;
+        levels.push_back(level);
+    }
+    nlohmann::json rep;
+    rep["tool"] = "simplify";
+    rep["input"] = inputJson(s.common, asset, r.diagonal);
+    rep["output"] = s.common.output;
+    rep["levels"] = levels;
+    rep["warnings"] = asset.warnings;
+    rep["time"] = {{"load", loadSeconds}, {"simplify", simplifySeconds}, {"write", writeSeconds}};
+    return rep;
+}
+
+std::string statistics(const Asset& asset, const nlohmann::json& rep) {
+    std::string out = inputStatistics(asset);
+    for (const auto& L : rep["levels"])
+        appendf(out, "level %d: %d triangles, max deviation %.4g (%.3g%% of diagonal), %d base regions, %s\n",
+                L["level"].get<int>(), L["triangles"].get<int>(), L["maxDeviation"].get<double>(),
+                100 * L["maxDeviationRelative"].get<double>(), L["baseRegions"].get<int>(),
+                L["stopReason"].get<std::string>().c_str());
+    return out;
+}
+
+}  // namespace
+
+StageResult runSimplify(const SimplifySettings& s) {
+    double loadSeconds = 0;
+    Asset asset = loadMeshInput(s.common, loadSeconds, "the scene has no triangles to simplify");
+
+    SimplifyOptions opt = s.simplify;
+    opt.threads = resolveThreads(s.common.threads);
+    opt.progress = s.common.progress;
+    Clock::time_point t1 = Clock::now();
+    SimplifyResult result = simplify(asset.mesh, opt);
+    double simplifySeconds = secondsSince(t1);
+    double writeSeconds = writeMultiresOutput(s.common, asset, result.multires, "simplify");
+
+    StageResult out;
+    out.report = makeReport(s, asset, result, loadSeconds, simplifySeconds, writeSeconds);
+    if (!s.common.report.empty()) writeReport(s.common.report, out.report);
+    if (s.common.verbose) out.statistics = statistics(asset, out.report);
+    return out;
+}
+
+}  // namespace lodbake

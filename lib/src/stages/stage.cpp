@@ -1,0 +1,42 @@
+#include "lodbake/stages/stage.h"
+
+#include <cstdarg>
+#include <cstdio>
+
+#include "lodbake/core/timing.h"
+#include "lodbake/gltf/gltf.h"
+
+namespace lodbake {
+
+Asset loadStageInput(const StageCommon& common, double& seconds, std::optional<Multires>* multires,
+                     void (*check)(Asset&)) {
+    Clock::time_point t0 = Clock::now();
+    Asset asset = readGltf(common.input, {}, multires);
+    if (check) check(asset);
+    seconds = secondsSince(t0);
+    if (common.warning)
+        for (const std::string& w : asset.warnings) common.warning(w);
+    return asset;
+}
+
+void writeReport(const std::string& path, const nlohmann::json& report) {
+    writeFileAtomic(path, report.dump(2) + "\n");
+}
+
+void appendf(std::string& out, const char* format, ...) {
+    va_list args;
+    va_start(args, format);
+    va_list copy;
+    va_copy(copy, args);
+    int n = std::vsnprintf(nullptr, 0, format, copy);
+    va_end(copy);
+    if (n > 0) {
+        size_t old = out.size();
+        out.resize(old + size_t(n) + 1);
+        std::vsnprintf(&out[old], size_t(n) + 1, format, args);
+        out.resize(old + size_t(n));
+    }
+    va_end(args);
+}
+
+}  // namespace lodbake
