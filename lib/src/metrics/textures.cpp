@@ -1,21 +1,26 @@
-// Decoding of an asset's images for the rasteriser (render.h): texture/codec.h decodes the
-// encoded bytes; texels are converted from sRGB to linear light (base colour textures are sRGB by
-// the glTF spec) and box-filtered into a mip pyramid.
+// prepareRenderScene (render.h): decodes an asset's images for the rasteriser (texture/codec.h
+// decodes the encoded bytes) and box-filters them into mip pyramids. Colour textures (base colour,
+// emissive) are sRGB by the glTF spec and are converted to linear light; data textures
+// (metallicRoughness, occlusion, normal) are kept as stored. An image used both ways is decoded
+// once and kept in both forms. Also computes the wedge tangents of normal maps when the mesh has none.
+#include <algorithm>
 #include <cmath>
+#include <map>
 #include <set>
 
 #include "lodbake/core/errors.h"
 #include "lodbake/metrics/render.h"
 #include "lodbake/texture/codec.h"
 #include "lodbake/texture/color_space.h"
+#include "lodbake/texture/texture_transform.h"
 
 namespace lodbake {
 namespace {
 
-// Decodes `image` (texture/codec.h) to linear RGBA level 0; false when it cannot be decoded.
-bool decodeLinear(const Image& image, MipImage::Level& out, std::string& error) {
-    DecodedImage decoded;
-    if (!decodeImage(image, decoded, error)) return false;
+// Level 0 of `decoded` as RGBA (grey and grey-alpha images expanded, alpha 1 when absent), colour
+// channels converted from sRGB to linear when `srgb`.
+MipImage::Level toRgba(const DecodedImage& decoded, bool srgb) {
+    MipImage::Level out;
     const int w = decoded.width, h = decoded.height, nc = decoded.channels;
     const std::vector<float>& pixels = decoded.pixels;
     out.width = w;
@@ -25,14 +30,14 @@ bool decodeLinear(const Image& image, MipImage::Level& out, std::string& error) 
         const float* p = &pixels[i * nc];
         float* q = &out.rgba[i * 4];
         if (nc <= 2) {
-            q[0] = q[1] = q[2] = srgbToLinear(p[0]);
+            q[0] = q[1] = q[2] = srgb ? srgbToLinear(p[0]) : p[0];
             if (nc == 2) q[3] = p[1];
         } else {
-            for (int c = 0; c < 3; ++c) q[c] = srgbToLinear(p[c]);
+            for (int c = 0; c < 3; ++c) q[c] = srgb ? srgbToLinear(p[c]) : p[c];
             if (nc >= 4) q[3] = p[3];
         }
     }
-    return true;
+    return out;
 }
 
 void buildPyramid(MipImage& mip) {
@@ -56,6 +61,50 @@ void buildPyramid(MipImage& mip) {
     }
 }
 
+// STAND-IN for computeWedgeTangents (lodbake/core/tangents.h): replace this function by that one
+// once it is on main.
+// Per-wedge tangents from the UV set `texCoord` (0 or 1): each triangle's dP/du and image-up
+// direction -dP/dv (glTF UVs grow downwards), weighted by the corner angle and summed per wedge,
+// then made orthogonal to the wedge normal (angle-weighted face normal when the mesh has none);
+// w = +1 when cross(N, T) points image-up, else -1. Empty when the UV set is absent.
+std::vector<Vec4> fallbackWedgeTangents(const TriMesh& mesh, int texCoord) {
+    const std::vector<Vec2>& uv = texCoord == 1 ? mesh.wedges.uv1 : mesh.wedges.uv0;
+    const size_t n = mesh.wedges.size();
+    if (n == 0 || uv.size() != n || mesh.cornerWedges.size() != mesh.triangles.size()) return {};
+    std::vector<Vec3> tSum(n), bSum(n), nSum(n);
+    for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+        const Tri& tri = mesh.triangles[t];
+        const Tri& w = mesh.cornerWedges[t];
+        const Vec3 P[3] = {mesh.positions[tri[0]], mesh.positions[tri[1]], mesh.positions[tri[2]]};
+        const Vec3 e1 = P[1] - P[0], e2 = P[2] - P[0];
+        const Vec2 d1 = uv[w[1]] - uv[w[0]], d2 = uv[w[2]] - uv[w[0]];
+        const double det = cross(d1, d2);
+        const Vec3 fn = normalize(cross(e1, e2));
+        if (det == 0 || !std::isfinite(det) || length2(fn) == 0) continue;
+        const Vec3 dPdu = (e1 * d2.y - e2 * d1.y) / det;
+        const Vec3 dPdv = (e2 * d1.x - e1 * d2.x) / det;
+        for (int k = 0; k < 3; ++k) {
+            const Vec3 a = normalize(P[(k + 1) % 3] - P[k]), b = normalize(P[(k + 2) % 3] - P[k]);
+            const double angle = std::acos(std::clamp(dot(a, b), -1.0, 1.0));
+            tSum[w[k]] += dPdu * angle;
+            bSum[w[k]] -= dPdv * angle;
+            nSum[w[k]] += fn * angle;
+        }
+    }
+    const bool normals = mesh.wedges.normal.size() == n;
+    std::vector<Vec4> out(n);
+    for (size_t i = 0; i < n; ++i) {
+        const Vec3 N = normals ? normalize(mesh.wedges.normal[i]) : normalize(nSum[i]);
+        Vec3 T = normalize(tSum[i] - N * dot(N, tSum[i]));
+        if (length2(T) == 0) {  // no UV gradient: any unit vector orthogonal to N
+            T = normalize(cross(N, std::fabs(N.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0}));
+            if (length2(T) == 0) T = {1, 0, 0};
+        }
+        out[i] = {T.x, T.y, T.z, dot(cross(N, T), bSum[i]) < 0 ? -1.0 : 1.0};
+    }
+    return out;
+}
+
 }  // namespace
 
 RenderScene prepareRenderScene(const Asset& asset, const TriMesh& mesh) {
@@ -63,24 +112,42 @@ RenderScene prepareRenderScene(const Asset& asset, const TriMesh& mesh) {
     scene.asset = &asset;
     scene.mesh = &mesh;
     scene.images.resize(asset.images.size());
-    std::set<int> used;
-    for (int32_t m : mesh.triangleMaterial) {
+    scene.dataImages.resize(asset.images.size());
+    // Per image: used as colour (sRGB) and/or as data; per UV set: used by a normal map.
+    std::map<int, std::pair<bool, bool>> used;
+    bool normalMapSet[2] = {false, false};
+    const std::set<int32_t> materials(mesh.triangleMaterial.begin(), mesh.triangleMaterial.end());
+    for (int32_t m : materials) {
         if (m < 0 || static_cast<size_t>(m) >= asset.materials.size()) continue;
-        int t = asset.materials[m].baseColor.texture;
-        if (t < 0 || static_cast<size_t>(t) >= asset.textures.size()) continue;
-        int i = asset.textures[t].image;
-        if (i >= 0 && static_cast<size_t>(i) < asset.images.size()) used.insert(i);
+        const Material& mat = asset.materials[m];
+        for (const TextureRef* r : {&mat.baseColor, &mat.emissive, &mat.metallicRoughness, &mat.occlusion, &mat.normal}) {
+            if (r->texture < 0 || static_cast<size_t>(r->texture) >= asset.textures.size()) continue;
+            int i = asset.textures[r->texture].image;
+            if (i < 0 || static_cast<size_t>(i) >= asset.images.size()) continue;
+            const bool colour = r == &mat.baseColor || r == &mat.emissive;
+            (colour ? used[i].first : used[i].second) = true;
+            if (r == &mat.normal) normalMapSet[textureCoordSet(*r) == 1 ? 1 : 0] = true;
+        }
     }
-    for (int i : used) {
-        MipImage::Level level0;
+    for (const auto& [i, use] : used) {
+        DecodedImage decoded;
         std::string error;
-        if (!decodeLinear(asset.images[i], level0, error)) {
+        if (!decodeImage(asset.images[i], decoded, error)) {
             scene.warnings.push_back(error + " (rendered white)");
             continue;
         }
-        scene.images[i].levels.push_back(std::move(level0));
-        buildPyramid(scene.images[i]);
+        if (use.first) {
+            scene.images[i].levels.push_back(toRgba(decoded, true));
+            buildPyramid(scene.images[i]);
+        }
+        if (use.second) {
+            scene.dataImages[i].levels.push_back(toRgba(decoded, false));
+            buildPyramid(scene.dataImages[i]);
+        }
     }
+    if (mesh.wedges.tangent.size() != mesh.wedges.size())
+        for (int set = 0; set < 2; ++set)
+            if (normalMapSet[set]) scene.tangents[set] = fallbackWedgeTangents(mesh, set);
     return scene;
 }
 

@@ -73,6 +73,7 @@ struct Material {
     TextureRef occlusion;
     TextureRef emissive;
     Vec3 emissiveFactor{0, 0, 0};
+    double emissiveStrength = 1;  // KHR_materials_emissive_strength (multiplies emissiveFactor)
     AlphaMode alphaMode = AlphaMode::Opaque;
     double alphaCutoff = 0.5;
     bool doubleSided = false;
