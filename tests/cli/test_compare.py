@@ -1,6 +1,6 @@
 """CLI tests of `compare` on files written by `make-samples` (and variants of them made here):
 a model against itself, against a copy shifted by 1% of its diagonal, against a copy whose
-textures are replaced by flat grey; exit codes; --threads determinism; contact sheet."""
+textures are replaced by flat grey; the pbr mode; exit codes; --threads determinism; contact sheet."""
 import json
 import os
 import shutil
@@ -66,7 +66,7 @@ class CompareCli(unittest.TestCase):
         rc, j, p = report(self.a, self.a, "--samples", 50000, "--views", 8, "--resolution", 128)
         self.assertEqual(rc, 0, p.stderr)
         self.assertLess(j["geometry"]["relHausdorff"], 1e-12)
-        for mode in ("baseColor", "shaded"):
+        for mode in ("baseColor", "shaded", "pbr"):
             self.assertEqual(j["images"][mode]["psnr"], 100.0)  # capped maximum
             self.assertEqual(j["images"][mode]["iou"], 1.0)
             self.assertAlmostEqual(j["images"][mode]["ssim"], 1.0, places=12)
@@ -94,6 +94,19 @@ class CompareCli(unittest.TestCase):
         self.assertEqual(j["images"]["baseColor"]["iou"], 1.0)
         self.assertEqual(run(self.a, self.grey, "--views", 4, "--min-psnr", 30).returncode, 1)
         self.assertEqual(run(self.a, self.grey, "--views", 4, "--min-shaded-psnr", 60).returncode, 0)
+
+    def test_pbr_mode(self):
+        rc, j, p = report(self.a, self.grey, "--samples", 1000, "--views", 4, "--resolution", 96, "-v")
+        self.assertEqual(rc, 0, p.stderr)
+        self.assertIn("pbr", j["images"])
+        self.assertEqual(len(j["images"]["perView"]), 4)
+        self.assertIn("pbr", j["images"]["perView"][0])
+        self.assertLess(j["images"]["pbr"]["psnr"], 30)  # the base colour shows through the lighting
+        self.assertEqual(j["images"]["pbr"]["iou"], 1.0)
+        self.assertEqual(run(self.a, self.grey, "--views", 4, "--min-pbr-psnr", 30).returncode, 1)
+        self.assertEqual(run(self.a, self.a, "--views", 4, "--min-pbr-psnr", 99).returncode, 0)
+        table = run(self.a, self.grey, "--views", 2, "--resolution", 64, "--samples", 1000)
+        self.assertRegex(table.stdout, r"base colour +shaded +pbr")
 
     def test_threads_do_not_change_the_output(self):
         args = [self.a, self.shifted, "--samples", 30000, "--views", 6, "--resolution", 96]

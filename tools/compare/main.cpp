@@ -16,8 +16,9 @@ const char* kSynopsis =
     "Compares B with A: triangles, vertices, materials, draw calls, texels, file bytes;\n"
     "two-sided Hausdorff / mean / RMS surface distance (area-weighted samples, AABB tree),\n"
     "absolute and relative to A's bounding-box diagonal; renders of both from the same views\n"
-    "(Fibonacci sphere, 60 deg, framing A's bounding sphere) in unlit base colour and in\n"
-    "Lambert-shaded grey, with PSNR (over pixels covered by either silhouette, capped at\n"
+    "(Fibonacci sphere, 60 deg, framing A's bounding sphere) in unlit base colour, in\n"
+    "Lambert-shaded grey and lit with every PBR material channel (docs/compare.md),\n"
+    "with PSNR (over pixels covered by either silhouette, capped at\n"
     "100 dB for identical images), SSIM (luminance, 8x8 windows) and silhouette IoU.\n"
     "Results are identical for any --threads.";
 
@@ -92,9 +93,11 @@ int main(int argc, char** argv) {
                  [&](const std::string& v) { s.tolerances.minPsnr = cli::parseDouble("--min-psnr", v); });
         p.option("--min-shaded-psnr", "DB", "tolerance: shaded PSNR >= DB",
                  [&](const std::string& v) { s.tolerances.minShadedPsnr = cli::parseDouble("--min-shaded-psnr", v); });
-        p.option("--min-iou", "X", "tolerance: silhouette IoU >= X (both modes)",
+        p.option("--min-pbr-psnr", "DB", "tolerance: PBR-lit PSNR >= DB",
+                 [&](const std::string& v) { s.tolerances.minPbrPsnr = cli::parseDouble("--min-pbr-psnr", v); });
+        p.option("--min-iou", "X", "tolerance: silhouette IoU >= X (base colour and shaded)",
                  [&](const std::string& v) { s.tolerances.minIou = cli::parseDouble("--min-iou", v); });
-        p.option("--min-ssim", "X", "tolerance: SSIM >= X (both modes)",
+        p.option("--min-ssim", "X", "tolerance: SSIM >= X (base colour and shaded)",
                  [&](const std::string& v) { s.tolerances.minSsim = cli::parseDouble("--min-ssim", v); });
         p.option("--sheet", "FILE.png", "write a contact sheet (rows: views; A, B, |A-B|x4 per mode)",
                  [&](const std::string& v) { s.sheet = v; });

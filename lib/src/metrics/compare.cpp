@@ -1,5 +1,5 @@
 // compareAssets (compare.h): counts, geometric distance, then renders of both assets from the
-// same views in both modes and their image metrics. Views run in parallel; every view writes its
+// same views in every mode (kCompareModes) and their image metrics. Views run in parallel; every view writes its
 // own slot and the slots are pooled in view order, so the figures never depend on `threads`.
 #include "lodbake/metrics/compare.h"
 
@@ -65,34 +65,32 @@ CompareResult compareAssets(const Asset& assetA, const TriMesh& meshA, const Ass
         for (const Tri& t : meshA.triangles)
             for (uint32_t v : t) radius = std::max(radius, length(meshA.positions[v] - center));
         std::vector<Camera> cams = sphereViews(options.views, center, radius, options.fovY);
-        const size_t jobs = cams.size() * 2;
+        constexpr size_t kModes = sizeof(kCompareModes) / sizeof(kCompareModes[0]);
+        const size_t jobs = cams.size() * kModes;
         std::vector<ImageMetrics> metrics(jobs);
-        std::vector<std::array<Rendering, 2>> keepA, keepB;
+        std::vector<std::array<Rendering, kModes>> keepA, keepB;
         if (options.keepRenders) {
             keepA.resize(cams.size());
             keepB.resize(cams.size());
         }
         parallelFor(jobs, options.threads, [&](size_t j) {
-            size_t view = j / 2;
+            const size_t view = j / kModes, mode = j % kModes;
             RenderOptions ro;
             ro.width = ro.height = options.resolution;
-            ro.mode = j % 2 == 0 ? RenderMode::BaseColor : RenderMode::Shaded;
+            ro.mode = kCompareModes[mode];
             Rendering ia = render(sceneA, cams[view], ro);
             Rendering ib = render(sceneB, cams[view], ro);
             metrics[j] = compareImages(ia, ib);
             if (options.keepRenders) {
-                keepA[view][j % 2] = std::move(ia);
-                keepB[view][j % 2] = std::move(ib);
+                keepA[view][mode] = std::move(ia);
+                keepB[view][mode] = std::move(ib);
             }
         });
+        ImageMetrics* pooled[kModes] = {&r.baseColor, &r.shaded, &r.pbr};
+        std::vector<ImageMetrics>* perView[kModes] = {&r.baseColorPerView, &r.shadedPerView, &r.pbrPerView};
         for (size_t j = 0; j < jobs; ++j) {
-            if (j % 2 == 0) {
-                accumulate(r.baseColor, metrics[j]);
-                r.baseColorPerView.push_back(metrics[j]);
-            } else {
-                accumulate(r.shaded, metrics[j]);
-                r.shadedPerView.push_back(metrics[j]);
-            }
+            accumulate(*pooled[j % kModes], metrics[j]);
+            perView[j % kModes]->push_back(metrics[j]);
         }
         r.rendersA = std::move(keepA);
         r.rendersB = std::move(keepB);

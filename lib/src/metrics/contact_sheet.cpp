@@ -17,7 +17,8 @@ void writeContactSheet(const std::string& path, const CompareResult& result, con
     if (result.rendersA.empty() || result.rendersA.size() != result.rendersB.size())
         throw InvalidInput(path + ": no renders to put on a contact sheet");
     const int tw = result.rendersA[0][0].width, th = result.rendersA[0][0].height;
-    const int cols = 6, rows = static_cast<int>(result.rendersA.size());
+    const int modes = static_cast<int>(result.rendersA[0].size());
+    const int cols = 3 * modes, rows = static_cast<int>(result.rendersA.size());
     const int W = tw * cols, H = th * rows;
     std::vector<uint8_t> pixels(static_cast<size_t>(W) * H * 3, 0);
     auto put = [&](int col, int row, const std::vector<float>& rgb) {
@@ -31,7 +32,7 @@ void writeContactSheet(const std::string& path, const CompareResult& result, con
                 }
     };
     for (int row = 0; row < rows; ++row)
-        for (int mode = 0; mode < 2; ++mode) {
+        for (int mode = 0; mode < modes; ++mode) {
             const Rendering& a = result.rendersA[row][mode];
             const Rendering& b = result.rendersB[row][mode];
             if (a.width != tw || b.width != tw || a.height != th || b.height != th)

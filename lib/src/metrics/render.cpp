@@ -1,7 +1,7 @@
 // The software rasteriser of render.h, laid out as a pipeline:
 //   sphereViews; per triangle: cullBackFace, cornerAttributes, toScreen (toCamera, clipNear,
 //   projection); per sub-triangle: rasterizeTriangle (setupInterpolants, pixel scan with z-test,
-//   shadeBaseColor or Lambert grey); encodeSrgb.
+//   shadeBaseColor, Lambert grey or shadePbr); encodeSrgb.
 // Perspective-correct interpolation: 1/z and b_k/z (b = barycentrics of the original triangle)
 // are affine in screen space; their screen gradients give exact UV derivatives for the mip level
 // (trilinear filtering, as in the OpenGL spec's scale factor rho).
@@ -123,16 +123,46 @@ void sampleTexture(const MipImage& mip, Vec2 uv, Vec2 duvdx, Vec2 duvdy, int wra
     }
 }
 
-// Per-triangle material data resolved once.
-struct TriMaterial {
-    Vec4 factor{1, 1, 1, 1};
-    const MipImage* texture = nullptr;
+// The texture channels of a metallic-roughness material.
+enum Channel { kBaseColor, kMetallicRoughness, kOcclusion, kNormal, kEmissive, kChannels };
+
+// One texture reference of a material, resolved: its decoded pyramid (null: none or undecodable),
+// UV set, transform and wrap modes.
+struct TexSlot {
+    const MipImage* image = nullptr;
     int texCoord = 0;
     const TextureTransform* transform = nullptr;
     int wrapS = kRepeat, wrapT = kRepeat;
+};
+
+TexSlot resolveTexture(const Asset& asset, const std::vector<MipImage>& images, const TextureRef& ref) {
+    TexSlot r;
+    int t = ref.texture;
+    if (t >= 0 && static_cast<size_t>(t) < asset.textures.size()) {
+        int i = asset.textures[t].image;
+        if (i >= 0 && static_cast<size_t>(i) < images.size() && !images[i].levels.empty()) r.image = &images[i];
+        int s = asset.textures[t].sampler;
+        if (s >= 0 && static_cast<size_t>(s) < asset.samplers.size()) {
+            r.wrapS = asset.samplers[s].wrapS;
+            r.wrapT = asset.samplers[s].wrapT;
+        }
+    }
+    r.texCoord = textureCoordSet(ref);
+    r.transform = &ref.transform;
+    return r;
+}
+
+// Per-triangle material data resolved once; defaults are the glTF default material's.
+struct TriMaterial {
+    Vec4 factor{1, 1, 1, 1};
+    TexSlot tex[kChannels];
     bool doubleSided = false;
     bool mask = false;
     double cutoff = 0.5;
+    bool unlit = false;
+    double metallic = 1, roughness = 1;
+    double occlusionStrength = 1, normalScale = 1;
+    Vec3 emissive{0, 0, 0};  // emissiveFactor x emissiveStrength, linear
 };
 
 TriMaterial resolveMaterial(const RenderScene& scene, int32_t m) {
@@ -144,21 +174,17 @@ TriMaterial resolveMaterial(const RenderScene& scene, int32_t m) {
     r.doubleSided = mat.doubleSided;
     r.mask = mat.alphaMode == AlphaMode::Mask;
     r.cutoff = mat.alphaCutoff;
-    int t = mat.baseColor.texture;
-    if (t >= 0 && static_cast<size_t>(t) < asset.textures.size()) {
-        int i = asset.textures[t].image;
-        if (i >= 0 && static_cast<size_t>(i) < scene.images.size() && !scene.images[i].levels.empty())
-            r.texture = &scene.images[i];
-        int s = asset.textures[t].sampler;
-        if (s >= 0 && static_cast<size_t>(s) < asset.samplers.size()) {
-            r.wrapS = asset.samplers[s].wrapS;
-            r.wrapT = asset.samplers[s].wrapT;
-        }
-    }
-    r.texCoord = mat.baseColor.transform.present && mat.baseColor.transform.texCoord >= 0
-                     ? mat.baseColor.transform.texCoord
-                     : mat.baseColor.texCoord;
-    r.transform = &mat.baseColor.transform;
+    r.unlit = mat.unlit;
+    r.metallic = mat.metallicFactor;
+    r.roughness = mat.roughnessFactor;
+    r.occlusionStrength = mat.occlusion.scale;
+    r.normalScale = mat.normal.scale;
+    r.emissive = mat.emissiveFactor * mat.emissiveStrength;
+    r.tex[kBaseColor] = resolveTexture(asset, scene.images, mat.baseColor);
+    r.tex[kEmissive] = resolveTexture(asset, scene.images, mat.emissive);
+    r.tex[kMetallicRoughness] = resolveTexture(asset, scene.dataImages, mat.metallicRoughness);
+    r.tex[kOcclusion] = resolveTexture(asset, scene.dataImages, mat.occlusion);
+    r.tex[kNormal] = resolveTexture(asset, scene.dataImages, mat.normal);
     return r;
 }
 
@@ -196,32 +222,65 @@ struct Target {
     std::vector<double> depth;  // camera z of the nearest fragment; +inf where nothing is drawn
 };
 
-// What a triangle carries to its pixels: corner UVs (after the texture transform) and colours,
-// and the grey of Lambert shading (shaded mode: one value per triangle).
+// What a triangle carries to its pixels: per texture channel its corner UVs (after the texture
+// transform), corner colours, the grey of Lambert shading (shaded mode: one value per triangle),
+// and for Pbr the corner positions, normals and tangents.
 struct CornerAttributes {
-    bool textured = false, colored = false;
-    Vec2 uv[3] = {};
+    bool textured[kChannels] = {};  // the channel has a texture and the mesh its UV set
+    Vec2 uv[kChannels][3] = {};
+    bool colored = false;
     Vec4 col[3];
     float grey = 0;
+    Vec3 pos[3];
+    Vec3 faceNormal;                // geometric unit normal (front side)
+    bool smooth = false;            // wedge normals present
+    Vec3 normal[3];
+    bool tangents = false;          // wedge tangents present (normal map)
+    Vec4 tangent[3];
+    bool back = false;              // the camera sees the back side (double-sided materials only)
 };
 
-// \pre n is the triangle's unit normal.
-CornerAttributes cornerAttributes(const TriMesh& mesh, size_t t, const TriMaterial& mat, bool shaded, Vec3 n, const Frame& f) {
+// Corner UVs of texture slot `s` on triangle corners `cw`; false when there is nothing to sample.
+bool cornerUvs(const TriMesh& mesh, const Tri* cw, const TexSlot& s, Vec2 uv[3]) {
+    if (s.image == nullptr || cw == nullptr) return false;
+    const std::vector<Vec2>& set = s.texCoord == 1 ? mesh.wedges.uv1 : mesh.wedges.uv0;
+    if (set.size() != mesh.wedges.size()) return false;
+    for (int k = 0; k < 3; ++k) uv[k] = applyTextureTransform(*s.transform, set[(*cw)[k]]);
+    return true;
+}
+
+// \pre n is the triangle's unit normal; P its corners.
+CornerAttributes cornerAttributes(const RenderScene& scene, size_t t, const TriMaterial& mat, RenderMode mode, Vec3 n,
+                                  const Vec3 P[3], bool back, const Frame& f) {
+    const TriMesh& mesh = *scene.mesh;
+    const bool shaded = mode == RenderMode::Shaded, pbr = mode == RenderMode::Pbr;
     CornerAttributes at;
     const Tri* cw = mesh.cornerWedges.size() == mesh.triangles.size() ? &mesh.cornerWedges[t] : nullptr;
-    at.textured = !shaded && mat.texture != nullptr && cw != nullptr;
-    if (at.textured) {
-        const std::vector<Vec2>& set = mat.texCoord == 1 ? mesh.wedges.uv1 : mesh.wedges.uv0;
-        if (set.size() != mesh.wedges.size()) at.textured = false;
-        else
-            for (int k = 0; k < 3; ++k) at.uv[k] = applyTextureTransform(*mat.transform, set[(*cw)[k]]);
-    }
+    if (!shaded) at.textured[kBaseColor] = cornerUvs(mesh, cw, mat.tex[kBaseColor], at.uv[kBaseColor]);
     at.colored = !shaded && cw != nullptr && mesh.wedges.color.size() == mesh.wedges.size() && !mesh.wedges.color.empty();
     if (at.colored)
         for (int k = 0; k < 3; ++k) at.col[k] = mesh.wedges.color[(*cw)[k]];
     if (shaded) {
         double lambert = std::fabs(dot(n, f.forward));
         at.grey = static_cast<float>(0.8 * (0.1 + 0.9 * lambert));
+    }
+    if (!pbr || mat.unlit) return at;
+    for (int c = kMetallicRoughness; c < kChannels; ++c) at.textured[c] = cornerUvs(mesh, cw, mat.tex[c], at.uv[c]);
+    at.faceNormal = n;
+    at.back = back;
+    for (int k = 0; k < 3; ++k) at.pos[k] = P[k];
+    at.smooth = cw != nullptr && mesh.wedges.normal.size() == mesh.wedges.size();
+    if (at.smooth)
+        for (int k = 0; k < 3; ++k) at.normal[k] = mesh.wedges.normal[(*cw)[k]];
+    if (at.textured[kNormal]) {
+        const std::vector<Vec4>& own = mesh.wedges.tangent;
+        const std::vector<Vec4>& computed = scene.tangents[mat.tex[kNormal].texCoord == 1 ? 1 : 0];
+        const std::vector<Vec4>* tangents = own.size() == mesh.wedges.size() ? &own
+                                            : computed.size() == mesh.wedges.size() ? &computed
+                                                                                    : nullptr;
+        at.tangents = tangents != nullptr;
+        if (at.tangents)
+            for (int k = 0; k < 3; ++k) at.tangent[k] = (*tangents)[(*cw)[k]];
     }
     return at;
 }
@@ -275,25 +334,44 @@ Interpolants setupInterpolants(const Screen& a, const Screen& b, const Screen& c
     return in;
 }
 
-// Base colour at a pixel (dx, dy from screen vertex a, depth z): material factor x texture x
-// vertex colour. Returns false when alpha masking discards the fragment.
-bool shadeBaseColor(const TriMaterial& mat, const CornerAttributes& at, const Screen& a, const Interpolants& in, double dx,
-                    double dy, double z, float out[3]) {
+// Barycentrics of the original triangle at a pixel (dx, dy from screen vertex a, depth z) and
+// their screen derivatives.
+struct PixelBary {
+    Vec3 bar, dbx, dby;
+};
+
+PixelBary pixelBary(const Screen& a, const Interpolants& in, double dx, double dy, double z) {
+    PixelBary p;
     Vec3 bq = a.bq + in.bdx * dx + in.bdy * dy;
-    Vec3 bar = bq * z;
-    float rgba[4] = {static_cast<float>(mat.factor.x), static_cast<float>(mat.factor.y), static_cast<float>(mat.factor.z),
-                     static_cast<float>(mat.factor.w)};
-    if (at.textured) {
-        Vec2 tc = at.uv[0] * bar[0] + at.uv[1] * bar[1] + at.uv[2] * bar[2];
-        // d(b/z)/dx * z - b * z * dq/dx  = db/dx
-        Vec3 dbx = (in.bdx - bar * in.qdx) * z, dby = (in.bdy - bar * in.qdy) * z;
-        Vec2 dtx = at.uv[0] * dbx[0] + at.uv[1] * dbx[1] + at.uv[2] * dbx[2];
-        Vec2 dty = at.uv[0] * dby[0] + at.uv[1] * dby[1] + at.uv[2] * dby[2];
+    p.bar = bq * z;
+    // d(b/z)/dx * z - b * z * dq/dx  = db/dx
+    p.dbx = (in.bdx - p.bar * in.qdx) * z;
+    p.dby = (in.bdy - p.bar * in.qdy) * z;
+    return p;
+}
+
+// Trilinear sample of texture slot `s` at the pixel, with corner UVs `uv`.
+void sampleChannel(const TexSlot& s, const Vec2 uv[3], const PixelBary& p, float out[4]) {
+    Vec2 tc = uv[0] * p.bar[0] + uv[1] * p.bar[1] + uv[2] * p.bar[2];
+    Vec2 dtx = uv[0] * p.dbx[0] + uv[1] * p.dbx[1] + uv[2] * p.dbx[2];
+    Vec2 dty = uv[0] * p.dby[0] + uv[1] * p.dby[1] + uv[2] * p.dby[2];
+    sampleTexture(*s.image, tc, dtx, dty, s.wrapS, s.wrapT, out);
+}
+
+// Base colour (linear RGBA) at a pixel: material factor x texture x vertex colour. Returns false
+// when alpha masking discards the fragment.
+bool shadeBaseColor(const TriMaterial& mat, const CornerAttributes& at, const PixelBary& p, float rgba[4]) {
+    rgba[0] = static_cast<float>(mat.factor.x);
+    rgba[1] = static_cast<float>(mat.factor.y);
+    rgba[2] = static_cast<float>(mat.factor.z);
+    rgba[3] = static_cast<float>(mat.factor.w);
+    if (at.textured[kBaseColor]) {
         float tex[4];
-        sampleTexture(*mat.texture, tc, dtx, dty, mat.wrapS, mat.wrapT, tex);
+        sampleChannel(mat.tex[kBaseColor], at.uv[kBaseColor], p, tex);
         for (int ch = 0; ch < 4; ++ch) rgba[ch] *= tex[ch];
     }
     if (at.colored) {
+        const Vec3& bar = p.bar;
         double cc[4] = {0, 0, 0, 0};
         for (int k = 0; k < 3; ++k) {
             cc[0] += at.col[k].x * bar[k];
@@ -303,17 +381,142 @@ bool shadeBaseColor(const TriMaterial& mat, const CornerAttributes& at, const Sc
         }
         for (int ch = 0; ch < 4; ++ch) rgba[ch] *= static_cast<float>(cc[ch]);
     }
-    if (mat.mask && rgba[3] < mat.cutoff) return false;
-    out[0] = rgba[0];
-    out[1] = rgba[1];
-    out[2] = rgba[2];
+    return !(mat.mask && rgba[3] < mat.cutoff);
+}
+
+// --- Pbr --------------------------------------------------------------------------------------
+
+// A directional light fixed in camera space: unit-less direction towards the light in camera
+// coordinates (x right, y up, z towards the viewer) and its irradiance on a surface facing it.
+struct CameraLight {
+    double x, y, z;
+    double irradiance;
+};
+// Key light from the upper left, in front of the object; weaker fill light from the right.
+constexpr CameraLight kPbrLights[] = {{-0.5, 0.6, 0.62, 2.4}, {0.8, 0.05, 0.6, 0.8}};
+// Ambient light: diffuse ambient = base colour x (1 - metallic) x kAmbientDiffuse, specular
+// ambient = F0 x kAmbientSpecular, both times occlusion.
+constexpr double kAmbientDiffuse = 0.25, kAmbientSpecular = 0.25;
+// Perceptual roughness floor: keeps the GGX highlight of a mirror finite on a pixel grid.
+constexpr double kMinRoughness = 0.04;
+constexpr double kPi = 3.14159265358979323846;
+constexpr size_t kLightCount = sizeof(kPbrLights) / sizeof(kPbrLights[0]);
+
+// The lights of one render in world space.
+struct WorldLights {
+    Vec3 toLight[kLightCount];
+    double irradiance[kLightCount];
+    Vec3 eye;
+};
+
+WorldLights worldLights(const Frame& f) {
+    WorldLights w;
+    for (size_t i = 0; i < kLightCount; ++i) {
+        const CameraLight& l = kPbrLights[i];
+        w.toLight[i] = normalize(f.right * l.x + f.up * l.y - f.forward * l.z);
+        w.irradiance[i] = l.irradiance;
+    }
+    w.eye = f.eye;
+    return w;
+}
+
+// Shading normal at a pixel: interpolated wedge normal (face normal without them), perturbed by
+// the tangent-space normal map (+X along u, +Y up the image, scaled by normalTexture.scale),
+// flipped when the back side is seen.
+Vec3 shadingNormal(const TriMaterial& mat, const CornerAttributes& at, const PixelBary& p) {
+    const Vec3& b = p.bar;
+    Vec3 N = at.faceNormal;
+    if (at.smooth) {
+        Vec3 s = normalize(at.normal[0] * b[0] + at.normal[1] * b[1] + at.normal[2] * b[2]);
+        if (length2(s) > 0) N = s;
+    }
+    if (at.textured[kNormal] && at.tangents) {
+        float tex[4];
+        sampleChannel(mat.tex[kNormal], at.uv[kNormal], p, tex);
+        const Vec3 tn{(2.0 * tex[0] - 1) * mat.normalScale, (2.0 * tex[1] - 1) * mat.normalScale, 2.0 * tex[2] - 1};
+        Vec3 T{0, 0, 0};
+        double w = 0;
+        for (int k = 0; k < 3; ++k) {
+            T += Vec3{at.tangent[k].x, at.tangent[k].y, at.tangent[k].z} * b[k];
+            w += at.tangent[k].w * b[k];
+        }
+        T = normalize(T - N * dot(N, T));
+        if (length2(T) > 0) {
+            const Vec3 B = cross(N, T) * (w < 0 ? -1.0 : 1.0);
+            Vec3 m = normalize(T * tn.x + B * tn.y + N * tn.z);
+            if (length2(m) > 0) N = m;
+        }
+    }
+    return at.back ? -N : N;
+}
+
+// Cook-Torrance GGX + Lambert under the camera lights plus occluded ambient and emissive, linear
+// RGB at a pixel. Returns false when alpha masking discards the fragment.
+bool shadePbr(const TriMaterial& mat, const CornerAttributes& at, const PixelBary& p, const WorldLights& lights,
+              float out[3]) {
+    float rgba[4];
+    if (!shadeBaseColor(mat, at, p, rgba)) return false;
+    if (mat.unlit) {
+        for (int c = 0; c < 3; ++c) out[c] = rgba[c];
+        return true;
+    }
+    const double base[3] = {rgba[0], rgba[1], rgba[2]};
+    double metallic = mat.metallic, roughness = mat.roughness, occlusion = 1;
+    Vec3 emissive = mat.emissive;
+    float tex[4];
+    if (at.textured[kMetallicRoughness]) {
+        sampleChannel(mat.tex[kMetallicRoughness], at.uv[kMetallicRoughness], p, tex);
+        roughness *= tex[1];
+        metallic *= tex[2];
+    }
+    if (at.textured[kOcclusion]) {
+        sampleChannel(mat.tex[kOcclusion], at.uv[kOcclusion], p, tex);
+        occlusion = 1 + mat.occlusionStrength * (tex[0] - 1);
+    }
+    if (at.textured[kEmissive]) {
+        sampleChannel(mat.tex[kEmissive], at.uv[kEmissive], p, tex);
+        emissive = {emissive.x * tex[0], emissive.y * tex[1], emissive.z * tex[2]};
+    }
+    metallic = std::clamp(metallic, 0.0, 1.0);
+    roughness = std::clamp(roughness, kMinRoughness, 1.0);
+    const double a2 = roughness * roughness * roughness * roughness;  // a = roughness^2
+    const double k = (roughness + 1) * (roughness + 1) / 8;
+    double f0[3], rgb[3];
+    for (int c = 0; c < 3; ++c) {
+        f0[c] = 0.04 + (base[c] - 0.04) * metallic;
+        rgb[c] = occlusion * (base[c] * (1 - metallic) * kAmbientDiffuse + f0[c] * kAmbientSpecular);
+    }
+    const Vec3 N = shadingNormal(mat, at, p);
+    const Vec3 pos = at.pos[0] * p.bar[0] + at.pos[1] * p.bar[1] + at.pos[2] * p.bar[2];
+    const Vec3 V = normalize(lights.eye - pos);
+    const double nv = std::max(dot(N, V), 1e-4);
+    const double gv = nv / (nv * (1 - k) + k);
+    for (size_t i = 0; i < kLightCount; ++i) {
+        const Vec3& L = lights.toLight[i];
+        const double nl = dot(N, L);
+        if (!(nl > 0)) continue;
+        const Vec3 H = normalize(L + V);
+        const double nh = std::max(dot(N, H), 0.0), vh = std::max(dot(V, H), 0.0);
+        const double d = nh * nh * (a2 - 1) + 1;
+        const double D = a2 / (kPi * d * d);
+        const double G = gv * nl / (nl * (1 - k) + k);
+        const double m = 1 - vh, fresnel = m * m * m * m * m;
+        for (int c = 0; c < 3; ++c) {
+            const double F = f0[c] + (1 - f0[c]) * fresnel;
+            const double specular = D * G * F / (4 * nl * nv);
+            const double diffuse = (1 - F) * (1 - metallic) * base[c] / kPi;
+            rgb[c] += (diffuse + specular) * lights.irradiance[i] * nl;
+        }
+    }
+    const double e[3] = {emissive.x, emissive.y, emissive.z};
+    for (int c = 0; c < 3; ++c) out[c] = static_cast<float>(std::clamp(rgb[c] + e[c], 0.0, 1.0));
     return true;
 }
 
 // Scans the pixels whose centres lie inside screen triangle (a, b, c) (either winding), depth-
 // tests them and writes the shaded colour, its depth and coverage.
 void rasterizeTriangle(const Screen& a, const Screen& b, const Screen& c, const TriMaterial& mat, const CornerAttributes& at,
-                       bool shaded, Target& target, Rendering& img) {
+                       RenderMode mode, const WorldLights& lights, Target& target, Rendering& img) {
     double area = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
     if (std::fabs(area) < 1e-12) return;
     const Interpolants in = setupInterpolants(a, b, c, area);
@@ -338,8 +541,15 @@ void rasterizeTriangle(const Screen& a, const Screen& b, const Screen& c, const 
             size_t pix = static_cast<size_t>(py) * W + px;
             if (!(z < target.depth[pix])) continue;
             float out[3];
-            if (shaded) out[0] = out[1] = out[2] = at.grey;
-            else if (!shadeBaseColor(mat, at, a, in, dx, dy, z, out)) continue;
+            if (mode == RenderMode::Shaded) {
+                out[0] = out[1] = out[2] = at.grey;
+            } else if (mode == RenderMode::BaseColor) {
+                float rgba[4];
+                if (!shadeBaseColor(mat, at, pixelBary(a, in, dx, dy, z), rgba)) continue;
+                for (int ch = 0; ch < 3; ++ch) out[ch] = rgba[ch];
+            } else if (!shadePbr(mat, at, pixelBary(a, in, dx, dy, z), lights, out)) {
+                continue;
+            }
             target.depth[pix] = z;
             img.coverage[pix] = 1;
             for (int ch = 0; ch < 3; ++ch) target.linear[pix * 3 + ch] = out[ch];
@@ -363,7 +573,7 @@ Rendering render(const RenderScene& scene, const Camera& camera, const RenderOpt
     target.linear.assign(static_cast<size_t>(W) * H * 3, 0.f);
     target.depth.assign(static_cast<size_t>(W) * H, std::numeric_limits<double>::infinity());
     const Frame f = makeFrame(camera, W, H);
-    const bool shaded = options.mode == RenderMode::Shaded;
+    const WorldLights lights = worldLights(f);
 
     // Materials by index + 1 (slot 0: no material, also for out-of-range indices), resolved when
     // the first triangle is drawn.
@@ -389,10 +599,11 @@ Rendering render(const RenderScene& scene, const Camera& camera, const RenderOpt
         // cullBackFace
         double facing = dot(n, f.eye - P[0]);
         if (facing <= 0 && !mat.doubleSided) continue;
-        const CornerAttributes at = cornerAttributes(mesh, t, mat, shaded, n, f);
+        const CornerAttributes at = cornerAttributes(scene, t, mat, options.mode, n, P, facing <= 0, f);
         Screen s[4];
         const int np = toScreen(P, f, camera.zNear, s);
-        for (int fan = 1; fan + 1 < np; ++fan) rasterizeTriangle(s[0], s[fan], s[fan + 1], mat, at, shaded, target, img);
+        for (int fan = 1; fan + 1 < np; ++fan)
+            rasterizeTriangle(s[0], s[fan], s[fan + 1], mat, at, options.mode, lights, target, img);
     }
     // encodeSrgb
     for (size_t i = 0; i < target.linear.size(); ++i) img.rgb[i] = linearToSrgb(target.linear[i]);

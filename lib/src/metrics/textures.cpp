@@ -1,21 +1,27 @@
-// Decoding of an asset's images for the rasteriser (render.h): texture/codec.h decodes the
-// encoded bytes; texels are converted from sRGB to linear light (base colour textures are sRGB by
-// the glTF spec) and box-filtered into a mip pyramid.
+// prepareRenderScene (render.h): decodes an asset's images for the rasteriser (texture/codec.h
+// decodes the encoded bytes) and box-filters them into mip pyramids. Colour textures (base colour,
+// emissive) are sRGB by the glTF spec and are converted to linear light; data textures
+// (metallicRoughness, occlusion, normal) are kept as stored. An image used both ways is decoded
+// once and kept in both forms. Also computes the wedge tangents of normal maps when the mesh has none.
+#include <algorithm>
 #include <cmath>
+#include <map>
 #include <set>
 
+#include "lodbake/core/tangents.h"
 #include "lodbake/core/errors.h"
 #include "lodbake/metrics/render.h"
 #include "lodbake/texture/codec.h"
 #include "lodbake/texture/color_space.h"
+#include "lodbake/texture/texture_transform.h"
 
 namespace lodbake {
 namespace {
 
-// Decodes `image` (texture/codec.h) to linear RGBA level 0; false when it cannot be decoded.
-bool decodeLinear(const Image& image, MipImage::Level& out, std::string& error) {
-    DecodedImage decoded;
-    if (!decodeImage(image, decoded, error)) return false;
+// Level 0 of `decoded` as RGBA (grey and grey-alpha images expanded, alpha 1 when absent), colour
+// channels converted from sRGB to linear when `srgb`.
+MipImage::Level toRgba(const DecodedImage& decoded, bool srgb) {
+    MipImage::Level out;
     const int w = decoded.width, h = decoded.height, nc = decoded.channels;
     const std::vector<float>& pixels = decoded.pixels;
     out.width = w;
@@ -25,14 +31,14 @@ bool decodeLinear(const Image& image, MipImage::Level& out, std::string& error) 
         const float* p = &pixels[i * nc];
         float* q = &out.rgba[i * 4];
         if (nc <= 2) {
-            q[0] = q[1] = q[2] = srgbToLinear(p[0]);
+            q[0] = q[1] = q[2] = srgb ? srgbToLinear(p[0]) : p[0];
             if (nc == 2) q[3] = p[1];
         } else {
-            for (int c = 0; c < 3; ++c) q[c] = srgbToLinear(p[c]);
+            for (int c = 0; c < 3; ++c) q[c] = srgb ? srgbToLinear(p[c]) : p[c];
             if (nc >= 4) q[3] = p[3];
         }
     }
-    return true;
+    return out;
 }
 
 void buildPyramid(MipImage& mip) {
@@ -56,6 +62,7 @@ void buildPyramid(MipImage& mip) {
     }
 }
 
+
 }  // namespace
 
 RenderScene prepareRenderScene(const Asset& asset, const TriMesh& mesh) {
@@ -63,24 +70,42 @@ RenderScene prepareRenderScene(const Asset& asset, const TriMesh& mesh) {
     scene.asset = &asset;
     scene.mesh = &mesh;
     scene.images.resize(asset.images.size());
-    std::set<int> used;
-    for (int32_t m : mesh.triangleMaterial) {
+    scene.dataImages.resize(asset.images.size());
+    // Per image: used as colour (sRGB) and/or as data; per UV set: used by a normal map.
+    std::map<int, std::pair<bool, bool>> used;
+    bool normalMapSet[2] = {false, false};
+    const std::set<int32_t> materials(mesh.triangleMaterial.begin(), mesh.triangleMaterial.end());
+    for (int32_t m : materials) {
         if (m < 0 || static_cast<size_t>(m) >= asset.materials.size()) continue;
-        int t = asset.materials[m].baseColor.texture;
-        if (t < 0 || static_cast<size_t>(t) >= asset.textures.size()) continue;
-        int i = asset.textures[t].image;
-        if (i >= 0 && static_cast<size_t>(i) < asset.images.size()) used.insert(i);
+        const Material& mat = asset.materials[m];
+        for (const TextureRef* r : {&mat.baseColor, &mat.emissive, &mat.metallicRoughness, &mat.occlusion, &mat.normal}) {
+            if (r->texture < 0 || static_cast<size_t>(r->texture) >= asset.textures.size()) continue;
+            int i = asset.textures[r->texture].image;
+            if (i < 0 || static_cast<size_t>(i) >= asset.images.size()) continue;
+            const bool colour = r == &mat.baseColor || r == &mat.emissive;
+            (colour ? used[i].first : used[i].second) = true;
+            if (r == &mat.normal) normalMapSet[textureCoordSet(*r) == 1 ? 1 : 0] = true;
+        }
     }
-    for (int i : used) {
-        MipImage::Level level0;
+    for (const auto& [i, use] : used) {
+        DecodedImage decoded;
         std::string error;
-        if (!decodeLinear(asset.images[i], level0, error)) {
+        if (!decodeImage(asset.images[i], decoded, error)) {
             scene.warnings.push_back(error + " (rendered white)");
             continue;
         }
-        scene.images[i].levels.push_back(std::move(level0));
-        buildPyramid(scene.images[i]);
+        if (use.first) {
+            scene.images[i].levels.push_back(toRgba(decoded, true));
+            buildPyramid(scene.images[i]);
+        }
+        if (use.second) {
+            scene.dataImages[i].levels.push_back(toRgba(decoded, false));
+            buildPyramid(scene.dataImages[i]);
+        }
     }
+    if (mesh.wedges.tangent.size() != mesh.wedges.size())
+        for (int set = 0; set < 2; ++set)
+            if (normalMapSet[set]) scene.tangents[set] = computeWedgeTangents(mesh, set);
     return scene;
 }
 

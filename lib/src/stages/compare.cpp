@@ -128,11 +128,14 @@ nlohmann::json makeReport(const CompareSettings& s, const CompareResult& r, cons
     }
     if (s.compare.images && s.compare.views > 0) {
         j["images"] = {{"views", s.compare.views}, {"resolution", s.compare.resolution},
-                       {"baseColor", imageJson(r.baseColor)}, {"shaded", imageJson(r.shaded)}};
+                       {"baseColor", imageJson(r.baseColor)}, {"shaded", imageJson(r.shaded)},
+                       {"pbr", imageJson(r.pbr)}};
         if (s.verbose > 0) {
             nlohmann::json pv = nlohmann::json::array();
             for (size_t v = 0; v < r.baseColorPerView.size(); ++v)
-                pv.push_back({{"baseColor", imageJson(r.baseColorPerView[v])}, {"shaded", imageJson(r.shadedPerView[v])}});
+                pv.push_back({{"baseColor", imageJson(r.baseColorPerView[v])},
+                              {"shaded", imageJson(r.shadedPerView[v])},
+                              {"pbr", imageJson(r.pbrPerView[v])}});
             j["images"]["perView"] = pv;
         }
     }
@@ -149,9 +152,12 @@ nlohmann::json makeReport(const CompareSettings& s, const CompareResult& r, cons
 std::string table(const CompareSettings& s, const CompareResult& r, const Loaded& A, const Loaded& B,
                   const std::vector<std::string>& violations) {
     std::ostringstream os;
+    auto pad = [](const std::string& v, size_t width) { return v + std::string(v.size() < width ? width - v.size() : 1, ' '); };
     auto row = [&](const std::string& name, const std::string& a, const std::string& b) {
-        os << "  " << name << std::string(name.size() < 22 ? 22 - name.size() : 1, ' ') << a
-           << std::string(a.size() < 16 ? 16 - a.size() : 1, ' ') << b << "\n";
+        os << "  " << pad(name, 22) << pad(a, 16) << b << "\n";
+    };
+    auto row3 = [&](const std::string& name, const std::string& a, const std::string& b, const std::string& c) {
+        os << "  " << pad(name, 22) << pad(a, 16) << pad(b, 16) << c << "\n";
     };
     os << "A: " << s.a << (s.lodA ? " (lod " + std::to_string(s.lodA) + ")" : "") << "\n";
     os << "B: " << s.b << (s.lodB ? " (lod " + std::to_string(s.lodB) + ")" : "") << "\n\n";
@@ -174,16 +180,16 @@ std::string table(const CompareSettings& s, const CompareResult& r, const Loaded
     }
     if (s.compare.images && s.compare.views > 0) {
         os << "\nimages (" << s.compare.views << " views, " << s.compare.resolution << "x" << s.compare.resolution << ")\n";
-        row("", "base colour", "shaded");
-        row("psnr dB", fmt(r.baseColor.psnr, 5), fmt(r.shaded.psnr, 5));
-        row("worst view psnr dB", fmt(r.baseColor.worstPsnr, 5), fmt(r.shaded.worstPsnr, 5));
-        row("ssim", fmt(r.baseColor.ssim, 5), fmt(r.shaded.ssim, 5));
-        row("silhouette iou", fmt(r.baseColor.iou, 5), fmt(r.shaded.iou, 5));
+        row3("", "base colour", "shaded", "pbr");
+        row3("psnr dB", fmt(r.baseColor.psnr, 5), fmt(r.shaded.psnr, 5), fmt(r.pbr.psnr, 5));
+        row3("worst view psnr dB", fmt(r.baseColor.worstPsnr, 5), fmt(r.shaded.worstPsnr, 5), fmt(r.pbr.worstPsnr, 5));
+        row3("ssim", fmt(r.baseColor.ssim, 5), fmt(r.shaded.ssim, 5), fmt(r.pbr.ssim, 5));
+        row3("silhouette iou", fmt(r.baseColor.iou, 5), fmt(r.shaded.iou, 5), fmt(r.pbr.iou, 5));
+        auto psnrSsim = [](const ImageMetrics& m) { return fmt(m.psnr, 4) + "/" + fmt(m.ssim, 3); };
         if (s.verbose > 0)
             for (size_t v = 0; v < r.baseColorPerView.size(); ++v)
-                row("view " + std::to_string(v) + " psnr/ssim",
-                    fmt(r.baseColorPerView[v].psnr, 4) + "/" + fmt(r.baseColorPerView[v].ssim, 3),
-                    fmt(r.shadedPerView[v].psnr, 4) + "/" + fmt(r.shadedPerView[v].ssim, 3));
+                row3("view " + std::to_string(v) + " psnr/ssim", psnrSsim(r.baseColorPerView[v]),
+                     psnrSsim(r.shadedPerView[v]), psnrSsim(r.pbrPerView[v]));
     }
     os << "\n" << (violations.empty() ? "result: pass" : "result: FAIL") << "\n";
     for (const std::string& v : violations) os << "  exceeded: " << v << "\n";
@@ -207,6 +213,7 @@ std::vector<std::string> checkTolerances(const CompareTolerances& t, const Compa
     if (o.images && o.views > 0) {
         below("base colour psnr", t.minPsnr, r.baseColor.psnr);
         below("shaded psnr", t.minShadedPsnr, r.shaded.psnr);
+        below("pbr psnr", t.minPbrPsnr, r.pbr.psnr);
         below("silhouette iou", t.minIou, std::min(r.baseColor.iou, r.shaded.iou));
         below("ssim", t.minSsim, std::min(r.baseColor.ssim, r.shaded.ssim));
     }

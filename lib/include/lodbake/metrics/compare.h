@@ -1,8 +1,10 @@
 // compareAssets: everything `compare` reports about two assets (DESIGN.md "How we judge output"):
 // budgets (triangles, vertices, materials, draw calls, texels), geometric distance (distance.h)
-// and image distance of unlit base colour and shaded shape renders (render.h, image_metrics.h).
+// and image distance of unlit base colour, shaded shape and lit PBR renders (render.h,
+// image_metrics.h).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -38,13 +40,16 @@ struct CompareOptions {
     bool keepRenders = false;       // keep the renders in the result (for a contact sheet)
 };
 
+// The render modes compared, in the order of CompareResult's renders and contact-sheet columns.
+constexpr RenderMode kCompareModes[3] = {RenderMode::BaseColor, RenderMode::Shaded, RenderMode::Pbr};
+
 struct CompareResult {
     ModelCounts a, b;
     GeometricDistance distance;      // valid when options.geometry
-    ImageMetrics baseColor, shaded;  // valid when options.images
-    std::vector<ImageMetrics> baseColorPerView, shadedPerView;
-    // When keepRenders: per view, [0] base colour, [1] shaded.
-    std::vector<std::array<Rendering, 2>> rendersA, rendersB;
+    ImageMetrics baseColor, shaded, pbr;  // valid when options.images
+    std::vector<ImageMetrics> baseColorPerView, shadedPerView, pbrPerView;
+    // When keepRenders: per view, one render per mode in kCompareModes order.
+    std::vector<std::array<Rendering, 3>> rendersA, rendersB;
     std::vector<std::string> warnings;
 };
 
@@ -58,7 +63,8 @@ struct ContactSheetOptions {
 };
 
 // Writes a PNG contact sheet of renders kept by compareAssets (keepRenders): one row per view;
-// columns A, B, |A-B| x gain for base colour, then the same for shaded. Written atomically.
+// columns A, B, |A-B| x gain for base colour, then the same for shaded, then for pbr. Written
+// atomically.
 // \throw IOError when the file cannot be written; InvalidInput when there are no renders.
 void writeContactSheet(const std::string& path, const CompareResult& result, const ContactSheetOptions& options = {});
 

@@ -9,12 +9,24 @@
 //   BaseColor: unlit baseColorFactor x baseColor texture x COLOR_0, output sRGB-encoded.
 //   Shaded:    Lambert-shaded grey (albedo 0.8) with geometric face normals and a headlight
 //              (light at the camera), ambient 0.1; shows the shape only.
+//   Pbr:       glTF metallic-roughness shading of every material channel: base colour (as in
+//              BaseColor), metallicRoughness (G roughness, B metallic), occlusion, emissive
+//              (x KHR_materials_emissive_strength) and the tangent-space normal map, on the
+//              interpolated vertex normals (face normal when the mesh has none). Cook-Torrance
+//              GGX specular (Smith-Schlick G, Schlick Fresnel, F0 = mix(0.04, base, metallic))
+//              plus Lambert diffuse, under two directional lights fixed in camera space (see
+//              kPbrLights in render.cpp) and an occluded ambient term; emissive added; output
+//              clamped to [0,1] and sRGB-encoded. Unlit materials (KHR_materials_unlit) show
+//              their base colour. No image-based lighting, shadows, transmission or clearcoat.
 // Alpha: MASK materials discard texels below alphaCutoff; BLEND is drawn opaque.
-// Culling: back faces of single-sided materials are culled; double-sided ones are drawn.
+// Culling: back faces of single-sided materials are culled; double-sided ones are drawn (Pbr:
+// with their normals flipped).
 // Background: black (0,0,0); `coverage` tells which pixels a triangle covers.
 #pragma once
 
+#include <array>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "lodbake/core/math.h"
@@ -22,7 +34,7 @@
 
 namespace lodbake {
 
-enum class RenderMode { BaseColor, Shaded };
+enum class RenderMode { BaseColor, Shaded, Pbr };
 
 struct Camera {
     Vec3 eye{0, 0, 1};
@@ -51,11 +63,17 @@ struct MipImage {
 struct RenderScene {
     const Asset* asset = nullptr;
     const TriMesh* mesh = nullptr;
-    std::vector<MipImage> images;  // per Asset::images entry; empty pyramid when unused/undecodable
+    // Per Asset::images entry; an empty pyramid when unused or undecodable (sampled as white).
+    std::vector<MipImage> images;      // colour: sRGB-decoded to linear (base colour, emissive)
+    std::vector<MipImage> dataImages;  // data, no transfer function (metallicRoughness, occlusion, normal)
+    // Per wedge, for normal maps on TEXCOORD_0 / TEXCOORD_1 when the mesh has no tangents (empty
+    // otherwise): xyz unit tangent along +u, w = handedness (bitangent = cross(N, T) * w).
+    std::array<std::vector<Vec4>, 2> tangents;
     std::vector<std::string> warnings;  // images that could not be decoded (rendered as white)
 };
 
-// Decodes (with OpenImageIO) the images the mesh's materials reference and builds their pyramids.
+// Decodes (texture/codec.h) the images the mesh's materials reference, each in the colour space of
+// its use, builds their pyramids, and computes the tangents normal maps need.
 RenderScene prepareRenderScene(const Asset& asset, const TriMesh& mesh);
 
 struct RenderOptions {

@@ -15,6 +15,7 @@ namespace lodbake {
 struct CompareTolerances {
     std::optional<double> maxHausdorff, maxRms;  // relative to A's bounding-box diagonal
     std::optional<double> minPsnr, minShadedPsnr, minIou, minSsim;  // dB, dB, [0,1], [0,1]
+    std::optional<double> minPbrPsnr;                               // dB
 };
 
 struct CompareSettings {

@@ -27,4 +27,9 @@ inline Vec2 applyTextureTransform(const TextureTransform& t, Vec2 uv) {
     return applyLinear(textureTransformLinear(t), uv) + t.offset;
 }
 
+// The TEXCOORD_n set a texture reference samples: the transform's texCoord override when given.
+inline int textureCoordSet(const TextureRef& r) {
+    return r.transform.present && r.transform.texCoord >= 0 ? r.transform.texCoord : r.texCoord;
+}
+
 }  // namespace lodbake
