@@ -59,6 +59,8 @@ Args parseArgs(int argc, char** argv, bool& proceed) {
                  else if (v == "never") o.normalMaps = NormalMaps::Never;
                  else throw UsageError("--normal-maps must be auto, always or never");
              });
+    p.flag("--base-color-only", "bake base colour (and alpha) only; other channels become constant factors",
+           [&] { o.baseColorOnly = true; });
     p.flag("--no-texture-hierarchy", "texture every level with T0 even when the input has texture-refine's hierarchy",
            [&] { o.useTextureHierarchy = false; });
     p.flag("--draco", "compress every level with KHR_draco_mesh_compression", [&] { w.chain.draco = true; });

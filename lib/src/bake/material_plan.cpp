@@ -19,6 +19,15 @@ bool vertexAlpha(const TriMesh& m) {
 
 }  // namespace
 
+MaterialPlan baseColorPlan(MaterialPlan p) {
+    p.baseColorTexture = true;
+    p.occlusionTexture = p.metallicRoughnessTexture = p.emissiveTexture = p.normalTexture = false;
+    p.metallicFactor = 0;
+    p.roughnessFactor = 1;
+    p.emissiveFactor = {0, 0, 0};
+    return p;
+}
+
 MaterialPlan planMaterial(const Asset& asset) {
     const TriMesh& mesh = asset.mesh;
     std::set<int32_t> used(mesh.triangleMaterial.begin(), mesh.triangleMaterial.end());
@@ -69,8 +78,11 @@ MaterialPlan planMaterial(const Asset& asset) {
         p.warnings.push_back("materials mix alpha modes: opaque parts are baked with alpha 1 into one " +
                              std::string(anyBlend ? "BLEND" : "MASK") + " material");
     if (anyMask && anyBlend) p.warnings.push_back("materials mix MASK and BLEND: the chain's material blends");
-    if (p.doubleSided && anySingle)
-        p.warnings.push_back("materials mix single- and double-sided: the chain's material is double-sided");
+    if (p.doubleSided && anySingle) {
+        p.doubleSided = false;
+        p.backFaces = true;
+        p.warnings.push_back("materials mix single- and double-sided: the double-sided parts get back faces");
+    }
     if (anyUnlit && !allUnlit) p.warnings.push_back("materials mix unlit and lit shading: the chain's material is lit");
     return p;
 }

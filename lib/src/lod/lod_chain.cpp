@@ -337,6 +337,29 @@ void splitRoundedSliverCorners(const std::vector<std::array<Vec2, 3>>& placed, L
     }
 }
 
+// Appends a reversed copy (negated normals) of every triangle whose original material is
+// double-sided: a chain whose one material is single-sided still shows those parts from behind.
+void addBackFaces(const Asset& asset, const LevelView& lv, LodLevelData& out) {
+    const TriMesh& m = asset.mesh;
+    std::unordered_map<uint32_t, uint32_t> back;  // vertex -> its back-facing copy
+    auto copyOf = [&](uint32_t v) {
+        auto [it, inserted] = back.emplace(v, uint32_t(out.positions.size() / 3));
+        if (inserted) {
+            for (size_t d = 0; d < 3; ++d) out.positions.push_back(out.positions[3 * v + d]);
+            for (size_t d = 0; d < 3; ++d) out.normals.push_back(-out.normals[3 * v + d]);
+            for (size_t d = 0; d < 2; ++d) out.uvs.push_back(out.uvs[2 * v + d]);
+        }
+        return it->second;
+    };
+    const size_t triangles = out.indices.size() / 3;
+    for (size_t t = 0; t < triangles; ++t) {
+        const int32_t mi = m.triangleMaterial.empty() ? -1 : m.triangleMaterial[lv.faces[t]];
+        if (mi < 0 || size_t(mi) >= asset.materials.size() || !asset.materials[size_t(mi)].doubleSided) continue;
+        const uint32_t a = copyOf(out.indices[3 * t]), b = copyOf(out.indices[3 * t + 1]), c = copyOf(out.indices[3 * t + 2]);
+        out.indices.insert(out.indices.end(), {a, c, b});
+    }
+}
+
 void buildLevelMesh(const Asset& asset, const LevelView& lv, const LevelUVs& luv, const LevelAtlas& la, LodLevelData& out) {
     std::vector<std::array<Vec2, 3>> placed(lv.triangles.size());
     const TriMesh& m = asset.mesh;
@@ -562,7 +585,7 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
     res.screenCoverage = screenCoverages(res, options);  // 3
 
     // 4. Per level: texture, page, mesh, bake.
-    const MaterialPlan plan = planMaterial(asset);
+    const MaterialPlan plan = options.baseColorOnly ? baseColorPlan(planMaterial(asset)) : planMaterial(asset);
     res.warnings = plan.warnings;
     LevelImageOptions io;
     io.format = options.imageFormat;
@@ -579,8 +602,9 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
         LodLevelData& L = res.levels[k];
         L.name = "LOD" + std::to_string(k);
         buildLevelMesh(asset, views[k], luv, la, L);
-        const bool normalMap = options.normalMaps == NormalMaps::Always ||
-                               (options.normalMaps == NormalMaps::Auto && (plan.normalTexture || k > 0));
+        if (plan.backFaces) addBackFaces(asset, views[k], L);
+        const bool normalMap = !options.baseColorOnly && (options.normalMaps == NormalMaps::Always ||
+                                                          (options.normalMaps == NormalMaps::Auto && (plan.normalTexture || k > 0)));
         const BakeChannels channels = levelChannels(plan, normalMap);
         if (channels.normal) L.tangents = levelTangents(L);
         const BakeResult baked = bakePage(sources, lay, la, channels, levelBakeTarget(L, la.atlas.width, la.atlas.height), options.threads);

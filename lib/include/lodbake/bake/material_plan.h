@@ -31,11 +31,16 @@ struct MaterialPlan {
     // Normal map: some used material has one (then LOD0 carries it too). Coarse levels get a
     // baked normal map whenever the original surface has finer shading than theirs.
     bool normalTexture = false;
-    bool doubleSided = false;  // any used material is double-sided
+    bool doubleSided = false;  // every used material is double-sided
+    bool backFaces = false;    // some, not all, are: their triangles get reversed copies instead
     bool unlit = false;        // every used material is KHR_materials_unlit
     std::vector<std::string> warnings;  // mixed alpha modes, sidedness or shading models
     bool ormTexture() const { return occlusionTexture || metallicRoughnessTexture; }
 };
+
+// `plan` with only its base colour baked (with alpha): a diffuse material (metallic 0, roughness
+// 1, no emission), no normal map.
+MaterialPlan baseColorPlan(MaterialPlan plan);
 
 // Plans the chain's material from the materials asset.mesh's triangles use (-1 = the glTF
 // default material: white, metallic 1, roughness 1).

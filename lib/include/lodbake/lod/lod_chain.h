@@ -47,6 +47,9 @@ struct PackOptions {
     // render every level close up (scripts/bench_peers.sh).
     bool lod0Density = false;
     NormalMaps normalMaps = NormalMaps::Auto;
+    // Bake base colour only (every other channel a constant factor, no normal map): the chain
+    // without its material channels, for comparisons.
+    bool baseColorOnly = false;
     bool useTextureHierarchy = true;  // false: every level uses T0 even when the file has a texture hierarchy
     std::function<bool(double)> progress;  // fraction done; may be empty
 };
