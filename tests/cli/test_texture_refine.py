@@ -29,7 +29,7 @@ NEAR_ISOMETRIC = {"wall5"}
 LOD1_REFINED = {"hemisphere9", "colors", "seamball", "Duck", "Avocado"}
 SIZES = [128, 256, 512]
 REFINE = ["--size", "512", "--sizes", ",".join(map(str, SIZES)), "--quiet"]
-PACK = ["--samples", "20000", "--quiet"]
+PACK = ["--base-color-only", "--samples", "20000", "--quiet"]
 COMPARE = ["--views", "8", "--resolution", "256", "--samples", "0", "--no-geometry", "--json"]
 
 

@@ -1,0 +1,154 @@
+// Tangent frames (core/tangents.h), the material plan (bake/material_plan.h) and the bake of every
+// material channel (bakeMaterial) on a unit quad built in code:
+//
+//   (0,1) +-----+ (1,1)      uv = (x, 1 - y): u along +x, v down the image = along -y
+//         |   / |
+//         | /   |
+//   (0,0) +-----+ (1,0)
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "lodbake/bake/bake.h"
+#include "lodbake/bake/material_plan.h"
+#include "lodbake/core/tangents.h"
+#include "lodbake/texture/codec.h"
+
+namespace lodbake {
+namespace {
+
+Asset unitQuad(bool mirrorU = false) {
+    Asset a;
+    TriMesh& m = a.mesh;
+    m.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+    m.triangles = {{0, 1, 2}, {0, 2, 3}};
+    m.cornerWedges = m.triangles;
+    m.triangleMaterial = {0, 0};
+    for (uint32_t v = 0; v < 4; ++v) {
+        m.wedges.vertex.push_back(v);
+        m.wedges.normal.push_back({0, 0, 1});
+        const Vec3& p = m.positions[v];
+        m.wedges.uv0.push_back({mirrorU ? 1 - p.x : p.x, 1 - p.y});
+    }
+    a.materials.push_back(Material{});
+    return a;
+}
+
+// The bake's UVs of the quad: its own uv0, so every texel maps to the point it shows.
+std::vector<std::array<Vec2, 3>> ownUVs(const TriMesh& m) {
+    std::vector<std::array<Vec2, 3>> uv(m.triangleCount());
+    for (size_t f = 0; f < uv.size(); ++f)
+        for (size_t k = 0; k < 3; ++k) uv[f][k] = m.wedges.uv0[m.cornerWedges[f][k]];
+    return uv;
+}
+
+// The quad itself as the bake's target surface (its frames from computeWedgeTangents).
+BakeTarget ownTarget(const TriMesh& m) {
+    const std::vector<Vec4> t = computeWedgeTangents(m, 0);
+    BakeTarget target;
+    target.uv = ownUVs(m);
+    for (size_t f = 0; f < m.triangleCount(); ++f) {
+        std::array<Vec3, 3> n;
+        std::array<Vec4, 3> tan;
+        for (size_t k = 0; k < 3; ++k) {
+            n[k] = m.wedges.normal[m.cornerWedges[f][k]];
+            tan[k] = t[m.cornerWedges[f][k]];
+        }
+        target.normal.push_back(n);
+        target.tangent.push_back(tan);
+    }
+    return target;
+}
+
+// Adds a constant-colour 8x8 PNG as a texture; returns the texture index.
+int addConstantTexture(Asset& a, const uint8_t (&rgb)[3]) {
+    std::vector<uint8_t> px(8 * 8 * 3);
+    for (size_t i = 0; i < px.size(); ++i) px[i] = rgb[i % 3];
+    a.images.push_back(encodePng(px, 8, 8, "constant"));
+    a.textures.push_back(Texture{int(a.images.size()) - 1, -1});
+    return int(a.textures.size()) - 1;
+}
+
+TEST(Tangents, AlongUAndRightHandedForGltfUVs) {
+    const Asset a = unitQuad();
+    for (const Vec4& t : computeWedgeTangents(a.mesh, 0)) {
+        EXPECT_NEAR(t.x, 1, 1e-12);
+        EXPECT_NEAR(t.y, 0, 1e-12);
+        EXPECT_NEAR(t.z, 0, 1e-12);
+        EXPECT_EQ(t.w, 1);  // bitangent cross(N, T) = +y = up the image
+    }
+}
+
+TEST(Tangents, MirroredUVsFlipTheHandedness) {
+    const Asset a = unitQuad(true);
+    for (const Vec4& t : computeWedgeTangents(a.mesh, 0)) {
+        EXPECT_NEAR(t.x, -1, 1e-12);
+        EXPECT_EQ(t.w, -1);
+    }
+}
+
+TEST(MaterialPlan, ConstantChannelsAreFactors) {
+    Asset a = unitQuad();
+    a.materials[0].metallicFactor = 0.25;
+    a.materials[0].roughnessFactor = 0.5;
+    const MaterialPlan p = planMaterial(a);
+    EXPECT_FALSE(p.baseColorTexture);
+    EXPECT_FALSE(p.ormTexture());
+    EXPECT_FALSE(p.emissiveTexture);
+    EXPECT_FALSE(p.normalTexture);
+    EXPECT_EQ(p.metallicFactor, 0.25);
+    EXPECT_EQ(p.roughnessFactor, 0.5);
+}
+
+TEST(MaterialPlan, MixedSidednessGetsBackFaces) {
+    Asset a = unitQuad();
+    a.materials.push_back(Material{});
+    a.materials[1].doubleSided = true;
+    a.mesh.triangleMaterial = {0, 1};
+    const MaterialPlan p = planMaterial(a);
+    EXPECT_FALSE(p.doubleSided);
+    EXPECT_TRUE(p.backFaces);
+    EXPECT_EQ(p.warnings.size(), 1u);
+}
+
+// A normal map baked from the quad onto the quad itself gives back the map's normal.
+TEST(BakeMaterial, NormalMapRoundTripsThroughTheSameFrame) {
+    Asset a = unitQuad();
+    const uint8_t tilted[3] = {166, 140, 233};  // (0.30, 0.10, 0.83) before normalising
+    a.materials[0].normal.texture = addConstantTexture(a, tilted);
+    BakeSources sources(a);
+    BakeOptions o;
+    o.size = 16;
+    o.channels.normal = true;
+    const BakeTarget target = ownTarget(a.mesh);
+    const BakeResult r = bakeMaterial(sources, ownUVs(a.mesh), o, {}, &target);
+    ASSERT_EQ(r.normal.size(), size_t(16 * 16 * 3));
+    const Vec3 want = normalize(Vec3{166 / 127.5 - 1, 140 / 127.5 - 1, 233 / 127.5 - 1});
+    for (size_t i = 0; i < 16 * 16; ++i)
+        for (size_t c = 0; c < 3; ++c) ASSERT_NEAR(r.normal[i * 3 + c], want[int(c)] * 0.5 + 0.5, 2.5 / 255) << "texel " << i;
+}
+
+TEST(BakeMaterial, OrmAndEmissiveFollowFactorsAndTextures) {
+    Asset a = unitQuad();
+    const uint8_t mr[3] = {0, 128, 255};  // roughness 0.5, metallic 1
+    a.materials[0].metallicRoughness.texture = addConstantTexture(a, mr);
+    a.materials[0].roughnessFactor = 0.5;
+    a.materials[0].emissiveFactor = {1, 0.5, 0};
+    a.materials[0].emissiveStrength = 4;
+    BakeSources sources(a);
+    BakeOptions o;
+    o.size = 8;
+    o.channels.orm = o.channels.emissive = true;
+    const BakeResult r = bakeMaterial(sources, ownUVs(a.mesh), o);
+    EXPECT_NEAR(r.emissiveScale, 4, 1e-9);  // the peak linear value, written as emissive strength
+    for (size_t i = 0; i < 8 * 8; ++i) {
+        ASSERT_NEAR(r.orm[i * 3 + 0], 1, 1e-6);              // no occlusion map
+        ASSERT_NEAR(r.orm[i * 3 + 1], 0.25, 1.0 / 255);      // 0.5 x 0.5
+        ASSERT_NEAR(r.orm[i * 3 + 2], 1, 1.0 / 255);
+        ASSERT_NEAR(r.emissive[i * 3 + 0], 1, 1e-6);         // 4 / 4, sRGB 1
+        ASSERT_NEAR(r.emissive[i * 3 + 2], 0, 1e-6);
+    }
+}
+
+}  // namespace
+}  // namespace lodbake
