@@ -3,7 +3,7 @@
 # gltfpack -si R, npm gltfpack -si R -sp -se 1 (permissive: may cross attribute seams, no error
 # limit) and Blender's Decimate modifier (collapse, headless), at 10% and 2% of the triangles, on
 # Duck, Avocado, CesiumMilkTruck and 2CylinderEngine. Every output is measured against the
-# original with `compare ORIGINAL OUT [--lod K] --json` (base-colour PSNR, triangles, draw calls)
+# original with `compare ORIGINAL OUT [--lod K] --json` (lit PBR and base-colour PSNR, triangles, draw calls)
 # and a Markdown table is printed (docs/benchmarks.md, "Against the peers").
 # Usage: scripts/bench_peers.sh [BIN] [WORKDIR]
 # Environment: ASSETS="Duck Avocado" (a subset), PACK_FLAGS (default --lod0-density: compare renders

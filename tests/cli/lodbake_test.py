@@ -63,6 +63,20 @@ def run(args, check=True, timeout=1200):
     return p
 
 
+def parameterized_samples(out_dir, names, size="512"):
+    """make-samples into out_dir, then simplify (50/10/2%) and parameterize (--size `size`) each
+    named sample; returns {name: path of its .uv.glb}."""
+    make_samples(out_dir)
+    uv = {}
+    for n in names:
+        src = os.path.join(out_dir, n + ".glb")
+        mr = os.path.join(out_dir, n + ".mr.glb")
+        uv[n] = os.path.join(out_dir, n + ".uv.glb")
+        run([tool("simplify"), "-i", src, "-o", mr, "--ratio", "0.5,0.1,0.02", "--quiet"])
+        run([tool("parameterize"), "-i", mr, "-o", uv[n], "--size", size, "--quiet"])
+    return uv
+
+
 def make_samples(out_dir):
     run([tool("make-samples"), out_dir])
     return out_dir

@@ -28,15 +28,7 @@ class PackMaterials(unittest.TestCase):
             if not os.path.exists(lt.tool(t)):
                 lt.skip(t + " is not built")
         cls.dir = lt.work_dir("pack_materials")
-        lt.make_samples(cls.dir)
-        cls.uv = {}
-        for n in ("pbrscene", "colors"):
-            src = os.path.join(cls.dir, n + ".glb")
-            mr = os.path.join(cls.dir, n + ".mr.glb")
-            uv = os.path.join(cls.dir, n + ".uv.glb")
-            lt.run([lt.tool("simplify"), "-i", src, "-o", mr, "--ratio", "0.5,0.1,0.02", "--quiet"])
-            lt.run([lt.tool("parameterize"), "-i", mr, "-o", uv, "--size", "512", "--quiet"])
-            cls.uv[n] = uv
+        cls.uv = lt.parameterized_samples(cls.dir, ("pbrscene", "colors"))
         cls.full, cls.full_report = cls.pack("pbrscene", "pbrscene.lod.glb")
         cls.bc, _ = cls.pack("pbrscene", "pbrscene.bc.glb", "--base-color-only")
 

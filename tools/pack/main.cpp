@@ -59,6 +59,8 @@ Args parseArgs(int argc, char** argv, bool& proceed) {
                  else if (v == "never") o.normalMaps = NormalMaps::Never;
                  else throw UsageError("--normal-maps must be auto, always or never");
              });
+    p.flag("--layout-bake", "coarse levels read the original through the shared chart layout instead of projecting "
+           "their own surface onto it", [&] { o.projectLevels = false; });
     p.flag("--base-color-only", "bake base colour (and alpha) only; other channels become constant factors",
            [&] { o.baseColorOnly = true; });
     p.flag("--no-texture-hierarchy", "texture every level with T0 even when the input has texture-refine's hierarchy",

@@ -33,6 +33,8 @@
 #include "lodbake/gltf/gltf.h"
 #include "lodbake/chart/chart_lookup.h"
 #include "lodbake/core/closest_point.h"
+#include "lodbake/core/face_grid.h"
+#include "lodbake/core/parallel.h"
 #include "lodbake/metrics/distance.h"
 #include "lodbake/atlas/atlas.h"
 #include "lodbake/param/parameterize.h"
@@ -300,6 +302,49 @@ BakeResult bakePage(const BakeSources& sources, const LayoutData& L, const Level
     return bakeMaterial(sources, uv, bo, islands, channels.normal ? &target : nullptr);
 }
 
+// The projection bake of a coarse level: every level triangle is an island of the page (its own
+// 3D triangle at its page UVs) whose texels show the original surface at the closest point, found
+// among the original faces whose boxes lie within `reach` of the triangle's box (the level's
+// measured deviation bounds how far that point can be). `front` = the level triangles before
+// back-face copies (those share their UVs).
+BakeResult bakeProjected(const BakeSources& sources, const FaceGrid& grid, const LodLevelData& L, size_t front, int width,
+                         int height, double reach, const BakeChannels& channels, const BakeTarget& target, int threads) {
+    const Asset& asset = sources.asset();
+    const int size = std::max(width, height);
+    std::vector<BakeIsland> islands(front);
+    parallelFor(front, threads, [&](size_t t) {
+        BakeIsland& b = islands[t];
+        Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+        for (size_t k = 0; k < 3; ++k) {
+            const uint32_t v = L.indices[3 * t + k];
+            b.position[k] = {L.positions[3 * v], L.positions[3 * v + 1], L.positions[3 * v + 2]};
+            b.uv[k] = {double(L.uvs[2 * v]) * width / size, double(L.uvs[2 * v + 1]) * height / size};
+            for (int a = 0; a < 3; ++a) {
+                lo[a] = std::min(lo[a], b.position[k][a] - reach);
+                hi[a] = std::max(hi[a], b.position[k][a] + reach);
+            }
+        }
+        b.faces = grid.facesIn(lo, hi);
+    });
+    // Islands without candidates (reach too small for a sampled deviation) search every face.
+    std::vector<uint32_t> all;
+    for (BakeIsland& b : islands)
+        if (b.faces.empty()) {
+            if (all.empty())
+                for (uint32_t f = 0; f < asset.mesh.triangleCount(); ++f) all.push_back(f);
+            b.faces = all;
+        }
+    const std::vector<std::array<Vec2, 3>> offPage(asset.mesh.triangleCount(), {Vec2{-10, -10}, Vec2{-10, -10}, Vec2{-10, -10}});
+    BakeOptions bo;
+    bo.size = size;
+    bo.width = width;
+    bo.height = height;
+    bo.encodePng = false;
+    bo.threads = threads;
+    bo.channels = channels;
+    return bakeMaterial(sources, offPage, bo, islands, channels.normal ? &target : nullptr);
+}
+
 // Twice the signed UV area in the glTF convention (v down): > 0 for a front-facing triangle.
 template <class P>
 double uvArea2(const P& a, const P& b, const P& c) {
@@ -440,6 +485,7 @@ void measureLevels(const TriMesh& mesh, const std::vector<LevelView>& views, con
 // 3. Screen coverage: value k = the smallest coverage at which LOD k is drawn (decreasing); the
 // last one culls the coarsest level below cutoffPixels (and at half the previous value at most).
 constexpr double kExactDeviation = 1e-7;  // relative to the diagonal
+constexpr double kProjectionSlack = 1e-4;  // projection search reach beyond the measured deviation, x the diagonal
 
 std::vector<double> screenCoverages(const PackResult& res, const PackOptions& options) {
     const size_t n = res.reports.size();
@@ -585,6 +631,7 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
     res.screenCoverage = screenCoverages(res, options);  // 3
 
     // 4. Per level: texture, page, mesh, bake.
+    const FaceGrid grid(mesh);
     const MaterialPlan plan = options.baseColorOnly ? baseColorPlan(planMaterial(asset)) : planMaterial(asset);
     res.warnings = plan.warnings;
     LevelImageOptions io;
@@ -602,12 +649,18 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
         LodLevelData& L = res.levels[k];
         L.name = "LOD" + std::to_string(k);
         buildLevelMesh(asset, views[k], luv, la, L);
+        const size_t front = L.indices.size() / 3;
         if (plan.backFaces) addBackFaces(asset, views[k], L);
         const bool normalMap = !options.baseColorOnly && (options.normalMaps == NormalMaps::Always ||
                                                           (options.normalMaps == NormalMaps::Auto && (plan.normalTexture || k > 0)));
         const BakeChannels channels = levelChannels(plan, normalMap);
         if (channels.normal) L.tangents = levelTangents(L);
-        const BakeResult baked = bakePage(sources, lay, la, channels, levelBakeTarget(L, la.atlas.width, la.atlas.height), options.threads);
+        const BakeTarget target = levelBakeTarget(L, la.atlas.width, la.atlas.height);
+        const double reach = 1.5 * r.hausdorff + kProjectionSlack * res.diagonal;
+        const BakeResult baked = k > 0 && options.projectLevels
+                                     ? bakeProjected(sources, grid, L, front, la.atlas.width, la.atlas.height, reach, channels, target,
+                                                     options.threads)
+                                     : bakePage(sources, lay, la, channels, target, options.threads);
         r.bakeSeconds = baked.seconds;
         L.material = levelMaterial(plan, baked, la.atlas.width, la.atlas.height, io, L.name);
         r.channels = channelNames(L.material);

@@ -55,7 +55,7 @@ nlohmann::json makeReport(const PackSettings& s, const Asset& asset, const Multi
                       {"imageFormat", s.imageFormatName.empty() ? imageFormatName(o.imageFormat) : s.imageFormatName},
                       {"jpegQuality", o.jpegQuality}, {"split", s.write.split}, {"textureHierarchy", o.useTextureHierarchy},
                       {"lod0Density", o.lod0Density}, {"draco", c.draco}, {"normalMaps", normalMapsName(o.normalMaps)},
-                      {"baseColorOnly", o.baseColorOnly},
+                      {"baseColorOnly", o.baseColorOnly}, {"projectLevels", o.projectLevels},
                       {"qp", c.quantPosition}, {"qt", c.quantTexcoord}, {"qn", c.quantNormal}};
     rep["utilisationDefinition"] = "chart texels / page texels; chart texels = the charts' triangle coverage (UV area); "
                                    "boxUtilisation uses the charts' rotated bounding rectangles (above 1 when charts nest), "

@@ -47,6 +47,10 @@ struct PackOptions {
     // render every level close up (scripts/bench_peers.sh).
     bool lod0Density = false;
     NormalMaps normalMaps = NormalMaps::Auto;
+    // Coarse levels' texels show the original surface at the closest point of their own surface
+    // (true), or where the shared chart layout maps them (false; exact only where the layout's
+    // parameterisation is affine over each coarse triangle).
+    bool projectLevels = true;
     // Bake base colour only (every other channel a constant factor, no normal map): the chain
     // without its material channels, for comparisons.
     bool baseColorOnly = false;

@@ -1,0 +1,30 @@
+// A uniform grid over a mesh's triangles by their bounding boxes, for "which faces lie near this
+// box" queries (pack's projection bake asks it once per level triangle).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "lodbake/core/mesh.h"
+
+namespace lodbake {
+
+class FaceGrid {
+public:
+    // About `cellsPerFace` cells per face over the mesh's bounding box (degenerate faces skipped).
+    explicit FaceGrid(const TriMesh& mesh, double cellsPerFace = 1.0);
+    // Ids of every face whose bounding box overlaps box [lo, hi], ascending.
+    std::vector<uint32_t> facesIn(Vec3 lo, Vec3 hi) const;
+
+private:
+    Vec3 origin_{};
+    double cell_ = 1;
+    int n_[3] = {1, 1, 1};
+    std::vector<uint32_t> start_;  // CSR: cell c holds faces_[start_[c] .. start_[c + 1])
+    std::vector<uint32_t> faces_;
+    std::vector<std::array<double, 6>> boxes_;
+    void cellRange(Vec3 lo, Vec3 hi, int (&a)[3], int (&b)[3]) const;
+};
+
+}  // namespace lodbake

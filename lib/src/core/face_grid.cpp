@@ -1,0 +1,75 @@
+// Uniform grid of face bounding boxes (see face_grid.h).
+#include "lodbake/core/face_grid.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "lodbake/core/closest_point.h"
+
+namespace lodbake {
+
+FaceGrid::FaceGrid(const TriMesh& mesh, double cellsPerFace) {
+    const Box3 box = bounds(mesh);
+    const size_t nf = mesh.triangleCount();
+    boxes_.resize(nf);
+    for (uint32_t f = 0; f < nf; ++f) boxes_[f] = faceBox(mesh, f);
+    if (box.empty() || nf == 0) {
+        start_.assign(2, 0);
+        return;
+    }
+    origin_ = box.min;
+    const Vec3 ext = box.max - box.min;
+    // Cells of side cell_: about nf * cellsPerFace cells, at most 2^21 per axis.
+    const double volume = std::max(ext.x, 1e-12) * std::max(ext.y, 1e-12) * std::max(ext.z, 1e-12);
+    cell_ = std::cbrt(volume / std::max(1.0, double(nf) * cellsPerFace));
+    cell_ = std::max({cell_, box.longestSide() / 2048.0, 1e-12});
+    for (int a = 0; a < 3; ++a) n_[a] = std::max(1, int(std::ceil(ext[a] / cell_)));
+    const size_t cells = size_t(n_[0]) * size_t(n_[1]) * size_t(n_[2]);
+    std::vector<uint32_t> count(cells + 1, 0);
+    auto forCells = [&](uint32_t f, auto&& fn) {
+        const auto& b = boxes_[f];
+        int lo[3], hi[3];
+        cellRange({b[0], b[1], b[2]}, {b[3], b[4], b[5]}, lo, hi);
+        for (int z = lo[2]; z <= hi[2]; ++z)
+            for (int y = lo[1]; y <= hi[1]; ++y)
+                for (int x = lo[0]; x <= hi[0]; ++x) fn((size_t(z) * size_t(n_[1]) + size_t(y)) * size_t(n_[0]) + size_t(x));
+    };
+    for (uint32_t f = 0; f < nf; ++f)
+        if (!degenerateIndices(mesh.triangles[f])) forCells(f, [&](size_t c) { ++count[c + 1]; });
+    for (size_t c = 0; c < cells; ++c) count[c + 1] += count[c];
+    start_ = count;
+    faces_.resize(start_[cells]);
+    std::vector<uint32_t> fill(start_.begin(), start_.end() - 1);
+    for (uint32_t f = 0; f < nf; ++f)
+        if (!degenerateIndices(mesh.triangles[f])) forCells(f, [&](size_t c) { faces_[fill[c]++] = f; });
+}
+
+void FaceGrid::cellRange(Vec3 lo, Vec3 hi, int (&a)[3], int (&b)[3]) const {
+    for (int k = 0; k < 3; ++k) {
+        a[k] = std::clamp(int(std::floor((lo[k] - origin_[k]) / cell_)), 0, n_[k] - 1);
+        b[k] = std::clamp(int(std::floor((hi[k] - origin_[k]) / cell_)), 0, n_[k] - 1);
+    }
+}
+
+std::vector<uint32_t> FaceGrid::facesIn(Vec3 lo, Vec3 hi) const {
+    std::vector<uint32_t> out;
+    if (faces_.empty()) return out;
+    int a[3], b[3];
+    cellRange(lo, hi, a, b);
+    for (int z = a[2]; z <= b[2]; ++z)
+        for (int y = a[1]; y <= b[1]; ++y)
+            for (int x = a[0]; x <= b[0]; ++x) {
+                const size_t c = (size_t(z) * size_t(n_[1]) + size_t(y)) * size_t(n_[0]) + size_t(x);
+                for (uint32_t i = start_[c]; i < start_[c + 1]; ++i) {
+                    const uint32_t f = faces_[i];
+                    const auto& bx = boxes_[f];
+                    if (bx[0] <= hi.x && bx[3] >= lo.x && bx[1] <= hi.y && bx[4] >= lo.y && bx[2] <= hi.z && bx[5] >= lo.z)
+                        out.push_back(f);
+                }
+            }
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
+}
+
+}  // namespace lodbake
