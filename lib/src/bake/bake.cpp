@@ -405,10 +405,12 @@ std::vector<TargetHit> rasterizeTarget(const BakeTarget& target, const Grid& g) 
     return hits;
 }
 
-// World normal N expressed in the target's tangent frame at hit th, as an encoded colour.
-void encodeInTarget(const BakeTarget& target, const TargetHit& th, Vec3 N, double rgb[3]) {
+// World normal N expressed in the target's tangent frame at hit th, as an encoded colour; the
+// unperturbed (0, 0, 1) without a target or a hit.
+void encodeInTarget(const BakeTarget* targetOrNull, const TargetHit& th, Vec3 N, double rgb[3]) {
     Vec3 n{0, 0, 1};
-    if (th.tri >= 0) {
+    if (targetOrNull && th.tri >= 0) {
+        const BakeTarget& target = *targetOrNull;
         Vec3 Nl{}, Tl{};
         for (size_t k = 0; k < 3; ++k) {
             Nl += target.normal[size_t(th.tri)][k] * th.bary[k];
@@ -563,8 +565,7 @@ BakeResult bakeMaterial(const BakeSources& bs, const std::vector<std::array<Vec2
             }
             if (ch.normal) {
                 const Vec3 N = shadingNormal(ctx, h);
-                if (target) encodeInTarget(*target, targetHits[i], N, v);
-                else v[0] = v[1] = 0.5, v[2] = 1;
+                encodeInTarget(target, target ? targetHits[i] : TargetHit{}, N, v);
                 for (size_t c = 0; c < 3; ++c) res.normal[i * 3 + c] = float(v[c]);
             }
         }

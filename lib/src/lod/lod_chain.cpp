@@ -260,6 +260,19 @@ LevelAtlas packLevelAtlas(const LayoutData& L, const LevelUVs& luv, bool origina
     return la;
 }
 
+// A width x height page's bake: UVs scaled by the longer side, only the page baked, pixels left
+// for the chain to encode.
+BakeOptions pageBakeOptions(int width, int height, const BakeChannels& channels, int threads) {
+    BakeOptions bo;
+    bo.size = std::max(width, height);
+    bo.width = width;
+    bo.height = height;
+    bo.encodePng = false;
+    bo.threads = threads;
+    bo.channels = channels;
+    return bo;
+}
+
 // Bakes the original triangles at the page UVs: every channel of `channels`, the normal map in
 // the frames of `target` (the level's own mesh on this page).
 BakeResult bakePage(const BakeSources& sources, const LayoutData& L, const LevelAtlas& la, const BakeChannels& channels,
@@ -292,14 +305,8 @@ BakeResult bakePage(const BakeSources& sources, const LayoutData& L, const Level
     }
     // UVs are scaled by the longer side; only the width x height page is baked (the chain
     // encodes it itself).
-    BakeOptions bo;
-    bo.size = size;
-    bo.width = a.width;
-    bo.height = a.height;
-    bo.encodePng = false;
-    bo.threads = threads;
-    bo.channels = channels;
-    return bakeMaterial(sources, uv, bo, islands, channels.normal ? &target : nullptr);
+    return bakeMaterial(sources, uv, pageBakeOptions(a.width, a.height, channels, threads), islands,
+                        channels.normal ? &target : nullptr);
 }
 
 // The projection bake of a coarse level: every level triangle is an island of the page (its own
@@ -308,7 +315,8 @@ BakeResult bakePage(const BakeSources& sources, const LayoutData& L, const Level
 // measured deviation bounds how far that point can be). `front` = the level triangles before
 // back-face copies (those share their UVs).
 BakeResult bakeProjected(const BakeSources& sources, const FaceGrid& grid, const LodLevelData& L, size_t front, int width,
-                         int height, double reach, const BakeChannels& channels, const BakeTarget& target, int threads) {
+                         int height, double reach, double diagonal, const BakeChannels& channels, const BakeTarget& target,
+                         int threads) {
     const Asset& asset = sources.asset();
     const int size = std::max(width, height);
     std::vector<BakeIsland> islands(front);
@@ -324,25 +332,15 @@ BakeResult bakeProjected(const BakeSources& sources, const FaceGrid& grid, const
                 hi[a] = std::max(hi[a], b.position[k][a] + reach);
             }
         }
-        b.faces = grid.facesIn(lo, hi);
-    });
-    // Islands without candidates (reach too small for a sampled deviation) search every face.
-    std::vector<uint32_t> all;
-    for (BakeIsland& b : islands)
-        if (b.faces.empty()) {
-            if (all.empty())
-                for (uint32_t f = 0; f < asset.mesh.triangleCount(); ++f) all.push_back(f);
-            b.faces = all;
+        // A sampled deviation can fall short of the true one: widen the search until it finds faces.
+        for (double grow = reach; ; grow *= 4) {
+            b.faces = grid.facesIn(lo - Vec3{grow - reach, grow - reach, grow - reach}, hi + Vec3{grow - reach, grow - reach, grow - reach});
+            if (!b.faces.empty() || grow > 4 * diagonal) break;
         }
+    });
     const std::vector<std::array<Vec2, 3>> offPage(asset.mesh.triangleCount(), {Vec2{-10, -10}, Vec2{-10, -10}, Vec2{-10, -10}});
-    BakeOptions bo;
-    bo.size = size;
-    bo.width = width;
-    bo.height = height;
-    bo.encodePng = false;
-    bo.threads = threads;
-    bo.channels = channels;
-    return bakeMaterial(sources, offPage, bo, islands, channels.normal ? &target : nullptr);
+    return bakeMaterial(sources, offPage, pageBakeOptions(width, height, channels, threads), islands,
+                        channels.normal ? &target : nullptr);
 }
 
 // Twice the signed UV area in the glTF convention (v down): > 0 for a front-facing triangle.
@@ -658,7 +656,7 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
         const BakeTarget target = levelBakeTarget(L, la.atlas.width, la.atlas.height);
         const double reach = 1.5 * r.hausdorff + kProjectionSlack * res.diagonal;
         const BakeResult baked = k > 0 && options.projectLevels
-                                     ? bakeProjected(sources, grid, L, front, la.atlas.width, la.atlas.height, reach, channels, target,
+                                     ? bakeProjected(sources, grid, L, front, la.atlas.width, la.atlas.height, reach, res.diagonal, channels, target,
                                                      options.threads)
                                      : bakePage(sources, lay, la, channels, target, options.threads);
         r.bakeSeconds = baked.seconds;
