@@ -49,8 +49,8 @@ MaterialPlan planMaterial(const Asset& asset) {
     for (const Material* m : mats) {
         p.baseColorTexture |= hasTexture(m->baseColor, asset) || !sameVec(m->baseColorFactor, first.baseColorFactor);
         p.occlusionTexture |= hasTexture(m->occlusion, asset) && m->occlusion.scale > 0;
-        p.metallicRoughnessTexture |= hasTexture(m->metallicRoughness, asset) || hasTexture(m->specularGlossiness, asset) || m->metallicFactor != first.metallicFactor ||
-                                      m->roughnessFactor != first.roughnessFactor;
+        p.metallicRoughnessTexture |= hasTexture(m->metallicRoughness, asset) || hasTexture(m->specularGlossiness, asset) ||
+                                      m->metallicFactor != first.metallicFactor || m->roughnessFactor != first.roughnessFactor;
         p.emissiveTexture |= (hasTexture(m->emissive, asset) && !sameVec(m->emissiveFactor, Vec3{})) ||
                              !sameVec(m->emissiveFactor * m->emissiveStrength, p.emissiveFactor);
         p.normalTexture |= hasTexture(m->normal, asset);
