@@ -33,9 +33,10 @@ LOCAL_PROFILE = os.path.join(lt.SOURCE, "pipelines/cluster/local")
 
 def snakemake(workdir, out, *extra, profile=None, **config):
     """Runs snakemake in workdir on the samples of setUpClass, writing into out; config overrides
-    CONFIG. Returns the CompletedProcess (stdout and stderr together)."""
-    settings = dict(CONFIG, **config)
-    settings.update({"in": Snakemake.inputs, "out": out, "bin": lt.BIN})
+    CONFIG (a None value drops the key). Returns the CompletedProcess (stdout and stderr together)."""
+    settings = dict(CONFIG, **{"in": Snakemake.inputs, "out": out, "bin": lt.BIN})
+    settings.update(config)
+    settings = {k: v for k, v in settings.items() if v is not None}
     cmd = ["snakemake", "-s", SNAKEFILE, "-d", workdir]
     cmd += ["--profile", profile] if profile else ["--cores", "2"]
     # --config takes every word after it, so targets and flags come first.
@@ -116,6 +117,11 @@ class Snakemake(unittest.TestCase):
         self.assertEqual(planned_jobs(p), {"parameterize": 2, "refine": 2, "pack": 2, "all": 1}, p.stdout[-3000:])
         p = snakemake(self.local, self.out, "-n", ratios="0.5,0.2")
         self.assertEqual(planned_jobs(p), {"simplify": 2, "parameterize": 2, "refine": 2, "pack": 2, "all": 1})
+
+        # Without `in`, make-samples writes the Makefile's four samples first.
+        p = snakemake(self.local, os.path.join(self.work, "from-samples"), "-n", **{"in": None})
+        self.assertEqual(planned_jobs(p), {"samples": 1, "simplify": 4, "parameterize": 4, "refine": 4, "pack": 4,
+                                           "all": 1}, p.stdout[-3000:])
 
         # Running the pack change rewrites pack's outputs only; going back restores the same bytes.
         upstream = outputs(self.out, ["mr", "uv", "tex"])
