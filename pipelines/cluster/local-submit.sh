@@ -19,6 +19,7 @@ job=$(mktemp -d "$root/job.XXXXXX")
 cp "$1" "$job/jobscript.sh"
 # Every stream is redirected: Snakemake reads this script's stdout until it closes, so the
 # detached job must not hold it. rc is renamed into place so the status script never reads half.
+# shellcheck disable=SC2016 # $1 is the inner shell's argument, expanded there
 setsid sh -c 'sh "$1/jobscript.sh" >"$1/stdout" 2>"$1/stderr"; echo $? >"$1/rc.tmp"; mv "$1/rc.tmp" "$1/rc"' \
   local-job "$job" </dev/null >/dev/null 2>&1 &
 echo $! >"$job/pid"

@@ -11,6 +11,7 @@ import re
 import shutil
 import subprocess
 import sys
+import time
 import unittest
 
 sys.path.insert(0, os.path.dirname(__file__))
@@ -176,6 +177,49 @@ class Snakemake(unittest.TestCase):
         self.assertTrue(failed, p.stdout[-3000:])
         with open(os.path.join(workdir, ".snakemake/local-cluster", failed[0], "stderr")) as f:
             self.assertIn("--no-such-flag", f.read())
+
+    def test_local_scheduler_scripts(self):
+        """local-submit.sh, local-status.sh and local-cancel.sh as a scheduler: a job id, running
+        until the job ends, success or failed from its exit code, cancel ends the whole job."""
+        cluster = os.path.join(lt.SOURCE, "pipelines/cluster")
+        workdir = lt.work_dir("scheduler")
+
+        def script(name, *args):
+            return subprocess.run([os.path.join(cluster, name)] + list(args), cwd=workdir, stdout=subprocess.PIPE,
+                                  text=True, check=True, timeout=60).stdout.strip()
+
+        def wait(job):
+            for _ in range(100):
+                status = script("local-status.sh", job)
+                if status != "running":
+                    return status
+                time.sleep(0.1)
+            return status
+
+        for body, expected in (("exit 0", "success"), ("exit 3", "failed")):
+            path = os.path.join(workdir, "job.sh")
+            with open(path, "w") as f:
+                f.write("#!/bin/sh\necho out; %s\n" % body)
+            job = script("local-submit.sh", path)
+            self.assertEqual(wait(job), expected)
+            with open(os.path.join(workdir, ".snakemake/local-cluster", job, "stdout")) as f:
+                self.assertEqual(f.read(), "out\n")
+
+        # A job that would run for a minute, with a child: cancel ends both.
+        with open(path, "w") as f:
+            f.write("#!/bin/sh\nsleep 60 & sleep 61\n")
+        job = script("local-submit.sh", path)
+        self.assertEqual(script("local-status.sh", job), "running")
+        with open(os.path.join(workdir, ".snakemake/local-cluster", job, "pid")) as f:
+            group = int(f.read())
+        script("local-cancel.sh", job)
+        self.assertEqual(wait(job), "failed")
+        for _ in range(50):
+            alive = subprocess.run(["pgrep", "-g", str(group)], stdout=subprocess.PIPE, text=True).stdout.split()
+            if not alive:
+                break
+            time.sleep(0.1)
+        self.assertEqual(alive, [], "processes of the cancelled job remain")
 
 
 if __name__ == "__main__":
