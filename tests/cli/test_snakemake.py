@@ -1,7 +1,7 @@
 """pipelines/Snakefile: builds two generated samples through simplify -> parameterize ->
 texture-refine -> pack with --cores 2; a second run has nothing to do (also with another thread
 count); changing one stage's flag plans only that stage and the ones after it, and running it
-rewrites only their outputs; golden_update then golden_check passes, and a missing golden file
+rewrites only their outputs; the agsphere target plans agsphere-build and the stages after it; golden_update then golden_check passes, and a missing golden file
 fails it. The cluster path (Snakemake's generic --cluster submission through
 pipelines/cluster/local-submit.sh and its status script) builds the same bytes, and a failing job
 fails the run."""
@@ -118,6 +118,11 @@ class Snakemake(unittest.TestCase):
         self.assertEqual(planned_jobs(p), {"parameterize": 2, "refine": 2, "pack": 2, "all": 1}, p.stdout[-3000:])
         p = snakemake(self.local, self.out, "-n", ratios="0.5,0.2")
         self.assertEqual(planned_jobs(p), {"simplify": 2, "parameterize": 2, "refine": 2, "pack": 2, "all": 1})
+
+        # The agsphere front end replaces simplify with agsphere-build and reuses the other stages.
+        p = snakemake(self.local, self.out, "-n", "agsphere")
+        self.assertEqual(planned_jobs(p), {"agsphere_build": 2, "parameterize": 2, "refine": 2, "pack": 2,
+                                           "agsphere": 1}, p.stdout[-3000:])
 
         # Without `in`, make-samples writes the Makefile's four samples first.
         p = snakemake(self.local, os.path.join(self.work, "from-samples"), "-n", **{"in": None})
