@@ -66,13 +66,6 @@ struct ChainRun {
 
 }  // namespace
 
-std::vector<std::string> chainStages(const ChainSettings& s) {
-    std::vector<std::string> stages = {"simplify", "parameterize"};
-    if (s.runTextureRefine) stages.push_back("texture-refine");
-    stages.push_back("pack");
-    return stages;
-}
-
 StageResult runChain(const ChainSettings& s) {
     Clock::time_point t0 = Clock::now();
     ChainRun chain(s, std::filesystem::path(s.common.input).stem().string());

@@ -40,7 +40,4 @@ struct ChainSettings {
 // under a "STAGE:" line.
 StageResult runChain(const ChainSettings& settings);
 
-// The stage names runChain runs for `settings`, in order.
-std::vector<std::string> chainStages(const ChainSettings& settings);
-
 }  // namespace lodbake
