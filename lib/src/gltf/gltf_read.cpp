@@ -152,8 +152,8 @@ void hideDracoIndices(const ReadContext& c, bool isGlb, std::vector<unsigned cha
 // \throw IOError, InvalidInput, Unsupported.
 void loadModel(ReadContext& c, tinygltf::Model& model) {
     const std::string& path = c.path;
-    if (std::filesystem::is_directory(path)) throw IOError(path + ": is a directory");
-    std::vector<unsigned char> bytes = readFileBytes(path);
+    if (!c.bytes && std::filesystem::is_directory(path)) throw IOError(path + ": is a directory");
+    std::vector<unsigned char> bytes = c.bytes ? *c.bytes : readFileBytes(path);
     if (bytes.empty()) fail(c, "empty file");
 
     tinygltf::TinyGLTF loader;
@@ -625,9 +625,10 @@ void readImages(const ReadContext& c, tinygltf::Model& model, const ReadOptions&
 
 }  // namespace
 
-Asset readGltf(const std::string& path, const ReadOptions& options, std::optional<Multires>* multires) {
-    ReadContext c;
-    c.path = path;
+namespace {
+
+Asset readWith(ReadContext& c, const ReadOptions& options, std::optional<Multires>* multires) {
+    const std::string& path = c.path;
     tinygltf::Model model;
     loadModel(c, model);
 
@@ -652,6 +653,22 @@ Asset readGltf(const std::string& path, const ReadOptions& options, std::optiona
         fail(c, std::string("malformed JSON value: ") + firstLine(e.what()));
     }
     return asset;
+}
+
+}  // namespace
+
+Asset readGltf(const std::string& path, const ReadOptions& options, std::optional<Multires>* multires) {
+    ReadContext c;
+    c.path = path;
+    return readWith(c, options, multires);
+}
+
+Asset readGltfBytes(const std::string& path, const std::vector<unsigned char>& bytes, const ReadOptions& options,
+                    std::optional<Multires>* multires) {
+    ReadContext c;
+    c.path = path;
+    c.bytes = &bytes;
+    return readWith(c, options, multires);
 }
 
 }  // namespace lodbake

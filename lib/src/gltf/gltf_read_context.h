@@ -19,6 +19,8 @@ namespace lodbake::gltf_detail {
 
 struct ReadContext {
     std::string path;
+    // The file's bytes when they are already in memory (readGltfBytes); null = read `path`.
+    const std::vector<unsigned char>* bytes = nullptr;
     const tinygltf::Model* model = nullptr;
     nlohmann::json root;
 };

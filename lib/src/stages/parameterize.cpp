@@ -199,12 +199,9 @@ StageResult runParameterize(const ParameterizeSettings& s) {
                           per + ")");
     }
 
-    Clock::time_point t2 = Clock::now();
-    WriteOptions wopt;
-    wopt.generator = "lodbake parameterize 0.1.0";
-    writeGltf(s.common.output, asset, &*multires, wopt);
+    double writeSeconds = writeStageOutput(s.common, asset, &*multires, "parameterize");
     if (s.common.verbose) {
-        appendf(out.statistics, "write: %.2fs\n", secondsSince(t2));
+        appendf(out.statistics, "write: %.2fs\n", writeSeconds);
         out.statistics += statistics(*multires, param, applied, levelChecks, deviation, time.bake);
     }
     return out;
