@@ -181,6 +181,7 @@ void loadModel(ReadContext& c, tinygltf::Model& model) {
         fail(c, std::string("invalid JSON: ") + firstLine(e.what()));
     }
     if (!c.root.is_object()) fail(c, "JSON root is not an object");
+    checkStructure(c);
     checkRequiredExtensions(c);
     std::optional<json> patched;  // the JSON tinygltf sees, when it differs from the file's
     bool changed = hideDracoIndices(c.root, patched);
