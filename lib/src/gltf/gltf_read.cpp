@@ -73,6 +73,9 @@ bool keepImageBytes(tinygltf::Image* image, const int index, std::string* err, s
     return true;
 }
 
+// Texture extensions whose images (KTX2/Basis Universal, WebP, AVIF) lodbake does not decode.
+const std::vector<std::string> kImageExtensions = {"KHR_texture_basisu", "EXT_texture_webp", "EXT_texture_avif"};
+
 const std::vector<std::string> kSupportedRequired = {"KHR_draco_mesh_compression", "KHR_mesh_quantization",
                                                      "KHR_texture_transform", "KHR_materials_unlit",
                                                      "EXT_meshopt_compression"};
@@ -112,6 +115,9 @@ void checkRequiredExtensions(const ReadContext& c) {
                 if (name == "KHR_meshopt_compression")
                     throw Unsupported(c.path + ": required extension " + name +
                                       " is not supported by this build's meshoptimizer (0.18 decodes EXT_meshopt_compression only)");
+                if (std::find(kImageExtensions.begin(), kImageExtensions.end(), name) != kImageExtensions.end())
+                    throw Unsupported(c.path + ": required extension " + name +
+                                      " is not supported (lodbake decodes PNG and JPEG images only)");
                 throw Unsupported(c.path + ": required extension " + name + " is not supported");
             }
         }
@@ -611,6 +617,19 @@ void readMaterials(const ReadContext& c, Asset& asset) {
         smp.wrapT = s.wrapT;
         asset.samplers.push_back(smp);
     }
+    // Image formats lodbake does not decode (KTX2/Basis, WebP, AVIF): an optional extension's
+    // texture uses its fallback `source` (PNG/JPEG), with a warning; a required one was refused
+    // by checkRequiredExtensions.
+    if (c.root.contains("textures"))
+        for (size_t i = 0; i < c.root["textures"].size(); ++i) {
+            const json& t = c.root["textures"][i];
+            if (!t.contains("extensions")) continue;
+            for (const std::string& name : kImageExtensions)
+                if (t["extensions"].contains(name))
+                    asset.warnings.push_back("texture " + std::to_string(i) + ": " + name + " is not decoded; " +
+                                             (t.contains("source") ? "its fallback image " + t["source"].dump() + " is used"
+                                                                   : "it has no fallback image and is left out"));
+        }
     for (const auto& t : model.textures) {
         Texture tex;
         tex.image = t.source;
