@@ -18,16 +18,16 @@ void addParameterizeFlags(ArgParser& p, ParameterizeFlags& a) {
              "Ceres iterations per chart (0 = keep the Tutte maps; default " + std::to_string(o.solve.maxIterations) + ")",
              [&o](const std::string& v) { o.solve.maxIterations = parseInt("--iterations", v); });
     p.flag("--no-level-islands",
-           "no fallback islands: a level triangle that folds in its chart keeps its folded UVs (then exit 4 unless "
-           "--allow-level-folds)",
+           "no fallback islands: a level triangle that folds in its chart keeps its folded UVs (reported, with a "
+           "warning)",
            [&o] { o.levelIslands = false; });
     p.flag("--no-crossing-islands",
            "a level triangle that crosses a chart boundary takes projected UVs in one chart instead of its own "
            "island (smears that chart's texture over it)",
            [&o] { o.crossingIslands = false; });
     p.flag("--allow-level-folds",
-           "write the output even when a level keeps flipped/overlapping UV triangles (reported); default: exit 4",
-           [&a] { a.settings.allowLevelFolds = true; });
+           "deprecated, no effect: folds that survive every fallback are now a warning and the output is written",
+           [] {});
 }
 
 void validateParameterize(ParameterizeFlags& a) {
@@ -46,10 +46,12 @@ std::string parameterizeExitCodes() {
            "falls back to its own small UV island: the coarse triangle laid flat at the atlas density,\n"
            "baked by sampling the closest point of the original surface at each texel (same density,\n"
            "but its texels are not continuous with the neighbouring charts', so filtering can show a\n"
-           "seam). The report counts islands per level (islandTriangles); docs/parameterize.md.\n"
+           "seam). The report counts islands per level (islandTriangles). An original face still folded\n"
+           "in the packed atlas, and every face of a chart the solver cannot flatten, gets a chart of\n"
+           "its own (carvedFaces); each fallback is a warning. docs/parameterize.md.\n"
            "Exit codes: 0 success, 1 usage error, 2 unreadable or invalid input,\n"
-           "            3 valid input but the operation is impossible, 4 internal or solver failure\n"
-           "            (including a level that still folds, unless --allow-level-folds).\n";
+           "            3 valid input but the operation is impossible (the charts do not fit the\n"
+           "            texture), 4 internal failure.\n";
 }
 
 }  // namespace lodbake::cli

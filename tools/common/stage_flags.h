@@ -33,7 +33,7 @@ struct ParameterizeFlags {
     int maxCharts = 0;  // --max-charts as given (checked >= 0 before it becomes charts.maxCharts)
 };
 // --size, --alpha, --beta, --max-charts, --iterations, --no-level-islands, --no-crossing-islands,
-// --allow-level-folds.
+// --allow-level-folds (deprecated, no effect).
 void addParameterizeFlags(ArgParser& parser, ParameterizeFlags& flags);
 // \throw UsageError.
 void validateParameterize(ParameterizeFlags& flags);

@@ -43,8 +43,9 @@ Args parseArgs(int argc, char** argv, bool& proceed) {
     cli::addPackFlags(p, a.pack);
     p.exitCodes(
         "Exit codes: 0 success, 1 usage error, 2 unreadable or invalid input,\n"
-        "            3 valid input but the operation is impossible, 4 internal or solver failure\n"
-        "            (including a level whose UVs still fold, unless --allow-level-folds).\n");
+        "            3 valid input but the operation is impossible, 4 internal failure.\n"
+        "Fallbacks (a fold that survives parameterize, a chart the solver cannot flatten) are\n"
+        "warnings in the report, never errors.\n");
     proceed = p.parse(argc, argv);
     return a;
 }

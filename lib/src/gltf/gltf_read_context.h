@@ -25,6 +25,10 @@ struct ReadContext {
     nlohmann::json root;
 };
 
+// \throw InvalidInput naming the JSON pointer of the first structural error of c.root (the schema's
+// types for what the reader uses, indexed semantics continuous, bufferViews inside their buffers).
+void checkStructure(const ReadContext& c);
+
 // \throw InvalidInput "<path>: <what>".
 [[noreturn]] void fail(const ReadContext& c, const std::string& what);
 
