@@ -218,7 +218,10 @@ LevelChartSet absorbIslands(const std::vector<Vec3>& positions, const std::vecto
     std::unordered_map<uint32_t, uint32_t> dense;
     for (size_t t = 0; t < out.chart.size(); ++t) {
         auto [it, inserted] = dense.emplace(out.chart[t], uint32_t(out.uvArea.size()));
-        if (inserted) out.uvArea.push_back(0);
+        if (inserted) {
+            out.uvArea.push_back(0);
+            out.source.push_back(out.chart[t]);
+        }
         out.chart[t] = it->second;
         out.uvArea[it->second] += 0.5 * std::abs(signedArea(out.uv[t]));
     }

@@ -22,6 +22,7 @@ struct LevelChartSet {
     std::vector<uint32_t> chart;             // per level triangle, dense chart id in [0, uvArea.size())
     std::vector<std::array<Vec2, 3>> uv;     // per level triangle, its corners' UVs (layout units)
     std::vector<double> uvArea;              // per chart, the UV area of its level triangles
+    std::vector<uint32_t> source;            // per chart, the input chart id it grew from (>= firstIsland: an island)
     size_t absorbed = 0;                     // islands unfolded onto a layout chart
     size_t grouped = 0;                      // islands unfolded onto a chart grown from another island
 };

@@ -163,10 +163,11 @@ LayoutData layoutData(const Asset& asset, const ChartLayout& ch, uint32_t rank) 
 struct LevelUVs {
     std::vector<uint32_t> chart;
     std::vector<std::array<Vec2, 3>> uv;
-    // Non-empty: the charts are the level's own (ownCharts), each chart's footprint is its level
-    // triangles alone, and this is each chart's UV area. Empty: the ids are the layout's charts and
-    // islands, whose footprints include the original faces.
+    // Non-empty: the charts are the level's own (ownCharts), this is each one's level-triangle UV
+    // area and ownChartSource the layout chart each grew from (>= the layout's chartCount: from an
+    // island). Empty: the ids are the layout's charts and islands.
     std::vector<double> ownChartArea;
+    std::vector<uint32_t> ownChartSource;
     size_t absorbedIslands = 0;  // own charts: islands unfolded onto a chart
 };
 
@@ -177,6 +178,7 @@ LevelUVs ownCharts(const TriMesh& mesh, const LayoutData& L, const LevelView& lv
     out.chart = std::move(set.chart);
     out.uv = std::move(set.uv);
     out.ownChartArea = std::move(set.uvArea);
+    out.ownChartSource = std::move(set.source);
     out.absorbedIslands = set.absorbed + set.grouped;
     return out;
 }
@@ -242,6 +244,17 @@ struct LevelAtlas {
     size_t charts = 0;
 };
 
+// The layout chart (or island) whose original faces chart c of a level's UVs covers; >= the
+// layout's chartCount + islands for a level's own chart grown from islands (no original faces).
+uint32_t layoutChartOf(const LevelUVs& luv, uint32_t c) { return luv.ownChartArea.empty() ? c : luv.ownChartSource[c]; }
+
+// The UV area chart c of a level's UVs takes: its footprint's, at least.
+double levelChartArea(const LayoutData& L, const LevelUVs& luv, uint32_t c) {
+    const uint32_t source = layoutChartOf(luv, c);
+    const double layout = source < L.ch->chartCount || luv.ownChartArea.empty() ? L.chartUvArea[source] : 0;
+    return luv.ownChartArea.empty() ? layout : std::max(layout, luv.ownChartArea[c]);
+}
+
 LevelAtlas packLevelAtlas(const LayoutData& L, const LevelUVs& luv, bool original, const AtlasOptions& ao) {
     const ChartLayout& ch = *L.ch;
     LevelAtlas la;
@@ -253,15 +266,18 @@ LevelAtlas packLevelAtlas(const LayoutData& L, const LevelUVs& luv, bool origina
         if (la.chartSlot[c] < 0) {
             la.chartSlot[c] = int(charts.size());
             AtlasChart a;
-            a.uvArea = own ? luv.ownChartArea[c] : L.chartUvArea[c];
-            // A layout chart's footprint includes its original faces (the bake reads them); the
-            // level's own charts are just its triangles, added below.
+            a.uvArea = levelChartArea(L, luv, c);
+            // A layout chart's footprint includes its original faces: the layout bake reads them,
+            // and around a projected level's triangles they keep the chart's own texels between it
+            // and its neighbours, which mips far below the page's gutter blend. A chart grown
+            // from islands is just its level triangles, added below.
+            const uint32_t source = layoutChartOf(luv, c);
             if (!own && c >= ch.chartCount) {  // an island: its one triangle
                 const LayoutIsland& isl = ch.islands[c - ch.chartCount];
                 a.points.assign(isl.uv.begin(), isl.uv.end());
                 a.triangles.push_back(isl.uv);
-            } else if (!own) {
-                for (uint32_t f : L.chartFaces[c]) {
+            } else if (source < ch.chartCount) {
+                for (uint32_t f : L.chartFaces[source]) {
                     for (const Vec2& p : ch.cornerUV[f]) a.points.push_back(p);
                     a.triangles.push_back(ch.cornerUV[f]);
                 }
@@ -579,12 +595,10 @@ LevelAtlas packLevelPage(const LayoutData& lay, const LevelUVs& luv, size_t k, c
     auto mipsAt = [&](double d) { return int(std::ceil(std::log2(std::max(1.0, d / (tMax * minCoverageRatio)) - 1e-9))); };
     int mips = mipsAt(tMax);
     double usedUv = 0;
-    if (!luv.ownChartArea.empty()) {
-        for (double a : luv.ownChartArea) usedUv += a;
-    } else {
-        std::vector<char> seen(lay.chartUvArea.size(), 0);
+    {
+        std::vector<char> seen(luv.ownChartArea.empty() ? lay.chartUvArea.size() : luv.ownChartArea.size(), 0);
         for (uint32_t c : luv.chart)
-            if (!seen[c]) { seen[c] = 1; usedUv += lay.chartUvArea[c]; }
+            if (!seen[c]) { seen[c] = 1; usedUv += levelChartArea(lay, luv, c); }
     }
     double side = std::min(double(options.maxSize), std::sqrt(usedUv) * tMax / 0.8);
     int mipLimit = side > options.minMipSide ? int(std::floor(std::log2(side / options.minMipSide))) : 0;
