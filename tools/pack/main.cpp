@@ -66,6 +66,12 @@ Args parseArgs(int argc, char** argv, bool& proceed) {
     p.flag("--no-texture-hierarchy", "texture every level with T0 even when the input has texture-refine's hierarchy",
            [&] { o.useTextureHierarchy = false; });
     p.flag("--draco", "compress every level with KHR_draco_mesh_compression", [&] { w.chain.draco = true; });
+    p.flag("--no-optimize", "keep each level's buffers in the order the chain built them (default: reordered for "
+           "vertex cache, overdraw and vertex fetch)", [&] { w.chain.optimize = false; });
+    p.flag("--meshopt", "compress every level with EXT_meshopt_compression (normals and tangents octahedral-filtered)",
+           [&] { w.chain.meshopt = true; });
+    p.flag("--quantize", "KHR_mesh_quantization: 16-bit positions on one grid, 8-bit normals and tangents, 16-bit UVs",
+           [&] { w.chain.quantize = true; });
     p.option("--qp", "BITS", "Draco position quantisation bits (default " + std::to_string(w.chain.quantPosition) + ")",
              [&](const std::string& v) { w.chain.quantPosition = cli::parseInt("--qp", v); });
     p.option("--qt", "BITS",
@@ -91,6 +97,8 @@ void validate(const Args& a) {
     const LodChainWriteOptions& c = a.stage.write.chain;
     for (int q : {c.quantPosition, c.quantTexcoord, c.quantNormal})
         if (q < 1 || q > 30) throw UsageError("--qp/--qt/--qn must be in [1, 30]");
+    if (c.draco && c.meshopt) throw UsageError("--meshopt and --draco are exclusive");
+    if (c.draco && c.quantize) throw UsageError("--quantize and --draco are exclusive (Draco quantizes itself)");
     cli::checkPaths(a.stage.common);
 }
 

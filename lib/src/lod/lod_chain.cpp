@@ -677,6 +677,9 @@ PackWriteStats writePackResult(const std::string& path, const PackResult& result
         st.files.push_back(path);
         for (size_t k = 0; k < result.levels.size(); ++k) st.levelBytes.push_back(w.levelGeometryBytes[k] + w.levelImageBytes[k]);
         st.totalBytes = w.fileBytes;
+        st.cacheBefore = w.levelCacheBefore;
+        st.cacheAfter = w.levelCacheAfter;
+        st.warnings = w.warnings;
         return st;
     }
     namespace fs = std::filesystem;
@@ -690,6 +693,9 @@ PackWriteStats writePackResult(const std::string& path, const PackResult& result
         st.files.push_back(file);
         st.levelBytes.push_back(w.levelGeometryBytes[0] + w.levelImageBytes[0]);
         st.totalBytes += w.fileBytes;
+        st.cacheBefore.push_back(w.levelCacheBefore[0]);
+        st.cacheAfter.push_back(w.levelCacheAfter[0]);
+        st.warnings.insert(st.warnings.end(), w.warnings.begin(), w.warnings.end());
         manifest["levels"].push_back({{"file", fs::path(file).filename().string()},
                                       {"screenCoverage", result.screenCoverage[k]},
                                       {"triangles", result.levels[k].indices.size() / 3}});

@@ -107,6 +107,8 @@ struct PackWriteStats {
     std::vector<std::string> files;          // written files (chain or per level, then the manifest)
     std::vector<uint64_t> levelBytes;        // geometry + image bytes per level
     uint64_t totalBytes = 0;                 // bytes of every written file
+    std::vector<VertexCacheStats> cacheBefore, cacheAfter;  // per level (LodChainWriteStats)
+    std::vector<std::string> warnings;       // the writer's fallbacks
 };
 
 // Writes the chain to `path` (MSFT_lod) or, with split, one file per level and a JSON manifest
