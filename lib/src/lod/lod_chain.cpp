@@ -633,8 +633,9 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
     const MaterialPlan plan = options.baseColorOnly ? baseColorPlan(planMaterial(asset)) : planMaterial(asset);
     res.warnings = plan.warnings;
     LevelImageOptions io;
-    io.format = options.imageFormat;
+    io.format = options.ktx2Encoder.empty() ? options.imageFormat : ImageFormat::Png;
     io.jpegQuality = options.jpegQuality;
+    io.ktx2Encoder = options.ktx2Encoder;
     res.levels.resize(n);
     for (size_t k = 0; k < n; ++k) {
         PackLevelReport& r = res.reports[k];
@@ -676,6 +677,8 @@ PackWriteStats writePackResult(const std::string& path, const PackResult& result
         LodChainWriteStats w = writeLodChain(path, result.levels, result.screenCoverage, options.chain);
         st.files.push_back(path);
         for (size_t k = 0; k < result.levels.size(); ++k) st.levelBytes.push_back(w.levelGeometryBytes[k] + w.levelImageBytes[k]);
+        st.levelGeometryBytes = w.levelGeometryBytes;
+        st.levelImageBytes = w.levelImageBytes;
         st.totalBytes = w.fileBytes;
         st.cacheBefore = w.levelCacheBefore;
         st.cacheAfter = w.levelCacheAfter;
@@ -692,6 +695,8 @@ PackWriteStats writePackResult(const std::string& path, const PackResult& result
         LodChainWriteStats w = writeLodChain(file, {result.levels[k]}, {}, options.chain);
         st.files.push_back(file);
         st.levelBytes.push_back(w.levelGeometryBytes[0] + w.levelImageBytes[0]);
+        st.levelGeometryBytes.push_back(w.levelGeometryBytes[0]);
+        st.levelImageBytes.push_back(w.levelImageBytes[0]);
         st.totalBytes += w.fileBytes;
         st.cacheBefore.push_back(w.levelCacheBefore[0]);
         st.cacheAfter.push_back(w.levelCacheAfter[0]);

@@ -25,6 +25,8 @@ nlohmann::json makeReport(const PackSettings& s, const Asset& asset, const Multi
                           {"width", r.width},
                           {"height", r.height},
                           {"bytes", ws.levelBytes[k]},
+                          {"geometryBytes", ws.levelGeometryBytes[k]},
+                          {"imageBytes", ws.levelImageBytes[k]},
                           {"vertexCache", {{"cacheSize", 16}, {"before", cache(ws.cacheBefore[k])}, {"after", cache(ws.cacheAfter[k])}}},
                           {"charts", r.charts},
                           {"gutter", r.gutter},
