@@ -55,8 +55,11 @@ MAX_REL_HAUSDORFF = 1e-4
 # uncompressed level's: the textures are the same, only quantized normals shade differently. The
 # lowest value measured on seamball (three 0.187, Debian 12's chromium) is 48.5 dB; 3 dB margin.
 MIN_RENDER_PSNR = 45.0
-# The same for KTX2 textures against PNG ones (ETC1S is lossy): lowest measured value minus 3 dB.
-MIN_KTX2_PSNR = 30.0
+# The same for KTX2 textures against PNG ones: ETC1S (-q 128) is lossy, most on the coarse levels'
+# small pages, where a 4x4 block spans much of a chart. Measured on seamball: 26.8 dB (LOD0) down
+# to 21.8 dB, SSIM 0.978 down to 0.915 (LOD3); floors 3 dB and 0.03 below the lowest.
+MIN_KTX2_PSNR = 18.8
+MIN_KTX2_SSIM = 0.885
 KTX2_MAGIC = bytes([0xAB, 0x4B, 0x54, 0x58, 0x20, 0x32, 0x30, 0xBB, 0x0D, 0x0A, 0x1A, 0x0A])
 
 
@@ -124,9 +127,7 @@ def vertex_stream(g, mesh, attribute):
 class PackGpu(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
-        for t in ("simplify", "parameterize", "pack", "compare", "make-samples"):
-            if not os.path.exists(lt.tool(t)):
-                lt.skip(t + " is not built")
+        lt.require_tools("simplify", "parameterize", "pack", "compare", "make-samples")
         cls.dir = lt.work_dir("pack_gpu")
         cls.uv = lt.parameterized_samples(cls.dir, ["seamball", "hemisphere9"])
         duck = os.path.join(lt.ASSETS, lt.ASSET_FILES["Duck"])
@@ -378,6 +379,7 @@ class PackGpu(unittest.TestCase):
             with self.subTest(lod=k):
                 self.assertTrue(c["loaded"], c["errors"])
                 self.assertGreater(c["psnr"], MIN_KTX2_PSNR, c)
+                self.assertGreater(c["ssim"], MIN_KTX2_SSIM, c)
 
 
 if __name__ == "__main__":

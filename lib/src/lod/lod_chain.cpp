@@ -671,18 +671,27 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
     return res;
 }
 
+namespace {
+
+// Level k of one written file's stats (and the file's warnings, once: k == 0) into the pack's.
+void appendLevelStats(PackWriteStats& st, const LodChainWriteStats& w, size_t k) {
+    st.levelBytes.push_back(w.levelGeometryBytes[k] + w.levelImageBytes[k]);
+    st.levelGeometryBytes.push_back(w.levelGeometryBytes[k]);
+    st.levelImageBytes.push_back(w.levelImageBytes[k]);
+    st.cacheBefore.push_back(w.levelCacheBefore[k]);
+    st.cacheAfter.push_back(w.levelCacheAfter[k]);
+    if (k == 0) st.warnings.insert(st.warnings.end(), w.warnings.begin(), w.warnings.end());
+}
+
+}  // namespace
+
 PackWriteStats writePackResult(const std::string& path, const PackResult& result, const PackWriteOptions& options) {
     PackWriteStats st;
     if (!options.split) {
         LodChainWriteStats w = writeLodChain(path, result.levels, result.screenCoverage, options.chain);
         st.files.push_back(path);
-        for (size_t k = 0; k < result.levels.size(); ++k) st.levelBytes.push_back(w.levelGeometryBytes[k] + w.levelImageBytes[k]);
-        st.levelGeometryBytes = w.levelGeometryBytes;
-        st.levelImageBytes = w.levelImageBytes;
+        for (size_t k = 0; k < result.levels.size(); ++k) appendLevelStats(st, w, k);
         st.totalBytes = w.fileBytes;
-        st.cacheBefore = w.levelCacheBefore;
-        st.cacheAfter = w.levelCacheAfter;
-        st.warnings = w.warnings;
         return st;
     }
     namespace fs = std::filesystem;
@@ -694,13 +703,8 @@ PackWriteStats writePackResult(const std::string& path, const PackResult& result
         std::string file = stem + ".lod" + std::to_string(k) + ext;
         LodChainWriteStats w = writeLodChain(file, {result.levels[k]}, {}, options.chain);
         st.files.push_back(file);
-        st.levelBytes.push_back(w.levelGeometryBytes[0] + w.levelImageBytes[0]);
-        st.levelGeometryBytes.push_back(w.levelGeometryBytes[0]);
-        st.levelImageBytes.push_back(w.levelImageBytes[0]);
+        appendLevelStats(st, w, 0);
         st.totalBytes += w.fileBytes;
-        st.cacheBefore.push_back(w.levelCacheBefore[0]);
-        st.cacheAfter.push_back(w.levelCacheAfter[0]);
-        st.warnings.insert(st.warnings.end(), w.warnings.begin(), w.warnings.end());
         manifest["levels"].push_back({{"file", fs::path(file).filename().string()},
                                       {"screenCoverage", result.screenCoverage[k]},
                                       {"triangles", result.levels[k].indices.size() / 3}});
