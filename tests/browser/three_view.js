@@ -13,6 +13,7 @@
 import * as THREE from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 import { DRACOLoader } from 'three/addons/loaders/DRACOLoader.js';
+import { KTX2Loader } from 'three/addons/loaders/KTX2Loader.js';
 import { RoomEnvironment } from 'three/addons/environments/RoomEnvironment.js';
 import { MeshoptDecoder } from 'three/addons/libs/meshopt_decoder.module.js';
 
@@ -49,6 +50,11 @@ function setup({ size }) {
   loader = new GLTFLoader();
   loader.setDRACOLoader(draco);
   loader.setMeshoptDecoder(MeshoptDecoder);
+  // KHR_texture_basisu: the Basis Universal transcoder served locally like the rest of three.js.
+  const ktx2 = new KTX2Loader();
+  ktx2.setTranscoderPath('/three/examples/jsm/libs/basis/');
+  ktx2.detectSupport(renderer);
+  loader.setKTX2Loader(ktx2);
   return { ok: true, revision: THREE.REVISION };
 }
 

@@ -42,6 +42,13 @@ def require_assets():
     return {name: os.path.join(ASSETS, rel) for name, rel in ASSET_FILES.items()}
 
 
+def require_tools(*names):
+    """Skips (exit 77) unless every named tool is built."""
+    for t in names:
+        if not os.path.exists(tool(t)):
+            skip(t + " is not built")
+
+
 def work_dir(name=""):
     d = os.path.join(WORK, name)
     if os.path.isdir(d):

@@ -4,7 +4,8 @@ simplify -> parameterize -> pack on a generated sample (and Duck when ../shared/
 then Babylon.js (scripts/node/node_modules, served from 127.0.0.1 on a free port, no CDN) loads
 the chain in Debian's headless Chromium driven by playwright-core. Checks: every LOD was loaded
 by Babylon's MSFT_lod extension (node and material LOD observables), no loader error, and the
-rendered frame is not empty. The screenshot stays in the test's work dir as an artefact.
+rendered frame is not empty; also a --meshopt --quantize chain (Babylon's meshopt decoder
+served locally). The screenshot stays in the test's work dir as an artefact.
 Skips (77) when chromium or the node modules are missing.
 """
 import functools
@@ -32,7 +33,7 @@ class QuietHandler(http.server.SimpleHTTPRequestHandler):
 class BrowserChain(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
-        lt.require_browser_chain(("babylonjs", "babylonjs-loaders", "playwright-core", "draco3dgltf"))
+        lt.require_browser_chain(("babylonjs", "babylonjs-loaders", "playwright-core", "draco3dgltf", "meshoptimizer"))
         cls.dir = lt.work_dir("browser")
         site = os.path.join(cls.dir, "site")
         os.makedirs(site)
@@ -42,6 +43,8 @@ class BrowserChain(unittest.TestCase):
         shutil.copy(os.path.join(NODE_MODULES, "draco3dgltf/draco_decoder_gltf.wasm"), site)
         shutil.copy(os.path.join(NODE_MODULES, "draco3dgltf/draco_decoder_gltf_nodejs.js"),
                     os.path.join(site, "draco_wasm_wrapper_gltf.js"))
+        # The script build of the decoder: it defines the global MeshoptDecoder Babylon looks for.
+        shutil.copy(os.path.join(NODE_MODULES, "meshoptimizer/meshopt_decoder.cjs"), os.path.join(site, "meshopt_decoder.js"))
         cls.site = site
         handler = functools.partial(QuietHandler, directory=site)
         cls.server = http.server.ThreadingHTTPServer(("127.0.0.1", 0), handler)
@@ -88,6 +91,12 @@ class BrowserChain(unittest.TestCase):
         src = os.path.join(lt.make_samples(os.path.join(self.dir, "samples")), "seamball.glb")
         model, levels = self.chain(src, "seamball")
         self.assertEqual(levels, 4)
+        self.view(model, levels)
+
+    def test_sample_chain_meshopt_quantize(self):
+        src = os.path.join(lt.make_samples(os.path.join(self.dir, "samples")), "seamball.glb")
+        model, levels = self.chain(src, "seamball.mq", ["--meshopt", "--quantize"])
+        self.assertIn("EXT_meshopt_compression", lt.Gltf(model).json["extensionsRequired"])
         self.view(model, levels)
 
     def test_duck_chain_draco(self):

@@ -24,9 +24,7 @@ FAST = ["--max-size", "512", "--samples", "20000", "--lod0-density", "--quiet"]
 class PackMaterials(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
-        for t in ("simplify", "parameterize", "pack", "compare", "make-samples"):
-            if not os.path.exists(lt.tool(t)):
-                lt.skip(t + " is not built")
+        lt.require_tools("simplify", "parameterize", "pack", "compare", "make-samples")
         cls.dir = lt.work_dir("pack_materials")
         cls.uv = lt.parameterized_samples(cls.dir, ("pbrscene", "colors"))
         cls.full, cls.full_report = cls.pack("pbrscene", "pbrscene.lod.glb")

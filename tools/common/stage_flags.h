@@ -54,10 +54,11 @@ void validateTextureRefine(const TextureRefineFlags& flags);
 
 struct PackFlags {
     PackSettings settings;
+    bool ktx2 = false;  // --image-format ktx2: validatePack looks the encoder up
 };
 // --pixel-error ... --external-images (docs/pack.md).
 void addPackFlags(ArgParser& parser, PackFlags& flags);
-// \throw UsageError.
-void validatePack(const PackFlags& flags);
+// Also finds the KTX2 encoder for --image-format ktx2. \throw UsageError.
+void validatePack(PackFlags& flags);
 
 }  // namespace lodbake::cli

@@ -50,6 +50,21 @@ int BufferBuilder::addView(const void* data, size_t bytes, int target) {
     return int(views.size()) - 1;
 }
 
+int BufferBuilder::addMeshoptView(const std::vector<unsigned char>& encoded, size_t count, size_t stride,
+                                  const char* mode, const char* filter, int target) {
+    const int index = addView(encoded.data(), encoded.size(), 0);
+    json& v = views[size_t(index)];
+    json ext = {{"buffer", 0}, {"byteOffset", v["byteOffset"]}, {"byteLength", encoded.size()}, {"byteStride", stride},
+                {"count", count}, {"mode", mode}};
+    if (std::string(filter) != "NONE") ext["filter"] = filter;
+    fallbackSize += (4 - fallbackSize % 4) % 4;
+    v = {{"buffer", 1}, {"byteOffset", fallbackSize}, {"byteLength", count * stride}, {"target", target},
+         {"extensions", {{"EXT_meshopt_compression", ext}}}};
+    if (std::string(mode) == "ATTRIBUTES") v["byteStride"] = stride;
+    fallbackSize += count * stride;
+    return index;
+}
+
 int BufferBuilder::addAccessor(json accessor) {
     accessors.push_back(std::move(accessor));
     return int(accessors.size()) - 1;
@@ -95,6 +110,9 @@ size_t writeGltfFiles(const std::string& path, json& root, BufferBuilder& buffer
         json buf = {{"byteLength", binSize}};
         if (!glb) buf["uri"] = binName;
         root["buffers"] = json::array({buf});
+        if (buffer.fallbackSize)
+            root["buffers"].push_back(
+                {{"byteLength", buffer.fallbackSize}, {"extensions", {{"EXT_meshopt_compression", {{"fallback", true}}}}}});
         root["bufferViews"] = buffer.views;
         if (!buffer.accessors.empty()) root["accessors"] = buffer.accessors;
     }

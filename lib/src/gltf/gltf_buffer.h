@@ -21,9 +21,17 @@ struct BufferBuilder {
     size_t size = 0;                  // padding in front), written in order; size = total bytes
     nlohmann::json views = nlohmann::json::array();
     nlohmann::json accessors = nlohmann::json::array();
+    // Bytes of buffer 1, EXT_meshopt_compression's fallback buffer: it has no data, only the
+    // layout of the decoded views (0 = no such buffer).
+    size_t fallbackSize = 0;
 
     // Appends bytes 4-byte aligned as a new buffer view (target 0 = none); returns its index.
     int addView(const void* data, size_t bytes, int target);
+    // EXT_meshopt_compression: `encoded` appended to buffer 0 and named by the view's extension;
+    // the view itself spans `count` * `stride` decoded bytes of the fallback buffer. `mode` is
+    // "ATTRIBUTES" (the view gets byteStride) or "TRIANGLES"; `filter` "NONE" is omitted.
+    int addMeshoptView(const std::vector<unsigned char>& encoded, size_t count, size_t stride, const char* mode,
+                       const char* filter, int target);
     // Appends an accessor; returns its index.
     int addAccessor(nlohmann::json accessor);
     // FLOAT / UNSIGNED_INT accessors over new views; -1 for an empty array.
@@ -33,7 +41,7 @@ struct BufferBuilder {
     int addIndices(const std::vector<uint32_t>& idx, size_t vertexCount);
 };
 
-// Adds buffer 0 (when the buffer is non-empty), bufferViews and accessors to `root`, then writes
+// Adds buffer 0 (when the buffer is non-empty), the fallback buffer 1 (when used), bufferViews and accessors to `root`, then writes
 // `path` atomically: a GLB container when `glb`, else the JSON plus PATH-stem.bin beside it.
 // Returns the bytes written. With `memory` (and `glb`), the container goes there instead of a
 // file. \throw IOError.

@@ -1,9 +1,11 @@
 // The final LOD chain writer (pack's output).
 //
 // Pipeline of writeLodChain:
-//   1. per level: one mesh with one primitive (plain accessors, or a Draco buffer with
-//      accessor stubs whose counts are the encoder's), one material and its textures (base
-//      colour, ORM, emissive, normal: those the level has);
+//   1. per level: buffers reordered for the GPU (gpu_streams.h), then one mesh with one primitive
+//      (plain, quantized and/or meshopt-compressed streams, or a Draco buffer with accessor stubs
+//      whose counts are the encoder's), one material and its textures (base colour, ORM,
+//      emissive, normal: those the level has); with quantized positions every node carries the
+//      grid's translation and scale;
 //   2. node 0 (LOD0) with MSFT_lod.ids and extras.MSFT_screencoverage; only node 0 in the scene;
 //   3. serialise (.glb container, or .gltf + .bin [+ images]) and rename into place.
 // JSON is built with nlohmann::json (sorted keys: byte-identical output for identical input).
@@ -19,6 +21,7 @@
 
 #include "gltf/gltf_buffer.h"
 #include "gltf/gltf_internal.h"
+#include "gltf/gpu_streams.h"
 #include "lodbake/core/errors.h"
 #include "lodbake/gltf/gltf.h"
 #include "lodbake/gltf/msft_lod.h"
@@ -30,6 +33,9 @@ using json = nlohmann::json;
 using namespace gltf_detail;
 
 constexpr const char* kDraco = "KHR_draco_mesh_compression";
+constexpr const char* kMeshopt = "EXT_meshopt_compression";
+constexpr const char* kQuantization = "KHR_mesh_quantization";
+constexpr const char* kBasisu = "KHR_texture_basisu";
 constexpr const char* kLod = "MSFT_lod";
 constexpr const char* kEmissiveStrength = "KHR_materials_emissive_strength";
 constexpr const char* kUnlit = "KHR_materials_unlit";
@@ -44,15 +50,6 @@ void checkLevel(const std::string& path, const LodLevelData& L) {
     if (!ok) throw InvalidInput(path + ": level '" + L.name + "' has inconsistent mesh data");
     if (!L.material.normal.encoded.empty() && L.tangents.empty())
         throw InvalidInput(path + ": level '" + L.name + "' has a normal map but no tangents");
-}
-
-// Plain accessors for one primitive's attributes and indices.
-json plainPrimitive(Buffer& b, const LodLevelData& L) {
-    json attrs = {{"POSITION", b.addFloat(L.positions, 3, kArrayBuffer, true)},
-                  {"NORMAL", b.addFloat(L.normals, 3, kArrayBuffer, false)},
-                  {"TEXCOORD_0", b.addFloat(L.uvs, 2, kArrayBuffer, false)}};
-    if (!L.tangents.empty()) attrs["TANGENT"] = b.addFloat(L.tangents, 4, kArrayBuffer, false);
-    return {{"attributes", attrs}, {"indices", b.addIndices(L.indices, L.positions.size() / 3)}, {"mode", 4}};
 }
 
 // KHR_draco_mesh_compression: the Draco bitstream in a buffer view, accessors without views whose
@@ -132,6 +129,15 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
         throw InvalidInput(path + ": " + std::to_string(screenCoverage.size()) + " screen coverage values for " +
                            std::to_string(levels.size()) + " levels");
     for (const LodLevelData& L : levels) checkLevel(path, L);
+    if (options.draco && (options.meshopt || options.quantize))
+        throw Unsupported(path + ": Draco cannot be combined with meshopt compression or quantization");
+    if (options.quantize && (options.quantPositionBits < 1 || options.quantPositionBits > 16))
+        throw Unsupported(path + ": position quantisation bits must be in [1, 16]");
+    StreamOptions streams;
+    streams.meshopt = options.meshopt;
+    streams.quantize = options.quantize;
+    streams.positionBits = options.quantPositionBits;
+    if (options.quantize) streams.grid = positionGrid(levels, options.quantPositionBits);
 
     LodChainWriteStats stats;
     Buffer b;
@@ -139,29 +145,58 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
          images = json::array();
     std::vector<std::pair<std::string, const Image*>> sideImages;
     std::string stem = std::filesystem::path(path).stem().string();
-    bool usesEmissiveStrength = false, usesUnlit = false;
+    bool usesEmissiveStrength = false, usesUnlit = false, usesQuantization = false, usesBasisu = false;
     for (size_t i = 0; i < levels.size(); ++i) {
-        const LodLevelData& L = levels[i];
+        LodLevelData optimized;  // geometry only: the material stays the caller's
+        if (options.optimize) {
+            const LodLevelData& src = levels[i];
+            optimized.name = src.name;
+            optimized.positions = src.positions;
+            optimized.normals = src.normals;
+            optimized.uvs = src.uvs;
+            optimized.tangents = src.tangents;
+            optimized.indices = src.indices;
+            optimizeLevelBuffers(optimized);
+        }
+        const LodLevelData& L = options.optimize ? optimized : levels[i];
+        stats.levelCacheBefore.push_back(analyzeVertexCache(levels[i]));
+        stats.levelCacheAfter.push_back(analyzeVertexCache(L));
         size_t before = b.size;
-        json prim = options.draco ? dracoPrimitive(b, L, options, path) : plainPrimitive(b, L);
+        json prim;
+        if (options.draco) {
+            prim = dracoPrimitive(b, L, options, path);
+        } else {
+            PrimitiveStreams ps = gpuPrimitive(b, L, streams);
+            prim = std::move(ps.primitive);
+            usesQuantization = usesQuantization || ps.quantized;
+            if (ps.floatUvFallback)
+                stats.warnings.push_back(path + ": level '" + L.name + "' has UVs outside [0,1]: kept FLOAT texture coordinates");
+        }
         stats.levelGeometryBytes.push_back(b.size - before);
         prim["material"] = i;
         meshes.push_back({{"name", L.name}, {"primitives", json::array({prim})}});
-        const LodMaterial& M = L.material;
+        // The caller's material: side images are written after the loop.
+        const LodMaterial& M = levels[i].material;
         size_t imageBytes = 0;
         // Adds one texture (and its image) of this level; returns the texture index.
         auto addTexture = [&](const Image& image, const std::string& suffix) {
             const size_t index = textures.size();
-            textures.push_back({{"source", images.size()}, {"sampler", 0}});
             std::string mime = sniffImageMime(image.encoded.data(), image.encoded.size());
             if (mime.empty()) mime = "image/png";
+            // A KTX2 image only through KHR_texture_basisu (required: there is no PNG fallback).
+            if (mime == "image/ktx2") {
+                textures.push_back({{"sampler", 0}, {"extensions", {{kBasisu, {{"source", images.size()}}}}}});
+                usesBasisu = true;
+            } else {
+                textures.push_back({{"source", images.size()}, {"sampler", 0}});
+            }
             const std::string name = L.name + suffix;
             json img = {{"name", name}};
             if (glb || options.embedImages) {
                 img["bufferView"] = b.addView(image.encoded.data(), image.encoded.size(), 0);
                 img["mimeType"] = mime;
             } else {
-                std::string file = stem + "_" + name + (mime == "image/jpeg" ? ".jpg" : ".png");
+                std::string file = stem + "_" + name + (mime == "image/jpeg" ? ".jpg" : mime == "image/ktx2" ? ".ktx2" : ".png");
                 img["uri"] = file;
                 sideImages.emplace_back(file, &image);
             }
@@ -201,7 +236,13 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
         if (M.doubleSided) mat["doubleSided"] = true;
         materials.push_back(mat);
         stats.levelImageBytes.push_back(imageBytes);
-        nodes.push_back({{"name", L.name}, {"mesh", i}});
+        json node = {{"name", L.name}, {"mesh", i}};
+        if (options.quantize) {
+            const PositionGrid& g = streams.grid;
+            node["translation"] = {g.origin[0], g.origin[1], g.origin[2]};
+            node["scale"] = {g.step, g.step, g.step};
+        }
+        nodes.push_back(node);
     }
 
     json root;
@@ -216,9 +257,14 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
     }
     if (usesEmissiveStrength) used.push_back(kEmissiveStrength);
     if (usesUnlit) used.push_back(kUnlit);
-    if (options.draco) {
-        used.push_back(kDraco);
-        root["extensionsRequired"] = json::array({kDraco});
+    std::vector<std::string> required;
+    if (options.draco) required.push_back(kDraco);
+    if (options.meshopt) required.push_back(kMeshopt);
+    if (usesQuantization) required.push_back(kQuantization);
+    if (usesBasisu) required.push_back(kBasisu);
+    if (!required.empty()) {
+        used.insert(used.end(), required.begin(), required.end());
+        root["extensionsRequired"] = required;
     }
     if (!used.empty()) {
         std::sort(used.begin(), used.end());

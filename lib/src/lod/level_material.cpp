@@ -4,6 +4,7 @@
 #include <algorithm>
 
 #include "lodbake/core/tangents.h"
+#include "lodbake/texture/ktx2.h"
 
 namespace lodbake::lod_detail {
 
@@ -66,6 +67,21 @@ std::vector<std::string> channelNames(const LodMaterial& m) {
     return out;
 }
 
+namespace {
+
+// The level's texture as the chain stores it: `image` itself, or its KTX2 when asked.
+Image stored(Image image, const LevelImageOptions& o, Ktx2Codec codec, bool srgb, bool normalMap = false) {
+    if (o.ktx2Encoder.empty()) return image;
+    Ktx2Options k;
+    k.encoder = o.ktx2Encoder;
+    k.codec = codec;
+    k.srgb = srgb;
+    k.normalMap = normalMap;
+    return encodeKtx2(image, k);
+}
+
+}  // namespace
+
 LodMaterial levelMaterial(const MaterialPlan& plan, const BakeResult& baked, int w, int h, const LevelImageOptions& o,
                           const std::string& name) {
     LodMaterial m;
@@ -77,9 +93,11 @@ LodMaterial levelMaterial(const MaterialPlan& plan, const BakeResult& baked, int
                 for (size_t c = 0; c < 3; ++c) rgba[i * 4 + c] = baked.pixels[i * 3 + c];
                 rgba[i * 4 + 3] = baked.alpha[i];
             }
-            m.baseColor = encodeImage(rgba, w, h, EncodeOptions{ImageFormat::Png, o.jpegQuality, 4, true}, name);
+            m.baseColor = stored(encodeImage(rgba, w, h, EncodeOptions{ImageFormat::Png, o.jpegQuality, 4, true}, name), o,
+                                 Ktx2Codec::Etc1s, true);
         } else {
-            m.baseColor = encodeImage(baked.pixels, w, h, EncodeOptions{o.format, o.jpegQuality, 3, true}, name);
+            m.baseColor = stored(encodeImage(baked.pixels, w, h, EncodeOptions{o.format, o.jpegQuality, 3, true}, name), o,
+                                 Ktx2Codec::Etc1s, true);
         }
         m.baseColorFactor = {1, 1, 1, plan.alphaTexture ? 1.0 : plan.baseColorFactor.w};
     } else {
@@ -88,13 +106,15 @@ LodMaterial levelMaterial(const MaterialPlan& plan, const BakeResult& baked, int
     m.metallicFactor = plan.metallicFactor;
     m.roughnessFactor = plan.roughnessFactor;
     if (!baked.orm.empty()) {
-        m.orm = encodeImage(baked.orm, w, h, EncodeOptions{o.format, o.jpegQuality, 3, false}, name + "_orm");
+        m.orm = stored(encodeImage(baked.orm, w, h, EncodeOptions{o.format, o.jpegQuality, 3, false}, name + "_orm"), o,
+                       Ktx2Codec::Uastc, false);
         m.occlusion = plan.occlusionTexture;
         m.metallicRoughness = plan.metallicRoughnessTexture;
         if (m.metallicRoughness) m.metallicFactor = m.roughnessFactor = 1;
     }
     if (!baked.emissive.empty()) {
-        m.emissive = encodeImage(baked.emissive, w, h, EncodeOptions{o.format, o.jpegQuality, 3, true}, name + "_emissive");
+        m.emissive = stored(encodeImage(baked.emissive, w, h, EncodeOptions{o.format, o.jpegQuality, 3, true}, name + "_emissive"),
+                            o, Ktx2Codec::Etc1s, true);
         m.emissiveFactor = {1, 1, 1};
         m.emissiveStrength = baked.emissiveScale;
     } else {
@@ -106,7 +126,8 @@ LodMaterial levelMaterial(const MaterialPlan& plan, const BakeResult& baked, int
         }
     }
     if (!baked.normal.empty())
-        m.normal = encodeImage(baked.normal, w, h, EncodeOptions{ImageFormat::Png, o.jpegQuality, 3, false}, name + "_normal");
+        m.normal = stored(encodeImage(baked.normal, w, h, EncodeOptions{ImageFormat::Png, o.jpegQuality, 3, false}, name + "_normal"),
+                          o, Ktx2Codec::Uastc, false, true);
     m.alphaMode = plan.alphaMode;
     m.alphaCutoff = plan.alphaCutoff;
     m.doubleSided = plan.doubleSided;

@@ -25,6 +25,10 @@ BakeTarget levelBakeTarget(const LodLevelData& level, int width, int height);
 struct LevelImageOptions {
     ImageFormat format = ImageFormat::Png;  // base colour, ORM and emissive; RGBA and normal maps are PNG
     int jpegQuality = 90;
+    // KTX2 (KHR_texture_basisu) through this basisu executable instead of PNG/JPEG, empty = off:
+    // ETC1S for the colour maps (base colour, emissive), UASTC for the normal map and ORM (data
+    // whose channels are independent: ETC1S shares endpoints between channels and blurs them).
+    std::string ktx2Encoder;
 };
 
 // The channels a level's material carries as textures, for reports ("baseColor" or

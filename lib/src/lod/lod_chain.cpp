@@ -671,8 +671,9 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
     const MaterialPlan plan = options.baseColorOnly ? baseColorPlan(planMaterial(asset)) : planMaterial(asset);
     res.warnings = plan.warnings;
     LevelImageOptions io;
-    io.format = options.imageFormat;
+    io.format = options.ktx2Encoder.empty() ? options.imageFormat : ImageFormat::Png;
     io.jpegQuality = options.jpegQuality;
+    io.ktx2Encoder = options.ktx2Encoder;
     res.levels.resize(n);
     for (size_t k = 0; k < n; ++k) {
         PackLevelReport& r = res.reports[k];
@@ -711,12 +712,26 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
     return res;
 }
 
+namespace {
+
+// Level k of one written file's stats (and the file's warnings, once: k == 0) into the pack's.
+void appendLevelStats(PackWriteStats& st, const LodChainWriteStats& w, size_t k) {
+    st.levelBytes.push_back(w.levelGeometryBytes[k] + w.levelImageBytes[k]);
+    st.levelGeometryBytes.push_back(w.levelGeometryBytes[k]);
+    st.levelImageBytes.push_back(w.levelImageBytes[k]);
+    st.cacheBefore.push_back(w.levelCacheBefore[k]);
+    st.cacheAfter.push_back(w.levelCacheAfter[k]);
+    if (k == 0) st.warnings.insert(st.warnings.end(), w.warnings.begin(), w.warnings.end());
+}
+
+}  // namespace
+
 PackWriteStats writePackResult(const std::string& path, const PackResult& result, const PackWriteOptions& options) {
     PackWriteStats st;
     if (!options.split) {
         LodChainWriteStats w = writeLodChain(path, result.levels, result.screenCoverage, options.chain);
         st.files.push_back(path);
-        for (size_t k = 0; k < result.levels.size(); ++k) st.levelBytes.push_back(w.levelGeometryBytes[k] + w.levelImageBytes[k]);
+        for (size_t k = 0; k < result.levels.size(); ++k) appendLevelStats(st, w, k);
         st.totalBytes = w.fileBytes;
         return st;
     }
@@ -729,7 +744,7 @@ PackWriteStats writePackResult(const std::string& path, const PackResult& result
         std::string file = stem + ".lod" + std::to_string(k) + ext;
         LodChainWriteStats w = writeLodChain(file, {result.levels[k]}, {}, options.chain);
         st.files.push_back(file);
-        st.levelBytes.push_back(w.levelGeometryBytes[0] + w.levelImageBytes[0]);
+        appendLevelStats(st, w, 0);
         st.totalBytes += w.fileBytes;
         manifest["levels"].push_back({{"file", fs::path(file).filename().string()},
                                       {"screenCoverage", result.screenCoverage[k]},

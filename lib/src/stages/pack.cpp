@@ -15,6 +15,7 @@ nlohmann::json makeReport(const PackSettings& s, const Asset& asset, const Multi
     nlohmann::json levels = nlohmann::json::array();
     for (size_t k = 0; k < res.reports.size(); ++k) {
         const PackLevelReport& r = res.reports[k];
+        auto cache = [](const VertexCacheStats& v) { return nlohmann::json{{"acmr", v.acmr}, {"atvr", v.atvr}}; };
         levels.push_back({{"lod", k},
                           {"source", r.source},
                           {"triangles", r.triangles},
@@ -24,6 +25,9 @@ nlohmann::json makeReport(const PackSettings& s, const Asset& asset, const Multi
                           {"width", r.width},
                           {"height", r.height},
                           {"bytes", ws.levelBytes[k]},
+                          {"geometryBytes", ws.levelGeometryBytes[k]},
+                          {"imageBytes", ws.levelImageBytes[k]},
+                          {"vertexCache", {{"cacheSize", 16}, {"before", cache(ws.cacheBefore[k])}, {"after", cache(ws.cacheAfter[k])}}},
                           {"charts", r.charts},
                           {"absorbedIslands", r.absorbedIslands},
                           {"gutter", r.gutter},
@@ -55,7 +59,8 @@ nlohmann::json makeReport(const PackSettings& s, const Asset& asset, const Multi
                       {"maxMips", o.maxMips},
                       {"imageFormat", s.imageFormatName.empty() ? imageFormatName(o.imageFormat) : s.imageFormatName},
                       {"jpegQuality", o.jpegQuality}, {"split", s.write.split}, {"textureHierarchy", o.useTextureHierarchy},
-                      {"lod0Density", o.lod0Density}, {"draco", c.draco}, {"normalMaps", normalMapsName(o.normalMaps)},
+                      {"lod0Density", o.lod0Density}, {"draco", c.draco},
+                      {"optimize", c.optimize}, {"meshopt", c.meshopt}, {"quantize", c.quantize}, {"normalMaps", normalMapsName(o.normalMaps)},
                       {"baseColorOnly", o.baseColorOnly}, {"projectLevels", o.projectLevels},
                       {"qp", c.quantPosition}, {"qt", c.quantTexcoord}, {"qn", c.quantNormal}};
     rep["utilisationDefinition"] = "chart texels / page texels; chart texels = the charts' triangle coverage (UV area); "
@@ -68,6 +73,7 @@ nlohmann::json makeReport(const PackSettings& s, const Asset& asset, const Multi
     rep["levels"] = levels;
     std::vector<std::string> warnings = asset.warnings;
     warnings.insert(warnings.end(), res.warnings.begin(), res.warnings.end());
+    warnings.insert(warnings.end(), ws.warnings.begin(), ws.warnings.end());
     rep["warnings"] = warnings;
     rep["time"] = {{"load", loadSeconds}, {"pack", res.seconds}, {"write", writeSeconds}};
     return rep;

@@ -1,6 +1,7 @@
 // Writing the final LOD chain (`pack`'s output): a glTF whose LOD0 node carries MSFT_lod, every
 // level one mesh / one primitive / one material with its baked atlas pages, optionally
-// compressed with KHR_draco_mesh_compression. Takes lodbake's own structs only (images already
+// compressed with KHR_draco_mesh_compression or EXT_meshopt_compression, optionally quantized
+// (KHR_mesh_quantization). Takes lodbake's own structs only (images already
 // encoded: lodbake/texture/codec.h); tinygltf-free, Draco stays inside lib/src/io (STYLE.md practice 10).
 #pragma once
 
@@ -51,12 +52,37 @@ struct LodChainWriteOptions {
     int quantTexcoord = 12;   // ... TEXCOORD_0
     int quantNormal = 10;     // ... NORMAL and TANGENT
     int dracoSpeed = 3;       // Draco encoder speed 0 (best compression) .. 10 (fastest); decoding speed the same
+    // Reorder every level's triangles and vertices for the GPU (meshoptimizer: vertex cache, then
+    // overdraw within 5 % of the cache order's ACMR, then vertex fetch; all attributes move together).
+    // Deterministic; the geometry is unchanged.
+    bool optimize = true;
+    // EXT_meshopt_compression on every vertex and index stream (required, fallback-free: the
+    // uncompressed views live in a buffer without data). Normals and tangents use the OCTAHEDRAL
+    // filter (16-bit, or 8-bit with `quantize`) and so KHR_mesh_quantization. Not with `draco`.
+    bool meshopt = false;
+    // KHR_mesh_quantization: positions unsigned 16-bit integers on one grid for every level
+    // (quantPositionBits, dequantised by each node's translation + uniform scale), normals and
+    // tangents normalized 8-bit, UVs normalized unsigned 16-bit (a level with UVs outside [0,1]
+    // keeps FLOAT UVs). Not with `draco`.
+    bool quantize = false;
+    int quantPositionBits = 14;  // --quantize position grid bits (1..16)
+};
+
+// meshopt_analyzeVertexCache with a 16-entry FIFO: ACMR = vertex shader invocations per triangle
+// (0.5 is ideal for a large regular grid, 3 the worst), ATVR = invocations per vertex (1 ideal).
+struct VertexCacheStats {
+    double acmr = 0;
+    double atvr = 0;
 };
 
 struct LodChainWriteStats {
     std::vector<uint64_t> levelGeometryBytes;  // buffer bytes of each level's mesh (indices + attributes or Draco)
     std::vector<uint64_t> levelImageBytes;     // encoded image bytes of each level
     uint64_t fileBytes = 0;                    // the .glb (or .gltf + .bin + images) on disk
+    std::vector<VertexCacheStats> levelCacheBefore;  // each level's index order as the chain built it
+    std::vector<VertexCacheStats> levelCacheAfter;   // ... as written (the same when !optimize; for
+                                                     // Draco, the order handed to the encoder)
+    std::vector<std::string> warnings;               // fallbacks taken (e.g. FLOAT UVs under quantize)
 };
 
 // Writes `levels` as one glTF (.glb or .gltf by the extension of `path`), atomically.
@@ -65,7 +91,8 @@ struct LodChainWriteStats {
 // ids, decreasing: LOD k is drawn at coverage >= value k, nothing below the last); only node 0 is in the scene; MSFT_lod is listed in extensionsUsed, never required.
 // With one level and no coverage: a plain single-mesh file (pack --split).
 // \pre every level has >= 1 triangle and matching attribute sizes; a normal map comes with tangents.
-// \throw InvalidInput (inconsistent level data), IOError (cannot write), SolverError (Draco failed).
+// \throw InvalidInput (inconsistent level data), IOError (cannot write), SolverError (Draco failed),
+//        Unsupported (draco with meshopt or quantize).
 LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodLevelData>& levels,
                                  const std::vector<double>& screenCoverage, const LodChainWriteOptions& options = {});
 

@@ -42,6 +42,9 @@ struct PackOptions {
     int threads = 0;             // 0 = all cores
     ImageFormat imageFormat = ImageFormat::Png;
     int jpegQuality = 90;
+    // Non-empty: textures as KTX2 (KHR_texture_basisu) through this Basis Universal encoder
+    // executable (lodbake/texture/ktx2.h: findBasisu), from PNG whatever imageFormat says.
+    std::string ktx2Encoder;
     // Every level textured at LOD0's texel density (pages about as large as LOD0's) instead of the
     // density it can show at its largest coverage: for comparisons at equal texel density that
     // render every level close up (scripts/bench_peers.sh).
@@ -107,7 +110,10 @@ struct PackWriteOptions {
 struct PackWriteStats {
     std::vector<std::string> files;          // written files (chain or per level, then the manifest)
     std::vector<uint64_t> levelBytes;        // geometry + image bytes per level
+    std::vector<uint64_t> levelGeometryBytes, levelImageBytes;  // the two parts
     uint64_t totalBytes = 0;                 // bytes of every written file
+    std::vector<VertexCacheStats> cacheBefore, cacheAfter;  // per level (LodChainWriteStats)
+    std::vector<std::string> warnings;       // the writer's fallbacks
 };
 
 // Writes the chain to `path` (MSFT_lod) or, with split, one file per level and a JSON manifest
