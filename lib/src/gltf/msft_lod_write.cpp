@@ -19,6 +19,7 @@
 
 #include "gltf/gltf_buffer.h"
 #include "gltf/gltf_internal.h"
+#include "gltf/rig_write.h"
 #include "lodbake/core/errors.h"
 #include "lodbake/gltf/gltf.h"
 #include "lodbake/gltf/msft_lod.h"
@@ -39,7 +40,8 @@ using Buffer = BufferBuilder;
 void checkLevel(const std::string& path, const LodLevelData& L) {
     size_t n = L.positions.size() / 3;
     bool ok = n > 0 && L.positions.size() == 3 * n && L.normals.size() == 3 * n && L.uvs.size() == 2 * n &&
-              (L.tangents.empty() || L.tangents.size() == 4 * n) && !L.indices.empty() && L.indices.size() % 3 == 0;
+              (L.tangents.empty() || L.tangents.size() == 4 * n) && (L.joints.empty() || L.joints.size() == 4 * n) &&
+              L.weights.size() == L.joints.size() && !L.indices.empty() && L.indices.size() % 3 == 0;
     for (uint32_t i : L.indices) ok = ok && i < n;
     if (!ok) throw InvalidInput(path + ": level '" + L.name + "' has inconsistent mesh data");
     if (!L.material.normal.encoded.empty() && L.tangents.empty())
@@ -52,6 +54,7 @@ json plainPrimitive(Buffer& b, const LodLevelData& L) {
                   {"NORMAL", b.addFloat(L.normals, 3, kArrayBuffer, false)},
                   {"TEXCOORD_0", b.addFloat(L.uvs, 2, kArrayBuffer, false)}};
     if (!L.tangents.empty()) attrs["TANGENT"] = b.addFloat(L.tangents, 4, kArrayBuffer, false);
+    addInfluences(b, attrs, L.joints, L.weights);
     return {{"attributes", attrs}, {"indices", b.addIndices(L.indices, L.positions.size() / 3)}, {"mode", 4}};
 }
 
@@ -123,7 +126,7 @@ std::string lowerExt(const std::string& path) {
 }  // namespace
 
 LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodLevelData>& levels,
-                                 const std::vector<double>& screenCoverage, const LodChainWriteOptions& options) {
+                                 const std::vector<double>& screenCoverage, const LodChainWriteOptions& options, const Rig* rig) {
     std::string ext = lowerExt(path);
     bool glb = ext == ".glb";
     if (!glb && ext != ".gltf") throw IOError(path + ": output must end in .glb or .gltf");
@@ -132,9 +135,12 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
         throw InvalidInput(path + ": " + std::to_string(screenCoverage.size()) + " screen coverage values for " +
                            std::to_string(levels.size()) + " levels");
     for (const LodLevelData& L : levels) checkLevel(path, L);
+    const bool skinned = rig && !rig->empty() &&
+                         std::all_of(levels.begin(), levels.end(), [](const LodLevelData& L) { return !L.joints.empty(); });
 
     LodChainWriteStats stats;
     Buffer b;
+    json root;
     json meshes = json::array(), nodes = json::array(), materials = json::array(), textures = json::array(),
          images = json::array();
     std::vector<std::pair<std::string, const Image*>> sideImages;
@@ -143,7 +149,7 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
     for (size_t i = 0; i < levels.size(); ++i) {
         const LodLevelData& L = levels[i];
         size_t before = b.size;
-        json prim = options.draco ? dracoPrimitive(b, L, options, path) : plainPrimitive(b, L);
+        json prim = options.draco && !skinned ? dracoPrimitive(b, L, options, path) : plainPrimitive(b, L);
         stats.levelGeometryBytes.push_back(b.size - before);
         prim["material"] = i;
         meshes.push_back({{"name", L.name}, {"primitives", json::array({prim})}});
@@ -202,9 +208,12 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
         materials.push_back(mat);
         stats.levelImageBytes.push_back(imageBytes);
         nodes.push_back({{"name", L.name}, {"mesh", i}});
+        if (skinned) nodes.back()["skin"] = 0;
     }
+    json sceneNodes = json::array({0});
+    if (skinned)
+        for (int r : writeRig(b, root, nodes, *rig)) sceneNodes.push_back(r);
 
-    json root;
     root["asset"] = {{"version", "2.0"}, {"generator", options.generator}};
     std::vector<std::string> used;
     if (levels.size() > 1) {
@@ -216,7 +225,7 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
     }
     if (usesEmissiveStrength) used.push_back(kEmissiveStrength);
     if (usesUnlit) used.push_back(kUnlit);
-    if (options.draco) {
+    if (options.draco && !skinned) {
         used.push_back(kDraco);
         root["extensionsRequired"] = json::array({kDraco});
     }
@@ -225,7 +234,7 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
         root["extensionsUsed"] = used;
     }
     root["scene"] = 0;
-    root["scenes"] = json::array({json{{"nodes", json::array({0})}}});
+    root["scenes"] = json::array({json{{"nodes", sceneNodes}}});
     root["nodes"] = nodes;
     root["meshes"] = meshes;
     root["materials"] = materials;
