@@ -32,6 +32,14 @@ Args parseArgs(int argc, char** argv, bool& proceed) {
                  if (!(o.maxRegionConeDeg > 0 && o.maxRegionConeDeg <= 180))
                      throw UsageError("--max-region-cone must be in (0, 180]");
              });
+    p.option("--max-influence-change", "D",
+             "skinned meshes: a vertex collapses only onto a neighbour whose joint weights differ by at most this "
+             "total variation (0 = identical influences, 1 = any; default " + cli::number(o.maxInfluenceChange) + ")",
+             [&](const std::string& v) {
+                 o.maxInfluenceChange = cli::parseDouble("--max-influence-change", v);
+                 if (!(o.maxInfluenceChange >= 0 && o.maxInfluenceChange <= 1))
+                     throw UsageError("--max-influence-change must be in [0, 1]");
+             });
     p.option("--max-part-removal", "F",
              "when a triangle target cannot be reached otherwise (parts stuck on non-manifold edges or pinch "
              "vertices), remove whole parts up to this half-diagonal, as a fraction of the model's diagonal, "
