@@ -659,7 +659,7 @@ Asset readGltf(const std::string& path, const ReadOptions& options, std::optiona
             if (multires) multires->reset();
         }
         asset.rig = std::move(rr.rig);
-        if (!truncationWarning(rr).empty()) asset.warnings.push_back(truncationWarning(rr));
+        for (std::string& w : influenceWarnings(rr)) asset.warnings.push_back(std::move(w));
         readMaterials(c, asset);
         readImages(c, model, options, asset);
     } catch (const json::exception& e) {

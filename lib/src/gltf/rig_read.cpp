@@ -184,6 +184,7 @@ void primitiveInfluences(const ReadContext& c, const PrimData& p, const NodeInfl
                          std::vector<std::array<uint16_t, 4>>& joints, std::vector<Vec4>& weights, const std::string& what) {
     const size_t n = p.pos.size(), per = 4 * size_t(p.influenceSets);
     if (!b.skinned || per == 0) {
+        if (b.skinned) rr.unweighted += n;
         const uint16_t j = b.skinned ? b.joint.front() : b.rigid;
         joints.insert(joints.end(), n, std::array<uint16_t, 4>{j, 0, 0, 0});
         weights.insert(weights.end(), n, Vec4{1, 0, 0, 0});
@@ -220,9 +221,13 @@ void primitiveInfluences(const ReadContext& c, const PrimData& p, const NodeInfl
     }
 }
 
-std::string truncationWarning(const RigRead& rr) {
-    if (!rr.truncated) return "";
-    return std::to_string(rr.truncated) + " vertices had more than 4 joint influences: the 4 largest kept, renormalised";
+std::vector<std::string> influenceWarnings(const RigRead& rr) {
+    std::vector<std::string> out;
+    if (rr.truncated)
+        out.push_back(std::to_string(rr.truncated) + " vertices had more than 4 joint influences: the 4 largest kept, renormalised");
+    if (rr.unweighted)
+        out.push_back(std::to_string(rr.unweighted) + " vertices of skinned meshes have no JOINTS_0 (Draco-compressed skins are not decoded): bound to their skin's first joint");
+    return out;
 }
 
 }  // namespace lodbake::gltf_detail

@@ -22,6 +22,7 @@ struct RigRead {
     Rig rig;                                // empty: the asset is static
     std::map<int, NodeInfluence> meshNodes;  // glTF node -> its binding (every mesh node when the rig is not empty)
     size_t truncated = 0;                   // vertices that had more than 4 influences
+    size_t unweighted = 0;                  // vertices of skinned nodes without JOINTS_0 (Draco primitives)
 };
 
 // The rig of the flattened scene `nodes` (glTF node, world matrix): every skin used by a mesh
@@ -37,7 +38,7 @@ RigRead readRig(const ReadContext& c, const std::vector<std::pair<int, Mat4>>& n
 void primitiveInfluences(const ReadContext& c, const PrimData& p, const NodeInfluence& binding, RigRead& rr,
                          std::vector<std::array<uint16_t, 4>>& joints, std::vector<Vec4>& weights, const std::string& what);
 
-// The warning for truncated influences, "" when none were.
-std::string truncationWarning(const RigRead& rr);
+// The warnings about influences read: truncated to 4, or missing on a skinned node.
+std::vector<std::string> influenceWarnings(const RigRead& rr);
 
 }  // namespace lodbake::gltf_detail
