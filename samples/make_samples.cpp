@@ -8,6 +8,8 @@
 //   pbrscene.glb     every material channel: a dome with base colour, metallic-roughness,
 //                    occlusion (TEXCOORD_1), emissive and normal maps on a plate whose bumps live
 //                    only in its normal map, before an alpha-masked double-sided panel; 7,488 triangles
+//   walker.glb       a skinned, textured walker: a torso on two legs that swing back and forth in a
+//                    one-second loop (3 joints, legs blended into the hips near the top); 3,104 triangles
 //
 // `--scale S` multiplies every grid's resolution by S (about S^2 times the triangles) for
 // benchmarks; S = 1 gives the samples above.
@@ -16,6 +18,7 @@
 // from the same integer lattice coordinates, so they are bit-identical and weld. Each wedge carries
 // a normal and uv0. Images are drawn procedurally (checkerboard + a 7-segment digit in distinct
 // colours) and PNG-encoded in memory (lodbake/texture/codec.h).
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <functional>
@@ -25,6 +28,7 @@
 
 #include "common/cli.h"
 #include "lodbake/core/errors.h"
+#include "lodbake/core/pose.h"
 #include "lodbake/core/tangents.h"
 #include "lodbake/gltf/gltf.h"
 #include "lodbake/texture/codec.h"
@@ -133,6 +137,7 @@ public:
         mesh_.cornerWedges.push_back(w);
         mesh_.triangleMaterial.push_back(material);
     }
+    size_t vertexCount() const { return mesh_.positions.size(); }
     TriMesh take() { return std::move(mesh_); }
 
 private:
@@ -485,6 +490,106 @@ Asset makePbrScene(double scale) {
     return asset;
 }
 
+// --- walker: a skinned sample with a walking-style animation -----------------------------------
+
+// A closed cylinder (side + two caps) of radius r around the vertical axis through (cx, cz), from
+// y0 to y1: `seg` segments around, `rings` along; part = a key prefix so parts never weld.
+void addCylinder(MeshBuilder& mb, int mat, int64_t part, Vec3 centre, double r, double y0, double y1, int seg, int rings, Vec2 uvMin, Vec2 uvMax) {
+    auto side = [&](int ring, int j) {
+        const double phi = 2 * kPi * (j % seg) / seg, y = y0 + (y1 - y0) * ring / rings;
+        Vec3 n{std::cos(phi), 0, -std::sin(phi)};
+        uint32_t v = mb.vertex({part, ring, j % seg}, Vec3{centre.x + r * n.x, y, centre.z + r * n.z});
+        Vec2 uv{uvMin.x + (uvMax.x - uvMin.x) * j / seg, uvMax.y - (uvMax.y - uvMin.y) * ring / rings};
+        return mb.wedge(v, mat, uv, n);
+    };
+    for (int ring = 0; ring < rings; ++ring)
+        for (int j = 0; j < seg; ++j) {
+            uint32_t a = side(ring, j), b = side(ring, j + 1), c = side(ring + 1, j + 1), d = side(ring + 1, j);
+            mb.triangle(mat, {a, b, c});
+            mb.triangle(mat, {a, c, d});
+        }
+    for (int top = 0; top < 2; ++top) {
+        const double y = top ? y1 : y0;
+        const Vec3 n{0, top ? 1.0 : -1.0, 0};
+        const Vec2 mid{0.5 * (uvMin.x + uvMax.x), 0.5 * (uvMin.y + uvMax.y)};
+        uint32_t c = mb.wedge(mb.vertex({part, top ? rings + 1 : -1, 0}, Vec3{centre.x, y, centre.z}), mat, mid, n);
+        auto rim = [&](int j) {
+            const double phi = 2 * kPi * (j % seg) / seg;
+            uint32_t v = mb.vertex({part, top ? rings : 0, j % seg}, Vec3{centre.x + r * std::cos(phi), y, centre.z - r * std::sin(phi)});
+            return mb.wedge(v, mat, Vec2{mid.x + 0.2 * std::cos(phi) * (uvMax.x - uvMin.x), mid.y + 0.2 * std::sin(phi) * (uvMax.y - uvMin.y)}, n);
+        };
+        for (int j = 0; j < seg; ++j) {
+            if (top) mb.triangle(mat, {c, rim(j), rim(j + 1)});
+            else mb.triangle(mat, {c, rim(j + 1), rim(j)});
+        }
+    }
+}
+
+Asset makeWalker(double scale) {
+    Asset asset = newAsset("walker");
+    const int C = 128, W = 2 * C, H = C;
+    std::vector<uint8_t> px(static_cast<size_t>(W) * H * 3);
+    for (int f = 0; f < 2; ++f) drawCell(px, W, f * C, 0, C, C, f * 3 + 1, f + 1);
+    int mat = addTexturedMaterial(asset, "walker", encodePng(px, W, H, "walker"));
+    const double hipY = 1.0, legX = 0.18, blend = 0.15;
+    MeshBuilder mb;
+    const int seg = scaled(32, scale, 4), rings = scaled(16, scale, 2);
+    addCylinder(mb, mat, 0, Vec3{0, 0, 0}, 0.35, hipY, 1.8, seg, rings, Vec2{0, 0}, Vec2{0.5, 1});
+    const size_t torsoVertices = mb.vertexCount();
+    addCylinder(mb, mat, 1, Vec3{-legX, 0, 0}, 0.12, 0.0, hipY + 0.05, seg * 3 / 4, rings * 5 / 4, Vec2{0.5, 0}, Vec2{1, 1});
+    addCylinder(mb, mat, 2, Vec3{legX, 0, 0}, 0.12, 0.0, hipY + 0.05, seg * 3 / 4, rings * 5 / 4, Vec2{0.5, 0}, Vec2{1, 1});
+    asset.mesh = mb.take();
+
+    // Joints: 0 hips (at the hip height), 1 left leg, 2 right leg (at the hip joints).
+    Rig& rig = asset.rig;
+    auto node = [](const std::string& name, int parent, Vec3 t) {
+        RigNode n;
+        n.name = name;
+        n.parent = parent;
+        n.translation = t;
+        return n;
+    };
+    rig.nodes = {node("hips", -1, {0, hipY, 0}), node("leftLeg", 0, {-legX, 0, 0}), node("rightLeg", 0, {legX, 0, 0})};
+    const std::vector<Mat4> rest = poseNodes(rig, -1, 0);
+    for (int j = 0; j < 3; ++j) {
+        Mat4 inv;
+        invertAffine(rest[size_t(j)], inv);
+        rig.joints.push_back(j);
+        rig.inverseBind.push_back(inv);
+    }
+    // Each leg belongs to its joint, blended into the hips over its top `blend`.
+    Wedges& Wd = asset.mesh.wedges;
+    for (size_t w = 0; w < Wd.size(); ++w) {
+        const uint32_t v = Wd.vertex[w];
+        const Vec3& p = asset.mesh.positions[v];
+        if (v < torsoVertices) {
+            Wd.joints.push_back({0, 0, 0, 0});
+            Wd.weights.push_back({1, 0, 0, 0});
+            continue;
+        }
+        const uint16_t leg = p.x < 0 ? 1 : 2;
+        const double toHips = std::clamp((p.y - (hipY - blend)) / (2 * blend), 0.0, 0.5);
+        Wd.joints.push_back({leg, 0, 0, 0});
+        Wd.weights.push_back({1 - toHips, toHips, 0, 0});
+    }
+    // The walk: legs swing +-30 degrees about x in opposition, one-second loop, 9 linear keys.
+    Animation walk;
+    walk.name = "walk";
+    for (int leg = 0; leg < 2; ++leg) {
+        AnimationSampler s;
+        s.comps = 4;
+        for (int k = 0; k <= 8; ++k) {
+            const double t = k / 8.0, angle = (leg ? -1 : 1) * (kPi / 6) * std::cos(2 * kPi * t);
+            s.times.push_back(t);
+            s.values.insert(s.values.end(), {std::sin(angle / 2), 0.0, 0.0, std::cos(angle / 2)});
+        }
+        walk.samplers.push_back(s);
+        walk.channels.push_back(AnimationChannel{leg, leg + 1, AnimationPath::Rotation});
+    }
+    rig.animations.push_back(walk);
+    return asset;
+}
+
 }  // namespace
 }  // namespace lodbake
 
@@ -494,7 +599,7 @@ int main(int argc, char** argv) {
         std::vector<std::string> dirs;
         bool verbose = false;
         double scale = 1;
-        cli::ArgParser p("make-samples", "OUTDIR\n\nWrites hemisphere9.glb, wall5.glb, colors.glb, seamball.glb and pbrscene.glb into OUTDIR\n"
+        cli::ArgParser p("make-samples", "OUTDIR\n\nWrites hemisphere9.glb, wall5.glb, colors.glb, seamball.glb, pbrscene.glb and walker.glb into OUTDIR\n"
                                          "(created if missing). Output is byte-identical on every run.");
         p.positionals("OUTDIR", [&](const std::string& v) { dirs.push_back(v); });
         p.flag("-v", "print one line per sample", [&] { verbose = true; });
@@ -516,7 +621,8 @@ int main(int argc, char** argv) {
                                   {"wall5.glb", makeWall5},
                                   {"colors.glb", makeColors},
                                   {"seamball.glb", makeSeamball},
-                                  {"pbrscene.glb", makePbrScene}};
+                                  {"pbrscene.glb", makePbrScene},
+                                  {"walker.glb", makeWalker}};
         for (const Sample& s : samples) {
             Asset a = s.make(scale);
             std::string path = (std::filesystem::path(dirs[0]) / s.file).string();

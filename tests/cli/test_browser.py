@@ -5,7 +5,8 @@ then Babylon.js (scripts/node/node_modules, served from 127.0.0.1 on a free port
 the chain in Debian's headless Chromium driven by playwright-core. Checks: every LOD was loaded
 by Babylon's MSFT_lod extension (node and material LOD observables), no loader error, and the
 rendered frame is not empty; also a --meshopt --quantize chain (Babylon's meshopt decoder
-served locally). The screenshot stays in the test's work dir as an artefact.
+served locally). The skinned walker's chain plays its animation: its silhouette at
+the start, middle and end changes as the original's does. The screenshot stays in the test's work dir as an artefact.
 Skips (77) when chromium or the node modules are missing.
 """
 import functools
@@ -67,9 +68,9 @@ class BrowserChain(unittest.TestCase):
         lt.run([lt.tool("pack"), "-i", uv, "-o", out, "--max-size", "512", "--samples", "20000", "--quiet"] + list(extra))
         return out, len(lt.Gltf(out).json["nodes"])
 
-    def view(self, model, levels):
+    def view(self, model, levels, animate=False):
         shot = os.path.join(self.dir, os.path.basename(model) + ".png")
-        url = "http://127.0.0.1:%d/index.html?model=%s" % (self.port, os.path.basename(model))
+        url = "http://127.0.0.1:%d/index.html?model=%s%s" % (self.port, os.path.basename(model), "&animate=1" if animate else "")
         env = dict(os.environ, NODE_PATH=NODE_MODULES, CHROMIUM=CHROMIUM)
         import subprocess
         p = subprocess.run(["node", os.path.join(BROWSER_DIR, "run.js"), url, shot], stdout=subprocess.PIPE,
@@ -80,12 +81,15 @@ class BrowserChain(unittest.TestCase):
         print("screenshot: " + shot)
         self.assertTrue(r["ok"], r)
         self.assertEqual(r["errors"], [], r)
+        if levels == 1:
+            return r
         self.assertTrue(r.get("msftLod"), "Babylon did not activate MSFT_lod")
         # Babylon's MSFT_lod loads coarse to fine and reports each node LOD index once loaded.
         self.assertEqual(sorted(set(r["nodeLODs"])), list(range(levels)), r)
         # Our materials carry no material-level MSFT_lod; each node LOD brings its own material.
         self.assertGreater(r["nonEmptyPixels"], 0.01 * r["pixels"], "rendered frame is (nearly) empty")
         self.assertTrue(os.path.getsize(shot) > 0)
+        return r
 
     def test_sample_chain(self):
         src = os.path.join(lt.make_samples(os.path.join(self.dir, "samples")), "seamball.glb")
@@ -98,6 +102,24 @@ class BrowserChain(unittest.TestCase):
         model, levels = self.chain(src, "seamball.mq", ["--meshopt", "--quantize"])
         self.assertIn("EXT_meshopt_compression", lt.Gltf(model).json["extensionsRequired"])
         self.view(model, levels)
+    def test_walker_chain_moves(self):
+        """The chain plays its walk in Babylon: the silhouette changes over time as the original's does."""
+        samples = lt.make_samples(os.path.join(self.dir, "walker-samples"))
+        src = os.path.join(samples, "walker.glb")
+        shutil.copy(src, os.path.join(self.site, "walker.glb"))
+        model, _ = self.chain(src, "walker")
+        levels = 1 + len(lt.Gltf(model).json["nodes"][0]["extensions"]["MSFT_lod"]["ids"])  # the rig adds nodes
+        original = self.view(os.path.join(self.site, "walker.glb"), 1, animate=True)
+        chain = self.view(model, levels, animate=True)
+        print("walker silhouettes: original %s changed %s; chain %s changed %s" %
+              (original["silhouettes"], original["changed"], chain["silhouettes"], chain["changed"]))
+        for r in (original, chain):
+            # The legs swing from one side to the other between the start and the middle.
+            self.assertGreater(r["changed"][0], 0.002 * r["pixels"], r)
+        for a, b in zip(original["silhouettes"], chain["silhouettes"]):
+            self.assertLess(abs(a - b), 0.05 * a)
+        for a, b in zip(original["changed"], chain["changed"]):
+            self.assertLess(abs(a - b), 0.25 * a + 0.001 * original["pixels"])
 
     def test_duck_chain_draco(self):
         if not os.path.isdir(lt.ASSETS):

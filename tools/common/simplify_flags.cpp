@@ -30,6 +30,14 @@ void addSimplifyFlags(ArgParser& p, SimplifyFlags& a) {
                  if (!(o.pruneStuckSize >= 0 && o.pruneStuckSize <= 1))
                      throw UsageError("--max-part-removal must be in [0, 1]");
              });
+    p.option("--max-influence-change", "D",
+             "skinned meshes: a vertex collapses only onto a neighbour whose joint weights differ by at most this "
+             "total variation (0 = identical influences, 1 = any; default " + number(o.maxInfluenceChange) + ")",
+             [&o](const std::string& v) {
+                 o.maxInfluenceChange = parseDouble("--max-influence-change", v);
+                 if (!(o.maxInfluenceChange >= 0 && o.maxInfluenceChange <= 1))
+                     throw UsageError("--max-influence-change must be in [0, 1]");
+             });
 }
 
 void validateSimplify(SimplifyFlags& a) {

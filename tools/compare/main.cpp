@@ -25,7 +25,7 @@ const char* kSynopsis =
 const char* kExitCodes =
     "Exit codes of compare (code 1 also means a tolerance was exceeded, for CI):\n"
     "  0 every given tolerance holds, 1 a tolerance is exceeded or a usage error,\n"
-    "  2 unreadable or invalid input, 3 --lod level not present, 4 internal failure.\n";
+    "  2 unreadable or invalid input, 3 --lod level or --animation not present, 4 internal failure.\n";
 
 constexpr double kPi = 3.14159265358979323846;
 
@@ -60,6 +60,18 @@ int main(int argc, char** argv) {
             s.lodA = cli::parseInt("--lod-a", v);
             if (s.lodA < 0) throw UsageError("--lod-a must be >= 0");
         });
+        p.option("--animation", "N", "pose A and B with their animation N (0 = the first) before comparing", [&](const std::string& v) {
+            s.pose.animation = cli::parseInt("--animation", v);
+            if (s.pose.animation < 0) throw UsageError("--animation must be >= 0");
+        });
+        p.option("--time", "T", "with --animation: the time posed, seconds, or start, middle or end of A's animation (default start)",
+                 [&](const std::string& v) {
+                     using At = ComparePose::At;
+                     if (v == "start") s.pose.at = At::Start;
+                     else if (v == "middle") s.pose.at = At::Middle;
+                     else if (v == "end") s.pose.at = At::End;
+                     else { s.pose.at = At::Seconds; s.pose.seconds = cli::parseDouble("--time", v); }
+                 });
         p.option("--views", "N", "render views (default " + std::to_string(s.compare.views) + "; 0 = no image comparison)", [&](const std::string& v) {
             s.compare.views = cli::parseInt("--views", v);
             if (s.compare.views < 0 || s.compare.views > 4096) throw UsageError("--views must be in [0, 4096]");

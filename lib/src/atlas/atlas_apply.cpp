@@ -42,6 +42,8 @@ AtlasApplyStats applyAtlas(Asset& asset, Multires& multires, const ParameterizeR
         W.uv0.push_back(uv);
         if (!W.uv1.empty()) W.uv1.push_back(W.uv1[source]);
         if (!W.color.empty()) W.color.push_back(Vec4{1, 1, 1, 1});  // colour is baked into the texture
+        if (!W.joints.empty()) W.joints.push_back(W.joints[source]);
+        if (!W.weights.empty()) W.weights.push_back(W.weights[source]);
         made.emplace(key, id);
         return id;
     };

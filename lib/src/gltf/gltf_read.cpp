@@ -28,7 +28,9 @@
 #include "gltf/gltf_read_context.h"
 #include "gltf/meshopt_decode.h"
 #include "gltf/multires_codec.h"
+#include "gltf/rig_read.h"
 #include "lodbake/core/errors.h"
+#include "lodbake/core/pose.h"
 #include "lodbake/gltf/gltf.h"
 
 namespace lodbake {
@@ -224,19 +226,12 @@ Mat4 nodeMatrix(const tinygltf::Node& node) {
         for (int i = 0; i < 16; ++i) m[size_t(i)] = node.matrix[size_t(i)];
         return m;
     }
-    Mat4 t = identity4(), r = identity4(), s = identity4();
-    if (node.translation.size() == 3) { t[12] = node.translation[0]; t[13] = node.translation[1]; t[14] = node.translation[2]; }
-    if (node.rotation.size() == 4) {
-        double x = node.rotation[0], y = node.rotation[1], z = node.rotation[2], w = node.rotation[3];
-        double l = std::sqrt(x * x + y * y + z * z + w * w);
-        if (l > 0) { x /= l; y /= l; z /= l; w /= l; }
-        r = {1 - 2 * (y * y + z * z), 2 * (x * y + z * w), 2 * (x * z - y * w), 0,
-             2 * (x * y - z * w), 1 - 2 * (x * x + z * z), 2 * (y * z + x * w), 0,
-             2 * (x * z + y * w), 2 * (y * z - x * w), 1 - 2 * (x * x + y * y), 0,
-             0, 0, 0, 1};
-    }
-    if (node.scale.size() == 3) { s[0] = node.scale[0]; s[5] = node.scale[1]; s[10] = node.scale[2]; }
-    return mul(t, mul(r, s));
+    Vec3 t{0, 0, 0}, s{1, 1, 1};
+    Vec4 r{0, 0, 0, 1};
+    if (node.translation.size() == 3) t = {node.translation[0], node.translation[1], node.translation[2]};
+    if (node.rotation.size() == 4) r = {node.rotation[0], node.rotation[1], node.rotation[2], node.rotation[3]};
+    if (node.scale.size() == 3) s = {node.scale[0], node.scale[1], node.scale[2]};
+    return trsMatrix(t, r, s);
 }
 
 // The root nodes: those of the default scene (or scene 0), or every node that is no child when the
@@ -405,9 +400,12 @@ struct MeshBuilder {
     PositionWeld weld;
     // Wedge attributes are stored once a primitive has them (earlier wedges get the defaults).
     bool hasNormal = false, hasTangent = false, hasUv0 = false, hasUv1 = false, hasColor = false;
+    std::vector<std::array<uint16_t, 4>> joints;  // influences of the primitive being added (skinned assets)
+    std::vector<Vec4> weights;
     size_t degenerate = 0;
 
-    void add(const ReadContext& c, const PrimData& p, const Mat4& world, int material, const std::string& what) {
+    void add(const ReadContext& c, const PrimData& p, const Mat4& world, int material, const std::string& what, RigRead& rr,
+             const NodeInfluence* binding) {
         double det = det3(world);
         double sgn = det < 0 ? -1.0 : 1.0;
         std::array<double, 9> C = cofactor3(world);
@@ -429,6 +427,9 @@ struct MeshBuilder {
         start(hasUv0, !p.uv0.empty(), W.uv0, Vec2{0, 0});
         start(hasUv1, !p.uv1.empty(), W.uv1, Vec2{0, 0});
         start(hasColor, !p.color.empty(), W.color, Vec4{1, 1, 1, 1});
+        joints.clear();
+        weights.clear();
+        if (binding) primitiveInfluences(c, p, *binding, rr, joints, weights, what);
         std::vector<int64_t> local(p.pos.size(), -1);
         // Room for this primitive up front (geometric growth: many small primitives stay linear).
         auto grow = [](auto& v, size_t more) {
@@ -443,6 +444,10 @@ struct MeshBuilder {
         if (hasUv0) grow(W.uv0, nv);
         if (hasUv1) grow(W.uv1, nv);
         if (hasColor) grow(W.color, nv);
+        if (binding) {
+            grow(W.joints, nv);
+            grow(W.weights, nv);
+        }
         grow(mesh.cornerWedges, nt);
         grow(mesh.triangles, nt);
         grow(mesh.triangleMaterial, nt);
@@ -474,6 +479,10 @@ struct MeshBuilder {
             if (hasUv0) W.uv0.push_back(p.uv0.empty() ? Vec2{0, 0} : p.uv0[i]);
             if (hasUv1) W.uv1.push_back(p.uv1.empty() ? Vec2{0, 0} : p.uv1[i]);
             if (hasColor) W.color.push_back(p.color.empty() ? Vec4{1, 1, 1, 1} : p.color[i]);
+            if (binding) {
+                W.joints.push_back(joints[i]);
+                W.weights.push_back(weights[i]);
+            }
             local[i] = w;
             return w;
         };
@@ -498,7 +507,7 @@ struct MeshBuilder {
 
 // Step 3: every triangle primitive of every mesh node, decoded, transformed to world space and
 // welded by position into asset.mesh.
-void weldScene(const ReadContext& c, const std::vector<SceneNode>& nodes, Asset& asset) {
+void weldScene(const ReadContext& c, const std::vector<SceneNode>& nodes, RigRead& rr, Asset& asset) {
     const tinygltf::Model& model = *c.model;
     MeshBuilder builder;
     for (const auto& [n, world] : nodes) {
@@ -506,6 +515,7 @@ void weldScene(const ReadContext& c, const std::vector<SceneNode>& nodes, Asset&
         if (node.mesh < 0) continue;
         if (size_t(node.mesh) >= model.meshes.size()) fail(c, "node " + std::to_string(n) + ": mesh " + std::to_string(node.mesh) + " does not exist");
         const auto& mesh = model.meshes[size_t(node.mesh)];
+        const auto binding = rr.meshNodes.find(n);
         for (size_t pi = 0; pi < mesh.primitives.size(); ++pi) {
             PrimData p;
             if (!decodePrimitive(c, node.mesh, int(pi), asset, p)) continue;
@@ -514,7 +524,8 @@ void weldScene(const ReadContext& c, const std::vector<SceneNode>& nodes, Asset&
             int material = mesh.primitives[pi].material;
             if (material >= int(model.materials.size())) fail(c, "mesh " + std::to_string(node.mesh) + " primitive " + std::to_string(pi) + ": material " + std::to_string(material) + " does not exist");
             builder.add(c, p, world, material < 0 ? -1 : material,
-                        "node " + std::to_string(n) + " mesh " + std::to_string(node.mesh) + " primitive " + std::to_string(pi));
+                        "node " + std::to_string(n) + " mesh " + std::to_string(node.mesh) + " primitive " + std::to_string(pi), rr,
+                        binding == rr.meshNodes.end() ? nullptr : &binding->second);
         }
     }
     builder.finish(asset);
@@ -675,14 +686,17 @@ Asset readWith(ReadContext& c, const ReadOptions& options, std::optional<Multire
         const json* ext = findMultiresExtension(c);
         if (options.lod >= 0 && !ext) roots = selectMsftLod(c, roots, options.lod);
         const std::vector<SceneNode> nodes = flattenScene(c, roots, asset.stats.nodes);
+        RigRead rr = readRig(c, nodes, asset);
         if (ext && hasMultiresOriginal(*ext)) {
             // Our own multires file: the original mesh rebuilt exactly, then the extension.
-            asset.mesh = readMultiresOriginal(c, *ext, nodes, asset);
+            asset.mesh = readMultiresOriginal(c, *ext, nodes, rr, asset);
             if (multires) *multires = readMultires(c, *ext, asset.mesh);
         } else {
-            weldScene(c, nodes, asset);
+            weldScene(c, nodes, rr, asset);
             if (multires) multires->reset();
         }
+        asset.rig = std::move(rr.rig);
+        for (std::string& w : influenceWarnings(rr)) asset.warnings.push_back(std::move(w));
         readMaterials(c, asset);
         readImages(c, model, options, asset);
     } catch (const json::exception& e) {

@@ -50,6 +50,11 @@ struct PrimData {
     std::vector<Vec4> tangent;
     std::vector<Vec2> uv0, uv1;
     std::vector<Vec4> color;
+    // JOINTS_n / WEIGHTS_n, n = 0 .. influenceSets-1: 4 * influenceSets per vertex, skin joint
+    // indices and weights as stored (weights normalised when the accessor is).
+    int influenceSets = 0;
+    std::vector<uint32_t> joints;
+    std::vector<double> weights;
     std::vector<Tri> tris;  // glTF vertex indices, glTF winding
 };
 

@@ -25,6 +25,7 @@
 #include "gltf/gltf_buffer.h"
 #include "gltf/gltf_internal.h"
 #include "gltf/multires_codec.h"
+#include "gltf/rig_write.h"
 #include "lodbake/core/errors.h"
 #include "lodbake/gltf/gltf.h"
 
@@ -133,6 +134,16 @@ int writeMesh(Writer& w, json& meshes, const TriMesh& src, const std::vector<Tri
                 for (int k = 0; k < 4; ++k) a[4 * i + size_t(k)] = float(std::isfinite(v[k]) ? std::clamp(v[k], 0.0, 1.0) : 1.0);
             }
             attrs["COLOR_0"] = w.addFloat(a, 4, kArrayBuffer, false);
+        }
+        if (!W.joints.empty() && W.weights.size() == W.joints.size()) {
+            std::vector<uint16_t> j(4 * n);
+            std::vector<float> a(4 * n);
+            for (size_t i = 0; i < n; ++i) {
+                const Vec4& q = W.weights[pm.wedge[i]];
+                for (size_t k = 0; k < 4; ++k) j[4 * i + k] = W.joints[pm.wedge[i]][k];
+                a[4 * i] = float(q.x); a[4 * i + 1] = float(q.y); a[4 * i + 2] = float(q.z); a[4 * i + 3] = float(q.w);
+            }
+            addInfluences(w, attrs, j, a);
         }
         json prim = {{"attributes", attrs}, {"indices", w.addIndices(idx, n)}, {"mode", 4}};
         if (mat >= 0) prim["material"] = mat;
@@ -257,8 +268,12 @@ void writeGltfTo(const std::string& path, const Asset& asset, const Multires* mu
     const int originalMesh = writeMesh(w, meshes, mesh, mesh.triangles, mesh.cornerWedges,
                                        materialsOf(nullptr, mesh.triangleCount()), "original", &written.originalPrims);
     written.originalMesh = originalMesh;
+    // A skinned mesh is posed by its joints (the node's own transform is ignored), so with a rig
+    // every mesh node uses the skin and the levels stay in place instead of side by side.
+    const bool skinned = !asset.rig.empty() && mesh.wedges.joints.size() == mesh.wedges.size();
     json node0 = {{"name", "original"}};
     if (originalMesh >= 0) node0["mesh"] = originalMesh;
+    if (skinned && originalMesh >= 0) node0["skin"] = 0;
     nodes.push_back(node0);
     sceneNodes.push_back(0);
     if (multires) {
@@ -285,12 +300,16 @@ void writeGltfTo(const std::string& path, const Asset& asset, const Multires* mu
             written.levelPrims.emplace_back();
             int mi = writeMesh(w, meshes, mesh, L.triangles, L.cornerWedges, levelMaterials, name, &written.levelPrims.back());
             written.levelMeshes.push_back(mi);
-            json n = {{"name", name}, {"translation", {double(i + 1) * 1.25 * width, 0.0, 0.0}}};
+            json n = {{"name", name}};
+            if (!skinned) n["translation"] = {double(i + 1) * 1.25 * width, 0.0, 0.0};
             if (mi >= 0) n["mesh"] = mi;
+            if (skinned && mi >= 0) n["skin"] = 0;
             nodes.push_back(n);
             sceneNodes.push_back(i + 1);
         }
     }
+    if (skinned)
+        for (int r : writeRig(w, root, nodes, asset.rig)) sceneNodes.push_back(r);
     root["scene"] = 0;
     root["scenes"] = json::array({json{{"nodes", sceneNodes}}});
     root["nodes"] = nodes;

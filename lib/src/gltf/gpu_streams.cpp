@@ -24,6 +24,7 @@
 #include <meshoptimizer.h>
 
 #include "gltf/gltf_internal.h"
+#include "gltf/rig_write.h"
 
 namespace lodbake::gltf_detail {
 namespace {
@@ -177,6 +178,8 @@ void optimizeLevelBuffers(LodLevelData& L) {
     remapStream(L.normals, 3, n, unique, remap);
     remapStream(L.uvs, 2, n, unique, remap);
     remapStream(L.tangents, 4, n, unique, remap);
+    remapStream(L.joints, 4, n, unique, remap);
+    remapStream(L.weights, 4, n, unique, remap);
 }
 
 PositionGrid positionGrid(const std::vector<LodLevelData>& levels, int bits) {
@@ -210,12 +213,13 @@ PrimitiveStreams gpuPrimitive(BufferBuilder& b, const LodLevelData& L, const Str
         return addStream(b, quantizedDirections(v, comps, !q, mo), mo);
     };
     json attrs;
-    attrs["POSITION"] = q ? addStream(b, quantizedPositions(L.positions, o), mo) : floatAttr(L.positions, 3, true);
+    attrs["POSITION"] = q && o.positionsOnGrid ? addStream(b, quantizedPositions(L.positions, o), mo) : floatAttr(L.positions, 3, true);
     attrs["NORMAL"] = direction(L.normals, 3);
     const bool uvQuantized = q && inUnitSquare(L.uvs);
     out.floatUvFallback = q && !uvQuantized;
     attrs["TEXCOORD_0"] = uvQuantized ? addStream(b, quantizedUvs(L.uvs), mo) : floatAttr(L.uvs, 2, false);
     if (!L.tangents.empty()) attrs["TANGENT"] = direction(L.tangents, 4);
+    addInfluences(b, attrs, L.joints, L.weights);
     out.quantized = out.quantized || q;
     out.primitive = {{"attributes", attrs}, {"indices", addIndexStream(b, L.indices, n, mo)}, {"mode", 4}};
     return out;

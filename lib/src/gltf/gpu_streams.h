@@ -34,6 +34,9 @@ struct StreamOptions {
     bool quantize = false;  // KHR_mesh_quantization formats on `grid`
     PositionGrid grid;
     int positionBits = 14;
+    // With quantize: positions on `grid` (the node's transform dequantizes them); false keeps
+    // them FLOAT (a skinned mesh ignores its node's transform).
+    bool positionsOnGrid = true;
 };
 
 struct PrimitiveStreams {

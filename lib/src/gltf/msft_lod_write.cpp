@@ -22,6 +22,7 @@
 #include "gltf/gltf_buffer.h"
 #include "gltf/gltf_internal.h"
 #include "gltf/gpu_streams.h"
+#include "gltf/rig_write.h"
 #include "lodbake/core/errors.h"
 #include "lodbake/gltf/gltf.h"
 #include "lodbake/gltf/msft_lod.h"
@@ -45,7 +46,8 @@ using Buffer = BufferBuilder;
 void checkLevel(const std::string& path, const LodLevelData& L) {
     size_t n = L.positions.size() / 3;
     bool ok = n > 0 && L.positions.size() == 3 * n && L.normals.size() == 3 * n && L.uvs.size() == 2 * n &&
-              (L.tangents.empty() || L.tangents.size() == 4 * n) && !L.indices.empty() && L.indices.size() % 3 == 0;
+              (L.tangents.empty() || L.tangents.size() == 4 * n) && (L.joints.empty() || L.joints.size() == 4 * n) &&
+              L.weights.size() == L.joints.size() && !L.indices.empty() && L.indices.size() % 3 == 0;
     for (uint32_t i : L.indices) ok = ok && i < n;
     if (!ok) throw InvalidInput(path + ": level '" + L.name + "' has inconsistent mesh data");
     if (!L.material.normal.encoded.empty() && L.tangents.empty())
@@ -120,7 +122,7 @@ std::string lowerExt(const std::string& path) {
 }  // namespace
 
 LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodLevelData>& levels,
-                                 const std::vector<double>& screenCoverage, const LodChainWriteOptions& options) {
+                                 const std::vector<double>& screenCoverage, const LodChainWriteOptions& options, const Rig* rig) {
     std::string ext = lowerExt(path);
     bool glb = ext == ".glb";
     if (!glb && ext != ".gltf") throw IOError(path + ": output must end in .glb or .gltf");
@@ -129,6 +131,8 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
         throw InvalidInput(path + ": " + std::to_string(screenCoverage.size()) + " screen coverage values for " +
                            std::to_string(levels.size()) + " levels");
     for (const LodLevelData& L : levels) checkLevel(path, L);
+    const bool skinned = rig && !rig->empty() &&
+                         std::all_of(levels.begin(), levels.end(), [](const LodLevelData& L) { return !L.joints.empty(); });
     if (options.draco && (options.meshopt || options.quantize))
         throw Unsupported(path + ": Draco cannot be combined with meshopt compression or quantization");
     if (options.quantize && (options.quantPositionBits < 1 || options.quantPositionBits > 16))
@@ -138,9 +142,13 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
     streams.quantize = options.quantize;
     streams.positionBits = options.quantPositionBits;
     if (options.quantize) streams.grid = positionGrid(levels, options.quantPositionBits);
+    // A skinned mesh ignores its node's transform, which is where the position grid lives.
+    streams.positionsOnGrid = !skinned;
 
     LodChainWriteStats stats;
+    if (skinned && options.quantize) stats.warnings.push_back(path + ": skinned levels keep FLOAT positions (--quantize)");
     Buffer b;
+    json root;
     json meshes = json::array(), nodes = json::array(), materials = json::array(), textures = json::array(),
          images = json::array();
     std::vector<std::pair<std::string, const Image*>> sideImages;
@@ -155,6 +163,8 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
             optimized.normals = src.normals;
             optimized.uvs = src.uvs;
             optimized.tangents = src.tangents;
+            optimized.joints = src.joints;
+            optimized.weights = src.weights;
             optimized.indices = src.indices;
             optimizeLevelBuffers(optimized);
         }
@@ -163,7 +173,7 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
         stats.levelCacheAfter.push_back(analyzeVertexCache(L));
         size_t before = b.size;
         json prim;
-        if (options.draco) {
+        if (options.draco && !skinned) {
             prim = dracoPrimitive(b, L, options, path);
         } else {
             PrimitiveStreams ps = gpuPrimitive(b, L, streams);
@@ -237,15 +247,18 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
         materials.push_back(mat);
         stats.levelImageBytes.push_back(imageBytes);
         json node = {{"name", L.name}, {"mesh", i}};
-        if (options.quantize) {
+        if (options.quantize && !skinned) {
             const PositionGrid& g = streams.grid;
             node["translation"] = {g.origin[0], g.origin[1], g.origin[2]};
             node["scale"] = {g.step, g.step, g.step};
         }
+        if (skinned) node["skin"] = 0;
         nodes.push_back(node);
     }
+    json sceneNodes = json::array({0});
+    if (skinned)
+        for (int r : writeRig(b, root, nodes, *rig)) sceneNodes.push_back(r);
 
-    json root;
     root["asset"] = {{"version", "2.0"}, {"generator", options.generator}};
     std::vector<std::string> used;
     if (levels.size() > 1) {
@@ -258,7 +271,7 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
     if (usesEmissiveStrength) used.push_back(kEmissiveStrength);
     if (usesUnlit) used.push_back(kUnlit);
     std::vector<std::string> required;
-    if (options.draco) required.push_back(kDraco);
+    if (options.draco && !skinned) required.push_back(kDraco);
     if (options.meshopt) required.push_back(kMeshopt);
     if (usesQuantization) required.push_back(kQuantization);
     if (usesBasisu) required.push_back(kBasisu);
@@ -271,7 +284,7 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
         root["extensionsUsed"] = used;
     }
     root["scene"] = 0;
-    root["scenes"] = json::array({json{{"nodes", json::array({0})}}});
+    root["scenes"] = json::array({json{{"nodes", sceneNodes}}});
     root["nodes"] = nodes;
     root["meshes"] = meshes;
     root["materials"] = materials;

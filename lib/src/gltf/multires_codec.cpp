@@ -22,7 +22,8 @@ using json = nlohmann::json;
 namespace {
 
 // Rebuilds the original TriMesh exactly from mesh `meshIndex` and the extension's maps.
-TriMesh rebuildOriginal(const ReadContext& c, const json& ext, const json& orig, int meshIndex, const Mat4& world, Asset& asset) {
+TriMesh rebuildOriginal(const ReadContext& c, const json& ext, const json& orig, int meshIndex, const Mat4& world,
+                        RigRead& rr, const NodeInfluence* binding, Asset& asset) {
     std::string what = std::string(kMultiresExtension) + ": original";
     TriMesh mesh;
     size_t V = orig.value("vertexCount", size_t(0)), F = orig.value("faceCount", size_t(0));
@@ -46,6 +47,17 @@ TriMesh rebuildOriginal(const ReadContext& c, const json& ext, const json& orig,
     Wedges& Wd = mesh.wedges;
     Wd.normal.assign(W, Vec3{}); Wd.tangent.assign(W, Vec4{1, 0, 0, 1}); Wd.uv0.assign(W, Vec2{});
     Wd.uv1.assign(W, Vec2{}); Wd.color.assign(W, Vec4{1, 1, 1, 1});
+    std::vector<std::array<uint16_t, 4>> joints;  // a primitive's influences (skinned assets)
+    std::vector<Vec4> weights;
+    if (binding) {
+        Wd.joints.assign(W, std::array<uint16_t, 4>{0, 0, 0, 0});
+        Wd.weights.assign(W, Vec4{1, 0, 0, 0});
+    }
+    auto influencesOf = [&](const PrimData& p) {
+        joints.clear();
+        weights.clear();
+        if (binding) primitiveInfluences(c, p, *binding, rr, joints, weights, what);
+    };
     for (size_t pi = 0; pi < nPrims; ++pi) {
         PrimData p;
         if (!decodePrimitive(c, meshIndex, int(pi), asset, p)) fail(c, what + ": primitive " + std::to_string(pi) + " is not a triangle primitive");
@@ -57,9 +69,11 @@ TriMesh rebuildOriginal(const ReadContext& c, const json& ext, const json& orig,
         if (wedges.size() != p.pos.size() || faces.size() != p.tris.size())
             fail(c, what + ": primitive " + std::to_string(pi) + " maps do not match its vertices/triangles");
         hasN |= !p.normal.empty(); hasT |= !p.tangent.empty(); hasU0 |= !p.uv0.empty(); hasU1 |= !p.uv1.empty(); hasC |= !p.color.empty();
+        influencesOf(p);
         for (size_t i = 0; i < wedges.size(); ++i) {
             uint32_t w = wedges[i];
             if (w >= W) fail(c, what + ": wedge id out of range");
+            if (binding) { Wd.joints[w] = joints[i]; Wd.weights[w] = weights[i]; }
             if (!p.normal.empty()) Wd.normal[w] = p.normal[i];
             if (!p.tangent.empty()) Wd.tangent[w] = p.tangent[i];
             if (!p.uv0.empty()) Wd.uv0[w] = p.uv0[i];
@@ -102,10 +116,12 @@ TriMesh rebuildOriginal(const ReadContext& c, const json& ext, const json& orig,
             if (!decodePrimitive(c, lm, int(pi), asset, p) || wedges.size() != p.pos.size())
                 fail(c, what + ": level " + std::to_string(li + 1) + " primitive maps do not match its vertices");
             hasN |= !p.normal.empty(); hasT |= !p.tangent.empty(); hasU0 |= !p.uv0.empty(); hasU1 |= !p.uv1.empty(); hasC |= !p.color.empty();
+            influencesOf(p);
             for (size_t i = 0; i < wedges.size(); ++i) {
                 uint32_t w = wedges[i];
                 if (wedgeSeen[w] == 1) continue;
                 wedgeSeen[w] = 2;
+                if (binding) { Wd.joints[w] = joints[i]; Wd.weights[w] = weights[i]; }
                 if (!p.normal.empty()) Wd.normal[w] = p.normal[i];  // level nodes only translate
                 if (!p.tangent.empty()) Wd.tangent[w] = p.tangent[i];
                 if (!p.uv0.empty()) Wd.uv0[w] = p.uv0[i];
@@ -184,7 +200,8 @@ const json* findMultiresExtension(const ReadContext& c) {
 
 bool hasMultiresOriginal(const json& ext) { return ext.contains("original") && ext["original"].is_object(); }
 
-TriMesh readMultiresOriginal(const ReadContext& c, const json& ext, const std::vector<std::pair<int, Mat4>>& nodes, Asset& asset) {
+TriMesh readMultiresOriginal(const ReadContext& c, const json& ext, const std::vector<std::pair<int, Mat4>>& nodes, RigRead& rr,
+                             Asset& asset) {
     const tinygltf::Model& model = *c.model;
     const json& orig = ext["original"];
     int nodeIndex = jint(orig, "node", 0);
@@ -193,7 +210,8 @@ TriMesh readMultiresOriginal(const ReadContext& c, const json& ext, const std::v
     for (const auto& [n, w] : nodes) if (n == nodeIndex) world = w;
     int meshIndex = model.nodes[size_t(nodeIndex)].mesh;
     if (meshIndex >= int(model.meshes.size())) fail(c, "node " + std::to_string(nodeIndex) + ": mesh does not exist");
-    return rebuildOriginal(c, ext, orig, meshIndex, world, asset);
+    const auto binding = rr.meshNodes.find(nodeIndex);
+    return rebuildOriginal(c, ext, orig, meshIndex, world, rr, binding == rr.meshNodes.end() ? nullptr : &binding->second, asset);
 }
 
 Multires readMultires(const ReadContext& c, const json& ext, const TriMesh& mesh) {

@@ -10,6 +10,7 @@
 
 #include "gltf/gltf_buffer.h"
 #include "gltf/gltf_read_context.h"
+#include "gltf/rig_read.h"
 #include "lodbake/core/multires.h"
 #include "lodbake/gltf/gltf.h"
 
@@ -29,10 +30,11 @@ bool hasMultiresOriginal(const nlohmann::json& ext);
 
 // The original TriMesh, rebuilt exactly (welded vertices, wedges, face order) from the mesh of
 // node ext.original.node and the extension's maps; `nodes` = the flattened scene (node, world
-// matrix). Counts the primitives it decodes in asset.stats. \pre hasMultiresOriginal(ext).
+// matrix), `rr` = its rig (the original node's skin binding). Counts the primitives it decodes in
+// asset.stats. \pre hasMultiresOriginal(ext).
 // \throw InvalidInput when a map does not match the mesh.
 TriMesh readMultiresOriginal(const ReadContext& c, const nlohmann::json& ext,
-                             const std::vector<std::pair<int, Mat4>>& nodes, Asset& asset);
+                             const std::vector<std::pair<int, Mat4>>& nodes, RigRead& rr, Asset& asset);
 
 // Levels, collapses, region updates, chart layout and texture hierarchy of `ext`, every index
 // checked against `mesh` (the original read by readMultiresOriginal). Version 1 files are upgraded.

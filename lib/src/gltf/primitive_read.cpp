@@ -261,6 +261,23 @@ bool decodePrimitive(const ReadContext& c, int meshIndex, int primIndex, Asset& 
         p.color.resize(n);
         for (size_t i = 0; i < n; ++i) p.color[i] = {C.at(i, 0), C.at(i, 1), C.at(i, 2), C.comps == 4 ? C.at(i, 3) : 1.0};
     }
+    auto setName = [](const char* base, int set) { return std::string(base) + std::to_string(set); };
+    while (attrIndex(setName("JOINTS_", p.influenceSets).c_str()) >= 0 && attrIndex(setName("WEIGHTS_", p.influenceSets).c_str()) >= 0)
+        p.influenceSets++;
+    const size_t sets = size_t(p.influenceSets);
+    p.joints.resize(4 * n * sets);
+    p.weights.resize(4 * n * sets);
+    for (size_t set = 0; set < sets; ++set) {
+        const std::string j = setName("JOINTS_", int(set)), w = setName("WEIGHTS_", int(set));
+        AccessorData J = readAttr(j.c_str(), false, {4}), Wt = readAttr(w.c_str(), true, {4});
+        for (size_t i = 0; i < n; ++i)
+            for (int k = 0; k < 4; ++k) {
+                const double ji = J.at(i, k);
+                if (!(ji >= 0 && ji < 65536)) fail(c, what + ": " + j + " value out of range");
+                p.joints[(i * sets + set) * 4 + size_t(k)] = uint32_t(ji);
+                p.weights[(i * sets + set) * 4 + size_t(k)] = Wt.at(i, k);
+            }
+    }
     std::vector<uint32_t> idx;
     if (prim.indices >= 0) {
         AccessorData I = readAccessor(c, prim.indices, what + " indices");

@@ -392,6 +392,13 @@ double uvArea2(const P& a, const P& b, const P& c) {
 // float ulp at a time along the gradient of its area (at most 64 ulps, far below a texel) until
 // the rounded triangle faces the right way. parameterize has its own repair for per-face-corner
 // UVs that are rounded later (nudgeRoundedSliverCorners); this one works on the float buffers.
+// Appends a copy of vertex v's joints and weights (a vertex being duplicated), when skinned.
+void copyInfluences(LodLevelData& out, uint32_t v) {
+    if (out.joints.empty()) return;
+    for (size_t d = 0; d < 4; ++d) out.joints.push_back(out.joints[4 * v + d]);
+    for (size_t d = 0; d < 4; ++d) out.weights.push_back(out.weights[4 * v + d]);
+}
+
 void splitRoundedSliverCorners(const std::vector<std::array<Vec2, 3>>& placed, LodLevelData& out) {
     struct F2 { float x, y; };
     for (size_t t = 0; t < placed.size(); ++t) {
@@ -412,6 +419,7 @@ void splitRoundedSliverCorners(const std::vector<std::array<Vec2, 3>>& placed, L
         uint32_t v = idx[k], copy = uint32_t(out.uvs.size() / 2);
         for (int d = 0; d < 3; ++d) out.positions.push_back(out.positions[3 * v + uint32_t(d)]);
         for (int d = 0; d < 3; ++d) out.normals.push_back(out.normals[3 * v + uint32_t(d)]);
+        copyInfluences(out, v);
         out.uvs.insert(out.uvs.end(), {c.x, c.y});
         idx[k] = copy;
     }
@@ -428,6 +436,7 @@ void addBackFaces(const Asset& asset, const LevelView& lv, LodLevelData& out) {
             for (size_t d = 0; d < 3; ++d) out.positions.push_back(out.positions[3 * v + d]);
             for (size_t d = 0; d < 3; ++d) out.normals.push_back(-out.normals[3 * v + d]);
             for (size_t d = 0; d < 2; ++d) out.uvs.push_back(out.uvs[2 * v + d]);
+            copyInfluences(out, v);
         }
         return it->second;
     };
@@ -454,8 +463,19 @@ void buildLevelMesh(const Asset& asset, const LevelView& lv, const LevelUVs& luv
             for (uint32_t v : t) vertexNormal[v] += n;
         }
     }
-    // vertex, chart, normal, chart UV (a level's own charts may give a vertex two UVs in one chart)
-    using Key = std::tuple<uint32_t, uint32_t, float, float, float, double, double>;
+    // Welded vertices whose wedges bind differently (parts that move apart) stay apart: the key
+    // holds the wedge's influence set (0 without a rig).
+    const bool skinned = !asset.rig.empty() && m.wedges.joints.size() == m.wedges.size();
+    std::map<std::pair<std::array<uint16_t, 4>, std::array<double, 4>>, uint32_t> influenceIds;
+    auto influenceOf = [&](uint32_t w) -> uint32_t {
+        if (!skinned) return 0;
+        const Vec4& q = m.wedges.weights[w];
+        return influenceIds.emplace(std::make_pair(m.wedges.joints[w], std::array<double, 4>{q.x, q.y, q.z, q.w}), uint32_t(influenceIds.size()))
+            .first->second;
+    };
+    // vertex, chart, normal, chart UV (a level's own charts may give a vertex two UVs in one
+    // chart), influences
+    using Key = std::tuple<uint32_t, uint32_t, float, float, float, double, double, uint32_t>;
     std::map<Key, uint32_t> index;
     for (size_t t = 0; t < lv.triangles.size(); ++t) {
         uint32_t c = luv.chart[t];
@@ -469,7 +489,8 @@ void buildLevelMesh(const Asset& asset, const LevelView& lv, const LevelUVs& luv
                                           m.positions[lv.triangles[t][2]] - m.positions[lv.triangles[t][0]]));
                 n = length(fn) > 0.5 ? fn : Vec3{0, 0, 1};
             }
-            Key key{v, c, float(n.x), float(n.y), float(n.z), luv.uv[t][j].x, luv.uv[t][j].y};
+            const uint32_t w = lv.cornerWedges[t][j];
+            Key key{v, c, float(n.x), float(n.y), float(n.z), luv.uv[t][j].x, luv.uv[t][j].y, influenceOf(w)};
             auto [it, inserted] = index.emplace(key, uint32_t(out.positions.size() / 3));
             if (inserted) {
                 const Vec3& p = m.positions[v];
@@ -477,6 +498,11 @@ void buildLevelMesh(const Asset& asset, const LevelView& lv, const LevelUVs& luv
                 out.normals.insert(out.normals.end(), {float(n.x), float(n.y), float(n.z)});
                 Vec2 q = P.apply(luv.uv[t][j]);
                 out.uvs.insert(out.uvs.end(), {float(q.x / a.width), float(q.y / a.height)});
+                if (skinned) {
+                    const Vec4& wt = m.wedges.weights[w];
+                    for (uint16_t jo : m.wedges.joints[w]) out.joints.push_back(jo);
+                    out.weights.insert(out.weights.end(), {float(wt.x), float(wt.y), float(wt.z), float(wt.w)});
+                }
             }
             out.indices.push_back(it->second);
             Vec2 q = P.apply(luv.uv[t][j]);
@@ -670,6 +696,7 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
     const FaceGrid grid(mesh);
     const MaterialPlan plan = options.baseColorOnly ? baseColorPlan(planMaterial(asset)) : planMaterial(asset);
     res.warnings = plan.warnings;
+    res.rig = asset.rig;
     LevelImageOptions io;
     io.format = options.ktx2Encoder.empty() ? options.imageFormat : ImageFormat::Png;
     io.jpegQuality = options.jpegQuality;
@@ -729,7 +756,7 @@ void appendLevelStats(PackWriteStats& st, const LodChainWriteStats& w, size_t k)
 PackWriteStats writePackResult(const std::string& path, const PackResult& result, const PackWriteOptions& options) {
     PackWriteStats st;
     if (!options.split) {
-        LodChainWriteStats w = writeLodChain(path, result.levels, result.screenCoverage, options.chain);
+        LodChainWriteStats w = writeLodChain(path, result.levels, result.screenCoverage, options.chain, &result.rig);
         st.files.push_back(path);
         for (size_t k = 0; k < result.levels.size(); ++k) appendLevelStats(st, w, k);
         st.totalBytes = w.fileBytes;
@@ -742,7 +769,7 @@ PackWriteStats writePackResult(const std::string& path, const PackResult& result
     manifest["levels"] = nlohmann::json::array();
     for (size_t k = 0; k < result.levels.size(); ++k) {
         std::string file = stem + ".lod" + std::to_string(k) + ext;
-        LodChainWriteStats w = writeLodChain(file, {result.levels[k]}, {}, options.chain);
+        LodChainWriteStats w = writeLodChain(file, {result.levels[k]}, {}, options.chain, &result.rig);
         st.files.push_back(file);
         appendLevelStats(st, w, 0);
         st.totalBytes += w.fileBytes;

@@ -3,6 +3,7 @@
 #include "collapse_rules.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -133,8 +134,44 @@ static Reject vertexDeviation(const CollapseProfile& p, const RuleScratch& w, do
     return Reject::None;
 }
 
+// Skinned meshes: v_i moves only onto a vertex bound (almost) like itself.
+static Reject influenceRule(const CollapseProfile& p) {
+    const std::vector<uint32_t>& iw = p.mesh.influenceWedge;
+    if (iw.empty()) return Reject::None;
+    const uint32_t a = iw[p.vi], b = iw[p.vj()];
+    if (a == kNone || b == kNone) return Reject::Skin;
+    if (a == b) return Reject::None;
+    const Wedges& W = p.mesh.input.wedges;
+    auto weight = [&](uint32_t wedge, int k) {
+        const Vec4& q = W.weights[wedge];
+        return k == 0 ? q.x : k == 1 ? q.y : k == 2 ? q.z : q.w;
+    };
+    // Total variation: half the L1 distance between the two weight vectors over all joints
+    // (weights of a joint listed twice add up; zero-weight slots do not count).
+    std::array<std::pair<uint16_t, double>, 8> diff{};
+    size_t n = 0;
+    auto add = [&](uint32_t wedge, double sign) {
+        for (int k = 0; k < 4; ++k) {
+            const double x = weight(wedge, k);
+            if (x == 0) continue;
+            const uint16_t j = W.joints[wedge][size_t(k)];
+            size_t i = 0;
+            while (i < n && diff[i].first != j) ++i;
+            if (i == n) diff[n++] = {j, 0.0};
+            diff[i].second += sign * x;
+        }
+    };
+    add(a, 1);
+    add(b, -1);
+    double l1 = 0;
+    for (size_t i = 0; i < n; ++i) l1 += std::fabs(diff[i].second);
+    return 0.5 * l1 > p.settings.maxInfluenceChange ? Reject::Skin : Reject::None;
+}
+
 Reject checkCollapse(const CollapseProfile& p, RuleScratch& w, double quadricTerm, double& dev, float& farDist) {
-    Reject r = linkCondition(p, w);
+    Reject r = influenceRule(p);
+    if (r != Reject::None) return r;
+    r = linkCondition(p, w);
     if (r != Reject::None) return r;
     return vertexDeviation(p, w, quadricTerm, dev, farDist);
 }

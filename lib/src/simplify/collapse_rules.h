@@ -19,7 +19,7 @@ namespace lodbake::simplify_detail {
 
 // Why a vertex could not collapse. The stop reason of a level that cannot reach its target is the
 // most frequent reason among the remaining vertices.
-enum class Reject : uint8_t { None, Locked, Border, Link, Flip, Degenerate, Ear, Rule1, Cone, Isolated, Count };
+enum class Reject : uint8_t { None, Locked, Border, Link, Flip, Degenerate, Ear, Rule1, Cone, Isolated, Skin, Count };
 
 inline constexpr const char* kRejectReason[] = {
     "target",                                        // None
@@ -32,6 +32,7 @@ inline constexpr const char* kRejectReason[] = {
     "rule1: last p-boundary",                        // Rule1
     "region: normal cone",                           // Cone: the merged region would turn too far to be a chart
     "no valid collapse",                             // Isolated
+    "skin: joint influences differ",                 // Skin
 };
 static_assert(sizeof(kRejectReason) / sizeof(kRejectReason[0]) == size_t(Reject::Count), "rule table");
 
@@ -55,6 +56,7 @@ struct RuleSettings {
     double epsilonBox = 0;              // model units
     double similarDeviation = 0;        // rule 2: relative width of a deviation bucket; 0 = off
     double diagonal = 0;                // of the input's bounding box, model units
+    double maxInfluenceChange = 1;      // largest total variation between the joint weights of v_i and v_j
 };
 
 // The best collapse found for a vertex, with its region plan.

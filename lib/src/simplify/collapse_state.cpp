@@ -60,6 +60,21 @@ void buildAdjacency(CollapseState& s) {
     s.tri.rec.resize(m.triangles.size());
     for (size_t f = 0; f < m.triangles.size(); ++f) s.tri.rec[f] = {m.triangles[f], {0, 0, 0}};
     if (s.input.cornerWedges.size() == m.triangles.size()) s.wedge = s.input.cornerWedges;
+    const Wedges& W = s.input.wedges;
+    if (!s.wedge.empty() && W.joints.size() == W.size() && W.weights.size() == W.size()) {
+        s.influenceWedge.assign(m.positions.size(), kNone - 1);  // kNone - 1: not seen yet
+        auto same = [&](uint32_t a, uint32_t b) {
+            const Vec4 &p = W.weights[a], &q = W.weights[b];
+            return W.joints[a] == W.joints[b] && p.x == q.x && p.y == q.y && p.z == q.z && p.w == q.w;
+        };
+        for (size_t f = 0; f < m.triangles.size(); ++f)
+            for (size_t k = 0; k < 3; ++k) {
+                uint32_t& iw = s.influenceWedge[m.triangles[f][k]];
+                const uint32_t w = s.wedge[f][k];
+                if (iw == kNone - 1) iw = w;
+                else if (iw != kNone && !same(iw, w)) iw = kNone;
+            }
+    }
     s.faceAlive.assign(s.faceCount, 1);
     s.aliveFaces = s.faceCount;
     std::vector<uint32_t> valence(s.vertexCount, 0);

@@ -170,6 +170,9 @@ struct CollapseState {
     std::vector<FaceList> vfaces;  // live faces around each vertex
     std::vector<uint8_t> locked, border, removed;
     std::vector<uint8_t> pinch;  // bow-tie vertices: several manifold fans meet at one point
+    // Skinned input: the wedge of each vertex whose joints and weights it has (kNone: its wedges
+    // bind differently); empty without influences.
+    std::vector<uint32_t> influenceWedge;
     Components components;
     std::vector<Quadric> quadric;
 

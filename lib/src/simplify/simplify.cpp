@@ -70,6 +70,7 @@ RuleSettings resolveSettings(const SimplifyOptions& options, double diagonal, do
     r.epsilonBox = options.epsilonBoxFactor * longestSide;
     r.similarDeviation = options.similarDeviation;
     r.diagonal = diagonal;
+    r.maxInfluenceChange = options.maxInfluenceChange;
     return r;
 }
 

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "lodbake/core/errors.h"
+#include "lodbake/core/pose.h"
 #include "lodbake/gltf/gltf.h"
 #include "lodbake/texture/codec.h"
 
@@ -220,11 +221,35 @@ std::vector<std::string> checkTolerances(const CompareTolerances& t, const Compa
     return v;
 }
 
+// The time of s.pose in seconds. \throw Impossible when A has no such animation.
+double poseTime(const CompareSettings& s, const Loaded& A) {
+    const ComparePose& p = s.pose;
+    const std::vector<Animation>& anims = A.asset.rig.animations;
+    if (size_t(p.animation) >= anims.size())
+        throw Impossible(s.a + ": --animation " + std::to_string(p.animation) + " asked but the file has " + std::to_string(anims.size()) +
+                         " animations");
+    const TimeRange r = animationTimes(anims[size_t(p.animation)]);
+    switch (p.at) {
+        case ComparePose::At::Start: return r.start;
+        case ComparePose::At::Middle: return 0.5 * (r.start + r.end);
+        case ComparePose::At::End: return r.end;
+        default: return p.seconds;
+    }
+}
+
 }  // namespace
 
 CompareStageResult runCompare(const CompareSettings& s) {
     Loaded A = load(s.a, s.lodA);
     Loaded B = load(s.b, s.lodB);
+    double time = 0;
+    if (s.pose.animation >= 0) {
+        time = poseTime(s, A);
+        if (size_t(s.pose.animation) >= B.asset.rig.animations.size())
+            B.asset.warnings.push_back("no animation " + std::to_string(s.pose.animation) + ": compared in its rest pose");
+        A.mesh = poseMesh(A.asset.rig, A.mesh, s.pose.animation, time);
+        B.mesh = poseMesh(B.asset.rig, B.mesh, s.pose.animation, time);
+    }
     CompareOptions opt = s.compare;
     opt.threads = s.threads;
     opt.keepRenders = !s.sheet.empty();
@@ -235,6 +260,7 @@ CompareStageResult runCompare(const CompareSettings& s) {
     CompareStageResult out;
     out.exceeded = checkTolerances(s.tolerances, r, opt);
     out.report = makeReport(s, r, A, B, out.exceeded);
+    if (s.pose.animation >= 0) out.report["pose"] = {{"animation", s.pose.animation}, {"time", time}};
     if (!s.sheet.empty()) writeContactSheet(s.sheet, r);
     if (!s.report.empty()) writeReport(s.report, out.report);
     out.statistics = s.json ? out.report.dump(2) + "\n" : table(s, r, A, B, out.exceeded);

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "lodbake/core/math.h"
+#include "lodbake/core/rig.h"
 
 namespace lodbake {
 
@@ -30,6 +31,10 @@ struct Wedges {
     std::vector<Vec2> uv0;         // TEXCOORD_0 as stored in glTF (origin top-left, v down)
     std::vector<Vec2> uv1;         // TEXCOORD_1
     std::vector<Vec4> color;       // COLOR_0 as linear RGBA in [0,1] (RGB inputs get alpha 1)
+    // Skinning (present exactly when Asset::rig is not empty): the 4 largest influences, joint
+    // indices into Rig::joints, weights summing to 1; unused slots are joint 0 with weight 0.
+    std::vector<std::array<uint16_t, 4>> joints;
+    std::vector<Vec4> weights;
     size_t size() const { return vertex.size(); }
 };
 
@@ -119,6 +124,7 @@ struct Asset {
     std::vector<Texture> textures;
     std::vector<Sampler> samplers;
     std::vector<Image> images;
+    Rig rig;  // skin and animations; empty for a static asset
     std::vector<std::string> warnings;
     LoadStats stats;
 };

@@ -27,8 +27,11 @@ struct ReadOptions {
 // every TRIANGLES / TRIANGLE_STRIP / TRIANGLE_FAN primitive (points and lines dropped with a
 // warning), all accessor component types (normalized or not), sparse accessors, interleaved
 // views, data URIs, external files relative to the asset, KHR_draco_mesh_compression,
-// KHR_mesh_quantization, KHR_texture_transform, KHR_materials_unlit. Skinned meshes are read in
-// bind pose (the node transform of the mesh node, joints ignored).
+// KHR_mesh_quantization, KHR_texture_transform, KHR_materials_unlit. Skinned meshes are flattened
+// in bind pose (the node transform of the mesh node); skins, the joint hierarchy and node
+// animations become asset.rig with per-wedge influences (lodbake/core/rig.h), and an unskinned
+// mesh node of an asset that moves becomes a joint of its own. Morph targets are dropped with a
+// warning.
 //
 // When the file carries a LODBAKE_multires extension, `multires` (if non-null) receives it and
 // asset.mesh is the original (level-0) mesh it refers to.
@@ -58,6 +61,9 @@ struct WriteOptions {
 // in the scene, level nodes translated side by side along +x (1.25 bounding-box widths apart) so
 // a viewer shows the chain; the mesh data itself stays in the original's world space. One
 // primitive per material per mesh. readGltf of such a file returns node 0 only as asset.mesh.
+// With a rig (asset.rig), every mesh node uses its one skin (JOINTS_0 / WEIGHTS_0), the levels
+// are not translated, and the rig's nodes and animations follow the mesh nodes; reading the file
+// back gives the same rig and influences.
 //
 // \throw IOError when the file cannot be written.
 void writeGltf(const std::string& path, const Asset& asset, const Multires* multires = nullptr,

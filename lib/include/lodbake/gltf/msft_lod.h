@@ -40,6 +40,8 @@ struct LodLevelData {
     std::vector<float> normals;      // xyz per vertex, unit length (same count as positions)
     std::vector<float> uvs;          // TEXCOORD_0 per vertex (glTF: [0,1], v down)
     std::vector<float> tangents;     // TANGENT xyzw per vertex (lodbake/core/tangents.h); empty = none
+    std::vector<uint16_t> joints;    // JOINTS_0, 4 per vertex, into the chain's Rig::joints; empty = not skinned
+    std::vector<float> weights;      // WEIGHTS_0, 4 per vertex (with joints)
     std::vector<uint32_t> indices;   // 3 per triangle
     LodMaterial material;
 };
@@ -90,10 +92,14 @@ struct LodChainWriteStats {
 // extras.MSFT_screencoverage = `screenCoverage` (one value per level, i.e. one more than the
 // ids, decreasing: LOD k is drawn at coverage >= value k, nothing below the last); only node 0 is in the scene; MSFT_lod is listed in extensionsUsed, never required.
 // With one level and no coverage: a plain single-mesh file (pack --split).
+// With a non-empty `rig` (and joints on every level): the rig's nodes, its one skin and its
+// animations are written once; every level node uses the skin; the rig's roots join node 0 in
+// the scene. Draco is not applied to skinned levels (they are written with plain accessors).
 // \pre every level has >= 1 triangle and matching attribute sizes; a normal map comes with tangents.
 // \throw InvalidInput (inconsistent level data), IOError (cannot write), SolverError (Draco failed),
 //        Unsupported (draco with meshopt or quantize).
 LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodLevelData>& levels,
-                                 const std::vector<double>& screenCoverage, const LodChainWriteOptions& options = {});
+                                 const std::vector<double>& screenCoverage, const LodChainWriteOptions& options = {},
+                                 const Rig* rig = nullptr);
 
 }  // namespace lodbake

@@ -94,6 +94,7 @@ struct PackResult {
     std::vector<PackLevelReport> reports;   // per level
     double radius = 0, diagonal = 0;        // bounding sphere radius (half the bbox diagonal) and the diagonal
     std::vector<std::string> warnings;      // the material plan's (mixed alpha modes, sidedness, shading)
+    Rig rig;                                // the asset's skin and animations, written once for every level
     double seconds = 0;
 };
 

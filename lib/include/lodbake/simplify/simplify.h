@@ -44,6 +44,12 @@ struct SimplifyOptions {
     // pinch vertices, rule 1), whole components whose half bounding-box diagonal is below this fraction of the
     // model's diagonal are removed, smallest first; their size enters the level's maxDeviation. 0 disables.
     double pruneStuckSize = 0.2;
+    // Skinned meshes (Wedges::joints): a vertex moves only onto a neighbour whose joint weights
+    // differ from its own by at most this total variation (half the sum of |weight differences|
+    // over the joints; 0 = identical influences, 1 = any), so a level does not tear or bend
+    // differently from the original when posed. A vertex where parts of different influences
+    // meet never moves.
+    double maxInfluenceChange = 0.1;
     // Candidate evaluation and simplification pairs run on this many threads (the collapse walk
     // is sequential); results are identical for any value.
     int threads = 1;

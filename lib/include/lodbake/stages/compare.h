@@ -18,6 +18,13 @@ struct CompareTolerances {
     std::optional<double> minPbrPsnr;                               // dB
 };
 
+// Both models posed by one of their animations before they are compared (lodbake/core/pose.h).
+struct ComparePose {
+    int animation = -1;  // index into the animations; -1 = no posing (the flattened bind pose)
+    enum class At { Seconds, Start, Middle, End } at = At::Start;
+    double seconds = 0;  // the time when at == Seconds; else the first / middle / last key time of A's animation
+};
+
 struct CompareSettings {
     std::string a, b;          // the two glTF files
     int lodA = 0, lodB = 0;    // level compared: LODBAKE_multires level, or MSFT_lod level; 0 = original / LOD0
@@ -28,6 +35,7 @@ struct CompareSettings {
     std::string sheet;         // contact sheet PNG to write; empty = none
     int verbose = 0;           // > 0: per-view image metrics in the table and the report
     int threads = 0;           // 0 = all cores; never changes the result
+    ComparePose pose;
 };
 
 struct CompareStageResult : StageResult {
@@ -35,7 +43,8 @@ struct CompareStageResult : StageResult {
     std::vector<std::string> exceeded;  // one line per tolerance that does not hold
 };
 
-// \throw Impossible when a --lod level is not present or a mesh has no non-degenerate triangle;
+// \throw Impossible when a --lod level or the --animation is not present in A or a mesh has no
+//        non-degenerate triangle;
 //        the errors of reading and writing.
 CompareStageResult runCompare(const CompareSettings& settings);
 

@@ -1,0 +1,24 @@
+// Private to lib/src/gltf: writing a Rig (lodbake/core/rig.h) and per-vertex influences, shared by
+// the intermediate writer (gltf_write.cpp) and the LOD chain writer (msft_lod_write.cpp).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "gltf/gltf_buffer.h"
+#include "lodbake/core/rig.h"
+
+namespace lodbake::gltf_detail {
+
+// Appends the rig's nodes to `nodes` (rig node k becomes node nodes.size() + k), sets
+// root["skins"] = [the one skin] and root["animations"]; returns the node indices of the rig's
+// roots, which the caller puts in the scene. Mesh nodes that use the skin get "skin": 0.
+// \pre !rig.empty().
+std::vector<int> writeRig(BufferBuilder& b, nlohmann::json& root, nlohmann::json& nodes, const Rig& rig);
+
+// JOINTS_0 (UNSIGNED_SHORT VEC4) and WEIGHTS_0 (FLOAT VEC4) of a primitive, 4 per vertex, into `attributes`.
+void addInfluences(BufferBuilder& b, nlohmann::json& attributes, const std::vector<uint16_t>& joints, const std::vector<float>& weights);
+
+}  // namespace lodbake::gltf_detail
