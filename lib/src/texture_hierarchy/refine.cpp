@@ -370,7 +370,14 @@ RefineResult refineTextures(const Asset& asset, const Multires& mr, const Refine
             res.rejected.push_back({cand.level, cand.count, "keeping level triangles whole leaves nothing to split"});
             continue;
         }
-        solveRankLayout(mesh, mr, parent, o, eo, per, cand, rr);
+        // A rank only refines T0: when its (more numerous) charts cannot fit the texture, the
+        // hierarchy stops at the ranks it has, and the report says why.
+        try {
+            solveRankLayout(mesh, mr, parent, o, eo, per, cand, rr);
+        } catch (const Impossible& e) {
+            res.rejected.push_back({cand.level, cand.count, std::string("its charts do not fit the texture (") + e.what() + ")"});
+            break;
+        }
         if (rr.layout.chartCount <= parent.chartCount) {
             res.rejected.push_back({cand.level, rr.layout.chartCount, "no piece solved better than its parent"});
             continue;
