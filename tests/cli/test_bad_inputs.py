@@ -76,6 +76,11 @@ class BadInputs(unittest.TestCase):
         image_doc["bufferViews"].append({"buffer": 0, "byteOffset": 8, "byteLength": 10 ** 9})
         image_doc["images"] = [{"bufferView": 2, "mimeType": "image/png"}]
         put("image-view-past-buffer.gltf", json.dumps(image_doc))
+        # Found by fuzzing under AddressSanitizer: a buffer URI naming a directory (tinygltf sized
+        # its read from tellg's -1).
+        dir_doc = json.loads(minimal_gltf(quad, [0, 1, 2, 0, 2, 3]))
+        dir_doc["buffers"][0]["uri"] = "."
+        put("buffer-uri-directory.gltf", json.dumps(dir_doc))
         mode_doc = json.loads(minimal_gltf(quad, [0, 1, 2, 0, 2, 3]))
         mode_doc["meshes"][0]["primitives"][0]["mode"] = 4000
         put("invalid-mode.gltf", json.dumps(mode_doc))
@@ -124,6 +129,7 @@ class BadInputs(unittest.TestCase):
             "image-view-past-buffer.gltf": "exceeds its buffer",
             "invalid-mode.gltf": "invalid mode 4000",
             "zero-length-buffer.glb": "malformed glTF",
+            "buffer-uri-directory.gltf": "not a regular file",
         }
         for name, needle in cases.items():
             p = lt.run([lt.tool("simplify"), "-i", self.cases[name], "-o", os.path.join(self.dir, "x.glb"),
