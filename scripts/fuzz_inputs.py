@@ -28,7 +28,6 @@ TIMEOUT (seconds per run, default 60); OUTPUT_EXT (glb or gltf; default: alterna
 For a sanitizer build (cmake -DLODBAKE_SANITIZE=ON) the ASAN_OPTIONS and UBSAN_OPTIONS below are
 set unless the environment already has them.
 """
-import base64
 import glob
 import json
 import os
