@@ -136,6 +136,20 @@ class BadInputs(unittest.TestCase):
                         "--ratio", "0.5"], check=False)
             self.assertIn(needle.lower(), p.stderr.lower(), p.stderr)
 
+    def test_multires_counts(self):
+        # Found by fuzzing: a negative vertexCount in LODBAKE_multires sized a 2^64-element array
+        # (exit 4); it is invalid input.
+        with open(os.path.join(self.dir, "good.glb"), "rb") as f:
+            data = f.read()
+        path = os.path.join(self.dir, "negative-vertex-count.glb")
+        with open(path, "wb") as f:
+            f.write(glb_with_json(data, lambda doc: doc["extensions"]["LODBAKE_multires"]["original"].update(vertexCount=-8)))
+        out = os.path.join(self.dir, "negative-vertex-count.uv.glb")
+        p = lt.run([lt.tool("parameterize"), "-i", path, "-o", out, "--quiet"], check=False, timeout=120)
+        self.assertEqual(p.returncode, 2, p.stderr)
+        self.assertIn("vertexCount", p.stderr)
+        self.assertFalse(os.path.exists(out))
+
 
 class Images(unittest.TestCase):
     """Images stay encoded in the reader: simplify copies them through without loading OpenImageIO;
