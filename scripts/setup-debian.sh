@@ -11,13 +11,14 @@ $SUDO apt-get install -y -qq \
   cmake ninja-build g++ make pkg-config python3 time \
   libtinygltf-dev libdraco-dev libmeshoptimizer-dev libceres-dev libcgal-dev libeigen3-dev \
   libopenimageio-dev openimageio-tools nlohmann-json3-dev libgtest-dev \
-  gltfpack chromium python3-numpy assimp-testmodels snakemake >/dev/null
+  gltfpack chromium python3-numpy python3-jsonschema dpkg-dev assimp-testmodels snakemake >/dev/null
 if ! command -v npm >/dev/null 2>&1; then
   $SUDO apt-get install -y -qq nodejs npm >/dev/null
 fi
 # Khronos glTF-Validator, the peer tools, Babylon.js, three.js + playwright-core (browser tests and
 # scripts/render_three.py: they drive Debian's chromium, never download a browser), pinned by
 # scripts/node/package-lock.json. python3-numpy: render_three.py's PSNR/SSIM.
+# python3-jsonschema: the report schema test; dpkg-dev: dpkg-shlibdeps for `cpack -G DEB`.
 # Blender (peer in scripts/bench_peers.sh) is optional: apt-get install blender.
 (cd scripts/node && npm ci --silent --no-audit --no-fund)
 echo "setup: dependencies installed"

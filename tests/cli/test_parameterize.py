@@ -69,6 +69,31 @@ class ParameterizeCli(unittest.TestCase):
         self.assertLess(max(g.accessor(ch["faceChart"])), ch["count"])
         return uv
 
+    def test_surviving_folds_are_warnings(self):
+        # Without the island fallback a level of seamball keeps a folded triangle: the chain is still
+        # written (exit 0), with one warning line naming the folds, and the report counts them.
+        # --allow-level-folds is accepted (deprecated, no effect) and changes no byte.
+        src = os.path.join(self.dir, "seamball.glb")
+        mr = os.path.join(self.dir, "seamball.folds.mr.glb")
+        lt.run([lt.tool("simplify"), "-i", src, "-o", mr, "--ratio", "0.5,0.1,0.02", "--quiet"])
+        outs = []
+        for extra in ([], ["--allow-level-folds"]):
+            uv = os.path.join(self.dir, "seamball.folds%d.uv.glb" % len(outs))
+            rep = uv + ".json"
+            p = lt.run([lt.tool("parameterize"), "-i", mr, "-o", uv, "--size", "256", "--no-level-islands",
+                        "--report", rep] + extra, check=False)
+            self.assertEqual(p.returncode, 0, p.stderr)
+            with open(rep) as f:
+                r = json.load(f)
+            folds = r["total"]["levelFlips"] + r["total"]["levelOverlaps"]
+            self.assertGreater(folds, 0, "seamball no longer folds without islands: pick another case")
+            warnings = [w for w in p.stderr.splitlines() if w.startswith("parameterize warning: the levels keep")]
+            self.assertEqual(len(warnings), 1, p.stderr)
+            self.assertTrue(any(w.startswith("the levels keep") for w in r["warnings"]), r["warnings"])
+            with open(uv, "rb") as f:
+                outs.append(f.read())
+        self.assertEqual(outs[0], outs[1])
+
     def test_hemisphere(self):
         self.check("hemisphere9")
 

@@ -1,7 +1,7 @@
 """The README's commands run as written: every command of its sh blocks (after the set-up block)
 runs in a scratch folder that holds the demo's outputs, and exits 0 (compare's tolerance example
-may exit 1, which is what it documents). `make -C pipelines` lines are left out: test_pipeline
-runs the pipeline."""
+may exit 1, which is what it documents). `make -C pipelines` and `snakemake` lines are left out:
+test_pipeline and test_snakemake run the pipelines."""
 import os
 import re
 import subprocess
@@ -18,7 +18,7 @@ def readme_commands():
     for block in blocks[1:]:  # the first block installs and builds
         for line in block.splitlines():
             line = line.split("  #")[0].strip()
-            if line and not line.startswith("make "):
+            if line and not line.startswith(("make ", "snakemake ")):
                 commands.append(line)
     return commands
 

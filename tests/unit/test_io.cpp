@@ -630,6 +630,37 @@ TEST(IoWrite, MultiresRoundTripIsExact) {
     EXPECT_EQ(readBytes(dir / "mr.glb"), readBytes(p2));
 }
 
+// In memory (the lodbake chain): encodeGlb gives the bytes writeGltf writes to a .glb, and
+// readGltfBytes reads them as readGltf reads the file, messages naming the given path.
+TEST(IoWrite, InMemoryGlbMatchesTheFile) {
+    auto dir = tempDir("memglb");
+    Asset a = cubeAsset(dir);
+    Multires mr = fakeMultires(a.mesh);
+    std::string p = (dir / "mr.glb").string();
+    WriteOptions opt;
+    opt.generator = "lodbake test";
+    writeGltf(p, a, &mr, opt);
+    std::vector<unsigned char> bytes = encodeGlb("memory:mr.glb", a, &mr, opt);
+    std::string file = readBytes(p);
+    EXPECT_EQ(std::string(bytes.begin(), bytes.end()), file);
+
+    std::optional<Multires> back;
+    Asset b = readGltfBytes("memory:mr.glb", bytes, {}, &back);
+    ASSERT_TRUE(back.has_value());
+    expectSameMesh(a.mesh, b.mesh);
+    expectSameMultires(mr, *back);
+    EXPECT_EQ(b.sourcePath, "memory:mr.glb");
+
+    EXPECT_THROW(encodeGlb("memory:mr.gltf", a, &mr), IOError);
+    std::vector<unsigned char> cut(bytes.begin(), bytes.begin() + 40);
+    try {
+        readGltfBytes("memory:cut.glb", cut);
+        FAIL() << "a truncated GLB was read";
+    } catch (const Error& e) {
+        EXPECT_EQ(std::string(e.what()).rfind("memory:cut.glb: ", 0), 0u) << e.what();
+    }
+}
+
 // A version 1 file (one (face, oldRep, newRep) record per relabelled face) reads as the per-region
 // records of version 2: the consecutive repeats of each collapse's range are dropped.
 TEST(IoRead, MultiresVersion1RegionUpdates) {

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <iostream>
 #include <sstream>
+#include <stdexcept>
 
 
 namespace lodbake::cli {
@@ -38,14 +39,27 @@ std::string lowerExtension(const std::string& path) {
 ArgParser::ArgParser(std::string tool, std::string synopsis)
     : tool_(std::move(tool)), synopsis_(std::move(synopsis)) {}
 
+void ArgParser::add(Opt opt) {
+    // A name given twice would silently bind to one of the two handlers.
+    for (const Opt& o : opts_)
+        for (const std::string& n : o.names)
+            if (std::find(opt.names.begin(), opt.names.end(), n) != opt.names.end())
+                throw std::logic_error(tool_ + ": flag " + n + " is defined twice");
+    opt.section = std::move(pendingSection_);
+    pendingSection_.clear();
+    opts_.push_back(std::move(opt));
+}
+
 void ArgParser::option(const std::string& names, const std::string& valueName, const std::string& help,
                        std::function<void(const std::string&)> handler) {
-    opts_.push_back({splitNames(names), valueName, help, std::move(handler), true});
+    add({splitNames(names), valueName, help, std::move(handler), true, {}});
 }
 
 void ArgParser::flag(const std::string& names, const std::string& help, std::function<void()> handler) {
-    opts_.push_back({splitNames(names), "", help, [h = std::move(handler)](const std::string&) { h(); }, false});
+    add({splitNames(names), "", help, [h = std::move(handler)](const std::string&) { h(); }, false, {}});
 }
+
+void ArgParser::section(const std::string& title) { pendingSection_ = title; }
 
 void ArgParser::positionals(const std::string& names, std::function<void(const std::string&)> handler) {
     positionalNames_ = names;
@@ -118,6 +132,7 @@ std::string ArgParser::help() const {
     std::ostringstream os;
     os << "Usage: " << tool_ << " " << synopsis_ << "\n\nOptions:\n";
     for (const Opt& o : opts_) {
+        if (!o.section.empty()) os << "\n" << o.section << ":\n";
         std::string left;
         for (size_t k = 0; k < o.names.size(); ++k) left += (k ? ", " : "") + o.names[k];
         if (o.takesValue) left += " " + o.valueName;

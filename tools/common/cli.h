@@ -37,6 +37,8 @@ public:
                 std::function<void(const std::string&)> handler);
     // A flag without a value.
     void flag(const std::string& names, const std::string& help, std::function<void()> handler);
+    // A heading in --help before the flags added next (tools with several stages' flags).
+    void section(const std::string& title);
     // Positional arguments (tools such as compare); if not set, positionals are usage errors.
     void positionals(const std::string& names, std::function<void(const std::string&)> handler);
     // Adds -i, -o, --report, -v/-vv, --threads bound to `s`, and -q/--quiet bound to `quiet`.
@@ -53,7 +55,10 @@ private:
         std::string valueName, help;
         std::function<void(const std::string&)> handler;
         bool takesValue;
+        std::string section;  // heading printed before this flag; empty = none
     };
+    std::string pendingSection_;
+    void add(Opt opt);
     std::string tool_, synopsis_;
     std::vector<Opt> opts_;
     std::function<void(const std::string&)> positional_;

@@ -237,10 +237,24 @@ const Material& materialOf(const ShadeContext& c, uint32_t f) {
     return (mi >= 0 && mi < int(c.asset.materials.size())) ? c.asset.materials[size_t(mi)] : kDefault;
 }
 
+// How a channel's texture is interpolated: colour with OpenImageIO's default (bicubic where the
+// texture is magnified), data (roughness, metallic, occlusion, normals) bilinearly, as a renderer
+// samples them; a cubic's overshoot would also move data values past what the texels hold.
+enum class Interp { Color, Data };
+
+// True when two texture references read the same texels at the same UVs (the usual
+// occlusion-in-red of a metallic-roughness texture): one lookup serves both.
+bool sameLookup(const TextureRef& a, const TextureRef& b) {
+    const TextureTransform &s = a.transform, &t = b.transform;
+    const int setA = s.texCoord >= 0 ? s.texCoord : a.texCoord, setB = t.texCoord >= 0 ? t.texCoord : b.texCoord;
+    return a.texture == b.texture && setA == setB && s.present == t.present && s.offset.x == t.offset.x &&
+           s.offset.y == t.offset.y && s.rotation == t.rotation && s.scale.x == t.scale.x && s.scale.y == t.scale.y;
+}
+
 // The filtered texel of texture reference `ref` at hit h: RGBA as stored (no colour conversion;
 // grey images fill RGB, images without alpha give alpha 1). False when the material has no such
 // texture (or no UVs of its set): `out` is then untouched.
-bool lookup(const ShadeContext& c, const TextureRef& ref, const TexelHit& h, float out[4]) {
+bool lookup(const ShadeContext& c, const TextureRef& ref, const TexelHit& h, float out[4], Interp interp = Interp::Color) {
     const TriMesh& mesh = c.asset.mesh;
     const uint32_t f = uint32_t(h.face);
     int ti = ref.texture;
@@ -277,6 +291,7 @@ bool lookup(const ShadeContext& c, const TextureRef& ref, const TexelHit& h, flo
     opt.swrap = OIIO::TextureOpt::Wrap(wrapMode(smp.wrapS));
     opt.twrap = OIIO::TextureOpt::Wrap(wrapMode(smp.wrapT));
     opt.fill = 1.0f;
+    if (interp == Interp::Data) opt.interpmode = OIIO::TextureOpt::InterpBilinear;
     const SourceTexture& src = c.sources[size_t(tex.image)];
     float r[4] = {1, 1, 1, 1};
     c.ts.texture(src.file, opt, float(st.x), float(st.y), float(tdx.x), float(tdx.y), float(tdy.x), float(tdy.y),
@@ -329,12 +344,15 @@ void shadeOrm(const ShadeContext& c, const TexelHit& h, double orm[3]) {
     orm[1] = m.roughnessFactor;
     orm[2] = m.metallicFactor;
     float r[4];
-    if (lookup(c, m.metallicRoughness, h, r)) {
+    const bool mr = lookup(c, m.metallicRoughness, h, r, Interp::Data);
+    if (mr) {
         orm[1] *= std::clamp(double(r[1]), 0.0, 1.0);
         orm[2] *= std::clamp(double(r[2]), 0.0, 1.0);
     }
-    if (lookup(c, m.specularGlossiness, h, r)) orm[1] = 1 - m.glossinessFactor * std::clamp(double(r[3]), 0.0, 1.0);
-    if (lookup(c, m.occlusion, h, r)) orm[0] = 1 + m.occlusion.scale * (std::clamp(double(r[0]), 0.0, 1.0) - 1);
+    float sg[4];
+    if (lookup(c, m.specularGlossiness, h, sg, Interp::Data)) orm[1] = 1 - m.glossinessFactor * std::clamp(double(sg[3]), 0.0, 1.0);
+    if ((mr && sameLookup(m.occlusion, m.metallicRoughness)) || lookup(c, m.occlusion, h, r, Interp::Data))
+        orm[0] = 1 + m.occlusion.scale * (std::clamp(double(r[0]), 0.0, 1.0) - 1);
     for (int i = 0; i < 3; ++i) orm[i] = std::clamp(orm[i], 0.0, 1.0);
 }
 
@@ -366,7 +384,7 @@ Vec3 shadingNormal(const ShadeContext& c, const TexelHit& h) {
     }
     const Material& m = materialOf(c, f);
     float r[4];
-    if (!lookup(c, m.normal, h, r)) return N;
+    if (!lookup(c, m.normal, h, r, Interp::Data)) return N;
     const int set = m.normal.transform.texCoord >= 0 ? m.normal.transform.texCoord : m.normal.texCoord;
     const std::vector<Vec4>& tangents = mesh.wedges.tangent.empty() ? c.tangents[set == 1 ? 1 : 0] : mesh.wedges.tangent;
     if (tangents.empty()) return N;

@@ -82,7 +82,8 @@ int BufferBuilder::addIndices(const std::vector<uint32_t>& idx, size_t vertexCou
     return addAccessor({{"bufferView", view}, {"componentType", ct}, {"count", idx.size()}, {"type", "SCALAR"}});
 }
 
-size_t writeGltfFiles(const std::string& path, json& root, BufferBuilder& buffer, bool glb) {
+size_t writeGltfFiles(const std::string& path, json& root, BufferBuilder& buffer, bool glb,
+                      std::vector<unsigned char>* memory) {
     if (buffer.size % 4) {
         buffer.chunks.emplace_back(4 - buffer.size % 4, '\0');
         buffer.size += buffer.chunks.back().size();
@@ -122,7 +123,13 @@ size_t writeGltfFiles(const std::string& path, json& root, BufferBuilder& buffer
         u32(binHead, 0x004E4942u);  // "BIN\0"
     }
     bin.insert(bin.begin(), {head, binHead});
-    writeFileAtomic(path, bin);
+    if (memory) {
+        memory->clear();
+        memory->reserve(total);
+        for (std::string_view part : bin) memory->insert(memory->end(), part.begin(), part.end());
+    } else {
+        writeFileAtomic(path, bin);
+    }
     return total;
 }
 

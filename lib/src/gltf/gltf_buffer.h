@@ -35,7 +35,9 @@ struct BufferBuilder {
 
 // Adds buffer 0 (when the buffer is non-empty), bufferViews and accessors to `root`, then writes
 // `path` atomically: a GLB container when `glb`, else the JSON plus PATH-stem.bin beside it.
-// Returns the bytes written. \throw IOError.
-size_t writeGltfFiles(const std::string& path, nlohmann::json& root, BufferBuilder& buffer, bool glb);
+// Returns the bytes written. With `memory` (and `glb`), the container goes there instead of a
+// file. \throw IOError.
+size_t writeGltfFiles(const std::string& path, nlohmann::json& root, BufferBuilder& buffer, bool glb,
+                      std::vector<unsigned char>* memory = nullptr);
 
 }  // namespace lodbake::gltf_detail

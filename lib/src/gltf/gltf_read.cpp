@@ -19,12 +19,14 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <optional>
 
 #include <nlohmann/json.hpp>
 #include <tiny_gltf.h>
 
 #include "gltf/gltf_internal.h"
 #include "gltf/gltf_read_context.h"
+#include "gltf/meshopt_decode.h"
 #include "gltf/multires_codec.h"
 #include "lodbake/core/errors.h"
 #include "lodbake/gltf/gltf.h"
@@ -89,8 +91,12 @@ bool keepImageBytes(tinygltf::Image* image, const int index, std::string* err, s
     return true;
 }
 
+// Texture extensions whose images (KTX2/Basis Universal, WebP, AVIF) lodbake does not decode.
+const std::vector<std::string> kImageExtensions = {"KHR_texture_basisu", "EXT_texture_webp", "EXT_texture_avif"};
+
 const std::vector<std::string> kSupportedRequired = {"KHR_draco_mesh_compression", "KHR_mesh_quantization",
-                                                     "KHR_texture_transform", "KHR_materials_unlit"};
+                                                     "KHR_texture_transform", "KHR_materials_unlit",
+                                                     "EXT_meshopt_compression"};
 
 
 // The JSON text of a GLB (its first chunk) or of a .gltf (the whole file, after checking that it
@@ -121,33 +127,45 @@ void checkRequiredExtensions(const ReadContext& c) {
     if (c.root.contains("extensionsRequired") && c.root["extensionsRequired"].is_array())
         for (const json& e : c.root["extensionsRequired"]) {
             std::string name = e.is_string() ? e.get<std::string>() : e.dump();
-            if (std::find(kSupportedRequired.begin(), kSupportedRequired.end(), name) == kSupportedRequired.end())
+            if (std::find(kSupportedRequired.begin(), kSupportedRequired.end(), name) == kSupportedRequired.end()) {
+                // KHR_meshopt_compression adds a vertex codec version and filter that
+                // meshoptimizer 0.18 (Debian's) does not decode.
+                if (name == "KHR_meshopt_compression")
+                    throw Unsupported(c.path + ": required extension " + name +
+                                      " is not supported by this build's meshoptimizer (0.18 decodes EXT_meshopt_compression only)");
+                if (std::find(kImageExtensions.begin(), kImageExtensions.end(), name) != kImageExtensions.end())
+                    throw Unsupported(c.path + ": required extension " + name +
+                                      " is not supported (lodbake decodes PNG and JPEG images only)");
                 throw Unsupported(c.path + ": required extension " + name + " is not supported");
+            }
         }
 }
 
 // tinygltf rejects index accessors without a bufferView, which is how Draco primitives declare
 // them; we never use those accessors, so they are hidden from tinygltf: the indices of Draco
-// primitives are dropped from the JSON, in `bytes` (GLB) or `jsonText` (.gltf).
-void hideDracoIndices(const ReadContext& c, bool isGlb, std::vector<unsigned char>& bytes, std::string& jsonText) {
-    bool patched = false;
-    json patchedRoot;
-    if (c.root.contains("meshes") && c.root["meshes"].is_array())
-        for (size_t mi = 0; mi < c.root["meshes"].size(); ++mi) {
-            const json& jm = c.root["meshes"][mi];
+// primitives are dropped from `patched` (a copy of `root`, made on first change).
+bool hideDracoIndices(const json& root, std::optional<json>& patched) {
+    bool changed = false;
+    if (root.contains("meshes") && root["meshes"].is_array())
+        for (size_t mi = 0; mi < root["meshes"].size(); ++mi) {
+            const json& jm = root["meshes"][mi];
             if (!jm.is_object() || !jm.contains("primitives") || !jm["primitives"].is_array()) continue;
             for (size_t pi = 0; pi < jm["primitives"].size(); ++pi) {
                 const json& jp = jm["primitives"][pi];
                 if (jp.is_object() && jp.contains("indices") && jp.contains("extensions") && jp["extensions"].is_object() &&
                     jp["extensions"].contains("KHR_draco_mesh_compression")) {
-                    if (!patched) patchedRoot = c.root;
-                    patched = true;
-                    patchedRoot["meshes"][mi]["primitives"][pi].erase("indices");
+                    if (!patched) patched = root;
+                    changed = true;
+                    (*patched)["meshes"][mi]["primitives"][pi].erase("indices");
                 }
             }
         }
-    if (!patched) return;
-    std::string text = patchedRoot.dump();
+    return changed;
+}
+
+// Replaces the JSON tinygltf will parse by `root`: in `bytes` (GLB) or `jsonText` (.gltf).
+void replaceJson(const json& root, bool isGlb, std::vector<unsigned char>& bytes, std::string& jsonText) {
+    std::string text = root.dump();
     if (isGlb) {
         std::vector<unsigned char> glbBytes;
         while (text.size() % 4) text.push_back(' ');
@@ -170,8 +188,8 @@ void hideDracoIndices(const ReadContext& c, bool isGlb, std::vector<unsigned cha
 // \throw IOError, InvalidInput, Unsupported.
 void loadModel(ReadContext& c, tinygltf::Model& model) {
     const std::string& path = c.path;
-    if (std::filesystem::is_directory(path)) throw IOError(path + ": is a directory");
-    std::vector<unsigned char> bytes = readFileBytes(path);
+    if (!c.bytes && std::filesystem::is_directory(path)) throw IOError(path + ": is a directory");
+    std::vector<unsigned char> bytes = c.bytes ? *c.bytes : readFileBytes(path);
     if (bytes.empty()) fail(c, "empty file");
 
     tinygltf::TinyGLTF loader;
@@ -188,8 +206,12 @@ void loadModel(ReadContext& c, tinygltf::Model& model) {
         fail(c, std::string("invalid JSON: ") + firstLine(e.what()));
     }
     if (!c.root.is_object()) fail(c, "JSON root is not an object");
+    checkStructure(c);
     checkRequiredExtensions(c);
-    hideDracoIndices(c, isGlb, bytes, jsonText);
+    std::optional<json> patched;  // the JSON tinygltf sees, when it differs from the file's
+    bool changed = hideDracoIndices(c.root, patched);
+    changed = hideMeshoptFallbackBuffers(c.root, patched) || changed;
+    if (changed) replaceJson(*patched, isGlb, bytes, jsonText);
     bool ok = false;
     try {
         ok = isGlb ? loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), unsigned(bytes.size()), baseDir)
@@ -208,6 +230,7 @@ void loadModel(ReadContext& c, tinygltf::Model& model) {
         if (io) throw IOError(path + ": " + e);
         fail(c, e);
     }
+    decodeMeshoptViews(c, model);
     c.model = &model;
 }
 
@@ -613,6 +636,19 @@ void readMaterials(const ReadContext& c, Asset& asset) {
         smp.wrapT = s.wrapT;
         asset.samplers.push_back(smp);
     }
+    // Image formats lodbake does not decode (KTX2/Basis, WebP, AVIF): an optional extension's
+    // texture uses its fallback `source` (PNG/JPEG), with a warning; a required one was refused
+    // by checkRequiredExtensions.
+    if (c.root.contains("textures"))
+        for (size_t i = 0; i < c.root["textures"].size(); ++i) {
+            const json& t = c.root["textures"][i];
+            if (!t.contains("extensions")) continue;
+            for (const std::string& name : kImageExtensions)
+                if (t["extensions"].contains(name))
+                    asset.warnings.push_back("texture " + std::to_string(i) + ": " + name + " is not decoded; " +
+                                             (t.contains("source") ? "its fallback image " + t["source"].dump() + " is used"
+                                                                   : "it has no fallback image and is left out"));
+        }
     for (const auto& t : model.textures) {
         Texture tex;
         tex.image = t.source;
@@ -644,9 +680,10 @@ void readImages(const ReadContext& c, tinygltf::Model& model, const ReadOptions&
 
 }  // namespace
 
-Asset readGltf(const std::string& path, const ReadOptions& options, std::optional<Multires>* multires) {
-    ReadContext c;
-    c.path = path;
+namespace {
+
+Asset readWith(ReadContext& c, const ReadOptions& options, std::optional<Multires>* multires) {
+    const std::string& path = c.path;
     tinygltf::Model model;
     loadModel(c, model);
 
@@ -671,6 +708,22 @@ Asset readGltf(const std::string& path, const ReadOptions& options, std::optiona
         fail(c, std::string("malformed JSON value: ") + firstLine(e.what()));
     }
     return asset;
+}
+
+}  // namespace
+
+Asset readGltf(const std::string& path, const ReadOptions& options, std::optional<Multires>* multires) {
+    ReadContext c;
+    c.path = path;
+    return readWith(c, options, multires);
+}
+
+Asset readGltfBytes(const std::string& path, const std::vector<unsigned char>& bytes, const ReadOptions& options,
+                    std::optional<Multires>* multires) {
+    ReadContext c;
+    c.path = path;
+    c.bytes = &bytes;
+    return readWith(c, options, multires);
 }
 
 }  // namespace lodbake

@@ -19,9 +19,15 @@ namespace lodbake::gltf_detail {
 
 struct ReadContext {
     std::string path;
+    // The file's bytes when they are already in memory (readGltfBytes); null = read `path`.
+    const std::vector<unsigned char>* bytes = nullptr;
     const tinygltf::Model* model = nullptr;
     nlohmann::json root;
 };
+
+// \throw InvalidInput naming the JSON pointer of the first structural error of c.root (the schema's
+// types for what the reader uses, indexed semantics continuous, bufferViews inside their buffers).
+void checkStructure(const ReadContext& c);
 
 // \throw InvalidInput "<path>: <what>".
 [[noreturn]] void fail(const ReadContext& c, const std::string& what);

@@ -227,7 +227,11 @@ void writeFileAtomic(const std::string& path, const std::vector<std::string_view
     }
 }
 
-void writeGltf(const std::string& path, const Asset& asset, const Multires* multires, const WriteOptions& options) {
+namespace {
+
+// writeGltf, or with `memory` encodeGlb.
+void writeGltfTo(const std::string& path, const Asset& asset, const Multires* multires, const WriteOptions& options,
+                 std::vector<unsigned char>* memory) {
     std::string ext = lowerExt(path);
     bool glb = ext == ".glb";
     if (!glb && ext != ".gltf") throw IOError(path + ": output must end in .glb or .gltf");
@@ -361,7 +365,23 @@ void writeGltf(const std::string& path, const Asset& asset, const Multires* mult
     std::filesystem::path dir = std::filesystem::path(path).parent_path();
     for (const auto& [file, img] : sideImages)
         writeFileAtomic((dir / file).string(), std::string(img->encoded.begin(), img->encoded.end()));
-    writeGltfFiles(path, root, w, glb);
+    writeGltfFiles(path, root, w, glb, memory);
+}
+
+}  // namespace
+
+void writeGltf(const std::string& path, const Asset& asset, const Multires* multires, const WriteOptions& options) {
+    writeGltfTo(path, asset, multires, options, nullptr);
+}
+
+std::vector<unsigned char> encodeGlb(const std::string& path, const Asset& asset, const Multires* multires,
+                                     const WriteOptions& options) {
+    if (lowerExt(path) != ".glb") throw IOError(path + ": in-memory glTF must be a .glb");
+    WriteOptions embedded = options;
+    embedded.embedImages = true;
+    std::vector<unsigned char> bytes;
+    writeGltfTo(path, asset, multires, embedded, &bytes);
+    return bytes;
 }
 
 }  // namespace lodbake

@@ -9,7 +9,8 @@
 //      (independent of the field of view: coverage = projected sphere height / viewport height);
 //   4. per level: levelCoverage (its coverage range and the texel density it can show);
 //      selectTexture (T0, or the highest-rank texture of the hierarchy valid for the level);
-//      levelUVs (the layout UV of every level corner); packLevelPage (the charts its triangles
+//      levelUVs (the layout UV of every level corner; a level baked by projection then takes
+//      its own charts, ownCharts: islands unfolded onto neighbouring charts); packLevelPage (the charts its triangles
 //      use repacked at that density, gutters sized for the mips used down to its smallest
 //      coverage); bakePage (the ORIGINAL triangles baked at the repacked UVs); buildLevelMesh
 //      (one indexed primitive: position, normal, atlas UV).
@@ -27,6 +28,7 @@
 
 #include "lodbake/bake/bake.h"
 #include "lodbake/bake/material_plan.h"
+#include "lod/level_islands.h"
 #include "lod/level_material.h"
 #include "lodbake/core/errors.h"
 #include "lodbake/core/timing.h"
@@ -161,7 +163,25 @@ LayoutData layoutData(const Asset& asset, const ChartLayout& ch, uint32_t rank) 
 struct LevelUVs {
     std::vector<uint32_t> chart;
     std::vector<std::array<Vec2, 3>> uv;
+    // Non-empty: the charts are the level's own (ownCharts), this is each one's level-triangle UV
+    // area and ownChartSource the layout chart each grew from (>= the layout's chartCount: from an
+    // island). Empty: the ids are the layout's charts and islands.
+    std::vector<double> ownChartArea;
+    std::vector<uint32_t> ownChartSource;
+    size_t absorbedIslands = 0;  // own charts: islands unfolded onto a chart
 };
+
+// A level baked by projection: islands unfolded onto neighbouring charts (level_islands.h).
+LevelUVs ownCharts(const TriMesh& mesh, const LayoutData& L, const LevelView& lv, LevelUVs luv) {
+    LevelChartSet set = absorbIslands(mesh.positions, lv.triangles, luv.chart, luv.uv, L.ch->chartCount, L.uvPerUnit);
+    LevelUVs out;
+    out.chart = std::move(set.chart);
+    out.uv = std::move(set.uv);
+    out.ownChartArea = std::move(set.uvArea);
+    out.ownChartSource = std::move(set.source);
+    out.absorbedIslands = set.absorbed + set.grouped;
+    return out;
+}
 
 // Every layout (T0 and the hierarchy's ranks): the chart levelTriangleCharts picks (the face's, or
 // one holding all three corners), a corner outside it the UV of the closest point of the chart's
@@ -224,23 +244,40 @@ struct LevelAtlas {
     size_t charts = 0;
 };
 
+// The layout chart (or island) whose original faces chart c of a level's UVs covers; >= the
+// layout's chartCount + islands for a level's own chart grown from islands (no original faces).
+uint32_t layoutChartOf(const LevelUVs& luv, uint32_t c) { return luv.ownChartArea.empty() ? c : luv.ownChartSource[c]; }
+
+// The UV area chart c of a level's UVs takes: its footprint's, at least.
+double levelChartArea(const LayoutData& L, const LevelUVs& luv, uint32_t c) {
+    const uint32_t source = layoutChartOf(luv, c);
+    const double layout = source < L.ch->chartCount || luv.ownChartArea.empty() ? L.chartUvArea[source] : 0;
+    return luv.ownChartArea.empty() ? layout : std::max(layout, luv.ownChartArea[c]);
+}
+
 LevelAtlas packLevelAtlas(const LayoutData& L, const LevelUVs& luv, bool original, const AtlasOptions& ao) {
     const ChartLayout& ch = *L.ch;
     LevelAtlas la;
-    la.chartSlot.assign(L.chartUvArea.size(), -1);
+    const bool own = !luv.ownChartArea.empty();
+    la.chartSlot.assign(own ? luv.ownChartArea.size() : L.chartUvArea.size(), -1);
     std::vector<AtlasChart> charts;
     for (size_t t = 0; t < luv.chart.size(); ++t) {
         uint32_t c = luv.chart[t];
         if (la.chartSlot[c] < 0) {
             la.chartSlot[c] = int(charts.size());
             AtlasChart a;
-            a.uvArea = L.chartUvArea[c];
-            if (c >= ch.chartCount) {  // an island: its one triangle
+            a.uvArea = levelChartArea(L, luv, c);
+            // A layout chart's footprint includes its original faces: the layout bake reads them,
+            // and around a projected level's triangles they keep the chart's own texels between it
+            // and its neighbours, which mips far below the page's gutter blend. A chart grown
+            // from islands is just its level triangles, added below.
+            const uint32_t source = layoutChartOf(luv, c);
+            if (!own && c >= ch.chartCount) {  // an island: its one triangle
                 const LayoutIsland& isl = ch.islands[c - ch.chartCount];
                 a.points.assign(isl.uv.begin(), isl.uv.end());
                 a.triangles.push_back(isl.uv);
-            } else {
-                for (uint32_t f : L.chartFaces[c]) {
+            } else if (source < ch.chartCount) {
+                for (uint32_t f : L.chartFaces[source]) {
                     for (const Vec2& p : ch.cornerUV[f]) a.points.push_back(p);
                     a.triangles.push_back(ch.cornerUV[f]);
                 }
@@ -417,7 +454,8 @@ void buildLevelMesh(const Asset& asset, const LevelView& lv, const LevelUVs& luv
             for (uint32_t v : t) vertexNormal[v] += n;
         }
     }
-    using Key = std::tuple<uint32_t, uint32_t, float, float, float>;  // vertex, chart, normal
+    // vertex, chart, normal, chart UV (a level's own charts may give a vertex two UVs in one chart)
+    using Key = std::tuple<uint32_t, uint32_t, float, float, float, double, double>;
     std::map<Key, uint32_t> index;
     for (size_t t = 0; t < lv.triangles.size(); ++t) {
         uint32_t c = luv.chart[t];
@@ -431,7 +469,7 @@ void buildLevelMesh(const Asset& asset, const LevelView& lv, const LevelUVs& luv
                                           m.positions[lv.triangles[t][2]] - m.positions[lv.triangles[t][0]]));
                 n = length(fn) > 0.5 ? fn : Vec3{0, 0, 1};
             }
-            Key key{v, c, float(n.x), float(n.y), float(n.z)};
+            Key key{v, c, float(n.x), float(n.y), float(n.z), luv.uv[t][j].x, luv.uv[t][j].y};
             auto [it, inserted] = index.emplace(key, uint32_t(out.positions.size() / 3));
             if (inserted) {
                 const Vec3& p = m.positions[v];
@@ -558,9 +596,9 @@ LevelAtlas packLevelPage(const LayoutData& lay, const LevelUVs& luv, size_t k, c
     int mips = mipsAt(tMax);
     double usedUv = 0;
     {
-        std::vector<char> seen(lay.chartUvArea.size(), 0);
+        std::vector<char> seen(luv.ownChartArea.empty() ? lay.chartUvArea.size() : luv.ownChartArea.size(), 0);
         for (uint32_t c : luv.chart)
-            if (!seen[c]) { seen[c] = 1; usedUv += lay.chartUvArea[c]; }
+            if (!seen[c]) { seen[c] = 1; usedUv += levelChartArea(lay, luv, c); }
     }
     double side = std::min(double(options.maxSize), std::sqrt(usedUv) * tMax / 0.8);
     int mipLimit = side > options.minMipSide ? int(std::floor(std::log2(side / options.minMipSide))) : 0;
@@ -641,9 +679,12 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
         levelCoverage(res, k, options, r);
         selectTexture(mr, layouts, views[k].level, hierarchy, area3D, options, r);
         const LayoutData& lay = layouts[r.rank];
-        const LevelUVs luv = levelUVs(mesh, lay, views[k], views[k].data);
+        const bool projected = k > 0 && options.projectLevels;
+        const LevelUVs luv = projected ? ownCharts(mesh, lay, views[k], levelUVs(mesh, lay, views[k], views[k].data))
+                                       : levelUVs(mesh, lay, views[k], views[k].data);
         const LevelAtlas la = packLevelPage(lay, luv, k, r, res.reports, options);
         recordPage(la, lay, r);
+        r.absorbedIslands = luv.absorbedIslands;
         LodLevelData& L = res.levels[k];
         L.name = "LOD" + std::to_string(k);
         buildLevelMesh(asset, views[k], luv, la, L);
@@ -655,7 +696,7 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
         if (channels.normal) L.tangents = levelTangents(L);
         const BakeTarget target = levelBakeTarget(L, la.atlas.width, la.atlas.height);
         const double reach = 1.5 * r.hausdorff + kProjectionSlack * res.diagonal;
-        const BakeResult baked = k > 0 && options.projectLevels
+        const BakeResult baked = projected
                                      ? bakeProjected(sources, grid, L, front, la.atlas.width, la.atlas.height, reach, res.diagonal, channels, target,
                                                      options.threads)
                                      : bakePage(sources, lay, la, channels, target, options.threads);

@@ -12,6 +12,9 @@
 //                           writeLevelUVs, and addFoldIslands (level triangles that fold or cross a
 //                           chart boundary get their own island) until no level folds
 //   nudgeRoundedSliverCorners   sliver faces that flip once their UVs are rounded to float
+//   foldedAtlasFaces, carveFaces  fallback: an original face still folded in the atlas gets a chart
+//                           of its own (so does every face of a chart the solver cannot map,
+//                           splitFailedCharts), then (5)-(7) again
 #include "lodbake/param/parameterize.h"
 
 #include <algorithm>
@@ -218,7 +221,17 @@ size_t levelFolds(const ChartMesh& chart, const std::vector<Vec2>& uv) {
 
 void solveChart(LocalChart& c, const ParameterizeOptions& o, double resolution, ChartReport& rep) {
     auto t0 = Clock::now();
-    std::vector<Vec2> tutte = tutteEmbedding(c.mesh);
+    std::vector<Vec2> tutte;
+    try {
+        tutte = tutteEmbedding(c.mesh);
+    } catch (const Error& e) {
+        // No map of this chart: splitFailedCharts lays its faces out one by one.
+        rep.method = "failed";
+        rep.failure = e.what();
+        c.uv.clear();
+        rep.seconds = secondsSince(t0);
+        return;
+    }
     ChartSolveOptions so = o.solve;
     so.energy.resolution = resolution;
     rep.tutte = chartEnergy(c.mesh, c.pairs, tutte, so.energy);
@@ -331,6 +344,140 @@ size_t nudgeRoundedSliverCorners(const TriMesh& mesh, const std::vector<int32_t>
         if (done) ++repaired;
     }
     return repaired;
+}
+
+// A chart of one original face, laid flat by islandLayout (injective by construction).
+LocalChart singleFaceChart(const TriMesh& mesh, uint32_t f, double minSize) {
+    LocalChart c;
+    const Tri& t = mesh.triangles[f];
+    c.faces = {f};
+    c.vertices = {t[0], t[1], t[2]};
+    std::sort(c.vertices.begin(), c.vertices.end());
+    for (uint32_t i = 0; i < 3; ++i) {
+        c.local.emplace(c.vertices[i], i);
+        c.mesh.positions.push_back(mesh.positions[c.vertices[i]]);
+    }
+    c.mesh.triangles.push_back({c.local[t[0]], c.local[t[1]], c.local[t[2]]});
+    std::vector<Vec2> flat = islandLayout(mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]], minSize);
+    c.uv.assign(3, {});
+    for (size_t k = 0; k < 3; ++k) c.uv[c.local[t[k]]] = flat[k];
+    return c;
+}
+
+// The fallback for faces no chart map keeps injective: each face in `faces` (ascending) leaves its
+// chart and becomes a single-face chart appended after the existing ones (a face that already is
+// one is laid out again with `minSize`). The chart it leaves keeps its map for its other faces.
+// Returns the UV area (model units^2) the new charts add.
+double carveFaces(const TriMesh& mesh, const std::vector<uint32_t>& faces, double minSize, std::vector<LocalChart>& charts,
+                  ParameterizeResult& res) {
+    double addedArea = 0;
+    for (uint32_t f : faces) {
+        const int32_t old = res.charts.faceChart[f];
+        if (old < 0) continue;
+        LocalChart& from = charts[size_t(old)];
+        if (from.faces.size() == 1) {
+            from = singleFaceChart(mesh, f, minSize);
+            continue;
+        }
+        auto it = std::find(from.faces.begin(), from.faces.end(), f);
+        if (it == from.faces.end()) continue;
+        const size_t i = size_t(it - from.faces.begin());
+        from.faces.erase(it);
+        from.mesh.triangles.erase(from.mesh.triangles.begin() + long(i));
+        if (from.faces.empty()) from.uv.clear();
+        LocalChart c = singleFaceChart(mesh, f, minSize);
+        addedArea += 0.5 * std::abs(cross(c.uv[1] - c.uv[0], c.uv[2] - c.uv[0]));
+        res.charts.faceChart[f] = int32_t(charts.size());
+        ChartReport rep;
+        rep.faces = 1;
+        rep.vertices = 3;
+        rep.method = "single-face";
+        res.chartReports.push_back(rep);
+        charts.push_back(std::move(c));
+        ++res.carvedFaces;
+    }
+    res.charts.chartCount = uint32_t(charts.size());
+    return addedArea;
+}
+
+// Charts emptied by carveFaces are dropped and the rest renumbered in order (chart ids stay dense).
+void dropEmptyCharts(std::vector<LocalChart>& charts, ParameterizeResult& res) {
+    std::vector<int32_t> newId(charts.size(), -1);
+    size_t n = 0;
+    for (size_t c = 0; c < charts.size(); ++c)
+        if (!charts[c].faces.empty() || res.chartReports[c].method != "failed") newId[c] = int32_t(n++);
+    if (n == charts.size()) return;
+    for (int32_t& c : res.charts.faceChart)
+        if (c >= 0) c = newId[size_t(c)];
+    for (size_t c = 0; c < charts.size(); ++c)
+        if (newId[c] >= 0 && size_t(newId[c]) != c) {
+            charts[size_t(newId[c])] = std::move(charts[c]);
+            res.chartReports[size_t(newId[c])] = std::move(res.chartReports[c]);
+        }
+    charts.resize(n);
+    res.chartReports.resize(n);
+    res.charts.chartCount = uint32_t(n);
+}
+
+// (3b) A chart the solver could not map at all (not a disk after all, a singular Tutte system):
+// its faces become single-face charts, laid out at about 2 texels a side of the expected density.
+void splitFailedCharts(const TriMesh& mesh, const ParameterizeOptions& options, std::vector<LocalChart>& charts,
+                       ParameterizeResult& res) {
+    std::vector<uint32_t> faces;
+    for (size_t c = 0; c < charts.size(); ++c) {
+        if (res.chartReports[c].method != "failed") continue;
+        ++res.failedCharts;
+        res.warnings.push_back("chart " + std::to_string(c) + " (" + std::to_string(charts[c].faces.size()) +
+                               " faces) could not be flattened (" + res.chartReports[c].failure +
+                               "); its faces are laid out one by one");
+        faces.insert(faces.end(), charts[c].faces.begin(), charts[c].faces.end());
+    }
+    if (faces.empty()) return;
+    std::sort(faces.begin(), faces.end());
+    double area = 0;
+    for (uint32_t f = 0; f < mesh.triangleCount(); ++f) {
+        const Tri& t = mesh.triangles[f];
+        area += 0.5 * length(cross(mesh.positions[t[1]] - mesh.positions[t[0]], mesh.positions[t[2]] - mesh.positions[t[0]]));
+    }
+    const double expectedDensity = 0.7 * options.textureSize / std::sqrt(std::max(area, 1e-30));
+    carveFaces(mesh, faces, 2.0 / expectedDensity, charts, res);
+    dropEmptyCharts(charts, res);
+}
+
+// Original faces folded in the packed atlas, checked as the tool checks them (float UVs, overlap
+// tolerance 1e-7): every flipped face and, of each overlapping pair, the one with the smaller 3D
+// area (ascending face ids). Sets res.flips and res.overlaps to the counts.
+std::vector<uint32_t> foldedAtlasFaces(const TriMesh& mesh, ParameterizeResult& res) {
+    std::vector<std::array<Vec2, 3>> tris;
+    std::vector<uint32_t> which;
+    for (uint32_t f = 0; f < mesh.triangleCount(); ++f)
+        if (!degenerateIndices(mesh.triangles[f])) {
+            tris.push_back(res.cornerUV[f]);
+            which.push_back(f);
+        }
+    param_detail::UVFolds folds = param_detail::findUVFolds(tris, 1e-7);
+    std::vector<char> pick(tris.size(), 0);
+    res.flips = 0;
+    for (size_t i = 0; i < tris.size(); ++i) {
+        pick[i] = folds.flipped[i];
+        res.flips += size_t(folds.flipped[i]);
+    }
+    auto area3 = [&](uint32_t f) {
+        const Tri& v = mesh.triangles[f];
+        return length(cross(mesh.positions[v[1]] - mesh.positions[v[0]], mesh.positions[v[2]] - mesh.positions[v[0]]));
+    };
+    std::set<uint32_t> overlapping;
+    for (const auto& [i, j] : folds.overlapping) {
+        overlapping.insert(i);
+        overlapping.insert(j);
+        if (pick[i] || pick[j]) continue;
+        pick[area3(which[i]) <= area3(which[j]) ? i : j] = 1;
+    }
+    res.overlaps = overlapping.size();
+    std::vector<uint32_t> faces;
+    for (size_t i = 0; i < tris.size(); ++i)
+        if (pick[i]) faces.push_back(which[i]);
+    return faces;
 }
 
 // A level corner projected onto a chart: the closest point of the chart's faces (face, bary).
@@ -621,6 +768,8 @@ void layoutAtlas(const TriMesh& mesh, const Multires& multires, const std::vecto
                  const ParameterizeOptions& options, ParameterizeResult& res) {
     constexpr int kMaxRounds = 8;
     AtlasState st = atlasState(mesh, multires, res.charts, charts);
+    res.islands.clear();
+    res.crossingIslandsSkipped = 0;
     const double uvArea = chartUvArea > 0 ? chartUvArea : 1;
     bool crossing = options.crossingIslands;
     for (int round = 0;; ++round) {
@@ -648,10 +797,25 @@ ParameterizeResult parameterize(const TriMesh& mesh, const Multires& multires, c
 
     std::vector<LocalChart> charts = localCharts(mesh, multires, res.charts);  // (2)
     solveCharts(charts, options, res);                                         // (3)
-    const double chartUvArea = measureCharts(charts, res);                     // (4)
+    splitFailedCharts(mesh, options, charts, res);                             // (3b)
+    double chartUvArea = measureCharts(charts, res);                           // (4)
     for (LocalChart& c : charts) alignChart(c.uv);
-    layoutAtlas(mesh, multires, charts, chartUvArea, options, res);            // (5)-(7)
-    res.floatRepairs = nudgeRoundedSliverCorners(mesh, res.charts.faceChart, res.cornerUV);
+    // (5)-(7), then the LOD0 fallback: original faces still folded in the packed atlas (a chart
+    // map that is not injective, corners that fold once rounded to float) leave their charts as
+    // single-face charts of at least 2 texels a side, and the atlas is laid out again.
+    constexpr int kMaxCarvePasses = 4;
+    for (int pass = 0;; ++pass) {
+        layoutAtlas(mesh, multires, charts, chartUvArea, options, res);
+        res.floatRepairs = nudgeRoundedSliverCorners(mesh, res.charts.faceChart, res.cornerUV);
+        const std::vector<uint32_t> folded = foldedAtlasFaces(mesh, res);
+        if (folded.empty() || pass == kMaxCarvePasses || res.texelsPerUnit <= 0) break;
+        const size_t before = res.carvedFaces;
+        chartUvArea += carveFaces(mesh, folded, (pass + 2.0) / res.texelsPerUnit, charts, res);
+        if (pass == 0 || res.carvedFaces > before)
+            res.warnings.push_back(std::to_string(folded.size()) + " original faces folded in the atlas (" +
+                                   std::to_string(res.flips) + " flipped, " + std::to_string(res.overlaps) +
+                                   " overlapping); each now has a chart of its own");
+    }
     if (options.progress) options.progress(1.0);
     res.seconds = secondsSince(t0);
     return res;

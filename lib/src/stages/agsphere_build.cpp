@@ -97,7 +97,7 @@ StageResult runAgsphereBuild(const AgsphereBuildSettings& s) {
     opt.threads = resolveThreads(s.common.threads);
     opt.progress = s.common.progress;
     AgsphereResult result = buildAgsphere(asset.mesh, opt);
-    double writeSeconds = writeMultiresOutput(s.common, asset, result.multires, "agsphere-build");
+    double writeSeconds = writeStageOutput(s.common, asset, &result.multires, "agsphere-build");
 
     StageResult out;
     out.report = makeReport(s, asset, result, loadSeconds, writeSeconds);

@@ -12,15 +12,6 @@ Asset loadMeshInput(const StageCommon& common, double& seconds, const std::strin
     return asset;
 }
 
-double writeMultiresOutput(const StageCommon& common, const Asset& asset, const Multires& multires,
-                           const std::string& tool) {
-    Clock::time_point t0 = Clock::now();
-    WriteOptions wopt;
-    wopt.generator = "lodbake " + tool + " 0.1.0";
-    writeGltf(common.output, asset, &multires, wopt);
-    return secondsSince(t0);
-}
-
 nlohmann::json inputJson(const StageCommon& common, const Asset& asset, double diagonal) {
     const TriMesh& m = asset.mesh;
     return {{"path", common.input},

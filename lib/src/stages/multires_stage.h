@@ -15,9 +15,6 @@ namespace lodbake {
 // \throw Impossible with "INPUT: <noTriangles>" when the scene has no triangles; the errors of readGltf.
 Asset loadMeshInput(const StageCommon& common, double& seconds, const std::string& noTriangles);
 
-// Writes asset + multires to common.output with generator "lodbake TOOL 0.1.0"; returns seconds.
-double writeMultiresOutput(const StageCommon& common, const Asset& asset, const Multires& multires, const std::string& tool);
-
 // The report's "input" object: path, counts and the bounding-box diagonal.
 nlohmann::json inputJson(const StageCommon& common, const Asset& asset, double diagonal);
 

@@ -25,6 +25,7 @@ nlohmann::json makeReport(const PackSettings& s, const Asset& asset, const Multi
                           {"height", r.height},
                           {"bytes", ws.levelBytes[k]},
                           {"charts", r.charts},
+                          {"absorbedIslands", r.absorbedIslands},
                           {"gutter", r.gutter},
                           {"mips", r.mips},
                           {"utilisation", r.utilisation},

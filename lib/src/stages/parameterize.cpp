@@ -39,6 +39,12 @@ std::vector<UVInjectivity> checkLevels(const TriMesh& mesh, const Multires& mult
     return checks;
 }
 
+// A warning of this run: printed now (stderr, TOOL warning:) and kept for the report.
+void warn(const StageCommon& common, Asset& asset, const std::string& w) {
+    if (common.warning) common.warning(w);
+    asset.warnings.push_back(w);
+}
+
 struct Timings {
     double load = 0, bake = 0, checks = 0;
 };
@@ -113,6 +119,8 @@ nlohmann::json makeReport(const ParameterizeSettings& s, const Asset& asset, con
                     {"projectedCorners", applied.projectedCorners},
                     {"islands", param.islands.size()},
                     {"floatRepairs", param.floatRepairs},
+                    {"carvedFaces", param.carvedFaces},
+                    {"failedCharts", param.failedCharts},
                     {"crossingIslandsSkipped", param.crossingIslandsSkipped},
                     {"islandTriangles", applied.islandTriangles},
                     {"islandTexels", baked.islandTexels},
@@ -156,9 +164,7 @@ StageResult runParameterize(const ParameterizeSettings& s) {
     opt.threads = s.common.threads;
     opt.progress = s.common.progress;
     ParameterizeResult param = parameterize(asset.mesh, *multires, opt);
-    if (param.flips > 0 || param.overlaps > 0)
-        throw SolverError(s.common.input + ": " + std::to_string(param.flips) + " flipped and " +
-                          std::to_string(param.overlaps) + " overlapping UV triangles remain");
+    for (const std::string& w : param.warnings) warn(s.common, asset, w);
 
     Clock::time_point t1 = Clock::now();
     BakeOptions bo;
@@ -184,27 +190,26 @@ StageResult runParameterize(const ParameterizeSettings& s) {
         levelOverlaps += c.overlaps;
     }
 
+    // What the fallbacks could not remove is still a usable chain (a folded triangle shows a
+    // smeared texel or two): it is written, and the report and a warning say where.
+    if (levelFlips > 0 || levelOverlaps > 0) {
+        std::string per;
+        for (size_t k = 0; k < levelChecks.size(); ++k)
+            if (levelChecks[k].flips || levelChecks[k].overlaps)
+                per += (per.empty() ? "" : ", ") + std::to_string(k) + ": " + std::to_string(levelChecks[k].flips) + "/" +
+                       std::to_string(levelChecks[k].overlaps);
+        warn(s.common, asset, "the levels keep " + std::to_string(levelFlips) + " flipped and " +
+                                  std::to_string(levelOverlaps) + " overlapping UV triangles (level: flipped/overlapping " +
+                                  per + ")");
+    }
+
     StageResult out;
     out.report = makeReport(s, asset, *multires, param, baked, applied, levelChecks, deviation, levelFlips,
                             levelOverlaps, time);
     if (!s.common.report.empty()) writeReport(s.common.report, out.report);
-    // A folded level is never shipped (the report above says where).
-    if ((levelFlips > 0 || levelOverlaps > 0) && !s.allowLevelFolds) {
-        std::string per;
-        for (size_t k = 0; k < levelChecks.size(); ++k)
-            per += (k ? ", " : "") + std::to_string(k) + ": " + std::to_string(levelChecks[k].flips) + "/" +
-                   std::to_string(levelChecks[k].overlaps);
-        throw SolverError(s.common.input + ": the levels have " + std::to_string(levelFlips) + " flipped and " +
-                          std::to_string(levelOverlaps) + " overlapping UV triangles (level: flipped/overlapping " +
-                          per + ")");
-    }
-
-    Clock::time_point t2 = Clock::now();
-    WriteOptions wopt;
-    wopt.generator = "lodbake parameterize 0.1.0";
-    writeGltf(s.common.output, asset, &*multires, wopt);
+    double writeSeconds = writeStageOutput(s.common, asset, &*multires, "parameterize");
     if (s.common.verbose) {
-        appendf(out.statistics, "write: %.2fs\n", secondsSince(t2));
+        appendf(out.statistics, "write: %.2fs\n", writeSeconds);
         out.statistics += statistics(*multires, param, applied, levelChecks, deviation, time.bake);
     }
     return out;

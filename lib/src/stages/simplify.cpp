@@ -54,7 +54,7 @@ StageResult runSimplify(const SimplifySettings& s) {
     Clock::time_point t1 = Clock::now();
     SimplifyResult result = simplify(asset.mesh, opt);
     double simplifySeconds = secondsSince(t1);
-    double writeSeconds = writeMultiresOutput(s.common, asset, result.multires, "simplify");
+    double writeSeconds = writeStageOutput(s.common, asset, &result.multires, "simplify");
 
     StageResult out;
     out.report = makeReport(s, asset, result, loadSeconds, simplifySeconds, writeSeconds);

@@ -11,12 +11,24 @@ namespace lodbake {
 Asset loadStageInput(const StageCommon& common, double& seconds, std::optional<Multires>* multires,
                      void (*check)(Asset&)) {
     Clock::time_point t0 = Clock::now();
-    Asset asset = readGltf(common.input, {}, multires);
+    Asset asset = common.inputBytes ? readGltfBytes(common.input, *common.inputBytes, {}, multires)
+                                    : readGltf(common.input, {}, multires);
     if (check) check(asset);
     seconds = secondsSince(t0);
     if (common.warning)
         for (const std::string& w : asset.warnings) common.warning(w);
     return asset;
+}
+
+double writeStageOutput(const StageCommon& common, const Asset& asset, const Multires* multires, const std::string& tool) {
+    Clock::time_point t0 = Clock::now();
+    WriteOptions options;
+    options.generator = "lodbake " + tool + " 0.1.0";
+    if (common.outputBytes)
+        *common.outputBytes = encodeGlb(common.output, asset, multires, options);
+    else
+        writeGltf(common.output, asset, multires, options);
+    return secondsSince(t0);
 }
 
 void writeReport(const std::string& path, const nlohmann::json& report) {

@@ -129,11 +129,7 @@ StageResult runTextureRefine(const TextureRefineSettings& s) {
     RefineResult res = refineTextures(asset, *multires, opt);
 
     applyTextureHierarchy(asset, *multires, res);
-    Clock::time_point t1 = Clock::now();
-    WriteOptions wopt;
-    wopt.generator = "lodbake texture-refine 0.1.0";
-    writeGltf(s.common.output, asset, &*multires, wopt);
-    double writeSeconds = secondsSince(t1);
+    double writeSeconds = writeStageOutput(s.common, asset, &*multires, "texture-refine");
 
     StageResult out;
     out.report = makeReport(s, asset, *multires, res, loadSeconds, writeSeconds);

@@ -39,6 +39,12 @@ struct ReadOptions {
 Asset readGltf(const std::string& path, const ReadOptions& options = {},
                std::optional<Multires>* multires = nullptr);
 
+// readGltf of a file whose bytes are already in memory (the lodbake chain passes each stage's
+// output on this way). `path` names the data in messages and in Asset::sourcePath, and relative
+// URIs resolve against its folder. \throw as readGltf.
+Asset readGltfBytes(const std::string& path, const std::vector<unsigned char>& bytes, const ReadOptions& options = {},
+                    std::optional<Multires>* multires = nullptr);
+
 struct WriteOptions {
     std::string generator = "lodbake";
     bool embedImages = true;  // images go into the buffer (GLB chunk or .bin) rather than beside
@@ -56,6 +62,11 @@ struct WriteOptions {
 // \throw IOError when the file cannot be written.
 void writeGltf(const std::string& path, const Asset& asset, const Multires* multires = nullptr,
                const WriteOptions& options = {});
+
+// The bytes writeGltf writes to a .glb file (images embedded whatever options.embedImages says);
+// `path`, which must end in .glb, names the data in messages. \throw as writeGltf.
+std::vector<unsigned char> encodeGlb(const std::string& path, const Asset& asset, const Multires* multires = nullptr,
+                                     const WriteOptions& options = {});
 
 // Writes `bytes` to `path` atomically (temp file in the same folder, then rename).
 void writeFileAtomic(const std::string& path, const std::string& bytes);

@@ -64,6 +64,7 @@ struct PackLevelReport {
     int width = 0, height = 0;    // atlas page, texels
     int gutter = 0, mips = 0;     // gutter (texels) and the mip levels it was sized for
     size_t charts = 0;            // charts on the page
+    size_t absorbedIslands = 0;   // projection bake: level-triangle islands unfolded onto a neighbouring chart
     double utilisation = 0;       // chart texels (actual triangle coverage) / page texels
     double boxUtilisation = 0;    // chart bounding rectangles / page texels (above 1 when charts nest)
     double rasterUtilisation = 0;     // texels the charts' triangles touch (conservative raster) / page texels

@@ -43,7 +43,9 @@ struct ChartReport {
     size_t flips = 0, overlaps = 0;
     size_t levelFlips = 0;                  // flipped level triangles of this chart (all levels)
     int iterations = 0;
-    std::string method;                     // "ceres", "ceres-beta1" or "tutte"
+    std::string method;                     // "ceres", "ceres-beta1", "tutte", "single-face" (a face
+                                            // split off by the fold fallback) or "failed" (no map)
+    std::string failure;                    // why the solver failed ("failed" only)
     double seconds = 0;
 };
 
@@ -77,7 +79,11 @@ struct ParameterizeResult {
     double stretchL2 = 0, stretchLinf = 0;     // whole atlas (area-normalised)
     double areaRatioStdDev = 0;                // per triangle (UV area / 3D area), normalised by the mean
     std::array<uint32_t, 10> areaRatioHistogram{};  // bins of normalised ratio over [0, 2]; the last holds >= 1.8
-    size_t flips = 0, overlaps = 0;
+    size_t flips = 0, overlaps = 0;            // original faces still folded in the packed atlas (0 unless
+                                               // the fallback below ran out of passes)
+    size_t carvedFaces = 0;                    // faces moved to single-face charts (fold fallback)
+    size_t failedCharts = 0;                   // charts the solver could not map (their faces carved)
+    std::vector<std::string> warnings;         // each fallback taken, one line each
     size_t levelFlips = 0;                     // flipped level triangles, all charts and levels
     std::vector<LevelIsland> islands;          // level-triangle islands (fallback), in creation order
     std::vector<LevelUV> levels;               // per Multires level (empty when there are no levels)
@@ -90,8 +96,10 @@ struct ParameterizeResult {
 
 // \pre multires was produced for `mesh` (faceRegion of the last level, pairs indices in range).
 //      With no levels every face starts as its own region.
-// \throw InvalidInput (inconsistent multires), Impossible (a chart cannot be embedded),
-//        SolverError (no injective map could be produced).
+// A chart the solver cannot map, and an original face still folded once the atlas is packed, fall
+// back to single-face charts (res.warnings says so); level triangles that fold fall back to islands.
+// \throw InvalidInput (inconsistent multires), Impossible (no triangles; the charts do not fit
+//        the texture).
 ParameterizeResult parameterize(const TriMesh& mesh, const Multires& multires, const ParameterizeOptions& options = {});
 
 struct AtlasApplyStats {

@@ -14,14 +14,11 @@ struct ParameterizeSettings {
     // The algorithm's options (textureSize is also the baked atlas side). threads and progress
     // are taken from `common`.
     ParameterizeOptions parameterize;
-    // Write the output even when a level keeps flipped/overlapping UV triangles (reported);
-    // false: SolverError.
-    bool allowLevelFolds = false;
 };
 
-// \throw Impossible when the input has no LODBAKE_multires extension; SolverError when charts
-//        stay flipped or overlapping, or a level does (unless allowLevelFolds; the report is
-//        written first); the errors of reading, decoding images and writing.
+// Folds that survive every fallback (see parameterize) are warnings, not errors: the output is
+// written. \throw Impossible when the input has no LODBAKE_multires extension or the charts do not
+//        fit the texture; the errors of reading, decoding images and writing.
 StageResult runParameterize(const ParameterizeSettings& settings);
 
 }  // namespace lodbake

@@ -9,6 +9,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -26,6 +27,13 @@ struct StageCommon {
     int threads = 0;     // worker threads, 0 = all cores; output is identical for any count
     std::function<bool(double)> progress;             // fraction done; may be empty
     std::function<void(const std::string&)> warning;  // each warning of the input, as soon as it is read; may be empty
+    // In memory instead of files (the lodbake chain, lodbake/stages/chain.h). When inputBytes is
+    // set, the stage reads these bytes instead of the file `input` (messages and the report still
+    // name `input`). When outputBytes is set, a stage that writes a multiresolution glTF
+    // (writeStageOutput) encodes it there, as the .glb it would write to `output`, instead of
+    // writing the file.
+    const std::vector<unsigned char>* inputBytes = nullptr;
+    std::vector<unsigned char>* outputBytes = nullptr;
 };
 
 struct StageResult {
@@ -40,6 +48,10 @@ struct StageResult {
 // \throw the errors of readGltf and of `check`.
 Asset loadStageInput(const StageCommon& common, double& seconds, std::optional<Multires>* multires = nullptr,
                      void (*check)(Asset&) = nullptr);
+
+// Writes asset + multires to common.output (or common.outputBytes) with generator
+// "lodbake TOOL 0.1.0"; returns seconds. \throw the errors of writeGltf.
+double writeStageOutput(const StageCommon& common, const Asset& asset, const Multires* multires, const std::string& tool);
 
 // Writes a JSON report atomically (pretty-printed with 2 spaces, keys sorted).
 void writeReport(const std::string& path, const nlohmann::json& report);

@@ -1,0 +1,100 @@
+#include "lodbake/stages/chain.h"
+
+#include <filesystem>
+
+#include "lodbake/core/timing.h"
+#include "lodbake/gltf/gltf.h"
+
+namespace lodbake {
+namespace {
+
+using Bytes = std::vector<unsigned char>;
+
+// Where one stage's output goes: a file in keepIntermediates, or bytes named "memory:NAME".
+struct Intermediate {
+    std::string path;
+    Bytes bytes;
+};
+
+struct ChainRun {
+    ChainRun(const ChainSettings& s, std::string stemName) : settings(s), stem(std::move(stemName)) {}
+    const ChainSettings& settings;
+    std::string stem;
+    nlohmann::json reports = nlohmann::json::array();
+    nlohmann::json intermediates = nlohmann::json::array();
+    std::vector<std::string> warnings;
+    std::string statistics;
+
+    // The stage's common settings: the chain's, with this stage's paths, bytes and callbacks.
+    StageCommon common(const std::string& stage, const std::string& input, const std::string& output) {
+        const StageCommon& c = settings.common;
+        StageCommon s;
+        s.input = input;
+        s.output = output;
+        s.verbose = c.verbose;
+        s.threads = c.threads;
+        if (settings.progress) s.progress = [this, stage](double f) { return settings.progress(stage, f); };
+        s.warning = [this, stage](const std::string& w) {
+            warnings.push_back(stage + ": " + w);
+            if (settings.common.warning) settings.common.warning(stage + ": " + w);
+        };
+        return s;
+    }
+
+    std::string intermediatePath(const char* suffix) const {
+        std::string name = stem + suffix;
+        if (settings.keepIntermediates.empty()) return "memory:" + name;
+        return (std::filesystem::path(settings.keepIntermediates) / name).string();
+    }
+
+    // Runs one stage that reads `in` (null: the chain's input file) and writes `out` (null: the
+    // chain's output file).
+    template <class Settings, class Stage>
+    void run(const std::string& stage, Settings s, const Intermediate* in, Intermediate* out, Stage runStage) {
+        s.common = common(stage, in ? in->path : settings.common.input, out ? out->path : settings.common.output);
+        if (in) s.common.inputBytes = &in->bytes;
+        if (out) s.common.outputBytes = &out->bytes;
+        StageResult r = runStage(s);
+        if (out && !settings.keepIntermediates.empty()) {
+            writeFileAtomic(out->path, {std::string_view(reinterpret_cast<const char*>(out->bytes.data()), out->bytes.size())});
+            intermediates.push_back(out->path);
+        }
+        reports.push_back(std::move(r.report));
+        if (settings.common.verbose) statistics += stage + ":\n" + r.statistics;
+    }
+};
+
+}  // namespace
+
+StageResult runChain(const ChainSettings& s) {
+    Clock::time_point t0 = Clock::now();
+    ChainRun chain(s, std::filesystem::path(s.common.input).stem().string());
+
+    Intermediate multires{chain.intermediatePath(".mr.glb"), {}};
+    chain.run("simplify", s.simplify, nullptr, &multires, runSimplify);
+    Intermediate parameterized{chain.intermediatePath(".uv.glb"), {}};
+    chain.run("parameterize", s.parameterize, &multires, &parameterized, runParameterize);
+    multires.bytes = Bytes();
+    const Intermediate* packInput = &parameterized;
+    Intermediate refined{chain.intermediatePath(".tex.glb"), {}};
+    if (s.runTextureRefine) {
+        chain.run("texture-refine", s.textureRefine, &parameterized, &refined, runTextureRefine);
+        parameterized.bytes = Bytes();
+        packInput = &refined;
+    }
+    chain.run("pack", s.pack, packInput, nullptr, runPack);
+
+    StageResult out;
+    out.report = {{"tool", "lodbake"},
+                  {"input", s.common.input},
+                  {"output", s.common.output},
+                  {"stages", chain.reports},
+                  {"intermediates", chain.intermediates},
+                  {"warnings", chain.warnings},
+                  {"time", {{"total", secondsSince(t0)}}}};
+    if (!s.common.report.empty()) writeReport(s.common.report, out.report);
+    out.statistics = std::move(chain.statistics);
+    return out;
+}
+
+}  // namespace lodbake

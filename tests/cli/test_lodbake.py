@@ -1,0 +1,129 @@
+"""lodbake, the one-command chain: its LOD chain is byte-identical to running simplify ->
+parameterize -> texture-refine -> pack with the same flags (and to simplify -> parameterize -> pack
+with --no-texture-refine), whatever --threads; --keep-intermediates writes the tools' intermediates
+byte for byte and nothing is written between the stages without it; the report has one section per
+stage (each tool's own report) plus the total time; bad flags and inputs give the documented exit
+codes, a one-line error and no output file."""
+import json
+import os
+import sys
+import unittest
+
+sys.path.insert(0, os.path.dirname(__file__))
+from lodbake_test import (Gltf, assert_no_validator_errors, make_samples, run, skip, tool,  # noqa: E402
+                          work_dir)
+
+SAMPLE = "colors"
+SIMPLIFY = ["--ratio", "0.5,0.1"]
+PARAMETERIZE = ["--size", "128"]
+REFINE = ["--size", "128", "--sizes", "64,128"]
+PACK = ["--max-size", "128", "--samples", "16"]
+# lodbake's names for the same flags: texture-refine's --size is --refine-size there.
+CHAIN = SIMPLIFY + PARAMETERIZE + ["--refine-size", "128", "--sizes", "64,128"] + PACK
+
+
+def read(path):
+    with open(path, "rb") as f:
+        return f.read()
+
+
+class Lodbake(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        if not os.path.exists(tool("lodbake")):
+            skip("lodbake is not built")
+        cls.dir = work_dir("lodbake")
+        cls.src = os.path.join(make_samples(os.path.join(cls.dir, "samples")), SAMPLE + ".glb")
+
+    def tools_chain(self, out, refine=True):
+        """The separate tools, one file each, --threads 1; returns the final chain's path."""
+        mr, uv, tex, lod = (os.path.join(out, SAMPLE + s) for s in (".mr.glb", ".uv.glb", ".tex.glb", ".lod.glb"))
+        one = ["--threads", "1", "-q"]
+        run([tool("simplify"), "-i", self.src, "-o", mr] + SIMPLIFY + one)
+        run([tool("parameterize"), "-i", mr, "-o", uv] + PARAMETERIZE + one)
+        if refine:
+            run([tool("texture-refine"), "-i", uv, "-o", tex] + REFINE + one)
+        run([tool("pack"), "-i", tex if refine else uv, "-o", lod] + PACK + one)
+        return lod
+
+    def test_same_bytes_as_the_tools(self):
+        tools_dir = os.path.join(self.dir, "tools")
+        os.makedirs(tools_dir, exist_ok=True)
+        expected = self.tools_chain(tools_dir)
+
+        out = os.path.join(self.dir, "chain")
+        keep = os.path.join(self.dir, "keep")
+        os.makedirs(out, exist_ok=True)
+        os.makedirs(keep, exist_ok=True)
+        lod, report = os.path.join(out, SAMPLE + ".lod.glb"), os.path.join(out, SAMPLE + ".json")
+        run([tool("lodbake"), "-i", self.src, "-o", lod, "--report", report, "--threads", "2", "-q"] + CHAIN)
+        self.assertEqual(read(lod), read(expected), "lodbake's chain differs from the tools'")
+        self.assertEqual(sorted(os.listdir(out)), sorted([SAMPLE + ".lod.glb", SAMPLE + ".json"]),
+                         "lodbake wrote intermediates without --keep-intermediates")
+
+        rep = json.load(open(report))
+        self.assertEqual(rep["tool"], "lodbake")
+        self.assertEqual([s["tool"] for s in rep["stages"]], ["simplify", "parameterize", "texture-refine", "pack"])
+        self.assertEqual(rep["stages"][0]["input"]["path"], self.src)
+        self.assertEqual(rep["stages"][-1]["output"]["path"], lod)
+        self.assertEqual(len(rep["stages"][-1]["levels"]), 3)  # LOD0 + two simplified levels
+        self.assertGreater(rep["time"]["total"], 0)
+        self.assertEqual(rep["intermediates"], [])
+
+        # --keep-intermediates: the tools' files, byte for byte; -v: each stage's statistics.
+        lod2 = os.path.join(out, SAMPLE + ".keep.lod.glb")
+        p = run([tool("lodbake"), "-i", self.src, "-o", lod2, "--keep-intermediates", keep, "-v", "-q"] + CHAIN)
+        self.assertEqual(read(lod2), read(expected))
+        for suffix in (".mr.glb", ".uv.glb", ".tex.glb"):
+            with self.subTest(intermediate=suffix):
+                self.assertEqual(read(os.path.join(keep, SAMPLE + suffix)), read(os.path.join(tools_dir, SAMPLE + suffix)))
+        for stage in ("simplify:", "parameterize:", "texture-refine:", "pack:"):
+            self.assertIn("\n" + stage + "\n", "\n" + p.stdout)
+        self.assertEqual(p.stderr, "")
+
+        # A valid MSFT_lod chain.
+        g = Gltf(lod)
+        self.assertIn("MSFT_lod", g.json["extensionsUsed"])
+        self.assertEqual(len(g.json["nodes"][0]["extensions"]["MSFT_lod"]["ids"]), 2)
+        assert_no_validator_errors(self, [lod])
+
+    def test_no_texture_refine(self):
+        tools_dir = os.path.join(self.dir, "tools-norefine")
+        os.makedirs(tools_dir, exist_ok=True)
+        expected = self.tools_chain(tools_dir, refine=False)
+        lod, report = os.path.join(self.dir, "norefine.lod.glb"), os.path.join(self.dir, "norefine.json")
+        run([tool("lodbake"), "-i", self.src, "-o", lod, "--no-texture-refine", "--report", report, "-q"] + CHAIN)
+        self.assertEqual(read(lod), read(expected))
+        self.assertEqual([s["tool"] for s in json.load(open(report))["stages"]], ["simplify", "parameterize", "pack"])
+
+    def test_bad_flags_and_inputs(self):
+        out = os.path.join(self.dir, "bad.lod.glb")
+        cases = [
+            (["-i", self.src, "-o", out], 1, "give at least one level"),
+            (["-i", self.src, "-o", out, "--ratio", "0.5", "--refine-split", "1"], 1, "--refine-split must be >= 2"),
+            (["-i", self.src, "-o", out, "--ratio", "0.5", "--split", "3"], 1, "unrecognized option '3'"),
+            (["-i", self.src, "-o", out, "--ratio", "0.5", "--bogus"], 1, "unrecognized option '--bogus'"),
+            (["-i", os.path.join(self.dir, "missing.glb"), "-o", out, "--ratio", "0.5"], 2, "no such file"),
+            (["-i", self.src, "-o", out, "--ratio", "0.5", "--keep-intermediates", os.path.join(self.dir, "nope")], 2,
+             "folder does not exist"),
+        ]
+        for args, code, message in cases:
+            with self.subTest(args=" ".join(args[4:])):
+                p = run([tool("lodbake")] + args, check=False)
+                self.assertEqual(p.returncode, code, p.stderr)
+                self.assertIn(message, p.stderr)
+                self.assertEqual(len(p.stderr.strip().splitlines()), 1, p.stderr)
+                self.assertTrue(p.stderr.startswith("lodbake error: "), p.stderr)
+                self.assertFalse(os.path.exists(out))
+
+    def test_help_lists_every_stage(self):
+        h = run([tool("lodbake"), "--help"]).stdout
+        for flag in ("--ratio", "--size", "--refine-size", "--sizes", "--pixel-error", "--split", "--refine-split",
+                     "--keep-intermediates", "--no-texture-refine", "--threads", "--report"):
+            self.assertRegex(h, r"\n  (-\w, )?%s[ ,\n]" % flag)
+        for stage in ("simplify", "parameterize", "texture-refine", "pack"):
+            self.assertIn("\n%s (docs/%s.md" % (stage, stage), h)
+
+
+if __name__ == "__main__":
+    unittest.main()

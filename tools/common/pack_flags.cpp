@@ -1,0 +1,81 @@
+// pack's flags (stage_flags.h).
+#include "common/stage_flags.h"
+
+namespace lodbake::cli {
+
+void addPackFlags(ArgParser& p, PackFlags& a) {
+    PackOptions& o = a.settings.pack;
+    PackWriteOptions& w = a.settings.write;
+    p.option("--pixel-error", "PX",
+             "largest on-screen geometric deviation of a level, pixels (default " + number(o.pixelError) + ")",
+             [&o](const std::string& v) { o.pixelError = parseDouble("--pixel-error", v); });
+    p.option("--viewport-height", "PX",
+             "viewport height the coverage is computed for, pixels (default " + std::to_string(o.viewportHeight) + ")",
+             [&o](const std::string& v) { o.viewportHeight = parseInt("--viewport-height", v); });
+    p.option("--fov", "DEG", "vertical field of view for the reported switch distances (default " + number(o.fovY) + ")",
+             [&o](const std::string& v) { o.fovY = parseDouble("--fov", v); });
+    p.option("--cutoff-pixels", "PX",
+             "cull the chain below this projected height, pixels (default " + number(o.cutoffPixels) + ")",
+             [&o](const std::string& v) { o.cutoffPixels = parseDouble("--cutoff-pixels", v); });
+    p.option("--max-size", "N", "atlas page side cap, texels (default " + std::to_string(o.maxSize) + ")",
+             [&o](const std::string& v) { o.maxSize = parseInt("--max-size", v); });
+    p.flag("--pot", "power-of-two atlas pages", [&o] { o.powerOfTwo = true; });
+    p.option("--max-mips", "N", "gutters sized for at most N mip levels (default " + std::to_string(o.maxMips) + ")",
+             [&o](const std::string& v) { o.maxMips = parseInt("--max-mips", v); });
+    p.option("--samples", "N",
+             "area samples per side for the measured Hausdorff distance (default " +
+                 std::to_string(o.distanceSamples) + ")",
+             [&o](const std::string& v) { o.distanceSamples = size_t(parseInt("--samples", v)); });
+    p.option("--image-format", "png|jpeg", std::string("atlas image format (default ") + imageFormatName(o.imageFormat) + ")",
+             [&a, &o](const std::string& v) {
+                 if (v != "png" && v != "jpeg" && v != "jpg") throw UsageError("--image-format must be png or jpeg");
+                 o.imageFormat = v == "png" ? ImageFormat::Png : ImageFormat::Jpeg;
+                 a.settings.imageFormatName = v;
+             });
+    p.option("--jpeg-quality", "Q", "JPEG quality 1..100 (default " + std::to_string(o.jpegQuality) + ")",
+             [&o](const std::string& v) { o.jpegQuality = parseInt("--jpeg-quality", v); });
+    p.flag("--split", "one file per level (OUTPUT.lodK.glb) plus OUTPUT.lods.json with the coverage values",
+           [&w] { w.split = true; });
+    p.flag("--lod0-density", "texture every level at LOD0's texel density (pages about LOD0's size), for comparisons "
+           "that render every level close up", [&o] { o.lod0Density = true; });
+    p.option("--normal-maps", "auto|always|never",
+             "bake a normal map: auto = when the input has normal maps and on every coarser level (default auto)",
+             [&o](const std::string& v) {
+                 if (v == "auto") o.normalMaps = NormalMaps::Auto;
+                 else if (v == "always") o.normalMaps = NormalMaps::Always;
+                 else if (v == "never") o.normalMaps = NormalMaps::Never;
+                 else throw UsageError("--normal-maps must be auto, always or never");
+             });
+    p.flag("--layout-bake", "coarse levels read the original through the shared chart layout instead of projecting "
+           "their own surface onto it", [&o] { o.projectLevels = false; });
+    p.flag("--base-color-only", "bake base colour (and alpha) only; other channels become constant factors",
+           [&o] { o.baseColorOnly = true; });
+    p.flag("--no-texture-hierarchy", "texture every level with T0 even when the input has texture-refine's hierarchy",
+           [&o] { o.useTextureHierarchy = false; });
+    p.flag("--draco", "compress every level with KHR_draco_mesh_compression", [&w] { w.chain.draco = true; });
+    p.option("--qp", "BITS", "Draco position quantisation bits (default " + std::to_string(w.chain.quantPosition) + ")",
+             [&w](const std::string& v) { w.chain.quantPosition = parseInt("--qp", v); });
+    p.option("--qt", "BITS",
+             "Draco texture coordinate quantisation bits (default " + std::to_string(w.chain.quantTexcoord) + ")",
+             [&w](const std::string& v) { w.chain.quantTexcoord = parseInt("--qt", v); });
+    p.option("--qn", "BITS", "Draco normal quantisation bits (default " + std::to_string(w.chain.quantNormal) + ")",
+             [&w](const std::string& v) { w.chain.quantNormal = parseInt("--qn", v); });
+    p.flag("--external-images", ".gltf output: write the atlases beside the file instead of into the .bin",
+           [&w] { w.chain.embedImages = false; });
+}
+
+void validatePack(const PackFlags& a) {
+    const PackOptions& o = a.settings.pack;
+    if (!(o.pixelError > 0)) throw UsageError("--pixel-error must be > 0");
+    if (o.viewportHeight < 16) throw UsageError("--viewport-height must be >= 16");
+    if (!(o.fovY > 0 && o.fovY < 180)) throw UsageError("--fov must be in (0, 180)");
+    if (!(o.cutoffPixels > 0)) throw UsageError("--cutoff-pixels must be > 0");
+    if (o.maxSize < 16 || o.maxSize > 16384) throw UsageError("--max-size must be in [16, 16384]");
+    if (o.maxMips < 0 || o.maxMips > 12) throw UsageError("--max-mips must be in [0, 12]");
+    if (o.jpegQuality < 1 || o.jpegQuality > 100) throw UsageError("--jpeg-quality must be in [1, 100]");
+    const LodChainWriteOptions& c = a.settings.write.chain;
+    for (int q : {c.quantPosition, c.quantTexcoord, c.quantNormal})
+        if (q < 1 || q > 30) throw UsageError("--qp/--qt/--qn must be in [1, 30]");
+}
+
+}  // namespace lodbake::cli

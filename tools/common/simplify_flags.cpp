@@ -1,0 +1,54 @@
+// simplify's flags (stage_flags.h).
+#include <cstdint>
+
+#include "common/stage_flags.h"
+
+namespace lodbake::cli {
+
+void addSimplifyFlags(ArgParser& p, SimplifyFlags& a) {
+    SimplifyOptions& o = a.settings.simplify;
+    p.option("--ratio", "R,...", "levels as fractions of the input triangle count, e.g. 0.5,0.1,0.02",
+             [&a](const std::string& v) { a.ratios = parseDoubleList("--ratio", v); });
+    p.option("--triangles", "N,...", "levels as absolute triangle counts",
+             [&a](const std::string& v) { a.triangles = parseDoubleList("--triangles", v); });
+    p.option("--max-error", "E,...", "levels by maximum vertex deviation relative to the bounding-box diagonal",
+             [&a](const std::string& v) { a.maxErrors = parseDoubleList("--max-error", v); });
+    p.option("--max-region-cone", "DEG",
+             "largest normal spread of a region (half-angle of the equivalent cap, degrees; default " +
+                 std::to_string(int(o.maxRegionConeDeg)) + ", 180 = off): regions become texture charts",
+             [&o](const std::string& v) {
+                 o.maxRegionConeDeg = parseDouble("--max-region-cone", v);
+                 if (!(o.maxRegionConeDeg > 0 && o.maxRegionConeDeg <= 180))
+                     throw UsageError("--max-region-cone must be in (0, 180]");
+             });
+    p.option("--max-part-removal", "F",
+             "when a triangle target cannot be reached otherwise (parts stuck on non-manifold edges or pinch "
+             "vertices), remove whole parts up to this half-diagonal, as a fraction of the model's diagonal, "
+             "smallest first (default " + number(o.pruneStuckSize) + ", 0 = never)",
+             [&o](const std::string& v) {
+                 o.pruneStuckSize = parseDouble("--max-part-removal", v);
+                 if (!(o.pruneStuckSize >= 0 && o.pruneStuckSize <= 1))
+                     throw UsageError("--max-part-removal must be in [0, 1]");
+             });
+}
+
+void validateSimplify(SimplifyFlags& a) {
+    std::vector<LevelTarget>& targets = a.settings.simplify.levels;
+    targets.clear();
+    for (double r : a.ratios) {
+        if (!(r > 0 && r <= 1)) throw UsageError("--ratio values must be in (0, 1]");
+        targets.push_back({r, 0, 0});
+    }
+    for (double t : a.triangles) {
+        if (!(t >= 1) || t != static_cast<double>(static_cast<uint64_t>(t)))
+            throw UsageError("--triangles values must be positive integers");
+        targets.push_back({0, static_cast<uint64_t>(t), 0});
+    }
+    for (double e : a.maxErrors) {
+        if (!(e > 0)) throw UsageError("--max-error values must be > 0");
+        targets.push_back({0, 0, e});
+    }
+    if (targets.empty()) throw UsageError("give at least one level: --ratio, --triangles or --max-error");
+}
+
+}  // namespace lodbake::cli
