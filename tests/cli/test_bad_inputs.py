@@ -76,6 +76,11 @@ class BadInputs(unittest.TestCase):
         image_doc["bufferViews"].append({"buffer": 0, "byteOffset": 8, "byteLength": 10 ** 9})
         image_doc["images"] = [{"bufferView": 2, "mimeType": "image/png"}]
         put("image-view-past-buffer.gltf", json.dumps(image_doc))
+        # Found by fuzzing under AddressSanitizer: a buffer URI naming a directory (tinygltf sized
+        # its read from tellg's -1).
+        dir_doc = json.loads(minimal_gltf(quad, [0, 1, 2, 0, 2, 3]))
+        dir_doc["buffers"][0]["uri"] = "."
+        put("buffer-uri-directory.gltf", json.dumps(dir_doc))
         mode_doc = json.loads(minimal_gltf(quad, [0, 1, 2, 0, 2, 3]))
         mode_doc["meshes"][0]["primitives"][0]["mode"] = 4000
         put("invalid-mode.gltf", json.dumps(mode_doc))
@@ -124,11 +129,26 @@ class BadInputs(unittest.TestCase):
             "image-view-past-buffer.gltf": "exceeds its buffer",
             "invalid-mode.gltf": "invalid mode 4000",
             "zero-length-buffer.glb": "malformed glTF",
+            "buffer-uri-directory.gltf": "not a regular file",
         }
         for name, needle in cases.items():
             p = lt.run([lt.tool("simplify"), "-i", self.cases[name], "-o", os.path.join(self.dir, "x.glb"),
                         "--ratio", "0.5"], check=False)
             self.assertIn(needle.lower(), p.stderr.lower(), p.stderr)
+
+    def test_multires_counts(self):
+        # Found by fuzzing: a negative vertexCount in LODBAKE_multires sized a 2^64-element array
+        # (exit 4); it is invalid input.
+        with open(os.path.join(self.dir, "good.glb"), "rb") as f:
+            data = f.read()
+        path = os.path.join(self.dir, "negative-vertex-count.glb")
+        with open(path, "wb") as f:
+            f.write(glb_with_json(data, lambda doc: doc["extensions"]["LODBAKE_multires"]["original"].update(vertexCount=-8)))
+        out = os.path.join(self.dir, "negative-vertex-count.uv.glb")
+        p = lt.run([lt.tool("parameterize"), "-i", path, "-o", out, "--quiet"], check=False, timeout=120)
+        self.assertEqual(p.returncode, 2, p.stderr)
+        self.assertIn("vertexCount", p.stderr)
+        self.assertFalse(os.path.exists(out))
 
 
 class Images(unittest.TestCase):

@@ -486,7 +486,7 @@ struct BakeSources::Impl {
         try {
             sources = writeSourceImages(asset, dir, *ts);
         } catch (...) {
-            OIIO::TextureSystem::destroy(ts);
+            OIIO::TextureSystem::destroy(ts, true);
             throw;
         }
         if (asset.mesh.wedges.tangent.empty())
@@ -496,7 +496,8 @@ struct BakeSources::Impl {
                 if (tangents[size_t(set)].empty()) tangents[size_t(set)] = computeWedgeTangents(asset.mesh, set);
             }
     }
-    ~Impl() { OIIO::TextureSystem::destroy(ts); }
+    // teardown_imagecache: the private ImageCache that create(false) made is freed only then.
+    ~Impl() { OIIO::TextureSystem::destroy(ts, true); }
 };
 
 struct BakeSourcesAccess {

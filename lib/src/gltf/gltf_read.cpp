@@ -53,6 +53,24 @@ std::vector<unsigned char> readFileBytes(const std::string& path) {
     return bytes;
 }
 
+// tinygltf's reader of the files a .gltf's URIs name. Its default sizes the buffer from tellg,
+// which is -1 for a directory (a URI "/" or "."): a request for 2^63 bytes. Only regular files
+// are read (a FIFO or device would block or never end); anything else is a read error.
+bool readUriFile(std::vector<unsigned char>* out, std::string* err, const std::string& filePath, void*) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(filePath, ec)) {
+        if (err) *err += "not a regular file";
+        return false;
+    }
+    try {
+        *out = readFileBytes(filePath);
+    } catch (const IOError& e) {
+        if (err) *err += e.what();
+        return false;
+    }
+    return true;
+}
+
 // tinygltf's image callback; user data: the model being loaded (its buffers are in place). tinygltf
 // hands over a bufferView's bytes without checking them against the buffer: do it here.
 bool keepImageBytes(tinygltf::Image* image, const int index, std::string* err, std::string*, int, int,
@@ -178,6 +196,7 @@ void loadModel(ReadContext& c, tinygltf::Model& model) {
 
     tinygltf::TinyGLTF loader;
     loader.SetImageLoader(keepImageBytes, &model);
+    loader.SetFsCallbacks({&tinygltf::FileExists, &tinygltf::ExpandFilePath, &readUriFile, &tinygltf::WriteWholeFile, nullptr});
     std::string err, warn;
     std::string baseDir = std::filesystem::path(path).parent_path().string();
     if (baseDir.empty()) baseDir = ".";

@@ -26,11 +26,19 @@ TriMesh rebuildOriginal(const ReadContext& c, const json& ext, const json& orig,
                         RigRead& rr, const NodeInfluence* binding, Asset& asset) {
     std::string what = std::string(kMultiresExtension) + ": original";
     TriMesh mesh;
-    size_t V = orig.value("vertexCount", size_t(0)), F = orig.value("faceCount", size_t(0));
+    // The counts size the arrays below, so they are checked against the accessors before use: every
+    // vertex of the welded original has at least one wedge, every face three faceVertices entries.
+    auto count = [&](const char* key) {
+        if (!orig.contains(key)) return size_t(0);
+        if (!orig[key].is_number_unsigned()) fail(c, what + ": " + key + " is not a non-negative integer");
+        return orig[key].get<size_t>();
+    };
+    size_t V = count("vertexCount"), F = count("faceCount");
     std::vector<uint32_t> wedgeVertex = readU32(c, jint(orig, "wedgeVertex"), 1, what + " wedgeVertex");
     std::vector<uint32_t> faceVertices = readU32(c, jint(orig, "faceVertices"), 3, what + " faceVertices");
     size_t W = wedgeVertex.size();
-    if (faceVertices.size() != 3 * F) fail(c, what + ": faceVertices count differs from faceCount");
+    if (faceVertices.size() % 3 != 0 || faceVertices.size() / 3 != F) fail(c, what + ": faceVertices count differs from faceCount");
+    if (V > W) fail(c, what + ": vertexCount " + std::to_string(V) + " exceeds the " + std::to_string(W) + " wedges");
     for (uint32_t v : wedgeVertex) if (v >= V) fail(c, what + ": wedgeVertex entry out of range");
     for (uint32_t v : faceVertices) if (v >= V) fail(c, what + ": faceVertices entry out of range");
     mesh.positions.assign(V, Vec3{});

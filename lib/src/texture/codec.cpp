@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 
 #include <fcntl.h>
 #include <unistd.h>
@@ -43,12 +44,35 @@ private:
     int saved_ = -1;
 };
 
+// Why a PNG stream is incomplete (a chunk that runs past the data, or no IEND chunk), or "" when
+// its chunks are whole or it is not a PNG. Such a stream is rejected before decoding: libpng
+// unwinds from OpenImageIO's short-read callback with longjmp, which skips the destructor of that
+// callback's error string (a leak in libOpenImageIO on every cut PNG).
+std::string pngTruncation(const std::vector<unsigned char>& b) {
+    static const unsigned char kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+    if (b.size() < 8 || std::memcmp(b.data(), kSignature, 8) != 0) return "";
+    for (size_t off = 8;;) {
+        // Chunk: 4-byte big-endian data length, 4-byte type, data, 4-byte CRC.
+        if (b.size() - off < 12) return "truncated PNG: no IEND chunk";
+        size_t length = size_t(b[off]) << 24 | size_t(b[off + 1]) << 16 | size_t(b[off + 2]) << 8 | size_t(b[off + 3]);
+        if (length > b.size() - off - 12)
+            return "truncated PNG: chunk at byte " + std::to_string(off) + " runs past the end";
+        if (std::memcmp(&b[off + 4], "IEND", 4) == 0) return "";
+        off += 12 + length;
+    }
+}
+
 void checkImage(const std::string& path, Image& img, size_t index, ImageCheck check) {
     auto fail = [&](const std::string& problem) {
         throw InvalidInput(path + ": image " + std::to_string(index) + (img.name.empty() ? "" : " '" + img.name + "'") +
                            ": " + problem);
     };
     if (img.encoded.empty()) fail("no image data");
+    const std::string kind = img.mimeType.empty() ? "image" : img.mimeType;
+    if (check == ImageCheck::Decode) {
+        std::string cut = pngTruncation(img.encoded);
+        if (!cut.empty()) fail("cannot decode " + kind + ": " + cut);
+    }
     std::string name = img.mimeType == "image/jpeg" ? "image.jpg" : "image.png";
     QuietStderr quiet;
     OIIO::Filesystem::IOMemReader reader(img.encoded.data(), img.encoded.size());
@@ -58,7 +82,6 @@ void checkImage(const std::string& path, Image& img, size_t index, ImageCheck ch
     auto in = OIIO::ImageInput::create(name, false, &config, proxy);
     OIIO::ImageSpec opened;
     if (in && !in->open(name, opened, config)) in.reset();
-    const std::string kind = img.mimeType.empty() ? "image" : img.mimeType;
     if (!in) {
         std::string e = firstLine(OIIO::geterror());
         fail("cannot decode " + kind + (e.empty() ? "" : ": " + e));
@@ -120,6 +143,11 @@ Image encodedImage(std::vector<unsigned char> bytes, ImageFormat format, int wid
 bool decodeImage(const Image& image, DecodedImage& out, std::string& error) {
     if (image.encoded.empty()) {
         error = "image '" + image.name + "' has no data";
+        return false;
+    }
+    std::string cut = pngTruncation(image.encoded);
+    if (!cut.empty()) {
+        error = "image '" + image.name + "' cannot be decoded: " + cut;
         return false;
     }
     std::string name = image.mimeType == "image/jpeg" ? "image.jpg" : "image.png";
