@@ -32,11 +32,21 @@ def check_chain(tc, path, report=None):
     """Structure checks shared with test_pack_assets.py; returns the Gltf."""
     g = lt.Gltf(path)
     j = g.json
-    nodes = j["nodes"]
-    lod = nodes[0]["extensions"]["MSFT_lod"]
+    lod = j["nodes"][0]["extensions"]["MSFT_lod"]
     ids = lod["ids"]
-    tc.assertEqual(ids, list(range(1, len(nodes))))
-    tc.assertEqual(j["scenes"][j.get("scene", 0)]["nodes"], [0])
+    # The level nodes come first; a skinned or animated input's rig (joint nodes, in the scene
+    # beside node 0) follows them, and every level node uses its one skin.
+    skinned = "skins" in j
+    levels = 1 + len(ids)
+    tc.assertEqual(ids, list(range(1, levels)))
+    scene = j["scenes"][j.get("scene", 0)]["nodes"]
+    tc.assertEqual(scene[0], 0)
+    if not skinned:
+        tc.assertEqual(scene, [0])
+        tc.assertEqual(len(j["nodes"]), levels)
+    nodes = j["nodes"][:levels]
+    for n in nodes:
+        tc.assertEqual(n.get("skin"), 0 if skinned else None)
     tc.assertIn("MSFT_lod", j["extensionsUsed"])
     tc.assertNotIn("MSFT_lod", j.get("extensionsRequired", []))
     cov = nodes[0]["extras"]["MSFT_screencoverage"]
