@@ -70,6 +70,13 @@ def run(args, check=True, timeout=1200):
     return p
 
 
+def pack(uv, out, flags):
+    """pack `uv` into `out` with `flags` and a report beside it (out + ".json"); returns (out, report)."""
+    rep = out + ".json"
+    run([tool("pack"), "-i", uv, "-o", out, "--report", rep] + list(flags))
+    return out, rep
+
+
 def parameterized_samples(out_dir, names, size="512"):
     """make-samples into out_dir, then simplify (50/10/2%) and parameterize (--size `size`) each
     named sample; returns {name: path of its .uv.glb}."""

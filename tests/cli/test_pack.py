@@ -105,10 +105,7 @@ class PackCli(unittest.TestCase):
         cls.uv = lt.parameterized_samples(cls.dir, SAMPLES)
 
     def pack(self, name, out, *extra):
-        out = os.path.join(self.dir, out)
-        rep = out + ".json"
-        lt.run([lt.tool("pack"), "-i", self.uv[name], "-o", out, "--report", rep] + FAST + list(extra))
-        return out, rep
+        return lt.pack(self.uv[name], os.path.join(self.dir, out), FAST + list(extra))
 
     def test_every_sample(self):
         for n in SAMPLES:

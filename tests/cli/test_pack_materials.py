@@ -32,10 +32,7 @@ class PackMaterials(unittest.TestCase):
 
     @classmethod
     def pack(cls, name, out, *extra):
-        out = os.path.join(cls.dir, out)
-        rep = out + ".json"
-        lt.run([lt.tool("pack"), "-i", cls.uv[name], "-o", out, "--report", rep] + FAST + list(extra))
-        return out, rep
+        return lt.pack(cls.uv[name], os.path.join(cls.dir, out), FAST + list(extra))
 
     def test_every_channel_on_every_level(self):
         g = lt.Gltf(self.full)
