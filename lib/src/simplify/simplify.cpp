@@ -114,8 +114,25 @@ size_t walkCandidates(Simplifier& s, const PlannedLevel& plan, double limit) {
         }
         if (k + 8 < entryCount) {
             uint32_t a = cs.entries[k + 8].vertex;
-            for (uint32_t f : m.vfaces[a]) __builtin_prefetch(&m.tri.rec[f]);
+            for (uint32_t f : m.vfaces[a]) {
+                __builtin_prefetch(&m.tri.rec[f]);
+                __builtin_prefetch(&s.regions.faceRegion[f]);
+                if (!m.wedge.empty()) __builtin_prefetch(&m.wedge[f]);
+            }
             __builtin_prefetch(&cs.touchedPass[cs.cand[a].target]);
+            __builtin_prefetch(&m.quadric[a]);
+        }
+        if (k + 4 < entryCount) {
+            uint32_t a = cs.entries[k + 4].vertex;
+            for (uint32_t f : m.vfaces[a]) {
+                __builtin_prefetch(&s.regions.stats[s.regions.faceRegion[f]]);
+                for (uint32_t u : m.tri[f]) {
+                    __builtin_prefetch(&m.mesh.positions[u]);
+                    __builtin_prefetch(&m.vfaces[u]);
+                }
+            }
+            __builtin_prefetch(&m.quadric[cs.cand[a].target]);
+            __builtin_prefetch(&m.vfaces[cs.cand[a].target]);
         }
         uint32_t vi = e.vertex;
         if (m.removed[vi] || cs.touchedPass[vi] == cs.pass) continue;
