@@ -75,14 +75,15 @@ RuleSettings resolveSettings(const SimplifyOptions& options, double diagonal, do
 }
 
 // Applies the collapse of vi described by its current candidate c: regions first (they read the
-// pre-collapse fan), then the mesh, then the record; marks the changed fans.
-void applyCandidate(Simplifier& s, uint32_t vi, const Candidate& c) {
+// pre-collapse fan), then the mesh, then the record; marks the changed fans. planned: c's merge
+// groups when the caller just planned them (planRegions), else null.
+void applyCandidate(Simplifier& s, uint32_t vi, const Candidate& c, const MergeGroups* planned = nullptr) {
     CandidateState& cs = s.candidates;
     for (uint32_t f : s.mesh.vfaces[vi])
         for (uint32_t u : s.mesh.tri[f]) cs.dirtyPass[u] = cs.pass;
     cs.touchedPass[vi] = cs.touchedPass[c.target] = cs.pass;
     uint32_t begin = s.recorder.regionMark();
-    updateRegions(s.regions, s.mesh, s.recorder, vi, c.target, c.rule3, cs.pass);
+    updateRegions(s.regions, s.mesh, s.recorder, vi, c.target, c.rule3, cs.pass, planned);
     uint32_t end = s.recorder.regionMark();
     applyCollapse(s.mesh, vi, c.target, c.dev, c.farDist);
     s.recorder.collapsed({vi, c.target, float(c.dev), begin, end});
@@ -179,7 +180,8 @@ size_t walkCandidates(Simplifier& s, const PlannedLevel& plan, double limit) {
             }
             c.dev = std::max(c.dev, d);
         }
-        applyCandidate(s, vi, c);
+        // planRegions left the merge groups of this collapse in w.groups (unless it keeps the boundary).
+        applyCandidate(s, vi, c, &w.groups);
         ++applied;
     }
     return applied;
