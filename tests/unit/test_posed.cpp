@@ -9,6 +9,7 @@
 #include "lodbake/metrics/distance.h"
 #include "lodbake/metrics/posed_distance.h"
 #include "lodbake/simplify/simplify.h"
+#include "rig_fixtures.h"
 
 using namespace lodbake;
 
@@ -54,27 +55,7 @@ Asset bentTube() {
         m.wedges.joints.push_back({0, 1, 0, 0});
         m.wedges.weights.push_back({1 - shin, shin, 0, 0});
     }
-    Rig& rig = a.rig;
-    RigNode thigh, shin;
-    thigh.name = "thigh";
-    shin.name = "shin";
-    shin.parent = 0;
-    shin.translation = {1, 0, 0};
-    rig.nodes = {thigh, shin};
-    rig.joints = {0, 1};
-    for (const Mat4& g : poseNodes(rig, -1, 0)) {
-        Mat4 inv;
-        EXPECT_TRUE(invertAffine(g, inv));
-        rig.inverseBind.push_back(inv);
-    }
-    Animation bend;
-    AnimationSampler s;
-    s.comps = 4;
-    s.times = {0, 0.5, 1};
-    s.values = {0, 0, 0, 1, 0, 0, std::sin(kPi / 8), std::cos(kPi / 8), 0, 0, std::sin(kPi / 4), std::cos(kPi / 4)};
-    bend.samplers = {s};
-    bend.channels = {AnimationChannel{0, 1, AnimationPath::Rotation}};
-    rig.animations = {bend};
+    a.rig = test::kneeRig("thigh", "shin", {0, 0.5, 1}, {0, 45, 90});
     return a;
 }
 
