@@ -13,8 +13,6 @@ using namespace lodbake;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 // One triangle bound to joint 1 (a child of joint 0 at x = 1), which turns 90 degrees about z
 // between t = 0 and t = 1.
 Asset turningTriangle() {
