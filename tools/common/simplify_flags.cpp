@@ -41,8 +41,8 @@ void addSimplifyFlags(ArgParser& p, SimplifyFlags& a) {
     PoseSampleOptions& ps = a.settings.poses;
     p.option("--pose-samples", "N",
              "rigged inputs: collapse costs and level deviations are also measured in the rest pose and at N "
-             "evenly spaced times of each animation, at most " + std::to_string(ps.maxPoses) + " poses in all (default " +
-                 std::to_string(ps.perAnimation) + ", 0 = bind pose only)",
+             "evenly spaced times of each animation, at most " + std::to_string(ps.maxPoses) +
+                 " poses in all (default " + std::to_string(ps.perAnimation) + ", 0 = bind pose only)",
              [&ps](const std::string& v) {
                  ps.perAnimation = parseInt("--pose-samples", v);
                  if (ps.perAnimation < 0) throw UsageError("--pose-samples must be >= 0");

@@ -23,7 +23,8 @@ std::vector<PoseSample> samplePoses(const Rig& rig, const PoseSampleOptions& opt
             out.push_back({int(a), 0.5 * (r.start + r.end)});
             continue;
         }
-        for (size_t i = 0; i < per; ++i) out.push_back({int(a), r.start + (r.end - r.start) * double(i) / double(per - 1)});
+        for (size_t i = 0; i < per; ++i)
+            out.push_back({int(a), r.start + (r.end - r.start) * double(i) / double(per - 1)});
     }
     return out;
 }

@@ -1,7 +1,8 @@
 // Rigged meshes: the vertex deviation and the level deviation measured in sampled poses as well as
 // in the bind pose, so a level stays within its reported deviation when the asset moves
-// (docs/simplify.md, "Skins"). Posed positions come per wedge (lodbake/core/pose_samples.h): a
-// corner poses with the influences of its own wedge. Private to lib/src/simplify.
+// (docs/simplify.md, "Skinned meshes"). Posed positions come per wedge
+// (lodbake/core/pose_samples.h): a corner poses with the influences of its own wedge. Private to
+// lib/src/simplify.
 #pragma once
 
 #include "collapse_rules.h"
