@@ -38,6 +38,7 @@
 #include "lodbake/core/face_grid.h"
 #include "lodbake/core/parallel.h"
 #include "lodbake/metrics/distance.h"
+#include "lodbake/metrics/posed_distance.h"
 #include "lodbake/atlas/atlas.h"
 #include "lodbake/param/parameterize.h"
 
@@ -521,10 +522,13 @@ std::vector<LayoutData> layoutsOf(const Asset& asset, const Multires& mr, bool h
     return layouts;
 }
 
-// 2. The measured deviation of each level from the original (LOD0: none). Progress to 0.3.
+// 2. The measured deviation of each level from the original (LOD0: none); for a rigged asset the
+// largest over the bind pose and the sampled poses. Progress to 0.3.
 template <class Progress>
-void measureLevels(const TriMesh& mesh, const std::vector<LevelView>& views, const PackOptions& options, PackResult& res,
+void measureLevels(const Asset& asset, const std::vector<LevelView>& views, const PackOptions& options, PackResult& res,
                    Progress&& progress) {
+    const TriMesh& mesh = asset.mesh;
+    const std::vector<PoseSample> poses = samplePoses(asset.rig, options.poses);
     const size_t n = views.size();
     res.reports.resize(n);
     DistanceOptions dopt;
@@ -535,7 +539,12 @@ void measureLevels(const TriMesh& mesh, const std::vector<LevelView>& views, con
         r.source = views[k].source;
         r.maxDeviation = views[k].maxDeviation;
         if (k == 0) continue;
-        GeometricDistance d = surfaceDistance(mesh, asTriMesh(mesh, views[k]), dopt);
+        TriMesh level = asTriMesh(mesh, views[k]);
+        if (!poses.empty()) {  // posed through the wedges its corners keep
+            level.wedges = mesh.wedges;
+            level.cornerWedges = views[k].cornerWedges;
+        }
+        GeometricDistance d = posedSurfaceDistance(asset.rig, mesh, level, poses, dopt);
         r.hausdorff = d.hausdorff;
         r.relHausdorff = d.relHausdorff;
         r.rms = d.rms;
@@ -689,7 +698,7 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
     const std::vector<LayoutData> layouts = layoutsOf(asset, mr, hierarchy);  // 1
     double area3D = 0;
     for (const Tri& t : mesh.triangles) area3D += triArea3(mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]);
-    measureLevels(mesh, views, options, res, progress);  // 2
+    measureLevels(asset, views, options, res, progress);  // 2
     res.screenCoverage = screenCoverages(res, options);  // 3
 
     // 4. Per level: texture, page, mesh, bake.

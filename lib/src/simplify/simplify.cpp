@@ -32,6 +32,7 @@
 #include "collapse_state.h"
 #include "lodbake/core/errors.h"
 #include "pairs.h"
+#include "posed_guard.h"
 #include "pruning.h"
 #include "regions.h"
 
@@ -71,6 +72,7 @@ RuleSettings resolveSettings(const SimplifyOptions& options, double diagonal, do
     r.similarDeviation = options.similarDeviation;
     r.diagonal = diagonal;
     r.maxInfluenceChange = options.maxInfluenceChange;
+    if (!options.posed.empty()) r.posed = &options.posed;
     return r;
 }
 
@@ -293,6 +295,7 @@ SimplifyResult simplify(const TriMesh& mesh, const SimplifyOptions& options) {
         auto now = Clock::now();
         snapshotLevel(m, s.regions, s.recorder, level, stop, std::chrono::duration<double>(now - levelStart).count(),
                       int(s.work.size()), s.candidates.pass);
+        if (s.settings.posed) raisePosedLevelDeviation(m, *s.settings.posed, int(s.work.size()), s.recorder);
         levelStart = Clock::now();
     }
     if (options.progress && !options.progress(1.0)) throw Impossible("simplify: cancelled");
