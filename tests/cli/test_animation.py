@@ -8,7 +8,15 @@ skin and keys as simplify's); compare posed at the start, middle and end of the 
 LOD0 a silhouette IoU >= 0.99 and every coarser level a posed Hausdorff distance within the
 deviation pack measured (the largest over the bind pose and the poses simplify samples), up to the
 sampling's precision. simplify reports how many poses it sampled, none with --pose-samples 0.
-AnimatedMorphCube (morph targets, not carried yet) goes through the chain with a warning.
+pack --draco compresses skinned levels with JOINTS_0/WEIGHTS_0 as Draco attributes and they still
+pose like the original.
+
+AnimatedMorphCube (morph targets and a weights animation): every level of the intermediates and
+the chain carries the two targets, the default weights and a weights channel per level node (one
+shared sampler); posed at three times LOD0 has IoU >= 0.99 and coarser levels stay within the
+deviation pack measured; the posed original changes shape over the animation. With --meshopt
+--quantize and with --draco (morphed levels then stay uncompressed, with a warning) the chain is
+valid and LOD0 still morphs like the original.
 """
 import json
 import os
@@ -116,12 +124,75 @@ class AnimationChain(unittest.TestCase):
             self.skipTest("../shared/assets is absent")
         self.check_skinned_chain(TRUCK, "truck")
 
+    def check_morph_chain(self, path, targets):
+        g = Gltf(path)
+        j = g.json
+        ids = j["nodes"][0].get("extensions", {}).get("MSFT_lod", {}).get("ids", [])
+        levels = [0] + ids
+        channels = [c for a in j["animations"] for c in a["channels"] if c["target"]["path"] == "weights"]
+        self.assertEqual(sorted(c["target"]["node"] for c in channels), sorted(levels))
+        self.assertEqual(len({c["sampler"] for c in channels}), 1, channels)
+        for n in levels:
+            mesh = j["meshes"][j["nodes"][n]["mesh"]]
+            self.assertEqual(len(mesh["weights"]), targets)
+            prim = mesh["primitives"][0]
+            self.assertEqual(len(prim["targets"]), targets)
+            for t in prim["targets"]:
+                self.assertEqual(j["accessors"][t["POSITION"]]["count"], j["accessors"][prim["attributes"]["POSITION"]]["count"])
+
     def test_animated_morph_cube(self):
         if not os.path.isfile(MORPH_CUBE):
             self.skipTest("assimp-testmodels is not installed")
         p, reports = chain(MORPH_CUBE, self.out, "morphcube")
-        self.assertTrue(any("morph" in w for w in reports["simplify"]["warnings"]), reports["simplify"]["warnings"])
-        assert_no_validator_errors(self, [p + ".lod.glb"])
+        for t in ("simplify", "parameterize", "texture-refine", "pack"):
+            self.assertFalse(any("morph" in w for w in reports[t]["warnings"]), reports[t]["warnings"])
+        assert_no_validator_errors(self, [p + ".mr.glb", p + ".uv.glb", p + ".tex.glb", p + ".lod.glb"])
+        mr = Gltf(p + ".mr.glb").json
+        self.assertEqual([len(m["primitives"][0]["targets"]) for m in mr["meshes"]], [2] * len(mr["meshes"]))
+        self.check_morph_chain(p + ".lod.glb", 2)
+        diagonals = []
+        for time in ("start", "middle", "end"):
+            with self.subTest(time=time):
+                r0 = posed(MORPH_CUBE, p + ".lod.glb", 0, time)
+                self.assertGreaterEqual(r0["images"]["baseColor"]["iou"], 0.99)
+                diagonals.append(r0["geometry"]["diagonal"])
+                for k in (1, 2):
+                    rk = posed(MORPH_CUBE, p + ".lod.glb", k, time)
+                    measured = reports["pack"]["levels"][k]["deviation"]["relHausdorff"]
+                    self.assertLessEqual(rk["geometry"]["relHausdorff"], measured + 0.005, (k, measured, rk["geometry"]))
+        # The animation changes the cube's shape: the posed bounds differ between start and middle.
+        self.assertGreater(abs(diagonals[0] - diagonals[1]), 0.1 * diagonals[0], diagonals)
+        # Compressed variants: meshopt + quantization keep the targets (FLOAT positions); Draco
+        # leaves morphed levels uncompressed with a warning.
+        for name, flags in (("meshopt", ["--meshopt", "--quantize"]), ("draco", ["--draco"])):
+            with self.subTest(variant=name):
+                out = "%s.%s.lod.glb" % (p, name)
+                rep = "%s.%s.json" % (p, name)
+                run([tool("pack"), "-q", "--threads", "1", "-i", p + ".tex.glb", "-o", out, "--report", rep] + flags)
+                with open(rep) as f:
+                    warnings = json.load(f)["warnings"]
+                self.assertTrue(any("morphed levels" in w for w in warnings), warnings)
+                assert_no_validator_errors(self, [out])
+                self.check_morph_chain(out, 2)
+                self.assertNotIn("KHR_draco_mesh_compression", Gltf(out).json.get("extensionsUsed", []))
+                self.assertGreaterEqual(posed(MORPH_CUBE, out, 0, "middle")["images"]["baseColor"]["iou"], 0.99)
+
+    def test_draco_skinned_levels(self):
+        if not os.path.isfile(SIMPLE_SKIN):
+            self.skipTest("assimp-testmodels is not installed")
+        p, reports = chain(SIMPLE_SKIN, self.out, "skin_draco")
+        out = p + ".draco.lod.glb"
+        run([tool("pack"), "-q", "--threads", "1", "-i", p + ".tex.glb", "-o", out, "--draco"])
+        assert_no_validator_errors(self, [out])
+        j = Gltf(out).json
+        self.assertIn("KHR_draco_mesh_compression", j["extensionsRequired"])
+        for m in j["meshes"]:
+            ext = m["primitives"][0]["extensions"]["KHR_draco_mesh_compression"]
+            self.assertIn("JOINTS_0", ext["attributes"])
+            self.assertIn("WEIGHTS_0", ext["attributes"])
+        for time in ("start", "middle", "end"):
+            with self.subTest(time=time):
+                self.assertGreaterEqual(posed(SIMPLE_SKIN, out, 0, time)["images"]["baseColor"]["iou"], 0.99)
 
     def test_pose_samples_flag(self):
         """--pose-samples 0 measures in the bind pose only; a negative count is a usage error."""

@@ -29,6 +29,68 @@ Asset turningTriangle() {
     return a;
 }
 
+// Two triangles sharing an edge, welded, whose shared vertex 1 has two wedges with different
+// deltas (a seam that opens when morphed); target 0 lifts the far corner, its weight goes 0 -> 1.
+Asset morphingQuad() {
+    Asset a;
+    TriMesh& m = a.mesh;
+    m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}};
+    m.triangles = {{0, 1, 2}, {2, 1, 3}};
+    m.cornerWedges = {{0, 1, 2}, {3, 4, 5}};
+    m.triangleMaterial = {-1, -1};
+    m.wedges.vertex = {0, 1, 2, 2, 1, 3};
+    m.wedges.normal.assign(6, Vec3{0, 0, 1});
+    MorphDeltas lift;
+    lift.position = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}, {0, 0, 0.5}, {0, 0, 1}};
+    lift.normal.assign(6, Vec3{0, 0, 0});
+    m.wedges.targets = {lift};
+    a.morph.names = {"lift"};
+    a.morph.weights = {0.25};
+    Animation anim;
+    AnimationSampler s;
+    s.comps = 1;
+    s.times = {0, 2};
+    s.values = {0, 1};
+    anim.samplers = {s};
+    anim.channels = {AnimationChannel{0, -1, AnimationPath::Weights}};
+    a.rig.animations = {anim};
+    return a;
+}
+
+TEST(Pose, MorphWeightsAreSampledAndDeltasSplitWeldedVertices) {
+    Asset a = morphingQuad();
+    EXPECT_EQ(morphWeights(a.rig, a.morph, -1, 0), std::vector<double>{0.25});
+    EXPECT_EQ(morphWeights(a.rig, a.morph, 0, 1), std::vector<double>{0.5});
+    TriMesh rest = poseMesh(a.rig, a.morph, a.mesh, 0, 0);
+    ASSERT_EQ(rest.positions.size(), a.mesh.positions.size());  // weight 0 at t = 0: nothing moves
+    for (size_t v = 0; v < rest.positions.size(); ++v) EXPECT_EQ(length(rest.positions[v] - a.mesh.positions[v]), 0);
+    TriMesh end = poseMesh(a.rig, a.morph, a.mesh, 0, 2);
+    // Vertex 1's two wedges move differently: the seam opens into two posed vertices.
+    ASSERT_EQ(end.positions.size(), 5u);
+    EXPECT_NEAR(length(end.positions[end.triangles[1][2]] - Vec3{1, 1, 1}), 0, 1e-12);
+    EXPECT_NEAR(length(end.positions[end.triangles[1][1]] - Vec3{1, 0, 0.5}), 0, 1e-12);
+    EXPECT_NEAR(length(end.positions[end.triangles[0][1]] - Vec3{1, 0, 0}), 0, 1e-12);
+}
+
+TEST(Pose, MorphTargetsRoundTripThroughGltf) {
+    Asset a = morphingQuad();
+    const std::string path = (std::filesystem::temp_directory_path() / "lodbake_morph_roundtrip.glb").string();
+    writeGltf(path, a);
+    Asset b = readGltf(path);
+    std::filesystem::remove(path);
+    ASSERT_EQ(b.morph.size(), 1u);
+    EXPECT_EQ(b.morph.names[0], "lift");
+    EXPECT_EQ(b.morph.weights[0], 0.25);
+    ASSERT_EQ(b.rig.animations.size(), 1u);
+    ASSERT_EQ(b.mesh.wedges.targets.size(), 1u);
+    for (double t : {0.0, 1.0, 2.0}) {
+        TriMesh pa = poseMesh(a.rig, a.morph, a.mesh, 0, t), pb = poseMesh(b.rig, b.morph, b.mesh, 0, t);
+        Box3 ba = bounds(pa), bb = bounds(pb);
+        EXPECT_NEAR(length(ba.min - bb.min) + length(ba.max - bb.max), 0, 1e-6) << "t = " << t;
+        EXPECT_EQ(pa.positions.size(), pb.positions.size()) << "t = " << t;
+    }
+}
+
 TEST(Pose, InverseOfTrsIsIdentity) {
     Mat4 m = trsMatrix({1, 2, 3}, {0.2, -0.4, 0.1, 0.9}, {2, 0.5, 3}), inv;
     ASSERT_TRUE(invertAffine(m, inv));
@@ -41,20 +103,20 @@ TEST(Pose, InverseOfTrsIsIdentity) {
 
 TEST(Pose, RestPoseKeepsPositionsAndKeysMoveJoints) {
     Asset a = turningTriangle();
-    TriMesh rest = poseMesh(a.rig, a.mesh, -1, 0);
+    TriMesh rest = poseMesh(a.rig, a.morph, a.mesh, -1, 0);
     ASSERT_EQ(rest.positions.size(), 3u);
     for (size_t v = 0; v < 3; ++v) EXPECT_NEAR(length(rest.positions[v] - a.mesh.positions[v]), 0, 1e-12);
     // At t = 1 the arm has turned 90 degrees about z around (1, 0, 0): (2, 0, 0) -> (1, 1, 0).
-    TriMesh end = poseMesh(a.rig, a.mesh, 0, 1);
+    TriMesh end = poseMesh(a.rig, a.morph, a.mesh, 0, 1);
     EXPECT_NEAR(length(end.positions[1] - Vec3{1, 1, 0}), 0, 1e-9);
     EXPECT_NEAR(length(end.positions[0] - Vec3{1, 0, 0}), 0, 1e-9);
     // Half weight on the arm: the average of (1, 1, 0) unmoved and turned (0, 0, 0).
     EXPECT_NEAR(length(end.positions[2] - Vec3{0.5, 0.5, 0}), 0, 1e-9);
     // Halfway: 45 degrees (spherical interpolation of the keys).
-    TriMesh mid = poseMesh(a.rig, a.mesh, 0, 0.5);
+    TriMesh mid = poseMesh(a.rig, a.morph, a.mesh, 0, 0.5);
     EXPECT_NEAR(length(mid.positions[1] - Vec3{1 + std::sqrt(0.5), std::sqrt(0.5), 0}), 0, 1e-9);
     // Before the first key and after the last: clamped.
-    EXPECT_NEAR(length(poseMesh(a.rig, a.mesh, 0, 5).positions[1] - Vec3{1, 1, 0}), 0, 1e-9);
+    EXPECT_NEAR(length(poseMesh(a.rig, a.morph, a.mesh, 0, 5).positions[1] - Vec3{1, 1, 0}), 0, 1e-9);
     TimeRange t = animationTimes(a.rig.animations[0]);
     EXPECT_EQ(t.start, 0);
     EXPECT_EQ(t.end, 1);
@@ -76,7 +138,7 @@ TEST(Pose, RigRoundTripsThroughGltf) {
     ASSERT_EQ(b.mesh.wedges.joints.size(), b.mesh.wedges.size());
     // Posed the same at every key: the file keeps the skin's meaning.
     for (double t : {0.0, 0.5, 1.0}) {
-        TriMesh pa = poseMesh(a.rig, a.mesh, 0, t), pb = poseMesh(b.rig, b.mesh, 0, t);
+        TriMesh pa = poseMesh(a.rig, a.morph, a.mesh, 0, t), pb = poseMesh(b.rig, b.morph, b.mesh, 0, t);
         Box3 ba = bounds(pa), bb = bounds(pb);
         EXPECT_NEAR(length(ba.min - bb.min) + length(ba.max - bb.max), 0, 1e-6) << "t = " << t;
     }

@@ -44,6 +44,11 @@ AtlasApplyStats applyAtlas(Asset& asset, Multires& multires, const ParameterizeR
         if (!W.color.empty()) W.color.push_back(Vec4{1, 1, 1, 1});  // colour is baked into the texture
         if (!W.joints.empty()) W.joints.push_back(W.joints[source]);
         if (!W.weights.empty()) W.weights.push_back(W.weights[source]);
+        for (MorphDeltas& D : W.targets) {
+            D.position.push_back(D.position[source]);
+            if (!D.normal.empty()) D.normal.push_back(D.normal[source]);
+            if (!D.tangent.empty()) D.tangent.push_back(D.tangent[source]);
+        }
         made.emplace(key, id);
         return id;
     };

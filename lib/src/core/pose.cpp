@@ -27,8 +27,9 @@ Vec4 slerp(Vec4 a, Vec4 b, double t) {
     return normalizeQuat({wa * a.x + wb * b.x, wa * a.y + wb * b.y, wa * a.z + wb * b.z, wa * a.w + wb * b.w});
 }
 
-// The sampler's value at `time` (comps values into out[0..comps)).
-void sample(const AnimationSampler& s, double time, bool rotation, double out[4]) {
+}  // namespace
+
+void sampleAnimation(const AnimationSampler& s, double time, bool rotation, double* out) {
     const int c = s.comps;
     const size_t n = s.times.size();
     const bool cubic = s.interpolation == Interpolation::CubicSpline;
@@ -64,8 +65,6 @@ void sample(const AnimationSampler& s, double time, bool rotation, double out[4]
     }
     for (int d = 0; d < c; ++d) out[d] = (1 - t) * value(lo, d) + t * value(hi, d);
 }
-
-}  // namespace
 
 Mat4 trsMatrix(Vec3 tr, Vec4 rot, Vec3 sc) {
     Vec4 q = normalizeQuat(rot);
@@ -125,7 +124,7 @@ std::vector<Mat4> poseNodes(const Rig& rig, int animation, double time) {
             RigNode& n = nodes[size_t(ch.node)];
             double v[4] = {0, 0, 0, 1};
             const bool rotation = ch.path == AnimationPath::Rotation;
-            sample(a.samplers[size_t(ch.sampler)], time, rotation, v);
+            sampleAnimation(a.samplers[size_t(ch.sampler)], time, rotation, v);
             if (ch.path == AnimationPath::Translation) n.translation = {v[0], v[1], v[2]};
             else if (rotation) n.rotation = {v[0], v[1], v[2], v[3]};
             else n.scale = {v[0], v[1], v[2]};
@@ -140,38 +139,76 @@ std::vector<Mat4> poseNodes(const Rig& rig, int animation, double time) {
     return global;
 }
 
-TriMesh poseMesh(const Rig& rig, const TriMesh& mesh, int animation, double time) {
+std::vector<double> morphWeights(const Rig& rig, const MorphTargets& morph, int animation, double time) {
+    std::vector<double> w = morph.weights;
+    if (animation < 0 || size_t(animation) >= rig.animations.size() || w.empty()) return w;
+    const Animation& a = rig.animations[size_t(animation)];
+    for (const AnimationChannel& ch : a.channels) {
+        if (ch.path != AnimationPath::Weights || ch.sampler < 0 || size_t(ch.sampler) >= a.samplers.size()) continue;
+        const AnimationSampler& s = a.samplers[size_t(ch.sampler)];
+        if (size_t(s.comps) != w.size()) continue;
+        sampleAnimation(s, time, false, w.data());
+    }
+    return w;
+}
+
+TriMesh poseMesh(const Rig& rig, const MorphTargets& morph, const TriMesh& mesh, int animation, double time) {
     const Wedges& W = mesh.wedges;
-    if (rig.empty() || W.joints.size() != W.size() || W.weights.size() != W.size()) return mesh;
-    const std::vector<Mat4> global = poseNodes(rig, animation, time);
-    std::vector<Mat4> skinning(rig.joints.size(), identity4());
-    for (size_t j = 0; j < rig.joints.size(); ++j) {
-        const int node = rig.joints[j];
-        if (node >= 0 && size_t(node) < global.size() && j < rig.inverseBind.size()) skinning[j] = mul(global[size_t(node)], rig.inverseBind[j]);
+    const bool skinned = !rig.empty() && W.joints.size() == W.size() && W.weights.size() == W.size();
+    // Targets that apply: a non-zero weight and deltas for every wedge.
+    const std::vector<double> weight = morphWeights(rig, morph, animation, time);
+    std::vector<size_t> active;
+    for (size_t t = 0; t < W.targets.size() && t < weight.size(); ++t)
+        if (weight[t] != 0 && W.targets[t].position.size() == W.size()) active.push_back(t);
+    if (!skinned && active.empty()) return mesh;
+    std::vector<Mat4> skinning;
+    if (skinned) {
+        const std::vector<Mat4> global = poseNodes(rig, animation, time);
+        skinning.assign(rig.joints.size(), identity4());
+        for (size_t j = 0; j < rig.joints.size(); ++j) {
+            const int node = rig.joints[j];
+            if (node >= 0 && size_t(node) < global.size() && j < rig.inverseBind.size()) skinning[j] = mul(global[size_t(node)], rig.inverseBind[j]);
+        }
     }
     auto blended = [&](size_t w) {
+        if (!skinned) return identity4();
         Mat4 m{};
         for (int k = 0; k < 4; ++k) {
-            const double weight = k == 0 ? W.weights[w].x : k == 1 ? W.weights[w].y : k == 2 ? W.weights[w].z : W.weights[w].w;
-            if (weight == 0) continue;
+            const double wt = k == 0 ? W.weights[w].x : k == 1 ? W.weights[w].y : k == 2 ? W.weights[w].z : W.weights[w].w;
+            if (wt == 0) continue;
             const uint16_t j = W.joints[w][size_t(k)];
             const Mat4& s = j < skinning.size() ? skinning[j] : skinning.empty() ? m : skinning[0];
-            for (size_t e = 0; e < 16; ++e) m[e] += weight * s[e];
+            for (size_t e = 0; e < 16; ++e) m[e] += wt * s[e];
         }
         return m;
+    };
+    // Morph targets apply first, in the bind frame (glTF: before skinning).
+    auto morphed = [&](size_t w) {
+        Vec3 p = mesh.positions[W.vertex[w]];
+        for (size_t t : active) p += W.targets[t].position[w] * weight[t];
+        return p;
+    };
+    auto morphedVector = [&](Vec3 v, size_t w, bool tangent) {
+        for (size_t t : active) {
+            const std::vector<Vec3>& d = tangent ? W.targets[t].tangent : W.targets[t].normal;
+            if (d.size() == W.size()) v += d[w] * weight[t];
+        }
+        return v;
     };
     TriMesh out = mesh;
     out.positions.clear();
     out.wedges.vertex.assign(W.size(), 0);
-    // One posed vertex per (welded vertex, influence set), numbered in order of first use.
-    using Key = std::tuple<uint32_t, std::array<uint16_t, 4>, double, double, double, double>;
+    // One posed vertex per (welded vertex, influence set, morphed position), numbered in order of
+    // first use.
+    using Key = std::tuple<uint32_t, std::array<uint16_t, 4>, std::array<double, 4>, std::array<double, 3>>;
     std::map<Key, uint32_t> posed;
     std::vector<char> wedgeDone(W.size(), 0);
     auto place = [&](uint32_t w) {
-        const Vec4& q = W.weights[w];
-        Key key{W.vertex[w], W.joints[w], q.x, q.y, q.z, q.w};
+        const Vec4 q = skinned ? W.weights[w] : Vec4{0, 0, 0, 0};
+        const Vec3 p = morphed(w);
+        Key key{W.vertex[w], skinned ? W.joints[w] : std::array<uint16_t, 4>{0, 0, 0, 0}, {q.x, q.y, q.z, q.w}, {p.x, p.y, p.z}};
         auto [it, inserted] = posed.emplace(key, uint32_t(out.positions.size()));
-        if (inserted) out.positions.push_back(transformPoint(blended(w), mesh.positions[W.vertex[w]]));
+        if (inserted) out.positions.push_back(transformPoint(blended(w), p));
         return it->second;
     };
     for (size_t f = 0; f < mesh.triangles.size(); ++f)
@@ -189,14 +226,14 @@ TriMesh poseMesh(const Rig& rig, const TriMesh& mesh, int animation, double time
             // Normals by the inverse transpose; a blend of rigid joints is close to rigid, so the
             // linear part, renormalised, is what renderers use too.
             Mat4 inv;
-            Vec3 n = W.normal[w];
+            Vec3 n = morphedVector(W.normal[w], w, false);
             if (invertAffine(m, inv)) n = {inv[0] * n.x + inv[1] * n.y + inv[2] * n.z, inv[4] * n.x + inv[5] * n.y + inv[6] * n.z,
                                            inv[8] * n.x + inv[9] * n.y + inv[10] * n.z};
             out.wedges.normal[w] = normalize(n);
         }
         if (!out.wedges.tangent.empty()) {
             const Vec4& t = W.tangent[w];
-            Vec3 d = normalize(transformVector(m, Vec3{t.x, t.y, t.z}));
+            Vec3 d = normalize(transformVector(m, morphedVector(Vec3{t.x, t.y, t.z}, w, true)));
             out.wedges.tangent[w] = {d.x, d.y, d.z, t.w};
         }
     }

@@ -57,6 +57,17 @@ void decodeDraco(const ReadContext& c, const json& ext, PrimData& p, const std::
     if (!U1.empty()) { p.uv1.resize(nPoints); for (size_t i = 0; i < nPoints; ++i) p.uv1[i] = {U1[2 * i], U1[2 * i + 1]}; }
     std::vector<float> C = attr("COLOR_0", 4);
     if (!C.empty()) { p.color.resize(nPoints); for (size_t i = 0; i < nPoints; ++i) p.color[i] = {C[4 * i], C[4 * i + 1], C[4 * i + 2], C[4 * i + 3]}; }
+    // Skin influences travel as generic attributes (JOINTS_0 / WEIGHTS_0 named in the extension).
+    std::vector<float> J = attr("JOINTS_0", 4), Wt = attr("WEIGHTS_0", 4);
+    if (!J.empty() && !Wt.empty()) {
+        p.influenceSets = 1;
+        p.joints.resize(J.size());
+        for (size_t i = 0; i < J.size(); ++i) {
+            if (!(J[i] >= 0 && J[i] < 65536)) fail(c, w + ": JOINTS_0 value out of range");
+            p.joints[i] = uint32_t(J[i]);
+        }
+        p.weights.assign(Wt.begin(), Wt.end());
+    }
     std::vector<uint32_t> idx;
     idx.reserve(size_t(mesh->num_faces()) * 3);
     for (draco::FaceIndex f(0); f < mesh->num_faces(); ++f) {

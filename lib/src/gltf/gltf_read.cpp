@@ -28,6 +28,7 @@
 #include "gltf/gltf_read_context.h"
 #include "gltf/meshopt_decode.h"
 #include "gltf/multires_codec.h"
+#include "gltf/morph_read.h"
 #include "gltf/rig_read.h"
 #include "lodbake/core/errors.h"
 #include "lodbake/core/pose.h"
@@ -337,17 +338,6 @@ std::vector<SceneNode> flattenScene(const ReadContext& c, const std::vector<int>
 // ---------------------------------------------------------------------------------------------
 // 3. Welding
 
-// Cofactor matrix of the upper 3x3: (M^-1)^T = C / det.
-std::array<double, 9> cofactor3(const Mat4& m) {
-    auto M = [&](int r, int c) { return m[size_t(c * 4 + r)]; };
-    std::array<double, 9> C{};
-    for (int r = 0; r < 3; ++r)
-        for (int c = 0; c < 3; ++c)
-            C[size_t(r * 3 + c)] = M((r + 1) % 3, (c + 1) % 3) * M((r + 2) % 3, (c + 2) % 3) -
-                                   M((r + 1) % 3, (c + 2) % 3) * M((r + 2) % 3, (c + 1) % 3);
-    return C;
-}
-
 struct PosKey {
     uint64_t b[3];
     bool operator==(const PosKey& o) const { return b[0] == o.b[0] && b[1] == o.b[1] && b[2] == o.b[2]; }
@@ -431,10 +421,12 @@ struct MeshBuilder {
     size_t degenerate = 0;
 
     void add(const ReadContext& c, const PrimData& p, const Mat4& world, int material, const std::string& what, RigRead& rr,
-             const NodeInfluence* binding) {
-        double det = det3(world);
-        double sgn = det < 0 ? -1.0 : 1.0;
-        std::array<double, 9> C = cofactor3(world);
+             const NodeInfluence* binding, const MorphLayout& layout, int node) {
+        const double det = det3(world);
+        const NodeFrame frame = nodeFrame(world);
+        const double sgn = frame.sign;
+        const std::array<double, 9>& C = frame.cofactor;
+        if (mesh.wedges.targets.size() != layout.size()) mesh.wedges.targets.resize(layout.size());
         std::vector<Vec3> wp(p.pos.size());
         std::vector<PosKey> keys(p.pos.size());
         for (size_t i = 0; i < wp.size(); ++i) {
@@ -509,6 +501,7 @@ struct MeshBuilder {
                 W.joints.push_back(joints[i]);
                 W.weights.push_back(weights[i]);
             }
+            if (!W.targets.empty()) appendWedgeDeltas(layout, node, p, i, frame, W);
             local[i] = w;
             return w;
         };
@@ -533,7 +526,7 @@ struct MeshBuilder {
 
 // Step 3: every triangle primitive of every mesh node, decoded, transformed to world space and
 // welded by position into asset.mesh.
-void weldScene(const ReadContext& c, const std::vector<SceneNode>& nodes, RigRead& rr, Asset& asset) {
+void weldScene(const ReadContext& c, const std::vector<SceneNode>& nodes, RigRead& rr, const MorphLayout& layout, Asset& asset) {
     const tinygltf::Model& model = *c.model;
     MeshBuilder builder;
     for (const auto& [n, world] : nodes) {
@@ -551,7 +544,7 @@ void weldScene(const ReadContext& c, const std::vector<SceneNode>& nodes, RigRea
             if (material >= int(model.materials.size())) fail(c, "mesh " + std::to_string(node.mesh) + " primitive " + std::to_string(pi) + ": material " + std::to_string(material) + " does not exist");
             builder.add(c, p, world, material < 0 ? -1 : material,
                         "node " + std::to_string(n) + " mesh " + std::to_string(node.mesh) + " primitive " + std::to_string(pi), rr,
-                        binding == rr.meshNodes.end() ? nullptr : &binding->second);
+                        binding == rr.meshNodes.end() ? nullptr : &binding->second, layout, n);
         }
     }
     builder.finish(asset);
@@ -712,15 +705,22 @@ Asset readWith(ReadContext& c, const ReadOptions& options, std::optional<Multire
         const json* ext = findMultiresExtension(c);
         if (options.lod >= 0 && !ext) roots = selectMsftLod(c, roots, options.lod);
         const std::vector<SceneNode> nodes = flattenScene(c, roots, asset.stats.nodes);
-        RigRead rr = readRig(c, nodes, asset);
-        if (ext && hasMultiresOriginal(*ext)) {
-            // Our own multires file: the original mesh rebuilt exactly, then the extension.
-            asset.mesh = readMultiresOriginal(c, *ext, nodes, rr, asset);
+        const bool ours = ext && hasMultiresOriginal(*ext);
+        // Our own multires file: the levels' nodes repeat the original's targets.
+        std::vector<SceneNode> morphNodes;
+        for (const SceneNode& n : nodes)
+            if (!ours || n.first == multiresOriginalNode(*ext)) morphNodes.push_back(n);
+        const MorphLayout layout = morphLayout(c, morphNodes);
+        RigRead rr = readRig(c, nodes, layout, asset);
+        if (ours) {
+            // The original mesh rebuilt exactly, then the extension.
+            asset.mesh = readMultiresOriginal(c, *ext, nodes, rr, layout, asset);
             if (multires) *multires = readMultires(c, *ext, asset.mesh);
         } else {
-            weldScene(c, nodes, rr, asset);
+            weldScene(c, nodes, rr, layout, asset);
             if (multires) multires->reset();
         }
+        asset.morph = layout.targets;
         asset.rig = std::move(rr.rig);
         for (std::string& w : influenceWarnings(rr)) asset.warnings.push_back(std::move(w));
         readMaterials(c, asset);

@@ -56,6 +56,12 @@ struct PrimData {
     std::vector<uint32_t> joints;
     std::vector<double> weights;
     std::vector<Tri> tris;  // glTF vertex indices, glTF winding
+    // Morph targets: per target, POSITION deltas per vertex, NORMAL / TANGENT deltas (xyz) per
+    // vertex or empty.
+    struct Target {
+        std::vector<Vec3> position, normal, tangent;
+    };
+    std::vector<Target> targets;
 };
 
 // Triangles of `idx` under glTF primitive `mode` (TRIANGLES, TRIANGLE_STRIP or TRIANGLE_FAN)

@@ -78,8 +78,8 @@ private:
 };
 
 // Writes one mesh (triangles with welded ids and corner wedges, material per triangle).
-int writeMesh(Writer& w, json& meshes, const TriMesh& src, const std::vector<Tri>& tris, const std::vector<Tri>& corners,
-              const std::vector<int>& material, const std::string& name, std::vector<PrimMap>* maps) {
+int writeMesh(Writer& w, json& meshes, const TriMesh& src, const MorphTargets& morph, const std::vector<Tri>& tris,
+              const std::vector<Tri>& corners, const std::vector<int>& material, const std::string& name, std::vector<PrimMap>* maps) {
     std::map<int, std::vector<uint32_t>> groups;
     for (size_t f = 0; f < tris.size(); ++f) groups[material[f]].push_back(uint32_t(f));
     json prims = json::array();
@@ -147,12 +147,30 @@ int writeMesh(Writer& w, json& meshes, const TriMesh& src, const std::vector<Tri
         }
         json prim = {{"attributes", attrs}, {"indices", w.addIndices(idx, n)}, {"mode", 4}};
         if (mat >= 0) prim["material"] = mat;
+        if (!morph.empty() && W.targets.size() == morph.size()) {
+            std::vector<std::vector<float>> dp(morph.size()), dn(morph.size()), dt(morph.size());
+            auto gather = [&](const std::vector<Vec3>& d, std::vector<float>& out) {
+                out.resize(3 * n);
+                for (size_t i = 0; i < n; ++i) {
+                    const Vec3& v = d[pm.wedge[i]];
+                    out[3 * i] = float(v.x); out[3 * i + 1] = float(v.y); out[3 * i + 2] = float(v.z);
+                }
+            };
+            for (size_t t = 0; t < morph.size(); ++t) {
+                const MorphDeltas& D = W.targets[t];
+                gather(D.position, dp[t]);
+                if (!D.normal.empty() && attrs.contains("NORMAL")) gather(D.normal, dn[t]);
+                if (!D.tangent.empty() && attrs.contains("TANGENT")) gather(D.tangent, dt[t]);
+            }
+            addMorphTargets(w, prim, dp, dn, dt);
+        }
         prims.push_back(prim);
         if (maps) maps->push_back(std::move(pm));
     }
     if (prims.empty()) return -1;
     json mesh = {{"primitives", prims}};
     if (!name.empty()) mesh["name"] = name;
+    if (W.targets.size() == morph.size()) addMorphDefaults(mesh, morph);
     meshes.push_back(mesh);
     return int(meshes.size()) - 1;
 }
@@ -265,7 +283,7 @@ void writeGltfTo(const std::string& path, const Asset& asset, const Multires* mu
     };
     json meshes = json::array(), nodes = json::array(), sceneNodes = json::array();
     WrittenMeshes written;
-    const int originalMesh = writeMesh(w, meshes, mesh, mesh.triangles, mesh.cornerWedges,
+    const int originalMesh = writeMesh(w, meshes, mesh, asset.morph, mesh.triangles, mesh.cornerWedges,
                                        materialsOf(nullptr, mesh.triangleCount()), "original", &written.originalPrims);
     written.originalMesh = originalMesh;
     // A skinned mesh is posed by its joints (the node's own transform is ignored), so with a rig
@@ -298,7 +316,7 @@ void writeGltfTo(const std::string& path, const Asset& asset, const Multires* mu
                     levelMaterials[t] = (x >= 0 && size_t(x) < nMat) ? x : -1;
                 }
             written.levelPrims.emplace_back();
-            int mi = writeMesh(w, meshes, mesh, L.triangles, L.cornerWedges, levelMaterials, name, &written.levelPrims.back());
+            int mi = writeMesh(w, meshes, mesh, asset.morph, L.triangles, L.cornerWedges, levelMaterials, name, &written.levelPrims.back());
             written.levelMeshes.push_back(mi);
             json n = {{"name", name}};
             if (!skinned) n["translation"] = {double(i + 1) * 1.25 * width, 0.0, 0.0};
@@ -308,8 +326,14 @@ void writeGltfTo(const std::string& path, const Asset& asset, const Multires* mu
             sceneNodes.push_back(i + 1);
         }
     }
+    std::vector<int> morphNodes;  // every node with a mesh carries the targets
+    if (!asset.morph.empty())
+        for (size_t i = 0; i < nodes.size(); ++i)
+            if (nodes[i].contains("mesh")) morphNodes.push_back(int(i));
     if (skinned)
-        for (int r : writeRig(w, root, nodes, asset.rig)) sceneNodes.push_back(r);
+        for (int r : writeRig(w, root, nodes, asset.rig, morphNodes)) sceneNodes.push_back(r);
+    else if (!morphNodes.empty())
+        writeAnimations(w, root, asset.rig, -1, morphNodes);
     root["scene"] = 0;
     root["scenes"] = json::array({json{{"nodes", sceneNodes}}});
     root["nodes"] = nodes;

@@ -180,6 +180,8 @@ void optimizeLevelBuffers(LodLevelData& L) {
     remapStream(L.tangents, 4, n, unique, remap);
     remapStream(L.joints, 4, n, unique, remap);
     remapStream(L.weights, 4, n, unique, remap);
+    for (auto* targets : {&L.targetPositions, &L.targetNormals, &L.targetTangents})
+        for (std::vector<float>& d : *targets) remapStream(d, 3, n, unique, remap);
 }
 
 PositionGrid positionGrid(const std::vector<LodLevelData>& levels, int bits) {
@@ -222,6 +224,7 @@ PrimitiveStreams gpuPrimitive(BufferBuilder& b, const LodLevelData& L, const Str
     addInfluences(b, attrs, L.joints, L.weights);
     out.quantized = out.quantized || q;
     out.primitive = {{"attributes", attrs}, {"indices", addIndexStream(b, L.indices, n, mo)}, {"mode", 4}};
+    addMorphTargets(b, out.primitive, L.targetPositions, L.targetNormals, L.targetTangents);
     return out;
 }
 

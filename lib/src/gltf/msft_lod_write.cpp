@@ -48,6 +48,9 @@ void checkLevel(const std::string& path, const LodLevelData& L) {
     bool ok = n > 0 && L.positions.size() == 3 * n && L.normals.size() == 3 * n && L.uvs.size() == 2 * n &&
               (L.tangents.empty() || L.tangents.size() == 4 * n) && (L.joints.empty() || L.joints.size() == 4 * n) &&
               L.weights.size() == L.joints.size() && !L.indices.empty() && L.indices.size() % 3 == 0;
+    for (auto* targets : {&L.targetPositions, &L.targetNormals, &L.targetTangents})
+        for (const std::vector<float>& d : *targets) ok = ok && (d.empty() || d.size() == 3 * n);
+    for (const std::vector<float>& d : L.targetPositions) ok = ok && !d.empty();
     for (uint32_t i : L.indices) ok = ok && i < n;
     if (!ok) throw InvalidInput(path + ": level '" + L.name + "' has inconsistent mesh data");
     if (!L.material.normal.encoded.empty() && L.tangents.empty())
@@ -73,6 +76,18 @@ json dracoPrimitive(Buffer& b, const LodLevelData& L, const LodChainWriteOptions
     uint32_t tid = add(draco::GeometryAttribute::TEX_COORD, L.uvs, 2);
     const bool tangents = !L.tangents.empty();
     uint32_t gid = tangents ? add(draco::GeometryAttribute::GENERIC, L.tangents, 4) : 0;
+    // Skin influences as generic attributes (the extension names them JOINTS_0 / WEIGHTS_0).
+    const bool skinned = !L.joints.empty();
+    uint32_t jid = 0, wid = 0;
+    if (skinned) {
+        draco::GeometryAttribute ga;
+        ga.Init(draco::GeometryAttribute::GENERIC, nullptr, 4, draco::DT_UINT16, false, int64_t(sizeof(uint16_t)) * 4, 0);
+        int id = dm.AddAttribute(ga, true, uint32_t(n));
+        draco::PointAttribute* a = dm.attribute(id);
+        for (size_t i = 0; i < n; ++i) a->SetAttributeValue(draco::AttributeValueIndex(uint32_t(i)), &L.joints[i * 4]);
+        jid = a->unique_id();
+        wid = add(draco::GeometryAttribute::GENERIC, L.weights, 4);
+    }
     dm.SetNumFaces(f);
     for (size_t t = 0; t < f; ++t) {
         draco::Mesh::Face face = {draco::PointIndex(L.indices[3 * t]), draco::PointIndex(L.indices[3 * t + 1]),
@@ -83,7 +98,8 @@ json dracoPrimitive(Buffer& b, const LodLevelData& L, const LodChainWriteOptions
     enc.SetAttributeQuantization(draco::GeometryAttribute::POSITION, o.quantPosition);
     enc.SetAttributeQuantization(draco::GeometryAttribute::TEX_COORD, o.quantTexcoord);
     enc.SetAttributeQuantization(draco::GeometryAttribute::NORMAL, o.quantNormal);
-    if (tangents) enc.SetAttributeQuantization(draco::GeometryAttribute::GENERIC, o.quantNormal);
+    // Generic attributes: tangents and skin weights (integer joints are never quantised).
+    if (tangents || skinned) enc.SetAttributeQuantization(draco::GeometryAttribute::GENERIC, o.quantNormal);
     enc.SetSpeedOptions(o.dracoSpeed, o.dracoSpeed);
     enc.SetTrackEncodedProperties(true);
     draco::EncoderBuffer out;
@@ -108,6 +124,14 @@ json dracoPrimitive(Buffer& b, const LodLevelData& L, const LodChainWriteOptions
         attrs["TANGENT"] = b.addAccessor(ga);
         ids["TANGENT"] = gid;
     }
+    if (skinned) {
+        attrs["JOINTS_0"] = b.addAccessor({{"componentType", kUnsignedShort}, {"count", points}, {"type", "VEC4"}});
+        json wa = floatAccessorJson(L.weights, 4, false);
+        wa["count"] = points;
+        attrs["WEIGHTS_0"] = b.addAccessor(wa);
+        ids["JOINTS_0"] = jid;
+        ids["WEIGHTS_0"] = wid;
+    }
     int ia = b.addAccessor({{"componentType", points < 65536 ? kUnsignedShort : kUnsignedInt}, {"count", faces * 3}, {"type", "SCALAR"}});
     json ext = {{"bufferView", view}, {"attributes", ids}};
     return {{"attributes", attrs}, {"indices", ia}, {"mode", 4}, {"extensions", {{kDraco, ext}}}};
@@ -122,7 +146,8 @@ std::string lowerExt(const std::string& path) {
 }  // namespace
 
 LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodLevelData>& levels,
-                                 const std::vector<double>& screenCoverage, const LodChainWriteOptions& options, const Rig* rig) {
+                                 const std::vector<double>& screenCoverage, const LodChainWriteOptions& options, const Rig* rig,
+                                 const MorphTargets* morph) {
     std::string ext = lowerExt(path);
     bool glb = ext == ".glb";
     if (!glb && ext != ".gltf") throw IOError(path + ": output must end in .glb or .gltf");
@@ -133,6 +158,9 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
     for (const LodLevelData& L : levels) checkLevel(path, L);
     const bool skinned = rig && !rig->empty() &&
                          std::all_of(levels.begin(), levels.end(), [](const LodLevelData& L) { return !L.joints.empty(); });
+    const bool morphed = morph && !morph->empty() && std::all_of(levels.begin(), levels.end(), [&](const LodLevelData& L) {
+        return L.targetPositions.size() == morph->size();
+    });
     if (options.draco && (options.meshopt || options.quantize))
         throw Unsupported(path + ": Draco cannot be combined with meshopt compression or quantization");
     if (options.quantize && (options.quantPositionBits < 1 || options.quantPositionBits > 16))
@@ -143,10 +171,13 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
     streams.positionBits = options.quantPositionBits;
     if (options.quantize) streams.grid = positionGrid(levels, options.quantPositionBits);
     // A skinned mesh ignores its node's transform, which is where the position grid lives.
-    streams.positionsOnGrid = !skinned;
+    streams.positionsOnGrid = !skinned && !morphed;
 
     LodChainWriteStats stats;
     if (skinned && options.quantize) stats.warnings.push_back(path + ": skinned levels keep FLOAT positions (--quantize)");
+    else if (morphed && options.quantize) stats.warnings.push_back(path + ": morphed levels keep FLOAT positions (--quantize)");
+    if (morphed && options.draco)
+        stats.warnings.push_back(path + ": morphed levels are not Draco-compressed (Draco reorders vertices; the morph targets could not follow)");
     Buffer b;
     json root;
     json meshes = json::array(), nodes = json::array(), materials = json::array(), textures = json::array(),
@@ -165,6 +196,9 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
             optimized.tangents = src.tangents;
             optimized.joints = src.joints;
             optimized.weights = src.weights;
+            optimized.targetPositions = src.targetPositions;
+            optimized.targetNormals = src.targetNormals;
+            optimized.targetTangents = src.targetTangents;
             optimized.indices = src.indices;
             optimizeLevelBuffers(optimized);
         }
@@ -173,7 +207,7 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
         stats.levelCacheAfter.push_back(analyzeVertexCache(L));
         size_t before = b.size;
         json prim;
-        if (options.draco && !skinned) {
+        if (options.draco && !morphed) {
             prim = dracoPrimitive(b, L, options, path);
         } else {
             PrimitiveStreams ps = gpuPrimitive(b, L, streams);
@@ -184,7 +218,9 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
         }
         stats.levelGeometryBytes.push_back(b.size - before);
         prim["material"] = i;
-        meshes.push_back({{"name", L.name}, {"primitives", json::array({prim})}});
+        json mesh = {{"name", L.name}, {"primitives", json::array({prim})}};
+        if (morphed) addMorphDefaults(mesh, *morph);
+        meshes.push_back(mesh);
         // The caller's material: side images are written after the loop.
         const LodMaterial& M = levels[i].material;
         size_t imageBytes = 0;
@@ -247,7 +283,7 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
         materials.push_back(mat);
         stats.levelImageBytes.push_back(imageBytes);
         json node = {{"name", L.name}, {"mesh", i}};
-        if (options.quantize && !skinned) {
+        if (options.quantize && !skinned && !morphed) {
             const PositionGrid& g = streams.grid;
             node["translation"] = {g.origin[0], g.origin[1], g.origin[2]};
             node["scale"] = {g.step, g.step, g.step};
@@ -256,8 +292,13 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
         nodes.push_back(node);
     }
     json sceneNodes = json::array({0});
+    std::vector<int> morphNodes;  // every level node carries the targets
+    if (morphed)
+        for (size_t i = 0; i < levels.size(); ++i) morphNodes.push_back(int(i));
     if (skinned)
-        for (int r : writeRig(b, root, nodes, *rig)) sceneNodes.push_back(r);
+        for (int r : writeRig(b, root, nodes, *rig, morphNodes)) sceneNodes.push_back(r);
+    else if (morphed && rig)
+        writeAnimations(b, root, *rig, -1, morphNodes);
 
     root["asset"] = {{"version", "2.0"}, {"generator", options.generator}};
     std::vector<std::string> used;
@@ -271,7 +312,7 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
     if (usesEmissiveStrength) used.push_back(kEmissiveStrength);
     if (usesUnlit) used.push_back(kUnlit);
     std::vector<std::string> required;
-    if (options.draco && !skinned) required.push_back(kDraco);
+    if (options.draco && !morphed) required.push_back(kDraco);
     if (options.meshopt) required.push_back(kMeshopt);
     if (usesQuantization) required.push_back(kQuantization);
     if (usesBasisu) required.push_back(kBasisu);

@@ -10,6 +10,7 @@
 #include <tiny_gltf.h>
 
 #include "gltf/gltf_internal.h"
+#include "gltf/morph_read.h"
 #include "lodbake/core/errors.h"
 
 namespace lodbake::gltf_detail {
@@ -22,8 +23,8 @@ using json = nlohmann::json;
 namespace {
 
 // Rebuilds the original TriMesh exactly from mesh `meshIndex` and the extension's maps.
-TriMesh rebuildOriginal(const ReadContext& c, const json& ext, const json& orig, int meshIndex, const Mat4& world,
-                        RigRead& rr, const NodeInfluence* binding, Asset& asset) {
+TriMesh rebuildOriginal(const ReadContext& c, const json& ext, const json& orig, int nodeIndex, int meshIndex, const Mat4& world,
+                        RigRead& rr, const NodeInfluence* binding, const MorphLayout& layout, Asset& asset) {
     std::string what = std::string(kMultiresExtension) + ": original";
     TriMesh mesh;
     // The counts size the arrays below, so they are checked against the accessors before use: every
@@ -61,6 +62,9 @@ TriMesh rebuildOriginal(const ReadContext& c, const json& ext, const json& orig,
         Wd.joints.assign(W, std::array<uint16_t, 4>{0, 0, 0, 0});
         Wd.weights.assign(W, Vec4{1, 0, 0, 0});
     }
+    Wd.targets.resize(layout.size());
+    for (MorphDeltas& D : Wd.targets) D.position.assign(W, Vec3{0, 0, 0});
+    const NodeFrame frame = nodeFrame(world);
     auto influencesOf = [&](const PrimData& p) {
         joints.clear();
         weights.clear();
@@ -82,6 +86,7 @@ TriMesh rebuildOriginal(const ReadContext& c, const json& ext, const json& orig,
             uint32_t w = wedges[i];
             if (w >= W) fail(c, what + ": wedge id out of range");
             if (binding) { Wd.joints[w] = joints[i]; Wd.weights[w] = weights[i]; }
+            storeWedgeDeltas(layout, nodeIndex, p, i, frame, Wd, w);
             if (!p.normal.empty()) Wd.normal[w] = p.normal[i];
             if (!p.tangent.empty()) Wd.tangent[w] = p.tangent[i];
             if (!p.uv0.empty()) Wd.uv0[w] = p.uv0[i];
@@ -130,6 +135,7 @@ TriMesh rebuildOriginal(const ReadContext& c, const json& ext, const json& orig,
                 if (wedgeSeen[w] == 1) continue;
                 wedgeSeen[w] = 2;
                 if (binding) { Wd.joints[w] = joints[i]; Wd.weights[w] = weights[i]; }
+                storeWedgeDeltas(layout, nodeIndex, p, i, frame, Wd, w);  // the level repeats the original's targets
                 if (!p.normal.empty()) Wd.normal[w] = p.normal[i];  // level nodes only translate
                 if (!p.tangent.empty()) Wd.tangent[w] = p.tangent[i];
                 if (!p.uv0.empty()) Wd.uv0[w] = p.uv0[i];
@@ -208,8 +214,12 @@ const json* findMultiresExtension(const ReadContext& c) {
 
 bool hasMultiresOriginal(const json& ext) { return ext.contains("original") && ext["original"].is_object(); }
 
+int multiresOriginalNode(const json& ext) {
+    return ext.contains("original") ? jint(ext["original"], "node", 0) : 0;
+}
+
 TriMesh readMultiresOriginal(const ReadContext& c, const json& ext, const std::vector<std::pair<int, Mat4>>& nodes, RigRead& rr,
-                             Asset& asset) {
+                             const MorphLayout& layout, Asset& asset) {
     const tinygltf::Model& model = *c.model;
     const json& orig = ext["original"];
     int nodeIndex = jint(orig, "node", 0);
@@ -219,7 +229,8 @@ TriMesh readMultiresOriginal(const ReadContext& c, const json& ext, const std::v
     int meshIndex = model.nodes[size_t(nodeIndex)].mesh;
     if (meshIndex >= int(model.meshes.size())) fail(c, "node " + std::to_string(nodeIndex) + ": mesh does not exist");
     const auto binding = rr.meshNodes.find(nodeIndex);
-    return rebuildOriginal(c, ext, orig, meshIndex, world, rr, binding == rr.meshNodes.end() ? nullptr : &binding->second, asset);
+    return rebuildOriginal(c, ext, orig, nodeIndex, meshIndex, world, rr, binding == rr.meshNodes.end() ? nullptr : &binding->second,
+                           layout, asset);
 }
 
 Multires readMultires(const ReadContext& c, const json& ext, const TriMesh& mesh) {

@@ -16,6 +16,8 @@
 
 namespace lodbake::gltf_detail {
 
+struct MorphLayout;
+
 constexpr const char* kMultiresExtension = "LODBAKE_multires";
 constexpr int kMultiresVersion = 2;  // 2: regionUpdates per region (oldRep, newRep); 1: per face
 
@@ -28,13 +30,16 @@ const nlohmann::json* findMultiresExtension(const ReadContext& c);
 // True when `ext` maps the original mesh (files written by writeGltf with a Multires).
 bool hasMultiresOriginal(const nlohmann::json& ext);
 
+// The glTF node that holds the original mesh (ext.original.node; 0 when absent).
+int multiresOriginalNode(const nlohmann::json& ext);
+
 // The original TriMesh, rebuilt exactly (welded vertices, wedges, face order) from the mesh of
 // node ext.original.node and the extension's maps; `nodes` = the flattened scene (node, world
-// matrix), `rr` = its rig (the original node's skin binding). Counts the primitives it decodes in
-// asset.stats. \pre hasMultiresOriginal(ext).
+// matrix), `rr` = its rig (the original node's skin binding), `layout` = the original node's morph
+// targets. Counts the primitives it decodes in asset.stats. \pre hasMultiresOriginal(ext).
 // \throw InvalidInput when a map does not match the mesh.
-TriMesh readMultiresOriginal(const ReadContext& c, const nlohmann::json& ext,
-                             const std::vector<std::pair<int, Mat4>>& nodes, RigRead& rr, Asset& asset);
+TriMesh readMultiresOriginal(const ReadContext& c, const nlohmann::json& ext, const std::vector<std::pair<int, Mat4>>& nodes,
+                             RigRead& rr, const MorphLayout& layout, Asset& asset);
 
 // Levels, collapses, region updates, chart layout and texture hierarchy of `ext`, every index
 // checked against `mesh` (the original read by readMultiresOriginal). Version 1 files are upgraded.

@@ -214,7 +214,6 @@ bool decodePrimitive(const ReadContext& c, int meshIndex, int primIndex, Asset& 
         asset.stats.droppedPrimitives++;
         return false;
     }
-    if (!prim.targets.empty()) asset.warnings.push_back(what + ": morph targets ignored");
     const json* draco = nullptr;
     const json& jp = c.root["meshes"][size_t(meshIndex)]["primitives"][size_t(primIndex)];
     if (jp.contains("extensions") && jp["extensions"].is_object() && jp["extensions"].contains("KHR_draco_mesh_compression"))
@@ -222,6 +221,8 @@ bool decodePrimitive(const ReadContext& c, int meshIndex, int primIndex, Asset& 
     if (draco) {
         decodeDraco(c, *draco, p, what);
         asset.stats.dracoPrimitives++;
+        // Draco reorders vertices; the targets' accessors follow the uncompressed order.
+        if (!prim.targets.empty()) asset.warnings.push_back(what + ": morph targets of a Draco-compressed primitive ignored");
         return true;
     }
     auto attrIndex = [&](const char* name) {
@@ -277,6 +278,27 @@ bool decodePrimitive(const ReadContext& c, int meshIndex, int primIndex, Asset& 
                 p.joints[(i * sets + set) * 4 + size_t(k)] = uint32_t(ji);
                 p.weights[(i * sets + set) * 4 + size_t(k)] = Wt.at(i, k);
             }
+    }
+    for (size_t t = 0; t < prim.targets.size(); ++t) {
+        PrimData::Target target;
+        auto deltas = [&](const char* name, std::vector<Vec3>& out) {
+            auto it = prim.targets[t].find(name);
+            if (it == prim.targets[t].end()) return;
+            const std::string tw = what + " target " + std::to_string(t) + " " + name;
+            AccessorData D = readAccessor(c, it->second, tw);
+            if (D.comps != 3) fail(c, tw + " is not VEC3");
+            if (D.count != n) fail(c, tw + " count " + std::to_string(D.count) + " differs from POSITION count " + std::to_string(n));
+            out.resize(n);
+            for (size_t i = 0; i < n; ++i) {
+                out[i] = {D.at(i, 0), D.at(i, 1), D.at(i, 2)};
+                if (!isFinite(out[i])) fail(c, tw + ": vertex " + std::to_string(i) + " has a non-finite delta");
+            }
+        };
+        deltas("POSITION", target.position);
+        deltas("NORMAL", target.normal);
+        deltas("TANGENT", target.tangent);
+        if (target.position.empty()) target.position.assign(n, Vec3{0, 0, 0});
+        p.targets.push_back(std::move(target));
     }
     std::vector<uint32_t> idx;
     if (prim.indices >= 0) {

@@ -2,6 +2,8 @@
 // flattened mesh (lodbake/core/rig.h states the invariant this keeps).
 #include "gltf/rig_read.h"
 
+#include "gltf/morph_read.h"
+
 #include <algorithm>
 #include <set>
 
@@ -26,14 +28,16 @@ RigNode rigNodeOf(const tinygltf::Node& n) {
     return r;
 }
 
-AnimationSampler readSampler(const ReadContext& c, const tinygltf::AnimationSampler& s, int comps, const std::string& what) {
+}  // namespace
+
+AnimationSampler readSampler(const ReadContext& c, const tinygltf::AnimationSampler& s, int comps, const std::string& what, bool scalarOutput) {
     AnimationSampler out;
     out.comps = comps;
     out.interpolation = s.interpolation == "STEP" ? Interpolation::Step
                         : s.interpolation == "CUBICSPLINE" ? Interpolation::CubicSpline
                                                            : Interpolation::Linear;
     std::vector<float> times = readF32(c, s.input, 1, what + " input");
-    std::vector<float> values = readF32(c, s.output, comps, what + " output");
+    std::vector<float> values = readF32(c, s.output, scalarOutput ? 1 : comps, what + " output");
     const size_t per = out.interpolation == Interpolation::CubicSpline ? 3 : 1;
     if (times.empty() || values.size() != times.size() * per * size_t(comps))
         fail(c, what + ": " + std::to_string(values.size() / size_t(comps)) + " output values for " + std::to_string(times.size()) +
@@ -45,9 +49,45 @@ AnimationSampler readSampler(const ReadContext& c, const tinygltf::AnimationSamp
     return out;
 }
 
+namespace {
+
+// The translation / rotation / scale animations of the rig nodes (glTF node -> rig node in
+// `rigIndex`) and the morph weights of the union of `layout`, into rig.animations.
+void readAnimations(const ReadContext& c, std::map<int, int>& rigIndex, const MorphLayout& layout, Rig& rig, Asset& asset) {
+    const tinygltf::Model& m = *c.model;
+    for (size_t ai = 0; ai < m.animations.size(); ++ai) {
+        const tinygltf::Animation& a = m.animations[ai];
+        Animation out;
+        out.name = a.name;
+        std::map<int, int> samplerIndex;
+        std::vector<std::pair<int, int>> weights;  // (node, sampler) of the weights channels
+        for (const auto& ch : a.channels) {
+            const std::string& path = ch.target_path;
+            if (path == "weights") weights.emplace_back(ch.target_node, ch.sampler);
+            if (path != "translation" && path != "rotation" && path != "scale") continue;
+            if (!rigIndex.count(ch.target_node)) continue;
+            if (ch.sampler < 0 || size_t(ch.sampler) >= a.samplers.size())
+                fail(c, "animation " + std::to_string(ai) + ": sampler " + std::to_string(ch.sampler) + " does not exist");
+            AnimationChannel oc;
+            oc.node = rigIndex[ch.target_node];
+            oc.path = path == "translation" ? AnimationPath::Translation : path == "rotation" ? AnimationPath::Rotation : AnimationPath::Scale;
+            auto [it, inserted] = samplerIndex.emplace(ch.sampler, int(out.samplers.size()));
+            if (inserted)
+                out.samplers.push_back(readSampler(c, a.samplers[size_t(ch.sampler)], oc.path == AnimationPath::Rotation ? 4 : 3,
+                                                   "animation " + std::to_string(ai) + " sampler " + std::to_string(ch.sampler)));
+            else if (out.samplers[size_t(it->second)].comps != (oc.path == AnimationPath::Rotation ? 4 : 3))
+                fail(c, "animation " + std::to_string(ai) + ": sampler " + std::to_string(ch.sampler) + " drives paths of different types");
+            oc.sampler = it->second;
+            out.channels.push_back(oc);
+        }
+        mergeWeightChannels(c, layout, ai, a, weights, out, asset);
+        if (!out.channels.empty()) rig.animations.push_back(std::move(out));
+    }
+}
+
 }  // namespace
 
-RigRead readRig(const ReadContext& c, const std::vector<std::pair<int, Mat4>>& nodes, Asset& asset) {
+RigRead readRig(const ReadContext& c, const std::vector<std::pair<int, Mat4>>& nodes, const MorphLayout& layout, Asset& asset) {
     const tinygltf::Model& m = *c.model;
     RigRead rr;
     std::vector<int> parent(m.nodes.size(), -1);
@@ -59,11 +99,10 @@ RigRead readRig(const ReadContext& c, const std::vector<std::pair<int, Mat4>>& n
 
     // Which mesh nodes move: skinned ones, and those below an animated node.
     std::set<int> animated;
-    bool weightAnimations = false;
     for (const auto& a : m.animations)
         for (const auto& ch : a.channels) {
-            if (ch.target_path == "weights") weightAnimations = true;
-            else if (validNode(ch.target_node) && world.count(ch.target_node)) animated.insert(ch.target_node);
+            if (ch.target_path == "weights") continue;
+            if (validNode(ch.target_node) && world.count(ch.target_node)) animated.insert(ch.target_node);
         }
     bool moving = false;
     for (const auto& [n, w] : nodes) {
@@ -75,9 +114,10 @@ RigRead readRig(const ReadContext& c, const std::vector<std::pair<int, Mat4>>& n
         }
         for (int a = n; a >= 0 && !moving; a = parent[size_t(a)]) moving = animated.count(a) > 0;
     }
-    if (weightAnimations) asset.warnings.push_back("animations of morph target weights dropped");
     if (!moving) {
         if (!m.animations.empty() && !animated.empty()) asset.warnings.push_back("animations dropped: they move no mesh");
+        std::map<int, int> noNodes;
+        readAnimations(c, noNodes, layout, rr.rig, asset);  // morph weights only
         return rr;
     }
 
@@ -151,32 +191,7 @@ RigRead readRig(const ReadContext& c, const std::vector<std::pair<int, Mat4>>& n
     }
     if (singular) asset.warnings.push_back(std::to_string(singular) + " mesh nodes with a singular transform bound with identity inverse bind matrices");
 
-    // Animations of the rig nodes' translation, rotation and scale.
-    for (size_t ai = 0; ai < m.animations.size(); ++ai) {
-        const tinygltf::Animation& a = m.animations[ai];
-        Animation out;
-        out.name = a.name;
-        std::map<int, int> samplerIndex;
-        for (const auto& ch : a.channels) {
-            const std::string& path = ch.target_path;
-            if (path != "translation" && path != "rotation" && path != "scale") continue;
-            if (!rigIndex.count(ch.target_node)) continue;
-            if (ch.sampler < 0 || size_t(ch.sampler) >= a.samplers.size())
-                fail(c, "animation " + std::to_string(ai) + ": sampler " + std::to_string(ch.sampler) + " does not exist");
-            AnimationChannel oc;
-            oc.node = rigIndex[ch.target_node];
-            oc.path = path == "translation" ? AnimationPath::Translation : path == "rotation" ? AnimationPath::Rotation : AnimationPath::Scale;
-            auto [it, inserted] = samplerIndex.emplace(ch.sampler, int(out.samplers.size()));
-            if (inserted)
-                out.samplers.push_back(readSampler(c, a.samplers[size_t(ch.sampler)], oc.path == AnimationPath::Rotation ? 4 : 3,
-                                                   "animation " + std::to_string(ai) + " sampler " + std::to_string(ch.sampler)));
-            else if (out.samplers[size_t(it->second)].comps != (oc.path == AnimationPath::Rotation ? 4 : 3))
-                fail(c, "animation " + std::to_string(ai) + ": sampler " + std::to_string(ch.sampler) + " drives paths of different types");
-            oc.sampler = it->second;
-            out.channels.push_back(oc);
-        }
-        if (!out.channels.empty()) rig.animations.push_back(std::move(out));
-    }
+    readAnimations(c, rigIndex, layout, rig, asset);
     return rr;
 }
 
@@ -226,7 +241,7 @@ std::vector<std::string> influenceWarnings(const RigRead& rr) {
     if (rr.truncated)
         out.push_back(std::to_string(rr.truncated) + " vertices had more than 4 joint influences: the 4 largest kept, renormalised");
     if (rr.unweighted)
-        out.push_back(std::to_string(rr.unweighted) + " vertices of skinned meshes have no JOINTS_0 (Draco-compressed skins are not decoded): bound to their skin's first joint");
+        out.push_back(std::to_string(rr.unweighted) + " vertices of skinned meshes have no JOINTS_0: bound to their skin's first joint");
     return out;
 }
 

@@ -9,7 +9,13 @@
 
 #include "gltf/gltf_read_context.h"
 
+namespace tinygltf {
+struct AnimationSampler;
+}
+
 namespace lodbake::gltf_detail {
+
+struct MorphLayout;
 
 // How the vertices of one mesh node's primitives bind to the unified skin.
 struct NodeInfluence {
@@ -28,9 +34,16 @@ struct RigRead {
 // The rig of the flattened scene `nodes` (glTF node, world matrix): every skin used by a mesh
 // node and every unskinned mesh node (a joint of its own) merged into one skin, the hierarchy
 // above those joints and the animation targets, and the translation / rotation / scale
-// animations. Animations of morph weights, and animations that move no mesh, are dropped with a
+// animations, with the morph weight animations merged over the union of `layout` (the rig is then
+// animations only when nothing else moves). Animations that move no mesh are dropped with a
 // warning in `asset`. \throw InvalidInput on malformed skins or animations.
-RigRead readRig(const ReadContext& c, const std::vector<std::pair<int, Mat4>>& nodes, Asset& asset);
+RigRead readRig(const ReadContext& c, const std::vector<std::pair<int, Mat4>>& nodes, const MorphLayout& layout, Asset& asset);
+
+// Sampler `s` with `comps` values per key (`scalarOutput`: a SCALAR output accessor holding them
+// in turn, as morph weights are stored). \throw InvalidInput on a count that does not match the
+// key times, or key times that do not increase.
+AnimationSampler readSampler(const ReadContext& c, const tinygltf::AnimationSampler& s, int comps, const std::string& what,
+                             bool scalarOutput = false);
 
 // Influences of the vertices of `p` (4 largest, merged per unified joint, renormalised; a vertex
 // without weight binds to the node's first joint), appended to `joints` / `weights`; counts the

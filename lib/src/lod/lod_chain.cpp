@@ -393,8 +393,15 @@ double uvArea2(const P& a, const P& b, const P& c) {
 // float ulp at a time along the gradient of its area (at most 64 ulps, far below a texel) until
 // the rounded triangle faces the right way. parameterize has its own repair for per-face-corner
 // UVs that are rounded later (nudgeRoundedSliverCorners); this one works on the float buffers.
-// Appends a copy of vertex v's joints and weights (a vertex being duplicated), when skinned.
-void copyInfluences(LodLevelData& out, uint32_t v) {
+// Appends a copy of vertex v's joints, weights and morph deltas (a vertex being duplicated);
+// `flipNormal` negates the normal deltas of a back-face copy.
+void copyInfluences(LodLevelData& out, uint32_t v, bool flipNormal = false) {
+    for (auto* targets : {&out.targetPositions, &out.targetNormals, &out.targetTangents})
+        for (std::vector<float>& d : *targets) {
+            if (d.empty()) continue;
+            const double sign = flipNormal && targets == &out.targetNormals ? -1 : 1;
+            for (size_t k = 0; k < 3; ++k) d.push_back(float(sign * d[3 * v + k]));
+        }
     if (out.joints.empty()) return;
     for (size_t d = 0; d < 4; ++d) out.joints.push_back(out.joints[4 * v + d]);
     for (size_t d = 0; d < 4; ++d) out.weights.push_back(out.weights[4 * v + d]);
@@ -437,7 +444,7 @@ void addBackFaces(const Asset& asset, const LevelView& lv, LodLevelData& out) {
             for (size_t d = 0; d < 3; ++d) out.positions.push_back(out.positions[3 * v + d]);
             for (size_t d = 0; d < 3; ++d) out.normals.push_back(-out.normals[3 * v + d]);
             for (size_t d = 0; d < 2; ++d) out.uvs.push_back(out.uvs[2 * v + d]);
-            copyInfluences(out, v);
+            copyInfluences(out, v, true);
         }
         return it->second;
     };
@@ -464,15 +471,34 @@ void buildLevelMesh(const Asset& asset, const LevelView& lv, const LevelUVs& luv
             for (uint32_t v : t) vertexNormal[v] += n;
         }
     }
-    // Welded vertices whose wedges bind differently (parts that move apart) stay apart: the key
-    // holds the wedge's influence set (0 without a rig).
+    // Welded vertices whose wedges move differently (other influences, other morph deltas) stay
+    // apart: the key holds the id of the wedge's influence set and deltas (0 when static).
     const bool skinned = !asset.rig.empty() && m.wedges.joints.size() == m.wedges.size();
-    std::map<std::pair<std::array<uint16_t, 4>, std::array<double, 4>>, uint32_t> influenceIds;
-    auto influenceOf = [&](uint32_t w) -> uint32_t {
-        if (!skinned) return 0;
-        const Vec4& q = m.wedges.weights[w];
-        return influenceIds.emplace(std::make_pair(m.wedges.joints[w], std::array<double, 4>{q.x, q.y, q.z, q.w}), uint32_t(influenceIds.size()))
-            .first->second;
+    const std::vector<MorphDeltas>& targets = m.wedges.targets;
+    const bool morphed = !asset.morph.empty() && targets.size() == asset.morph.size();
+    if (morphed) {
+        out.targetPositions.assign(targets.size(), {});
+        out.targetNormals.assign(targets.size(), {});
+    }
+    std::map<std::vector<double>, uint32_t> motionIds;
+    std::vector<double> motion;
+    auto motionOf = [&](uint32_t w) -> uint32_t {
+        if (!skinned && !morphed) return 0;
+        motion.clear();
+        if (skinned) {
+            const Vec4& q = m.wedges.weights[w];
+            for (uint16_t j : m.wedges.joints[w]) motion.push_back(j);
+            motion.insert(motion.end(), {q.x, q.y, q.z, q.w});
+        }
+        if (morphed)
+            for (const MorphDeltas& D : targets) {
+                for (const std::vector<Vec3>* d : {&D.position, &D.normal, &D.tangent})
+                    if (!d->empty()) motion.insert(motion.end(), {(*d)[w].x, (*d)[w].y, (*d)[w].z});
+            }
+        return motionIds.emplace(motion, uint32_t(motionIds.size())).first->second;
+    };
+    auto pushDeltas = [&](const std::vector<Vec3>& d, std::vector<float>& to, uint32_t w) {
+        if (!d.empty()) to.insert(to.end(), {float(d[w].x), float(d[w].y), float(d[w].z)});
     };
     // vertex, chart, normal, chart UV (a level's own charts may give a vertex two UVs in one
     // chart), influences
@@ -491,7 +517,7 @@ void buildLevelMesh(const Asset& asset, const LevelView& lv, const LevelUVs& luv
                 n = length(fn) > 0.5 ? fn : Vec3{0, 0, 1};
             }
             const uint32_t w = lv.cornerWedges[t][j];
-            Key key{v, c, float(n.x), float(n.y), float(n.z), luv.uv[t][j].x, luv.uv[t][j].y, influenceOf(w)};
+            Key key{v, c, float(n.x), float(n.y), float(n.z), luv.uv[t][j].x, luv.uv[t][j].y, motionOf(w)};
             auto [it, inserted] = index.emplace(key, uint32_t(out.positions.size() / 3));
             if (inserted) {
                 const Vec3& p = m.positions[v];
@@ -503,6 +529,14 @@ void buildLevelMesh(const Asset& asset, const LevelView& lv, const LevelUVs& luv
                     const Vec4& wt = m.wedges.weights[w];
                     for (uint16_t jo : m.wedges.joints[w]) out.joints.push_back(jo);
                     out.weights.insert(out.weights.end(), {float(wt.x), float(wt.y), float(wt.z), float(wt.w)});
+                }
+                if (morphed) {
+                    // Normal deltas only over wedge normals (a level of area-weighted normals has
+                    // none); no tangent deltas: the level's tangents are recomputed from its atlas.
+                    for (size_t t = 0; t < targets.size(); ++t) {
+                        pushDeltas(targets[t].position, out.targetPositions[t], w);
+                        if (wedgeNormals) pushDeltas(targets[t].normal, out.targetNormals[t], w);
+                    }
                 }
             }
             out.indices.push_back(it->second);
@@ -706,6 +740,7 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
     const MaterialPlan plan = options.baseColorOnly ? baseColorPlan(planMaterial(asset)) : planMaterial(asset);
     res.warnings = plan.warnings;
     res.rig = asset.rig;
+    res.morph = asset.morph;
     LevelImageOptions io;
     io.format = options.ktx2Encoder.empty() ? options.imageFormat : ImageFormat::Png;
     io.jpegQuality = options.jpegQuality;
@@ -765,7 +800,7 @@ void appendLevelStats(PackWriteStats& st, const LodChainWriteStats& w, size_t k)
 PackWriteStats writePackResult(const std::string& path, const PackResult& result, const PackWriteOptions& options) {
     PackWriteStats st;
     if (!options.split) {
-        LodChainWriteStats w = writeLodChain(path, result.levels, result.screenCoverage, options.chain, &result.rig);
+        LodChainWriteStats w = writeLodChain(path, result.levels, result.screenCoverage, options.chain, &result.rig, &result.morph);
         st.files.push_back(path);
         for (size_t k = 0; k < result.levels.size(); ++k) appendLevelStats(st, w, k);
         st.totalBytes = w.fileBytes;
@@ -778,7 +813,7 @@ PackWriteStats writePackResult(const std::string& path, const PackResult& result
     manifest["levels"] = nlohmann::json::array();
     for (size_t k = 0; k < result.levels.size(); ++k) {
         std::string file = stem + ".lod" + std::to_string(k) + ext;
-        LodChainWriteStats w = writeLodChain(file, {result.levels[k]}, {}, options.chain, &result.rig);
+        LodChainWriteStats w = writeLodChain(file, {result.levels[k]}, {}, options.chain, &result.rig, &result.morph);
         st.files.push_back(file);
         appendLevelStats(st, w, 0);
         st.totalBytes += w.fileBytes;

@@ -247,8 +247,8 @@ CompareStageResult runCompare(const CompareSettings& s) {
         time = poseTime(s, A);
         if (size_t(s.pose.animation) >= B.asset.rig.animations.size())
             B.asset.warnings.push_back("no animation " + std::to_string(s.pose.animation) + ": compared in its rest pose");
-        A.mesh = poseMesh(A.asset.rig, A.mesh, s.pose.animation, time);
-        B.mesh = poseMesh(B.asset.rig, B.mesh, s.pose.animation, time);
+        A.mesh = poseMesh(A.asset.rig, A.asset.morph, A.mesh, s.pose.animation, time);
+        B.mesh = poseMesh(B.asset.rig, B.asset.morph, B.mesh, s.pose.animation, time);
     }
     CompareOptions opt = s.compare;
     opt.threads = s.threads;

@@ -110,8 +110,6 @@ StageResult runPack(const PackSettings& s) {
     opt.threads = s.common.threads;
     opt.progress = s.common.progress;
     PackResult res = packLodChain(asset, *multires, opt);
-    if (s.write.chain.draco && !res.rig.empty())
-        res.warnings.push_back("Draco not applied: the levels are skinned and are written with plain accessors");
 
     Clock::time_point t1 = Clock::now();
     PackWriteStats ws = writePackResult(s.common.output, res, s.write);

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "lodbake/core/math.h"
+#include "lodbake/core/morph.h"
 #include "lodbake/core/rig.h"
 
 namespace lodbake {
@@ -35,6 +36,8 @@ struct Wedges {
     // indices into Rig::joints, weights summing to 1; unused slots are joint 0 with weight 0.
     std::vector<std::array<uint16_t, 4>> joints;
     std::vector<Vec4> weights;
+    // Morph targets (as many as Asset::morph names; lodbake/core/morph.h states what holds).
+    std::vector<MorphDeltas> targets;
     size_t size() const { return vertex.size(); }
 };
 
@@ -125,6 +128,7 @@ struct Asset {
     std::vector<Sampler> samplers;
     std::vector<Image> images;
     Rig rig;  // skin and animations; empty for a static asset
+    MorphTargets morph;  // names and default weights of mesh.wedges.targets; empty = no morph targets
     std::vector<std::string> warnings;
     LoadStats stats;
 };

@@ -22,14 +22,24 @@ struct TimeRange {
 };
 TimeRange animationTimes(const Animation& animation);
 
+// The value of sampler `s` at `time` (seconds; clamped to its keys) into out[0 .. s.comps); a
+// rotation is slerped (linear) or renormalised (cubic).
+void sampleAnimation(const AnimationSampler& s, double time, bool rotation, double* out);
+
 // Global matrix of every rig node with animation `animation` sampled at `time` (seconds; clamped
 // to the keys); animation < 0 or out of range = the rest pose.
 std::vector<Mat4> poseNodes(const Rig& rig, int animation, double time);
 
+// The morph target weights at `time` of `animation`: the animation's weights channel sampled
+// (clamped to its keys), else the default weights (animation < 0 or without such a channel).
+std::vector<double> morphWeights(const Rig& rig, const MorphTargets& morph, int animation, double time);
+
 // `mesh` (asset.mesh or one of its levels; wedges index asset.mesh's wedge arrays) posed with
-// animation `animation` at `time`: every welded vertex becomes one vertex per distinct influence
-// set among its wedges, so parts that move apart stay apart. Normals and tangents follow the
-// blended matrices. Without a rig (or influences) the mesh is returned as it is.
-TriMesh poseMesh(const Rig& rig, const TriMesh& mesh, int animation, double time);
+// animation `animation` at `time`: the morph targets first (weights from morphWeights), then linear
+// blend skinning. Every welded vertex becomes one vertex per distinct (influence set, morphed
+// position) among its wedges, so parts that move apart stay apart. Normals and tangents follow the
+// targets' deltas and the blended matrices. Without influences and without a target of non-zero
+// weight the mesh is returned as it is.
+TriMesh poseMesh(const Rig& rig, const MorphTargets& morph, const TriMesh& mesh, int animation, double time);
 
 }  // namespace lodbake

@@ -27,18 +27,20 @@ struct RigNode {
 };
 
 enum class Interpolation { Linear, Step, CubicSpline };
-enum class AnimationPath { Translation, Rotation, Scale };
+// Weights: the morph target weights of the flattened mesh (Asset::morph); the channel's node is
+// -1 and its sampler has one component per target.
+enum class AnimationPath { Translation, Rotation, Scale, Weights };
 
 struct AnimationSampler {
     std::vector<double> times;   // seconds, increasing
     std::vector<double> values;  // comps per key (x3 for CubicSpline: in-tangent, value, out-tangent)
-    int comps = 3;               // 3 (translation, scale) or 4 (rotation)
+    int comps = 3;               // 3 (translation, scale), 4 (rotation) or the morph target count (weights)
     Interpolation interpolation = Interpolation::Linear;
 };
 
 struct AnimationChannel {
     int sampler = 0;  // index into Animation::samplers
-    int node = 0;     // index into Rig::nodes
+    int node = 0;     // index into Rig::nodes; -1 for Weights (the mesh)
     AnimationPath path = AnimationPath::Translation;
 };
 
@@ -48,6 +50,7 @@ struct Animation {
     std::vector<AnimationChannel> channels;
 };
 
+// Rig::animations may exist without a skin (joints empty) when they only drive morph weights.
 struct Rig {
     std::vector<RigNode> nodes;     // parents before children
     std::vector<int> joints;        // the one skin: joint k is node joints[k]

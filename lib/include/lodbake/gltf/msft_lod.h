@@ -42,6 +42,9 @@ struct LodLevelData {
     std::vector<float> tangents;     // TANGENT xyzw per vertex (lodbake/core/tangents.h); empty = none
     std::vector<uint16_t> joints;    // JOINTS_0, 4 per vertex, into the chain's Rig::joints; empty = not skinned
     std::vector<float> weights;      // WEIGHTS_0, 4 per vertex (with joints)
+    // Morph targets (the chain's MorphTargets, in order): per target, 3 floats per vertex each;
+    // normal / tangent deltas empty when absent.
+    std::vector<std::vector<float>> targetPositions, targetNormals, targetTangents;
     std::vector<uint32_t> indices;   // 3 per triangle
     LodMaterial material;
 };
@@ -95,11 +98,15 @@ struct LodChainWriteStats {
 // With a non-empty `rig` (and joints on every level): the rig's nodes, its one skin and its
 // animations are written once; every level node uses the skin; the rig's roots join node 0 in
 // the scene. Draco is not applied to skinned levels (they are written with plain accessors).
+// With a non-empty `morph` (and targets on every level): every level's primitive has the targets,
+// its mesh the default weights, and the rig's weights animations drive every level node (one
+// shared sampler). Morphed levels are never Draco-compressed (Draco reorders vertices, which the
+// targets' accessors cannot follow) and keep FLOAT positions under --quantize; both with a warning.
 // \pre every level has >= 1 triangle and matching attribute sizes; a normal map comes with tangents.
 // \throw InvalidInput (inconsistent level data), IOError (cannot write), SolverError (Draco failed),
 //        Unsupported (draco with meshopt or quantize).
 LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodLevelData>& levels,
                                  const std::vector<double>& screenCoverage, const LodChainWriteOptions& options = {},
-                                 const Rig* rig = nullptr);
+                                 const Rig* rig = nullptr, const MorphTargets* morph = nullptr);
 
 }  // namespace lodbake

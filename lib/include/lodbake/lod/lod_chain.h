@@ -98,6 +98,7 @@ struct PackResult {
     double radius = 0, diagonal = 0;        // bounding sphere radius (half the bbox diagonal) and the diagonal
     std::vector<std::string> warnings;      // the material plan's (mixed alpha modes, sidedness, shading)
     Rig rig;                                // the asset's skin and animations, written once for every level
+    MorphTargets morph;                     // the asset's morph target names and default weights
     double seconds = 0;
 };
 
