@@ -57,6 +57,7 @@ struct RuleSettings {
     double similarDeviation = 0;        // rule 2: relative width of a deviation bucket; 0 = off
     double diagonal = 0;                // of the input's bounding box, model units
     double maxInfluenceChange = 1;      // largest total variation between the joint weights of v_i and v_j
+    bool twoSidedCost = false;          // the cost also measures the new fan against the old one
 };
 
 // The best collapse found for a vertex, with its region plan.

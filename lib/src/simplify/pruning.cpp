@@ -3,6 +3,7 @@
 #include "pruning.h"
 
 #include <algorithm>
+#include <vector>
 
 namespace lodbake::simplify_detail {
 
@@ -34,13 +35,27 @@ static void pruneComponent(CollapseState& s, HierarchyRecorder& rec, uint32_t co
     rec.accepted(double(dev));
 }
 
+void orderByVisualWeight(CollapseState& s) {
+    Components& c = s.components;
+    std::vector<double> area(c.count(), 0.0);
+    const auto& P = s.mesh.positions;
+    for (const Tri& t : s.mesh.triangles)
+        area[c.label[t[0]]] += 0.5 * length(cross(P[t[1]] - P[t[0]], P[t[2]] - P[t[0]]));
+    std::sort(c.order.begin(), c.order.end(), [&](uint32_t a, uint32_t b) {
+        if (area[a] != area[b]) return area[a] < area[b];
+        if (c.size[a] != c.size[b]) return c.size[a] < c.size[b];
+        return a < b;
+    });
+}
+
 bool pruneComponents(CollapseState& s, HierarchyRecorder& rec, double limit, uint64_t target, bool closedOnly) {
     const Components& c = s.components;
     bool any = false;
     for (uint32_t comp : c.order) {
         if (s.aliveFaces <= target) break;
+        if (c.pruned[comp]) continue;
         if (!(c.size[comp] < limit)) break;
-        if (c.pruned[comp] || (closedOnly && c.open[comp] != 0)) continue;
+        if (closedOnly && c.open[comp] != 0) continue;
         // Never undershoot the target, never prune the last faces.
         if (s.aliveFaces - c.faces[comp] < std::max<uint64_t>(target, 1)) continue;
         pruneComponent(s, rec, comp);

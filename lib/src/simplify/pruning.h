@@ -1,6 +1,7 @@
 // Removal of small and stuck parts: whole connected components leave a level when simplification
-// cannot reach its target otherwise (docs/simplify.md, "Component pruning"; as meshoptimizer's
-// component pruning). Private to lib/src/simplify.
+// cannot reach its target otherwise, or when removing a part costs less than the collapses a pass
+// accepts (docs/simplify.md, "Component pruning"; as meshoptimizer's component pruning). Private
+// to lib/src/simplify.
 #pragma once
 
 #include <cstdint>
@@ -9,10 +10,18 @@
 
 namespace lodbake::simplify_detail {
 
+// Reorders s.components.order by visual weight, lightest first: the surface area of each
+// component (a convex part's mean silhouette over all view directions is a quarter of its area,
+// so area ranks parts by how much of the picture they fill), ties by size, then by id. Called
+// once after measureComponents; without it the order is by size.
+void orderByVisualWeight(CollapseState& s);
+
 // Prunes components (closed ones only when closedOnly) whose size (half box diagonal, model units)
-// is below `limit`, smallest first, while the live face count stays at or above `target` and above
-// zero. Each surviving vertex of a pruned component gets a collapse record with kept == removed and
-// deviation = the component's size. Returns whether anything was pruned.
+// is below `limit`, in s.components.order, while the live face count stays at or above `target`
+// and above zero; the walk stops at the first component not below `limit`, so a part is never
+// pruned before a lighter one that is still there. Each surviving vertex of a pruned component
+// gets a collapse record with kept == removed and deviation = the component's size. Returns
+// whether anything was pruned.
 bool pruneComponents(CollapseState& s, HierarchyRecorder& rec, double limit, uint64_t target, bool closedOnly);
 
 }  // namespace lodbake::simplify_detail

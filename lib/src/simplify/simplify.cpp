@@ -71,6 +71,7 @@ RuleSettings resolveSettings(const SimplifyOptions& options, double diagonal, do
     r.similarDeviation = options.similarDeviation;
     r.diagonal = diagonal;
     r.maxInfluenceChange = options.maxInfluenceChange;
+    r.twoSidedCost = options.twoSidedCost;
     return r;
 }
 
@@ -181,8 +182,9 @@ PassResult runPass(Simplifier& s, const PlannedLevel& plan) {
     // b. The pass error limit: each pass takes about a third of the remaining reduction.
     const size_t need = size_t((s.mesh.aliveFaces - plan.triangles + 1) / 2);
     double limit = passLimit(cs, ctx, s.work, deferred, need, plan.error, anyValid);
-    // c. Closed components smaller than the limit are pruned.
-    if (pruneComponents(s.mesh, s.recorder, limit, plan.triangles, true)) {
+    // c. Components smaller than the limit are pruned, lightest first (closed ones only without
+    // visual weight: open and locked parts then wait until the level is stuck).
+    if (pruneComponents(s.mesh, s.recorder, limit, plan.triangles, !s.options.visualWeight)) {
         cs.entries.erase(std::remove_if(cs.entries.begin(), cs.entries.end(),
                                         [&](const PassEntry& e) { return s.mesh.removed[e.vertex] != 0; }),
                          cs.entries.end());
@@ -258,6 +260,7 @@ SimplifyResult simplify(const TriMesh& mesh, const SimplifyOptions& options) {
     // 3. Locked, pinch and border vertices; components and their sizes.
     classifyVertices(m);
     measureComponents(m);
+    if (options.visualWeight) orderByVisualWeight(m);
     // 4. Quadrics. 5. Every face its own region.
     initQuadrics(m);
     initRegions(s.regions, m);
