@@ -48,14 +48,24 @@ void orderByVisualWeight(CollapseState& s) {
     });
 }
 
-bool pruneComponents(CollapseState& s, HierarchyRecorder& rec, double limit, uint64_t target, bool closedOnly) {
+std::vector<uint8_t> stuckComponents(const CollapseState& s, const CandidateState& c) {
+    const Components& comps = s.components;
+    std::vector<uint8_t> stuck(comps.count(), 1);
+    for (uint32_t v = 0; v < s.vertexCount; ++v)
+        if (!s.removed[v] && !s.vfaces[v].empty() && (c.deferred[v] || c.cand[v].reason == Reject::None))
+            stuck[comps.label[v]] = 0;
+    return stuck;
+}
+
+bool pruneComponents(CollapseState& s, HierarchyRecorder& rec, double limit, uint64_t target, bool closedOnly,
+                     const std::vector<uint8_t>* stuck) {
     const Components& c = s.components;
     bool any = false;
     for (uint32_t comp : c.order) {
         if (s.aliveFaces <= target) break;
         if (c.pruned[comp]) continue;
         if (!(c.size[comp] < limit)) break;
-        if (closedOnly && c.open[comp] != 0) continue;
+        if (c.open[comp] != 0 && (closedOnly || (stuck && !(*stuck)[comp]))) continue;
         // Never undershoot the target, never prune the last faces.
         if (s.aliveFaces - c.faces[comp] < std::max<uint64_t>(target, 1)) continue;
         pruneComponent(s, rec, comp);

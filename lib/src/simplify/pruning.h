@@ -5,7 +5,9 @@
 #pragma once
 
 #include <cstdint>
+#include <vector>
 
+#include "candidates.h"
 #include "collapse_state.h"
 
 namespace lodbake::simplify_detail {
@@ -16,12 +18,17 @@ namespace lodbake::simplify_detail {
 // once after measureComponents; without it the order is by size.
 void orderByVisualWeight(CollapseState& s);
 
-// Prunes components (closed ones only when closedOnly) whose size (half box diagonal, model units)
+// Per component: 1 when none of its live vertices has a valid or a deferred candidate, i.e. the
+// part cannot shrink any further this pass (stuck on its locks, borders or rule 1).
+std::vector<uint8_t> stuckComponents(const CollapseState& s, const CandidateState& c);
+
+// Prunes components (closed ones only when closedOnly; with `stuck`, open ones only when stuck) whose size (half box diagonal, model units)
 // is below `limit`, in s.components.order, while the live face count stays at or above `target`
 // and above zero; the walk stops at the first component not below `limit`, so a part is never
 // pruned before a lighter one that is still there. Each surviving vertex of a pruned component
 // gets a collapse record with kept == removed and deviation = the component's size. Returns
 // whether anything was pruned.
-bool pruneComponents(CollapseState& s, HierarchyRecorder& rec, double limit, uint64_t target, bool closedOnly);
+bool pruneComponents(CollapseState& s, HierarchyRecorder& rec, double limit, uint64_t target, bool closedOnly,
+                     const std::vector<uint8_t>* stuck = nullptr);
 
 }  // namespace lodbake::simplify_detail

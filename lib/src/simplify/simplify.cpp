@@ -182,9 +182,12 @@ PassResult runPass(Simplifier& s, const PlannedLevel& plan) {
     // b. The pass error limit: each pass takes about a third of the remaining reduction.
     const size_t need = size_t((s.mesh.aliveFaces - plan.triangles + 1) / 2);
     double limit = passLimit(cs, ctx, s.work, deferred, need, plan.error, anyValid);
-    // c. Components smaller than the limit are pruned, lightest first (closed ones only without
-    // visual weight: open and locked parts then wait until the level is stuck).
-    if (pruneComponents(s.mesh, s.recorder, limit, plan.triangles, !s.options.visualWeight)) {
+    // c. Components smaller than the limit are pruned, lightest first: closed ones, and by visual
+    // weight also open or locked ones that cannot shrink any further (without it those wait until
+    // the level is stuck).
+    const bool weighted = s.options.visualWeight;
+    const std::vector<uint8_t> stuck = weighted ? stuckComponents(s.mesh, cs) : std::vector<uint8_t>{};
+    if (pruneComponents(s.mesh, s.recorder, limit, plan.triangles, !weighted, weighted ? &stuck : nullptr)) {
         cs.entries.erase(std::remove_if(cs.entries.begin(), cs.entries.end(),
                                         [&](const PassEntry& e) { return s.mesh.removed[e.vertex] != 0; }),
                          cs.entries.end());

@@ -50,9 +50,10 @@ struct SimplifyOptions {
     // at 10% and loses silhouette at 2% (docs/benchmarks.md, "Coarse levels").
     bool twoSidedCost = false;
     // Parts by visual weight: components are pruned lightest (least surface area) first, and a
-    // pass prunes every component smaller than its error limit, open and locked ones too, so a
-    // coarse level does not spend its budget on small parts stuck on their locks while collapses
-    // of large surfaces grow expensive. false: pruning by size, and in a pass closed parts only.
+    // pass prunes every component smaller than its error limit that is closed or cannot shrink
+    // any further (open or locked ones too), so a coarse level does not spend its budget on small
+    // parts stuck on their locks while collapses of large surfaces grow expensive. false: pruning
+    // by size, and in a pass closed parts only.
     bool visualWeight = true;
     // Skinned meshes (Wedges::joints): a vertex moves only onto a neighbour whose joint weights
     // differ from its own by at most this total variation (half the sum of |weight differences|
