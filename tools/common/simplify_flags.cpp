@@ -36,7 +36,7 @@ void addSimplifyFlags(ArgParser& p, SimplifyFlags& a) {
            [&o] { o.twoSidedCost = true; });
     p.flag("--no-visual-weight",
            "prune parts by size, and during passes closed parts only, instead of lightest (least area) first and "
-           "any part smaller than the pass's error limit",
+           "also stuck open or locked parts smaller than the pass's error limit",
            [&o] { o.visualWeight = false; });
     p.option("--max-influence-change", "D",
              "skinned meshes: a vertex collapses only onto a neighbour whose joint weights differ by at most this "
