@@ -10,6 +10,8 @@
 //                    only in its normal map, before an alpha-masked double-sided panel; 7,488 triangles
 //   walker.glb       a skinned, textured walker: a torso on two legs that swing back and forth in a
 //                    one-second loop (3 joints, legs blended into the hips near the top); 3,104 triangles
+//   drum.glb         a large open, double-sided textured backdrop cylinder on a floor disk around 21
+//                    small detailed parts (spheres, capped cylinders, crossed-sheet trees); 8,640 triangles
 //
 // `--scale S` multiplies every grid's resolution by S (about S^2 times the triangles) for
 // benchmarks; S = 1 gives the samples above.
@@ -590,6 +592,124 @@ Asset makeWalker(double scale) {
     return asset;
 }
 
+// --- drum: a large open backdrop around many small detailed parts ---------------------------
+
+// A closed UV sphere of radius r at `centre`: nLat rings from pole to pole, nLon segments; part = a
+// key prefix so parts never weld. uv = (longitude, latitude) mapped into [uvMin, uvMax].
+void addSphere(MeshBuilder& mb, int mat, int64_t part, Vec3 centre, double r, int nLat, int nLon, Vec2 uvMin, Vec2 uvMax) {
+    for (int i = 0; i < nLat; ++i)
+        for (int j = 0; j < nLon; ++j) {
+            auto corner = [&](int ii, int jj) {
+                const Vec3 n = spherePoint(ii, nLat, jj, nLon);
+                const MeshBuilder::Key k = sphereKey(ii, nLat, jj, nLon);
+                uint32_t v = mb.vertex({part, std::get<0>(k) * 100000 + std::get<1>(k), -1}, centre + n * r);
+                double u = double(jj) / nLon;
+                if (ii == 0 || ii == nLat) u = (j + 0.5) / nLon;
+                const double t = double(ii) / nLat;
+                return mb.wedge(v, mat, Vec2{uvMin.x + (uvMax.x - uvMin.x) * u, uvMax.y - (uvMax.y - uvMin.y) * t}, n);
+            };
+            uint32_t a = corner(i, j), b = corner(i, j + 1), c = corner(i + 1, j + 1), d = corner(i + 1, j);
+            mb.triangle(mat, {a, b, c});
+            mb.triangle(mat, {a, c, d});
+        }
+}
+
+// A "tree" of two crossed vertical sheets (a classic billboard cross) standing on `base`: each
+// sheet is cols x rows quads, width w, height h; the sheets share their middle column of vertices,
+// so the spine's edges each have four faces (non-manifold: those vertices never move).
+void addCrossedSheets(MeshBuilder& mb, int mat, int64_t part, Vec3 base, double w, double h, int cols, int rows, Vec2 uvMin, Vec2 uvMax) {
+    for (int sheet = 0; sheet < 2; ++sheet) {
+        const Vec3 axis = sheet ? Vec3{0, 0, 1} : Vec3{1, 0, 0};
+        const Vec3 n = sheet ? Vec3{1, 0, 0} : Vec3{0, 0, -1};
+        auto corner = [&](int i, int j) {
+            const bool spine = 2 * j == cols;
+            const Vec3 p = base + axis * (w * (double(j) / cols - 0.5)) + Vec3{0, h * i / rows, 0};
+            uint32_t v = mb.vertex({part, i, spine ? -1 : sheet * 1000 + j}, p);
+            return mb.wedge(v, mat, Vec2{uvMin.x + (uvMax.x - uvMin.x) * j / cols, uvMax.y - (uvMax.y - uvMin.y) * i / rows}, n);
+        };
+        for (int i = 0; i < rows; ++i)
+            for (int j = 0; j < cols; ++j) {
+                uint32_t a = corner(i, j), b = corner(i, j + 1), c = corner(i + 1, j + 1), d = corner(i + 1, j);
+                mb.triangle(mat, {a, b, c});
+                mb.triangle(mat, {a, c, d});
+            }
+    }
+}
+
+// drum: a diorama whose outer geometry is a large open backdrop: a double-sided textured cylinder
+// (radius 4, height 3, facing inwards) on a floor disk welded to its bottom rim, around 21 small
+// detailed parts (7 spheres, 7 capped cylinders, 7 crossed-sheet trees whose spines are
+// non-manifold) standing on the floor. Most triangles belong to the small parts, most of the
+// silhouette and surface to the drum: a coarse level must spend its budget where it shows.
+Asset makeDrum(double scale) {
+    Asset asset = newAsset("drum");
+    const int C = 128;
+    std::vector<uint8_t> px(size_t(4 * C) * C * 3);
+    for (int c = 0; c < 4; ++c) drawCell(px, 4 * C, c * C, 0, C, C, c * 2 + 1, c + 1);
+    const int drumMat = addTexturedMaterial(asset, "backdrop", encodePng(px, 4 * C, C, "backdrop"));
+    asset.materials[size_t(drumMat)].doubleSided = true;
+    std::vector<uint8_t> ground(size_t(C) * C * 3);
+    drawCell(ground, C, 0, 0, C, C, 9, 0);
+    const int floorMat = addTexturedMaterial(asset, "floor", encodePng(ground, C, C, "floor"));
+    std::vector<uint8_t> parts(size_t(2 * C) * C * 3);
+    for (int c = 0; c < 2; ++c) drawCell(parts, 2 * C, c * C, 0, C, C, c * 5 + 2, c + 5);
+    const int partMat = addTexturedMaterial(asset, "parts", encodePng(parts, 2 * C, C, "parts"));
+    MeshBuilder mb;
+    // The drum: seg x rings quads, wound to face the axis; ring 0 is also the floor's rim.
+    const double R = 4, height = 3;
+    const int seg = scaled(64, scale, 4), rings = scaled(8, scale, 1), floorRings = scaled(4, scale, 1);
+    auto rimVertex = [&](int ring, int j) {
+        const double phi = 2 * kPi * (j % seg) / seg;
+        return mb.vertex({-1, ring, j % seg}, Vec3{R * std::cos(phi), height * ring / rings, -R * std::sin(phi)});
+    };
+    auto drum = [&](int ring, int j) {
+        const double phi = 2 * kPi * (j % seg) / seg;
+        return mb.wedge(rimVertex(ring, j), drumMat, Vec2{double(j) / seg, 1.0 - double(ring) / rings},
+                        Vec3{-std::cos(phi), 0, std::sin(phi)});
+    };
+    for (int ring = 0; ring < rings; ++ring)
+        for (int j = 0; j < seg; ++j) {
+            uint32_t a = drum(ring, j), b = drum(ring, j + 1), c = drum(ring + 1, j + 1), d = drum(ring + 1, j);
+            mb.triangle(drumMat, {a, c, b});
+            mb.triangle(drumMat, {a, d, c});
+        }
+    // The floor: floorRings concentric rings from the centre (k = 0) to the rim (k = floorRings).
+    auto floor = [&](int k, int j) {
+        const double phi = 2 * kPi * (j % seg) / seg, r = R * k / floorRings;
+        uint32_t v = k == floorRings ? rimVertex(0, j)
+                     : k == 0        ? mb.vertex({-2, 0, 0}, Vec3{0, 0, 0})
+                                     : mb.vertex({-2, k, j % seg}, Vec3{r * std::cos(phi), 0, -r * std::sin(phi)});
+        return mb.wedge(v, floorMat, Vec2{0.5 + 0.5 * r / R * std::cos(phi), 0.5 + 0.5 * r / R * std::sin(phi)},
+                        Vec3{0, 1, 0});
+    };
+    for (int k = 0; k < floorRings; ++k)
+        for (int j = 0; j < seg; ++j) {
+            uint32_t a = floor(k, j), b = floor(k, j + 1), c = floor(k + 1, j + 1), d = floor(k + 1, j);
+            mb.triangle(floorMat, {a, c, b});
+            mb.triangle(floorMat, {a, d, c});
+        }
+    // The parts: a circle of 14 at radius 2.4 and 7 at radius 1.2; sphere, cylinder, tree in turn.
+    const int nLat = scaled(12, scale, 2), nLon = scaled(16, scale, 4);
+    int part = 0;
+    for (int circle = 0; circle < 2; ++circle) {
+        const int count = circle ? 7 : 14;
+        const double radius = circle ? 1.2 : 2.4;
+        for (int k = 0; k < count; ++k, ++part) {
+            const double phi = 2 * kPi * (k + 0.5 * circle) / count;
+            const Vec3 at{radius * std::cos(phi), 0, -radius * std::sin(phi)};
+            const Vec2 uv0{0.5 * (part % 2), 0}, uv1{0.5 * (part % 2) + 0.5, 1};
+            if (part % 3 == 0)
+                addSphere(mb, partMat, part, at + Vec3{0, 0.25, 0}, 0.25, nLat, nLon, uv0, uv1);
+            else if (part % 3 == 1)
+                addCylinder(mb, partMat, part, at, 0.18, 0.0, 0.6, nLon, nLat - 2, uv0, uv1);
+            else
+                addCrossedSheets(mb, partMat, part, at, 0.5, 0.5, nLon / 2, nLat - 2, uv0, uv1);
+        }
+    }
+    asset.mesh = mb.take();
+    return asset;
+}
+
 }  // namespace
 }  // namespace lodbake
 
@@ -599,7 +719,7 @@ int main(int argc, char** argv) {
         std::vector<std::string> dirs;
         bool verbose = false;
         double scale = 1;
-        cli::ArgParser p("make-samples", "OUTDIR\n\nWrites hemisphere9.glb, wall5.glb, colors.glb, seamball.glb, pbrscene.glb and walker.glb into OUTDIR\n"
+        cli::ArgParser p("make-samples", "OUTDIR\n\nWrites hemisphere9.glb, wall5.glb, colors.glb, seamball.glb, pbrscene.glb, walker.glb and drum.glb into OUTDIR\n"
                                          "(created if missing). Output is byte-identical on every run.");
         p.positionals("OUTDIR", [&](const std::string& v) { dirs.push_back(v); });
         p.flag("-v", "print one line per sample", [&] { verbose = true; });
@@ -622,7 +742,8 @@ int main(int argc, char** argv) {
                                   {"colors.glb", makeColors},
                                   {"seamball.glb", makeSeamball},
                                   {"pbrscene.glb", makePbrScene},
-                                  {"walker.glb", makeWalker}};
+                                  {"walker.glb", makeWalker},
+                                  {"drum.glb", makeDrum}};
         for (const Sample& s : samples) {
             Asset a = s.make(scale);
             std::string path = (std::filesystem::path(dirs[0]) / s.file).string();

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <functional>
@@ -356,7 +357,12 @@ TEST(Simplify, TwoComponentsAndABowTie) {
     m.positions.push_back({1.5, -0.5, 0});
     m.triangles.push_back({0, q, q + 1});
     test::addDefaultWedges(m);
-    SimplifyResult r = simplify(m, withLevels({ratio(0.3), count(2)}));
+    // By size (the bow-tie's own behaviour): the unreachable 2-face level stops on a constraint.
+    // By visual weight the sphere with its bow-tie, stuck and smaller than the error the pass
+    // accepts, leaves the level whole and the grid reaches the target (checked at the end).
+    SimplifyOptions o = withLevels({ratio(0.3), count(2)});
+    o.visualWeight = false;
+    SimplifyResult r = simplify(m, o);
     ASSERT_EQ(r.multires.levels.size(), 2u);
     EXPECT_EQ(r.multires.levels[0].stopReason, "target");
     EXPECT_NE(r.multires.levels[1].stopReason, "target");
@@ -370,6 +376,12 @@ TEST(Simplify, TwoComponentsAndABowTie) {
     EXPECT_TRUE(gridLeft);
     expectValidRegions(m, r.multires, l);
     expectValidPairs(m, l);
+
+    const SimplifyResult w = simplify(m, withLevels({ratio(0.3), count(2)}));
+    EXPECT_EQ(w.multires.levels[0].triangles, r.multires.levels[0].triangles);
+    EXPECT_EQ(w.multires.levels[1].stopReason, "target");
+    for (const Tri& t : w.multires.levels[1].triangles)
+        for (uint32_t v : t) EXPECT_TRUE(v >= off && v < q) << "the grid, the heavier part, stays";
 }
 
 // Inconsistent winding is not a lock: one face of a flat grid wound the other way round shares
@@ -546,6 +558,59 @@ TEST(Simplify, PrunesSmallClosedComponents) {
         EXPECT_TRUE(alive.count(p.face));
         EXPECT_LE(p.deviation, l.maxDeviation + 1e-6);
     }
+}
+
+// Parts by visual weight: an open hemisphere (radius 1, 128 faces) holds 20 small "books" of
+// three triangles sharing one edge (a non-manifold spine: locked, so each book is stuck at three
+// faces). 60 stuck faces exceed a 40-face target: by size alone (visualWeight = false) the open
+// books wait until the level is stuck, so the hemisphere is collapsed down to a sliver first; by
+// visual weight every book smaller than the pass limit leaves in the pass and the hemisphere keeps
+// the budget and most of its area.
+//
+//        c1  c2  c3         one book: faces (a, b, c_k), k = 1..3, around the spine a-b
+//         \  |  /
+//      a ---spine--- b
+TEST(Simplify, StuckSmallPartsArePrunedBeforeALargeOpenSurfaceShrinks) {
+    const TriMesh dome = test::hemisphere(3);
+    TriMesh m = dome;
+    for (int k = 0; k < 20; ++k) {
+        const uint32_t o = uint32_t(m.positions.size());
+        const double x = -0.5 + 0.05 * k, s = 0.04;
+        m.positions.push_back({x, 0, 0.1});
+        m.positions.push_back({x, 0, 0.1 + s});
+        for (int page = 0; page < 3; ++page) {
+            const double a = 2.0944 * page;
+            m.positions.push_back({x + s * std::cos(a), s * std::sin(a), 0.1 + 0.5 * s});
+            m.triangles.push_back({o, o + 1, o + 2 + uint32_t(page)});
+        }
+    }
+    test::addDefaultWedges(m);
+    auto areaOf = [&](const std::vector<Tri>& tris) {  // dome vertex ids are the same in m
+        double sum = 0;
+        for (const Tri& t : tris) {
+            const auto& P = m.positions;
+            sum += 0.5 * length(cross(P[t[1]] - P[t[0]], P[t[2]] - P[t[0]]));
+        }
+        return sum;
+    };
+    auto area = [&](const Level& l) { return areaOf(l.triangles); };
+    const double domeArea = areaOf(dome.triangles);
+    SimplifyOptions o = withLevels({count(40)});
+    const SimplifyResult weighted = simplify(m, o);
+    const Level& l = weighted.multires.levels[0];
+    EXPECT_EQ(l.stopReason, "target");
+    EXPECT_GE(l.triangles.size(), 39u);
+    for (const Tri& t : l.triangles)
+        for (uint32_t v : t) EXPECT_LT(v, dome.positions.size()) << "a book survived while the dome shrank";
+    EXPECT_GT(area(l), 0.8 * domeArea);
+    // Regions replay; the surviving faces' regions are represented by surviving faces.
+    EXPECT_EQ(replayRegions(m.triangleCount(), weighted.multires, l), l.faceRegion);
+    std::set<uint32_t> alive(l.faces.begin(), l.faces.end());
+    for (uint32_t f : l.faces) EXPECT_TRUE(alive.count(l.faceRegion[f]));
+
+    o.visualWeight = false;
+    const SimplifyResult bySize = simplify(m, o);
+    EXPECT_LT(area(bySize.multires.levels[0]), 0.5 * domeArea);
 }
 
 // Without a reachable target nothing is pruned: the last faces always stay.

@@ -30,6 +30,14 @@ void addSimplifyFlags(ArgParser& p, SimplifyFlags& a) {
                  if (!(o.pruneStuckSize >= 0 && o.pruneStuckSize <= 1))
                      throw UsageError("--max-part-removal must be in [0, 1]");
              });
+    p.flag("--two-sided-cost",
+           "cost a collapse also by the new surface's distance to the old one, not only by the vertex deviation "
+           "(removed points to the new surface)",
+           [&o] { o.twoSidedCost = true; });
+    p.flag("--no-visual-weight",
+           "prune parts by size, and during passes closed parts only, instead of lightest (least area) first and "
+           "also stuck open or locked parts smaller than the pass's error limit",
+           [&o] { o.visualWeight = false; });
     p.option("--max-influence-change", "D",
              "skinned meshes: a vertex collapses only onto a neighbour whose joint weights differ by at most this "
              "total variation (0 = identical influences, 1 = any; default " + number(o.maxInfluenceChange) + ")",

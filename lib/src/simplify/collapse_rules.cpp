@@ -81,10 +81,47 @@ static Reject linkCondition(const CollapseProfile& p, RuleScratch& w) {
     return Reject::None;
 }
 
+// The other side of the vertex deviation: how far the new fan strays from the surface it replaces.
+// Samples of each moved face (its centroid and the midpoints of its two edges at v_j) against the
+// current fan of v_i; a border collapse that cuts a concave corner, or a fan that swings away
+// from a curved surface, costs its sweep even where no removed vertex shows it. Only samples
+// farther than `floor` (the one-sided cost) can raise the cost, so a sample stops at the first
+// old face within it; the face the sample's face came from is asked first. Model units.
+static double newFanDeviation(const CollapseProfile& p, double floor) {
+    const CollapseState& s = p.mesh;
+    const uint32_t vi = p.vi, vj = p.vj();
+    const auto& P = s.mesh.positions;
+    const Vec3 pj = P[vj];
+    double worst2 = floor * floor;
+    auto raise = [&](uint32_t own, Vec3 q) {
+        const Tri& o = s.tri[own];
+        double d2 = closestWithDistance(q, P[o[0]], P[o[1]], P[o[2]]).dist2;
+        if (d2 <= worst2) return;
+        for (uint32_t g : s.vfaces[vi]) {
+            if (g == own) continue;
+            const Tri& t = s.tri[g];
+            d2 = std::min(d2, closestWithDistance(q, P[t[0]], P[t[1]], P[t[2]]).dist2);
+            if (d2 <= worst2) return;
+        }
+        worst2 = d2;
+    };
+    for (uint32_t f : s.vfaces[vi]) {
+        if (f == p.edge.f0 || f == p.edge.f1) continue;
+        const Tri& t = s.tri[f];
+        const int c = s.corner(f, vi);
+        const Vec3 px = P[t[(c + 1) % 3]], py = P[t[(c + 2) % 3]];
+        raise(f, (pj + px + py) * (1.0 / 3));
+        raise(f, (pj + px) * 0.5);
+        raise(f, (pj + py) * 0.5);
+    }
+    return std::sqrt(worst2);
+}
+
 // The cost, checking each moved face on the way (in fan order, so the first failing face names
 // the reason): no duplicate face (the link condition on vertices misses the tetrahedron), no
 // degenerate face, no face turning by more than maxNormalChangeDeg or away from its own original
-// normal. The cost is max(d(V_i, new fan), d(V_far, new fan), quadricTerm).
+// normal. The cost is max(d(V_i, new fan), d(V_far, new fan), quadricTerm), and with
+// twoSidedCost also the new fan's distance to the old one (newFanDeviation).
 static Reject vertexDeviation(const CollapseProfile& p, const RuleScratch& w, double quadricTerm, double& dev,
                               float& farDist) {
     const CollapseState& s = p.mesh;
@@ -134,6 +171,7 @@ static Reject vertexDeviation(const CollapseProfile& p, const RuleScratch& w, do
     farDist = far != kNone ? float(std::sqrt(far2)) : 0.f;
     dev = std::max({std::sqrt(best2), double(farDist), quadricTerm});
     if (p.settings.posed) dev = std::max(dev, posedDeviation(p, *p.settings.posed));
+    if (p.settings.twoSidedCost) dev = std::max(dev, newFanDeviation(p, dev));
     return Reject::None;
 }
 

@@ -59,6 +59,7 @@ struct RuleSettings {
     double diagonal = 0;                // of the input's bounding box, model units
     double maxInfluenceChange = 1;      // largest total variation between the joint weights of v_i and v_j
     const PosedWedges* posed = nullptr; // rigged meshes: wedges at sampled poses; null = bind pose only
+    bool twoSidedCost = false;          // the cost also measures the new fan against the old one
 };
 
 // The best collapse found for a vertex, with its region plan.

@@ -3,6 +3,7 @@
 #include "pruning.h"
 
 #include <algorithm>
+#include <vector>
 
 namespace lodbake::simplify_detail {
 
@@ -34,13 +35,37 @@ static void pruneComponent(CollapseState& s, HierarchyRecorder& rec, uint32_t co
     rec.accepted(double(dev));
 }
 
-bool pruneComponents(CollapseState& s, HierarchyRecorder& rec, double limit, uint64_t target, bool closedOnly) {
+void orderByVisualWeight(CollapseState& s) {
+    Components& c = s.components;
+    std::vector<double> area(c.count(), 0.0);
+    const auto& P = s.mesh.positions;
+    for (const Tri& t : s.mesh.triangles)
+        area[c.label[t[0]]] += 0.5 * length(cross(P[t[1]] - P[t[0]], P[t[2]] - P[t[0]]));
+    std::sort(c.order.begin(), c.order.end(), [&](uint32_t a, uint32_t b) {
+        if (area[a] != area[b]) return area[a] < area[b];
+        if (c.size[a] != c.size[b]) return c.size[a] < c.size[b];
+        return a < b;
+    });
+}
+
+std::vector<uint8_t> stuckComponents(const CollapseState& s, const CandidateState& c) {
+    const Components& comps = s.components;
+    std::vector<uint8_t> stuck(comps.count(), 1);
+    for (uint32_t v = 0; v < s.vertexCount; ++v)
+        if (!s.removed[v] && !s.vfaces[v].empty() && (c.deferred[v] || c.cand[v].reason == Reject::None))
+            stuck[comps.label[v]] = 0;
+    return stuck;
+}
+
+bool pruneComponents(CollapseState& s, HierarchyRecorder& rec, double limit, uint64_t target, bool closedOnly,
+                     const std::vector<uint8_t>* stuck) {
     const Components& c = s.components;
     bool any = false;
     for (uint32_t comp : c.order) {
         if (s.aliveFaces <= target) break;
+        if (c.pruned[comp]) continue;
         if (!(c.size[comp] < limit)) break;
-        if (c.pruned[comp] || (closedOnly && c.open[comp] != 0)) continue;
+        if (c.open[comp] != 0 && (closedOnly || (stuck && !(*stuck)[comp]))) continue;
         // Never undershoot the target, never prune the last faces.
         if (s.aliveFaces - c.faces[comp] < std::max<uint64_t>(target, 1)) continue;
         pruneComponent(s, rec, comp);

@@ -73,6 +73,7 @@ RuleSettings resolveSettings(const SimplifyOptions& options, double diagonal, do
     r.diagonal = diagonal;
     r.maxInfluenceChange = options.maxInfluenceChange;
     if (!options.posed.empty()) r.posed = &options.posed;
+    r.twoSidedCost = options.twoSidedCost;
     return r;
 }
 
@@ -202,8 +203,12 @@ PassResult runPass(Simplifier& s, const PlannedLevel& plan) {
     // b. The pass error limit: each pass takes about a third of the remaining reduction.
     const size_t need = size_t((s.mesh.aliveFaces - plan.triangles + 1) / 2);
     double limit = passLimit(cs, ctx, s.work, deferred, need, plan.error, anyValid);
-    // c. Closed components smaller than the limit are pruned.
-    if (pruneComponents(s.mesh, s.recorder, limit, plan.triangles, true)) {
+    // c. Components smaller than the limit are pruned, lightest first: closed ones, and by visual
+    // weight also open or locked ones that cannot shrink any further (without it those wait until
+    // the level is stuck).
+    const bool weighted = s.options.visualWeight;
+    const std::vector<uint8_t> stuck = weighted ? stuckComponents(s.mesh, cs) : std::vector<uint8_t>{};
+    if (pruneComponents(s.mesh, s.recorder, limit, plan.triangles, !weighted, weighted ? &stuck : nullptr)) {
         cs.entries.erase(std::remove_if(cs.entries.begin(), cs.entries.end(),
                                         [&](const PassEntry& e) { return s.mesh.removed[e.vertex] != 0; }),
                          cs.entries.end());
@@ -279,6 +284,7 @@ SimplifyResult simplify(const TriMesh& mesh, const SimplifyOptions& options) {
     // 3. Locked, pinch and border vertices; components and their sizes.
     classifyVertices(m);
     measureComponents(m);
+    if (options.visualWeight) orderByVisualWeight(m);
     // 4. Quadrics. 5. Every face its own region.
     initQuadrics(m);
     initRegions(s.regions, m);

@@ -45,6 +45,17 @@ struct SimplifyOptions {
     // pinch vertices, rule 1), whole components whose half bounding-box diagonal is below this fraction of the
     // model's diagonal are removed, smallest first; their size enters the level's maxDeviation. 0 disables.
     double pruneStuckSize = 0.2;
+    // Two-sided cost: besides the removed vertex's distance to the new fan (the thesis's vertex
+    // deviation), a collapse costs the new fan's distance to the surface it replaces, sampled at
+    // its faces' centroids and new edges' midpoints. Off by default: on the shared assets it wins
+    // at 10% and loses silhouette at 2% (docs/benchmarks.md, "Coarse levels").
+    bool twoSidedCost = false;
+    // Parts by visual weight: components are pruned lightest (least surface area) first, and a
+    // pass prunes every component smaller than its error limit that is closed or cannot shrink
+    // any further (open or locked ones too), so a coarse level does not spend its budget on small
+    // parts stuck on their locks while collapses of large surfaces grow expensive. false: pruning
+    // by size, and in a pass closed parts only.
+    bool visualWeight = true;
     // Skinned meshes (Wedges::joints): a vertex moves only onto a neighbour whose joint weights
     // differ from its own by at most this total variation (half the sum of |weight differences|
     // over the joints; 0 = identical influences, 1 = any), so a level does not tear or bend
