@@ -13,6 +13,7 @@
 
 #include "lodbake/core/closest_point.h"
 #include "lodbake/core/parallel.h"
+#include "param/sparse_solver.h"
 
 namespace lodbake::lod_detail {
 namespace {
@@ -111,22 +112,14 @@ Vec3 pointOf(const std::vector<Vec3>& positions, const Tri& t, const std::array<
     return positions[t[0]] * b[0] + positions[t[1]] * b[1] + positions[t[2]] * b[2];
 }
 
-ceres::Solver::Options solverOptions() {
+ceres::Solver::Options solverOptions(size_t unknowns) {
     ceres::Solver::Options so;
     so.minimizer_type = ceres::TRUST_REGION;
     so.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
     // Each round is linear least squares: a wide first trust region makes the first step the
     // Gauss-Newton (exact) one.
     so.initial_trust_region_radius = 1e12;
-    if (ceres::IsSparseLinearAlgebraLibraryTypeAvailable(ceres::SUITE_SPARSE)) {
-        so.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
-        so.sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
-    } else if (ceres::IsSparseLinearAlgebraLibraryTypeAvailable(ceres::EIGEN_SPARSE)) {
-        so.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
-        so.sparse_linear_algebra_library_type = ceres::EIGEN_SPARSE;
-    } else {
-        so.linear_solver_type = ceres::CGNR;
-    }
+    chooseSparseSolver(so, unknowns, 300);
     so.max_num_iterations = 10;
     so.num_threads = 1;  // the same floating-point sums whatever the machine
     so.logging_type = ceres::SILENT;
@@ -301,7 +294,7 @@ PlacementResult placeLevelVertices(const TriMesh& original, const FaceGrid& orig
             addTerm(c, pos[verts[i]], anchorWeight);
         }
         ceres::Solver::Summary summary;
-        ceres::Solve(solverOptions(), &problem, &summary);
+        ceres::Solve(solverOptions(x.size()), &problem, &summary);
         ++res.rounds;
         if (summary.termination_type == ceres::FAILURE) break;
         bool finite = true;
