@@ -5,9 +5,10 @@ skipped when absent): simplify -> parameterize -> texture-refine -> pack exits 0
 reports no error, every level node uses the one skin with JOINTS_0/WEIGHTS_0 and the animations are
 written once; reading an intermediate back keeps the rig (parameterize's output carries the same
 skin and keys as simplify's); compare posed at the start, middle and end of the animation gives
-LOD0 a silhouette IoU >= 0.99 and every coarser level a posed Hausdorff distance within 1.5 times
-the deviation pack measured in the bind pose plus 0.5% of the diagonal (skinning bends a level's
-triangles a little differently from the original's: docs/benchmarks.md). AnimatedMorphCube (morph targets, not carried yet) goes through the chain with a warning.
+LOD0 a silhouette IoU >= 0.99 and every coarser level a posed Hausdorff distance within the
+deviation pack measured (the largest over the bind pose and the poses simplify samples), up to the
+sampling's precision. simplify reports how many poses it sampled, none with --pose-samples 0.
+AnimatedMorphCube (morph targets, not carried yet) goes through the chain with a warning.
 """
 import json
 import os
@@ -86,15 +87,20 @@ class AnimationChain(unittest.TestCase):
         for sa, sb in zip(a.json["animations"][0]["samplers"], b.json["animations"][0]["samplers"]):
             self.assertEqual(a.accessor(sa["input"]), b.accessor(sb["input"]))
             self.assertEqual(a.accessor(sa["output"]), b.accessor(sb["output"]))
-        # Posed at three times: LOD0 matches the original; coarser levels stay close.
+        # Posed at three times: LOD0 matches the original; coarser levels stay within their measured
+        # deviation. Both figures are sampled Hausdorff distances (compare 200,000 points per side,
+        # pack 100,000, on differently ordered triangles), which differ by the sample spacing: a
+        # slack of 0.1% of the diagonal covers it (CesiumMilkTruck's 10% level: 0.04% in the bind pose).
+        self.assertGreater(reports["simplify"]["posedSamples"], 1)
         for time in ("start", "middle", "end"):
             with self.subTest(time=time):
                 r0 = posed(src, p + ".lod.glb", 0, time)
                 self.assertGreaterEqual(r0["images"]["baseColor"]["iou"], 0.99)
                 for k in (1, 2):
                     rk = posed(src, p + ".lod.glb", k, time)
-                    measured = reports["pack"]["levels"][k]["deviation"]["relHausdorff"]
-                    self.assertLessEqual(rk["geometry"]["relHausdorff"], 1.5 * measured + 0.005, (k, measured, rk["geometry"]))
+                    measured = reports["pack"]["levels"][k]["deviation"]["hausdorff"]
+                    slack = 0.001 * rk["geometry"]["diagonal"]
+                    self.assertLessEqual(rk["geometry"]["hausdorff"], measured + slack, (k, measured, rk["geometry"]))
         return reports
 
     def test_simple_skin(self):
@@ -116,6 +122,18 @@ class AnimationChain(unittest.TestCase):
         p, reports = chain(MORPH_CUBE, self.out, "morphcube")
         self.assertTrue(any("morph" in w for w in reports["simplify"]["warnings"]), reports["simplify"]["warnings"])
         assert_no_validator_errors(self, [p + ".lod.glb"])
+
+    def test_pose_samples_flag(self):
+        """--pose-samples 0 measures in the bind pose only; a negative count is a usage error."""
+        rep = os.path.join(self.out, "walker.bind.json")
+        run([tool("simplify"), "-q", "-i", self.walker, "-o", os.path.join(self.out, "walker.bind.mr.glb"),
+             "--ratio", "0.1", "--pose-samples", "0", "--report", rep])
+        with open(rep) as f:
+            self.assertEqual(json.load(f)["posedSamples"], 0)
+        r = run([tool("simplify"), "-i", self.walker, "-o", os.path.join(self.out, "x.mr.glb"), "--ratio", "0.1",
+                 "--pose-samples", "-1"], check=False)
+        self.assertEqual(r.returncode, 1, r.stderr)
+        self.assertFalse(os.path.exists(os.path.join(self.out, "x.mr.glb")))
 
     def test_compare_without_animation_is_impossible(self):
         r = run([tool("compare"), self.walker, self.walker, "--animation", "3", "--views", "0"], check=False)

@@ -630,6 +630,37 @@ TEST(IoWrite, MultiresRoundTripIsExact) {
     EXPECT_EQ(readBytes(dir / "mr.glb"), readBytes(p2));
 }
 
+// Files are read in blocks: a GLB and a .bin of several blocks and a partial last one read as the
+// same bytes handed over in memory.
+TEST(IoRead, FileOfSeveralBlocksReadsWhole) {
+    auto dir = tempDir("blocks");
+    const uint32_t side = 150;  // 22500 vertices: a 270 KB position buffer
+    std::vector<float> pos;
+    std::vector<uint32_t> idx;
+    for (uint32_t y = 0; y < side; ++y)
+        for (uint32_t x = 0; x < side; ++x) pos.insert(pos.end(), {float(x), float(y), float((x * 7 + y * 3) % 5)});
+    for (uint32_t y = 0; y + 1 < side; ++y)
+        for (uint32_t x = 0; x + 1 < side; ++x) {
+            uint32_t v = y * side + x;
+            idx.insert(idx.end(), {v, v + 1, v + side, v + 1, v + side + 1, v + side});
+        }
+    TestGltf g;
+    meshNode(g, {prim({{"POSITION", g.add(pos, kF32, "VEC3")}}, g.add(idx, kU32, "SCALAR"))});
+    const std::string glb = g.writeGlb(dir, "grid.glb");
+    const std::string gltf = g.writeGltf(dir, "grid");
+    for (const fs::path& data : {fs::path(glb), dir / "grid.bin"}) {
+        EXPECT_GT(fs::file_size(data), uintmax_t(4) << 16);
+        EXPECT_NE(fs::file_size(data) % (uintmax_t(1) << 16), 0u);
+    }
+    for (const std::string& p : {glb, gltf}) {
+        const std::string bytes = readBytes(p);
+        Asset a = readGltf(p);
+        Asset b = readGltfBytes(p, std::vector<unsigned char>(bytes.begin(), bytes.end()));
+        EXPECT_EQ(a.mesh.triangleCount(), size_t(2) * (side - 1) * (side - 1));
+        expectSameMesh(a.mesh, b.mesh);
+    }
+}
+
 // In memory (the lodbake chain): encodeGlb gives the bytes writeGltf writes to a .glb, and
 // readGltfBytes reads them as readGltf reads the file, messages naming the given path.
 TEST(IoWrite, InMemoryGlbMatchesTheFile) {

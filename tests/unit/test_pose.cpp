@@ -7,12 +7,11 @@
 
 #include "lodbake/core/pose.h"
 #include "lodbake/gltf/gltf.h"
+#include "rig_fixtures.h"
 
 using namespace lodbake;
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // One triangle bound to joint 1 (a child of joint 0 at x = 1), which turns 90 degrees about z
 // between t = 0 and t = 1.
@@ -26,27 +25,7 @@ Asset turningTriangle() {
     m.wedges.vertex = {0, 1, 2};
     m.wedges.joints = {{1, 0, 0, 0}, {1, 0, 0, 0}, {0, 1, 0, 0}};
     m.wedges.weights = {{1, 0, 0, 0}, {1, 0, 0, 0}, {0.5, 0.5, 0, 0}};
-    Rig& r = a.rig;
-    RigNode root, arm;
-    root.name = "root";
-    arm.name = "arm";
-    arm.parent = 0;
-    arm.translation = {1, 0, 0};
-    r.nodes = {root, arm};
-    r.joints = {0, 1};
-    for (const Mat4& g : poseNodes(r, -1, 0)) {
-        Mat4 inv;
-        EXPECT_TRUE(invertAffine(g, inv));
-        r.inverseBind.push_back(inv);
-    }
-    Animation turn;
-    AnimationSampler s;
-    s.comps = 4;
-    s.times = {0, 1};
-    s.values = {0, 0, 0, 1, 0, 0, std::sin(kPi / 4), std::cos(kPi / 4)};
-    turn.samplers = {s};
-    turn.channels = {AnimationChannel{0, 1, AnimationPath::Rotation}};
-    r.animations = {turn};
+    a.rig = test::kneeRig("root", "arm", {0, 1}, {0, 90});
     return a;
 }
 

@@ -38,6 +38,15 @@ void addSimplifyFlags(ArgParser& p, SimplifyFlags& a) {
                  if (!(o.maxInfluenceChange >= 0 && o.maxInfluenceChange <= 1))
                      throw UsageError("--max-influence-change must be in [0, 1]");
              });
+    PoseSampleOptions& ps = a.settings.poses;
+    p.option("--pose-samples", "N",
+             "rigged inputs: collapse costs and level deviations are also measured in the rest pose and at N "
+             "evenly spaced times of each animation, at most " + std::to_string(ps.maxPoses) +
+                 " poses in all (default " + std::to_string(ps.perAnimation) + ", 0 = bind pose only)",
+             [&ps](const std::string& v) {
+                 ps.perAnimation = parseInt("--pose-samples", v);
+                 if (ps.perAnimation < 0) throw UsageError("--pose-samples must be >= 0");
+             });
 }
 
 void validateSimplify(SimplifyFlags& a) {

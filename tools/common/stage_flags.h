@@ -24,7 +24,7 @@ struct SimplifyFlags {
     std::vector<double> ratios, triangles, maxErrors;  // the level flags, turned into settings.simplify.levels
 };
 // --ratio, --triangles, --max-error, --max-region-cone, --max-part-removal,
-// --max-influence-change.
+// --max-influence-change, --pose-samples.
 void addSimplifyFlags(ArgParser& parser, SimplifyFlags& flags);
 // Checks the level flags and sets settings.simplify.levels. \throw UsageError.
 void validateSimplify(SimplifyFlags& flags);

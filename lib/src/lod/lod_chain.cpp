@@ -39,6 +39,7 @@
 #include "lodbake/core/face_grid.h"
 #include "lodbake/core/parallel.h"
 #include "lodbake/metrics/distance.h"
+#include "lodbake/metrics/posed_distance.h"
 #include "lodbake/atlas/atlas.h"
 #include "lodbake/param/parameterize.h"
 
@@ -525,18 +526,30 @@ std::vector<LayoutData> layoutsOf(const Asset& asset, const Multires& mr, bool h
     return layouts;
 }
 
-// Vertex placement of level view `lv` (measured as `before`): kept when the measured Hausdorff
+// The measured deviation of a level view from the original; for a rigged asset the largest over
+// the bind pose and the sampled poses (posed through the wedges its corners keep).
+GeometricDistance measureLevel(const Asset& asset, const LevelView& lv, const std::vector<PoseSample>& poses,
+                               const DistanceOptions& dopt) {
+    TriMesh level = asTriMesh(asset.mesh, lv);
+    if (!poses.empty()) {
+        level.wedges = asset.mesh.wedges;
+        level.cornerWedges = lv.cornerWedges;
+    }
+    return posedSurfaceDistance(asset.rig, asset.mesh, level, poses, dopt);
+}
+
+// Vertex placement of level view `lv` (measured as `d`): kept when the measured Hausdorff
 // distance does not grow, which `d` then holds.
-void placeVertices(const TriMesh& mesh, const FaceGrid& grid, LevelView& lv, const DistanceOptions& dopt,
-                   GeometricDistance& d, PackLevelReport::Placement& report) {
+void placeVertices(const Asset& asset, const FaceGrid& grid, LevelView& lv, const std::vector<PoseSample>& poses,
+                   const DistanceOptions& dopt, GeometricDistance& d, PackLevelReport::Placement& report) {
     auto t0 = Clock::now();
     PlacementOptions po;
     po.threads = dopt.threads;
-    PlacementResult placed = placeLevelVertices(mesh, grid, *lv.data, po);
+    PlacementResult placed = placeLevelVertices(asset.mesh, grid, *lv.data, po);
     report = {true, false, d.hausdorff, d.relHausdorff, d.rms, d.relRms, placed.moved, placed.fixed, placed.shortened, 0};
     if (placed.moved > 0) {
         lv.positions = std::move(placed.positions);
-        GeometricDistance after = surfaceDistance(mesh, asTriMesh(mesh, lv), dopt);
+        GeometricDistance after = measureLevel(asset, lv, poses, dopt);
         report.applied = after.hausdorff <= d.hausdorff;
         if (report.applied) d = after;
         else lv.positions.clear();
@@ -545,10 +558,12 @@ void placeVertices(const TriMesh& mesh, const FaceGrid& grid, LevelView& lv, con
 }
 
 // 2. The measured deviation of each level from the original (LOD0: none), after vertex placement
-// where it applies. Progress to 0.3.
+// where it applies; for a rigged asset the largest over the bind pose and the sampled poses.
+// Progress to 0.3.
 template <class Progress>
-void measureLevels(const TriMesh& mesh, const FaceGrid& grid, std::vector<LevelView>& views, const PackOptions& options,
+void measureLevels(const Asset& asset, const FaceGrid& grid, std::vector<LevelView>& views, const PackOptions& options,
                    PackResult& res, Progress&& progress) {
+    const std::vector<PoseSample> poses = samplePoses(asset.rig, options.poses);
     const size_t n = views.size();
     res.reports.resize(n);
     DistanceOptions dopt;
@@ -559,9 +574,9 @@ void measureLevels(const TriMesh& mesh, const FaceGrid& grid, std::vector<LevelV
         r.source = views[k].source;
         r.maxDeviation = views[k].maxDeviation;
         if (k == 0) continue;
-        GeometricDistance d = surfaceDistance(mesh, asTriMesh(mesh, views[k]), dopt);
+        GeometricDistance d = measureLevel(asset, views[k], poses, dopt);
         if (options.vertexPlacement && options.projectLevels && views[k].data)
-            placeVertices(mesh, grid, views[k], dopt, d, r.placement);
+            placeVertices(asset, grid, views[k], poses, dopt, d, r.placement);
         r.hausdorff = d.hausdorff;
         r.relHausdorff = d.relHausdorff;
         r.rms = d.rms;
@@ -716,7 +731,7 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
     double area3D = 0;
     for (const Tri& t : mesh.triangles) area3D += triArea3(mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]);
     const FaceGrid grid(mesh);
-    measureLevels(mesh, grid, views, options, res, progress);  // 2
+    measureLevels(asset, grid, views, options, res, progress);  // 2
     res.screenCoverage = screenCoverages(res, options);  // 3
 
     // 4. Per level: texture, page, mesh, bake.

@@ -31,8 +31,9 @@ double ringOptions(const RuleContext& ctx, EvalScratch& w, uint32_t vi) {
     w.options.resize(n);
     double bound = n ? std::numeric_limits<double>::infinity() : 0.0;
     for (size_t k = 0; k < n; ++k) {
-        double q = Q.distance(s.mesh.positions[w.ring[k].w]);
-        w.options[k] = {q > noise ? q : 0.0, uint32_t(k)};
+        const uint32_t t = w.ring[k].w;
+        double q = Q.distance(s.mesh.positions[t]);
+        w.options[k] = {q > noise ? q : 0.0, uint32_t(k), s.oldId[t]};
         bound = std::min(bound, w.options[k].q);
     }
     return bound;
@@ -69,9 +70,7 @@ static Candidate evaluateVertex(const RuleContext& ctx, EvalScratch& w, uint32_t
     Option* o = w.options.data();
     const size_t n = w.options.size();
     const double noise = 1e-9 * s.diagonal;
-    std::sort(o, o + n, [&](const Option& a, const Option& b) {
-        return a.q != b.q ? a.q < b.q : s.oldId[w.ring[a.k].w] < s.oldId[w.ring[b.k].w];
-    });
+    std::sort(o, o + n, [](const Option& a, const Option& b) { return a.q != b.q ? a.q < b.q : a.key < b.key; });
     Reject last = Reject::Isolated;
     best.reason = Reject::Isolated;
     bool found = false;
@@ -86,6 +85,9 @@ static Candidate evaluateVertex(const RuleContext& ctx, EvalScratch& w, uint32_t
             if (last == Reject::Isolated || r == Reject::Rule1 || r == Reject::Cone) last = r;
             continue;
         }
+        // The region plan only raises the cost, and `last` no longer matters once a candidate is
+        // found: an option not cheaper than the best cannot replace it.
+        if (found && dev >= best.dev) continue;
         Candidate c;
         c.target = profile.vj();
         c.dev = dev;
@@ -148,6 +150,9 @@ static bool evaluateOrDefer(CandidateState& c, const RuleContext& ctx, EvalScrat
     return true;
 }
 
+// Whether v's fan changed in the previous pass (every vertex in the first): most evaluations.
+static bool likelyEvaluated(const CandidateState& c, uint32_t v) { return c.pass == 1 || c.dirtyPass[v] == c.pass - 1; }
+
 // The pass entry of v's valid candidate (bucket filled in once the pass limit is known).
 static PassEntry passEntry(const RuleContext& ctx, uint32_t v, const Candidate& cand) {
     return {0, ctx.settings.similarDeviation > 0 ? cand.shape : 0.f, cand.dev, v, ctx.mesh.oldId[v]};
@@ -171,6 +176,15 @@ size_t evaluateCandidates(CandidateState& c, const RuleContext& ctx, std::vector
         std::vector<PassEntry>& out = c.chunkEntries[k];
         out.clear();
         for (uint32_t v = uint32_t(begin); v < end; ++v) {
+            // Evaluation stalls on the fan's faces and the ring's positions, scattered in memory:
+            // fetch them a few vertices ahead for the vertices likely to be evaluated.
+            if (v + 6 < end && likelyEvaluated(c, v + 6))
+                for (uint32_t f : s.vfaces[v + 6]) __builtin_prefetch(&s.tri.rec[f]);
+            if (v + 3 < end && likelyEvaluated(c, v + 3)) {
+                __builtin_prefetch(&s.quadric[v + 3]);
+                for (uint32_t f : s.vfaces[v + 3])
+                    for (uint32_t u : s.tri[f]) __builtin_prefetch(&s.mesh.positions[u]);
+            }
             if (s.removed[v] || s.vfaces[v].empty()) continue;
             if (!evaluateOrDefer(c, ctx, work[t], v, bound)) {
                 ++chunkDeferred[k];

@@ -28,10 +28,12 @@ struct PassEntry {
     }
 };
 
-// An outgoing half-edge of the vertex being evaluated: its quadric term and ring slot.
+// An outgoing half-edge of the vertex being evaluated: its quadric term, ring slot and the input id
+// of its target (the tie-break, kept here so sorting reads no per-vertex array).
 struct Option {
     double q;
     uint32_t k;
+    uint32_t key;
 };
 
 // Per-thread scratch of candidate evaluation.

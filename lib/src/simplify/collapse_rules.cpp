@@ -7,6 +7,8 @@
 #include <cmath>
 #include <limits>
 
+#include "posed_guard.h"
+
 namespace lodbake::simplify_detail {
 
 // ---------------------------------------------------------------------------------------------
@@ -131,6 +133,7 @@ static Reject vertexDeviation(const CollapseProfile& p, const RuleScratch& w, do
     }
     farDist = far != kNone ? float(std::sqrt(far2)) : 0.f;
     dev = std::max({std::sqrt(best2), double(farDist), quadricTerm});
+    if (p.settings.posed) dev = std::max(dev, posedDeviation(p, *p.settings.posed));
     return Reject::None;
 }
 

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "collapse_state.h"
+#include "lodbake/core/pose_samples.h"
 #include "lodbake/simplify/simplify.h"
 #include "regions.h"
 
@@ -57,6 +58,7 @@ struct RuleSettings {
     double similarDeviation = 0;        // rule 2: relative width of a deviation bucket; 0 = off
     double diagonal = 0;                // of the input's bounding box, model units
     double maxInfluenceChange = 1;      // largest total variation between the joint weights of v_i and v_j
+    const PosedWedges* posed = nullptr; // rigged meshes: wedges at sampled poses; null = bind pose only
 };
 
 // The best collapse found for a vertex, with its region plan.

@@ -126,15 +126,18 @@ static void mergeRegionGroup(RegionState& r, const CollapseState& s, HierarchyRe
 }
 
 void updateRegions(RegionState& r, const CollapseState& s, HierarchyRecorder& rec, uint32_t vi, uint32_t vj,
-                   bool keepsBoundary, uint32_t pass) {
+                   bool keepsBoundary, uint32_t pass, const MergeGroups* planned) {
     if (keepsBoundary) return;  // each side keeps its own region (a removed representative stays until the snapshot)
-    std::vector<uint32_t>& fan = r.fanScratch;
-    MergeGroups& groups = r.groupScratch;
-    if (s.pinch[vi]) {
-        collectRing(s, vi, r.ringScratch);
-        labelFans(s, vi, r.ringScratch, fan);
+    if (!planned) {
+        std::vector<uint32_t>& fan = r.fanScratch;
+        if (s.pinch[vi]) {
+            collectRing(s, vi, r.ringScratch);
+            labelFans(s, vi, r.ringScratch, fan);
+        }
+        collectMergeGroups(s, r, vi, fan, r.groupScratch);
+        planned = &r.groupScratch;
     }
-    collectMergeGroups(s, r, vi, fan, groups);
+    const MergeGroups& groups = *planned;
     for (size_t g = 0; g < groups.count(); ++g) {
         size_t n = groups.size(g);
         if (n < 2) continue;

@@ -64,9 +64,10 @@ void collectMergeGroups(const CollapseState& s, const RegionState& r, uint32_t v
                         MergeGroups& out);
 
 // Merges the regions of the collapse (vi -> vj) before it is applied; nothing when it keeps a
-// boundary (rule 3). Relabelled faces get `pass`.
+// boundary (rule 3). Relabelled faces get `pass`. planned: the collapse's merge groups when the
+// caller has them for the current state (collectMergeGroups of vi), else null.
 void updateRegions(RegionState& r, const CollapseState& s, HierarchyRecorder& rec, uint32_t vi, uint32_t vj,
-                   bool keepsBoundary, uint32_t pass);
+                   bool keepsBoundary, uint32_t pass, const MergeGroups* planned = nullptr);
 
 // Every region whose representative is a removed face moves to its smallest surviving face; the
 // updates are recorded with the last collapse (so a replay up to any level sees surviving reps).

@@ -32,6 +32,7 @@
 #include "collapse_state.h"
 #include "lodbake/core/errors.h"
 #include "pairs.h"
+#include "posed_guard.h"
 #include "pruning.h"
 #include "regions.h"
 
@@ -71,18 +72,20 @@ RuleSettings resolveSettings(const SimplifyOptions& options, double diagonal, do
     r.similarDeviation = options.similarDeviation;
     r.diagonal = diagonal;
     r.maxInfluenceChange = options.maxInfluenceChange;
+    if (!options.posed.empty()) r.posed = &options.posed;
     return r;
 }
 
 // Applies the collapse of vi described by its current candidate c: regions first (they read the
-// pre-collapse fan), then the mesh, then the record; marks the changed fans.
-void applyCandidate(Simplifier& s, uint32_t vi, const Candidate& c) {
+// pre-collapse fan), then the mesh, then the record; marks the changed fans. planned: c's merge
+// groups when the caller just planned them (planRegions), else null.
+void applyCandidate(Simplifier& s, uint32_t vi, const Candidate& c, const MergeGroups* planned = nullptr) {
     CandidateState& cs = s.candidates;
     for (uint32_t f : s.mesh.vfaces[vi])
         for (uint32_t u : s.mesh.tri[f]) cs.dirtyPass[u] = cs.pass;
     cs.touchedPass[vi] = cs.touchedPass[c.target] = cs.pass;
     uint32_t begin = s.recorder.regionMark();
-    updateRegions(s.regions, s.mesh, s.recorder, vi, c.target, c.rule3, cs.pass);
+    updateRegions(s.regions, s.mesh, s.recorder, vi, c.target, c.rule3, cs.pass, planned);
     uint32_t end = s.recorder.regionMark();
     applyCollapse(s.mesh, vi, c.target, c.dev, c.farDist);
     s.recorder.collapsed({vi, c.target, float(c.dev), begin, end});
@@ -114,8 +117,25 @@ size_t walkCandidates(Simplifier& s, const PlannedLevel& plan, double limit) {
         }
         if (k + 8 < entryCount) {
             uint32_t a = cs.entries[k + 8].vertex;
-            for (uint32_t f : m.vfaces[a]) __builtin_prefetch(&m.tri.rec[f]);
+            for (uint32_t f : m.vfaces[a]) {
+                __builtin_prefetch(&m.tri.rec[f]);
+                __builtin_prefetch(&s.regions.faceRegion[f]);
+                if (!m.wedge.empty()) __builtin_prefetch(&m.wedge[f]);
+            }
             __builtin_prefetch(&cs.touchedPass[cs.cand[a].target]);
+            __builtin_prefetch(&m.quadric[a]);
+        }
+        if (k + 4 < entryCount) {
+            uint32_t a = cs.entries[k + 4].vertex;
+            for (uint32_t f : m.vfaces[a]) {
+                __builtin_prefetch(&s.regions.stats[s.regions.faceRegion[f]]);
+                for (uint32_t u : m.tri[f]) {
+                    __builtin_prefetch(&m.mesh.positions[u]);
+                    __builtin_prefetch(&m.vfaces[u]);
+                }
+            }
+            __builtin_prefetch(&m.quadric[cs.cand[a].target]);
+            __builtin_prefetch(&m.vfaces[cs.cand[a].target]);
         }
         uint32_t vi = e.vertex;
         if (m.removed[vi] || cs.touchedPass[vi] == cs.pass) continue;
@@ -162,7 +182,8 @@ size_t walkCandidates(Simplifier& s, const PlannedLevel& plan, double limit) {
             }
             c.dev = std::max(c.dev, d);
         }
-        applyCandidate(s, vi, c);
+        // planRegions left the merge groups of this collapse in w.groups (unless it keeps the boundary).
+        applyCandidate(s, vi, c, &w.groups);
         ++applied;
     }
     return applied;
@@ -274,6 +295,7 @@ SimplifyResult simplify(const TriMesh& mesh, const SimplifyOptions& options) {
         auto now = Clock::now();
         snapshotLevel(m, s.regions, s.recorder, level, stop, std::chrono::duration<double>(now - levelStart).count(),
                       int(s.work.size()), s.candidates.pass);
+        if (s.settings.posed) raisePosedLevelDeviation(m, *s.settings.posed, int(s.work.size()), s.recorder);
         levelStart = Clock::now();
     }
     if (options.progress && !options.progress(1.0)) throw Impossible("simplify: cancelled");

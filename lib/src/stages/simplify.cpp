@@ -7,8 +7,8 @@
 namespace lodbake {
 namespace {
 
-nlohmann::json makeReport(const SimplifySettings& s, const Asset& asset, const SimplifyResult& r, double loadSeconds,
-                          double simplifySeconds, double writeSeconds) {
+nlohmann::json makeReport(const SimplifySettings& s, const Asset& asset, const SimplifyResult& r, size_t poses,
+                          double loadSeconds, double simplifySeconds, double writeSeconds) {
     nlohmann::json levels = nlohmann::json::array();
     for (size_t k = 0; k < r.multires.levels.size(); ++k) {
         const Level& L = r.multires.levels[k];
@@ -27,6 +27,7 @@ nlohmann::json makeReport(const SimplifySettings& s, const Asset& asset, const S
     rep["input"] = inputJson(s.common, asset, r.diagonal);
     rep["output"] = s.common.output;
     rep["levels"] = levels;
+    rep["posedSamples"] = poses;
     rep["warnings"] = asset.warnings;
     rep["time"] = {{"load", loadSeconds}, {"simplify", simplifySeconds}, {"write", writeSeconds}};
     return rep;
@@ -52,12 +53,14 @@ StageResult runSimplify(const SimplifySettings& s) {
     opt.threads = resolveThreads(s.common.threads);
     opt.progress = s.common.progress;
     Clock::time_point t1 = Clock::now();
+    const std::vector<PoseSample> poses = samplePoses(asset.rig, s.poses);
+    opt.posed = poseWedges(asset.rig, asset.mesh, poses);
     SimplifyResult result = simplify(asset.mesh, opt);
     double simplifySeconds = secondsSince(t1);
     double writeSeconds = writeStageOutput(s.common, asset, &result.multires, "simplify");
 
     StageResult out;
-    out.report = makeReport(s, asset, result, loadSeconds, simplifySeconds, writeSeconds);
+    out.report = makeReport(s, asset, result, opt.posed.positions.size(), loadSeconds, simplifySeconds, writeSeconds);
     if (!s.common.report.empty()) writeReport(s.common.report, out.report);
     if (s.common.verbose) out.statistics = statistics(asset, out.report);
     return out;

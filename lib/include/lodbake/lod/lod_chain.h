@@ -16,6 +16,7 @@
 
 #include "lodbake/core/mesh.h"
 #include "lodbake/core/multires.h"
+#include "lodbake/core/pose_samples.h"
 #include "lodbake/texture/codec.h"
 #include "lodbake/gltf/msft_lod.h"
 
@@ -39,6 +40,8 @@ struct PackOptions {
     int maxMips = 4;             // gutters are sized for at most this many mip levels below the page
     int minMipSide = 16;         // ... and never for mips whose page side is below this (texels)
     size_t distanceSamples = 100000;  // area samples per side for the measured Hausdorff distance
+    // Rigged inputs: the measured distance is the largest over the bind pose and these poses.
+    PoseSampleOptions poses;
     int threads = 0;             // 0 = all cores
     ImageFormat imageFormat = ImageFormat::Png;
     int jpegQuality = 90;

@@ -16,6 +16,7 @@
 
 #include "lodbake/core/mesh.h"
 #include "lodbake/core/multires.h"
+#include "lodbake/core/pose_samples.h"
 
 namespace lodbake {
 
@@ -50,6 +51,13 @@ struct SimplifyOptions {
     // differently from the original when posed. A vertex where parts of different influences
     // meet never moves.
     double maxInfluenceChange = 0.1;
+    // Rigged meshes: the mesh's wedges at sampled poses (poseWedges in lodbake/core/pose_samples.h;
+    // the simplify stage fills it from the asset's rig). Each collapse's cost is its vertex
+    // deviation in the bind pose and in every sampled pose, the largest, and so is each level's
+    // maxDeviation, so a level stays within it when posed at those times. Empty = bind pose only.
+    // \bug Under an error target (LevelTarget::maxError) the exact measure of attached points is
+    //      taken in the bind pose; the level's maxDeviation still counts the posed pairs.
+    PosedWedges posed;
     // Candidate evaluation and simplification pairs run on this many threads (the collapse walk
     // is sequential); results are identical for any value.
     int threads = 1;

@@ -12,6 +12,9 @@ struct SimplifySettings {
     // The algorithm's options; `levels` must be set (at least one target). threads and progress
     // are taken from `common`.
     SimplifyOptions simplify;
+    // Rigged inputs: the poses sampled from the asset's rig into simplify.posed (the rest pose and
+    // times of each animation); perAnimation = 0 measures in the bind pose only.
+    PoseSampleOptions poses;
 };
 
 // Reads common.input, simplifies it, writes common.output with LODBAKE_multires and the report.
