@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Peer comparison helper for scripts/bench_peers.sh: runs `compare ORIGINAL OUT [--lod K] --json`
 for each (asset, ratio, tool, file, lod) row given as JSON on stdin, prints a Markdown table
-(triangles, draw calls, lit PBR and base-colour PSNR, relative Hausdorff, file bytes) and a
+(triangles, draw calls, lit PBR and base-colour PSNR, relative Hausdorff, silhouette IoU, file bytes) and a
 verdict per asset/ratio: ours must beat, in PBR PSNR (compare's lit physically based render, with
 every material channel), every peer output with >= our triangle count."""
 import json
@@ -21,7 +21,7 @@ def measure(compare, original, out, lod, extra):
     b = j["counts"]["b"]
     return {"triangles": b["triangles"], "drawCalls": b["drawCalls"], "psnr": j["images"]["pbr"]["psnr"],
             "basePsnr": j["images"]["baseColor"]["psnr"],
-            "relHausdorff": j["geometry"]["relHausdorff"], "bytes": b["fileBytes"], "texels": b["texels"]}
+            "relHausdorff": j["geometry"]["relHausdorff"], "iou": j["images"]["baseColor"]["iou"], "bytes": b["fileBytes"], "texels": b["texels"]}
 
 
 def main():
@@ -32,14 +32,15 @@ def main():
     for r in rows:
         m = measure(compare, r["original"], r["file"], r.get("lod", 0), extra) if os.path.exists(r["file"]) else {"error": "no output"}
         results.append(dict(r, **m))
-    print("| asset | ratio | tool | triangles | draw calls | PBR PSNR (dB) | base-colour PSNR (dB) | rel. Hausdorff | bytes |")
-    print("|---|---|---|---:|---:|---:|---:|---:|---:|")
+    print("| asset | ratio | tool | triangles | draw calls | PBR PSNR (dB) | base-colour PSNR (dB) | rel. Hausdorff | silhouette IoU | bytes |")
+    print("|---|---|---|---:|---:|---:|---:|---:|---:|---:|")
     for r in results:
         if "error" in r:
-            print("| %s | %s | %s | failed: %s | | | | | |" % (r["asset"], r["ratio"], r["tool"], r["error"].replace("|", "/")[:80]))
+            print("| %s | %s | %s | failed: %s | | | | | | |" % (r["asset"], r["ratio"], r["tool"], r["error"].replace("|", "/")[:80]))
             continue
-        print("| %s | %s | %s | %d | %d | %.2f | %.2f | %.4f | %d |" % (
-            r["asset"], r["ratio"], r["tool"], r["triangles"], r["drawCalls"], r["psnr"], r["basePsnr"], r["relHausdorff"], r["bytes"]))
+        print("| %s | %s | %s | %d | %d | %.2f | %.2f | %.4f | %.4f | %d |" % (
+            r["asset"], r["ratio"], r["tool"], r["triangles"], r["drawCalls"], r["psnr"], r["basePsnr"], r["relHausdorff"], r["iou"],
+            r["bytes"]))
     print()
     losses = 0
     for key in sorted({(r["asset"], r["ratio"]) for r in results}):

@@ -55,6 +55,9 @@ void addPackFlags(ArgParser& p, PackFlags& a) {
              });
     p.flag("--layout-bake", "coarse levels read the original through the shared chart layout instead of projecting "
            "their own surface onto it", [&o] { o.projectLevels = false; });
+    p.flag("--no-vertex-placement", "keep coarse levels' vertices at their original positions (default: moved towards "
+           "the original surface unless that raises the measured Hausdorff distance; levels baked by projection only)",
+           [&o] { o.vertexPlacement = false; });
     p.flag("--base-color-only", "bake base colour (and alpha) only; other channels become constant factors",
            [&o] { o.baseColorOnly = true; });
     p.flag("--no-texture-hierarchy", "texture every level with T0 even when the input has texture-refine's hierarchy",

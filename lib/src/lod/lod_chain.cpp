@@ -30,6 +30,7 @@
 #include "lodbake/bake/material_plan.h"
 #include "lod/level_islands.h"
 #include "lod/level_material.h"
+#include "lod/vertex_placement.h"
 #include "lodbake/core/errors.h"
 #include "lodbake/core/timing.h"
 #include "lodbake/gltf/gltf.h"
@@ -60,6 +61,8 @@ struct LevelView {
     double maxDeviation = 0;
     size_t level = 0;            // multires level number (0 = the original)
     const Level* data = nullptr;  // multires.levels[level - 1]; null for the original
+    std::vector<Vec3> positions;  // welded positions after vertex placement; empty = the original's
+    const std::vector<Vec3>& positionsOr(const TriMesh& original) const { return positions.empty() ? original.positions : positions; }
 };
 
 std::vector<LevelView> levelViews(const Asset& asset, const Multires& mr) {
@@ -174,7 +177,7 @@ struct LevelUVs {
 
 // A level baked by projection: islands unfolded onto neighbouring charts (level_islands.h).
 LevelUVs ownCharts(const TriMesh& mesh, const LayoutData& L, const LevelView& lv, LevelUVs luv) {
-    LevelChartSet set = absorbIslands(mesh.positions, lv.triangles, luv.chart, luv.uv, L.ch->chartCount, L.uvPerUnit);
+    LevelChartSet set = absorbIslands(lv.positionsOr(mesh), lv.triangles, luv.chart, luv.uv, L.ch->chartCount, L.uvPerUnit);
     LevelUVs out;
     out.chart = std::move(set.chart);
     out.uv = std::move(set.uv);
@@ -234,7 +237,7 @@ LevelUVs levelUVs(const TriMesh& mesh, const LayoutData& L, const LevelView& lv,
 
 TriMesh asTriMesh(const TriMesh& original, const LevelView& lv) {
     TriMesh m;
-    m.positions = original.positions;
+    m.positions = lv.positionsOr(original);
     m.triangles = lv.triangles;
     return m;
 }
@@ -460,6 +463,7 @@ void addBackFaces(const Asset& asset, const LevelView& lv, LodLevelData& out) {
 void buildLevelMesh(const Asset& asset, const LevelView& lv, const LevelUVs& luv, const LevelAtlas& la, LodLevelData& out) {
     std::vector<std::array<Vec2, 3>> placed(lv.triangles.size());
     const TriMesh& m = asset.mesh;
+    const std::vector<Vec3>& positions = lv.positionsOr(m);
     const AtlasResult& a = la.atlas;
     // Normals: the wedges' (unit) when the asset has them, else area-weighted over this level.
     std::vector<Vec3> vertexNormal;
@@ -467,7 +471,7 @@ void buildLevelMesh(const Asset& asset, const LevelView& lv, const LevelUVs& luv
     if (!wedgeNormals) {
         vertexNormal.assign(m.vertexCount(), Vec3{});
         for (const Tri& t : lv.triangles) {
-            Vec3 n = cross(m.positions[t[1]] - m.positions[t[0]], m.positions[t[2]] - m.positions[t[0]]);
+            Vec3 n = cross(positions[t[1]] - positions[t[0]], positions[t[2]] - positions[t[0]]);
             for (uint32_t v : t) vertexNormal[v] += n;
         }
     }
@@ -512,15 +516,15 @@ void buildLevelMesh(const Asset& asset, const LevelView& lv, const LevelUVs& luv
             Vec3 n = wedgeNormals ? m.wedges.normal[lv.cornerWedges[t][j]] : vertexNormal[v];
             n = normalize(n);
             if (!(length(n) > 0.5)) {
-                Vec3 fn = normalize(cross(m.positions[lv.triangles[t][1]] - m.positions[lv.triangles[t][0]],
-                                          m.positions[lv.triangles[t][2]] - m.positions[lv.triangles[t][0]]));
+                Vec3 fn = normalize(cross(positions[lv.triangles[t][1]] - positions[lv.triangles[t][0]],
+                                          positions[lv.triangles[t][2]] - positions[lv.triangles[t][0]]));
                 n = length(fn) > 0.5 ? fn : Vec3{0, 0, 1};
             }
             const uint32_t w = lv.cornerWedges[t][j];
             Key key{v, c, float(n.x), float(n.y), float(n.z), luv.uv[t][j].x, luv.uv[t][j].y, motionOf(w)};
             auto [it, inserted] = index.emplace(key, uint32_t(out.positions.size() / 3));
             if (inserted) {
-                const Vec3& p = m.positions[v];
+                const Vec3& p = positions[v];
                 out.positions.insert(out.positions.end(), {float(p.x), float(p.y), float(p.z)});
                 out.normals.insert(out.normals.end(), {float(n.x), float(n.y), float(n.z)});
                 Vec2 q = P.apply(luv.uv[t][j]);
@@ -556,12 +560,43 @@ std::vector<LayoutData> layoutsOf(const Asset& asset, const Multires& mr, bool h
     return layouts;
 }
 
-// 2. The measured deviation of each level from the original (LOD0: none); for a rigged asset the
-// largest over the bind pose and the sampled poses. Progress to 0.3.
+// The measured deviation of a level view from the original; for a rigged asset the largest over
+// the bind pose and the sampled poses (posed through the wedges its corners keep).
+GeometricDistance measureLevel(const Asset& asset, const LevelView& lv, const std::vector<PoseSample>& poses,
+                               const DistanceOptions& dopt) {
+    TriMesh level = asTriMesh(asset.mesh, lv);
+    if (!poses.empty()) {
+        level.wedges = asset.mesh.wedges;
+        level.cornerWedges = lv.cornerWedges;
+    }
+    return posedSurfaceDistance(asset.rig, asset.mesh, level, poses, dopt);
+}
+
+// Vertex placement of level view `lv` (measured as `d`): kept when the measured Hausdorff
+// distance does not grow, which `d` then holds.
+void placeVertices(const Asset& asset, const FaceGrid& grid, LevelView& lv, const std::vector<PoseSample>& poses,
+                   const DistanceOptions& dopt, GeometricDistance& d, PackLevelReport::Placement& report) {
+    auto t0 = Clock::now();
+    PlacementOptions po;
+    po.threads = dopt.threads;
+    PlacementResult placed = placeLevelVertices(asset.mesh, grid, *lv.data, po);
+    report = {true, false, d.hausdorff, d.relHausdorff, d.rms, d.relRms, placed.moved, placed.fixed, placed.shortened, 0};
+    if (placed.moved > 0) {
+        lv.positions = std::move(placed.positions);
+        GeometricDistance after = measureLevel(asset, lv, poses, dopt);
+        report.applied = after.hausdorff <= d.hausdorff;
+        if (report.applied) d = after;
+        else lv.positions.clear();
+    }
+    report.seconds = secondsSince(t0);
+}
+
+// 2. The measured deviation of each level from the original (LOD0: none), after vertex placement
+// where it applies; for a rigged asset the largest over the bind pose and the sampled poses.
+// Progress to 0.3.
 template <class Progress>
-void measureLevels(const Asset& asset, const std::vector<LevelView>& views, const PackOptions& options, PackResult& res,
-                   Progress&& progress) {
-    const TriMesh& mesh = asset.mesh;
+void measureLevels(const Asset& asset, const FaceGrid& grid, std::vector<LevelView>& views, const PackOptions& options,
+                   PackResult& res, Progress&& progress) {
     const std::vector<PoseSample> poses = samplePoses(asset.rig, options.poses);
     const size_t n = views.size();
     res.reports.resize(n);
@@ -573,12 +608,9 @@ void measureLevels(const Asset& asset, const std::vector<LevelView>& views, cons
         r.source = views[k].source;
         r.maxDeviation = views[k].maxDeviation;
         if (k == 0) continue;
-        TriMesh level = asTriMesh(mesh, views[k]);
-        if (!poses.empty()) {  // posed through the wedges its corners keep
-            level.wedges = mesh.wedges;
-            level.cornerWedges = views[k].cornerWedges;
-        }
-        GeometricDistance d = posedSurfaceDistance(asset.rig, mesh, level, poses, dopt);
+        GeometricDistance d = measureLevel(asset, views[k], poses, dopt);
+        if (options.vertexPlacement && options.projectLevels && views[k].data)
+            placeVertices(asset, grid, views[k], poses, dopt, d, r.placement);
         r.hausdorff = d.hausdorff;
         r.relHausdorff = d.relHausdorff;
         r.rms = d.rms;
@@ -723,7 +755,7 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
     res.diagonal = bounds(mesh).diagonal();
     res.radius = 0.5 * res.diagonal;
     if (!(res.radius > 0)) throw Impossible(asset.sourcePath + ": the mesh has no extent");
-    const std::vector<LevelView> views = levelViews(asset, mr);
+    std::vector<LevelView> views = levelViews(asset, mr);
     const BakeSources sources(asset);  // the original images, decoded once for every level's bake
     const size_t n = views.size();
     auto progress = [&](double f) { if (options.progress) options.progress(f); };
@@ -732,11 +764,11 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
     const std::vector<LayoutData> layouts = layoutsOf(asset, mr, hierarchy);  // 1
     double area3D = 0;
     for (const Tri& t : mesh.triangles) area3D += triArea3(mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]);
-    measureLevels(asset, views, options, res, progress);  // 2
+    const FaceGrid grid(mesh);
+    measureLevels(asset, grid, views, options, res, progress);  // 2
     res.screenCoverage = screenCoverages(res, options);  // 3
 
     // 4. Per level: texture, page, mesh, bake.
-    const FaceGrid grid(mesh);
     const MaterialPlan plan = options.baseColorOnly ? baseColorPlan(planMaterial(asset)) : planMaterial(asset);
     res.warnings = plan.warnings;
     res.rig = asset.rig;

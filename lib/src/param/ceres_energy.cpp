@@ -13,6 +13,7 @@
 #include "lodbake/core/errors.h"
 #include "lodbake/param/chart_uv.h"
 #include "param/chart_energy_terms.h"
+#include "param/sparse_solver.h"
 
 namespace lodbake {
 namespace {
@@ -252,15 +253,7 @@ ChartSolveResult optimizeChartUV(const ChartMesh& chart, const std::vector<Chart
         // The Jacobian is very sparse (a residual touches at most a few vertices): sparse
         // Cholesky of the normal equations at every size; a dense QR of a few hundred unknowns
         // already costs more than the whole rest of parameterize.
-        if (ceres::IsSparseLinearAlgebraLibraryTypeAvailable(ceres::SUITE_SPARSE)) {
-            so.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
-            so.sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
-        } else if (ceres::IsSparseLinearAlgebraLibraryTypeAvailable(ceres::EIGEN_SPARSE)) {
-            so.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
-            so.sparse_linear_algebra_library_type = ceres::EIGEN_SPARSE;
-        } else {
-            so.linear_solver_type = x.size() <= 200 ? ceres::DENSE_NORMAL_CHOLESKY : ceres::CGNR;
-        }
+        chooseSparseSolver(so, x.size(), 200);
         so.max_num_iterations = options.maxIterations;
         so.num_threads = 1;
         so.logging_type = ceres::SILENT;

@@ -48,6 +48,14 @@ nlohmann::json makeReport(const PackSettings& s, const Asset& asset, const Multi
                           {"textureRank", r.rank},
                           {"pageSideNeeded", r.sideNeeded},
                           {"hierarchyTextureSize", r.textureSize}});
+        if (r.placement.tried) {
+            const PackLevelReport::Placement& pl = r.placement;
+            levels.back()["placement"] = {{"applied", pl.applied},
+                                          {"before", {{"hausdorff", pl.hausdorff}, {"relHausdorff", pl.relHausdorff},
+                                                      {"rms", pl.rms}, {"relRms", pl.relRms}}},
+                                          {"movedVertices", pl.moved}, {"fixedVertices", pl.fixed},
+                                          {"shortenedSteps", pl.shortened}, {"seconds", pl.seconds}};
+        }
     }
     nlohmann::json rep;
     rep["tool"] = "pack";
@@ -62,6 +70,7 @@ nlohmann::json makeReport(const PackSettings& s, const Asset& asset, const Multi
                       {"lod0Density", o.lod0Density}, {"draco", c.draco},
                       {"optimize", c.optimize}, {"meshopt", c.meshopt}, {"quantize", c.quantize}, {"normalMaps", normalMapsName(o.normalMaps)},
                       {"baseColorOnly", o.baseColorOnly}, {"projectLevels", o.projectLevels},
+                      {"vertexPlacement", o.vertexPlacement},
                       {"qp", c.quantPosition}, {"qt", c.quantTexcoord}, {"qn", c.quantNormal}};
     rep["utilisationDefinition"] = "chart texels / page texels; chart texels = the charts' triangle coverage (UV area); "
                                    "boxUtilisation uses the charts' rotated bounding rectangles (above 1 when charts nest), "

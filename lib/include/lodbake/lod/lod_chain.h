@@ -57,6 +57,10 @@ struct PackOptions {
     // (true), or where the shared chart layout maps them (false; exact only where the layout's
     // parameterisation is affine over each coarse triangle).
     bool projectLevels = true;
+    // Coarse levels baked by projection get their vertices moved towards the original surface
+    // (least squares over the two-sided distance; lod/vertex_placement.h); a level keeps the moved
+    // vertices only when its measured Hausdorff distance does not grow.
+    bool vertexPlacement = true;
     // Bake base colour only (every other channel a constant factor, no normal map): the chain
     // without its material channels, for comparisons.
     bool baseColorOnly = false;
@@ -80,6 +84,15 @@ struct PackLevelReport {
     double hausdorff = 0, relHausdorff = 0;  // measured two-sided, model units / relative to the diagonal
     double rms = 0, relRms = 0;
     double maxDeviation = 0;      // simplify's own Level::maxDeviation (0 for LOD0)
+    // Vertex placement (projected coarse levels with vertexPlacement): whether the moved vertices
+    // were kept, the measured distance before placement (the figures above are after it), and
+    // what moved.
+    struct Placement {
+        bool tried = false, applied = false;
+        double hausdorff = 0, relHausdorff = 0, rms = 0, relRms = 0;  // before placement
+        size_t moved = 0, fixed = 0, shortened = 0;  // vertices moved / held on open edges / steps shortened against flips
+        double seconds = 0;
+    } placement;
     double coverage = 0;          // MSFT_screencoverage value: the level is used at coverage >= this
     double maxCoverage = 0;       // ... and below this (the next finer level's threshold; LOD0: lod0Coverage)
     double switchDistance = 0;    // camera distance (model units, fovY) at which the next coarser level takes over

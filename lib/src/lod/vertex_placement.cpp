@@ -1,0 +1,337 @@
+// Vertex placement of a coarse level (vertex_placement.h). The only translation unit of the lod
+// module that includes Ceres.
+#include "lod/vertex_placement.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+#include <memory>
+#include <utility>
+
+#include <ceres/ceres.h>
+
+#include "lodbake/core/closest_point.h"
+#include "lodbake/core/parallel.h"
+#include "param/sparse_solver.h"
+
+namespace lodbake::lod_detail {
+namespace {
+
+// Levels up to this many triangles are searched without a grid.
+constexpr size_t kSmallLevel = 4096;
+
+// A point of the level as a weighted sum of its vertices (local ids, distinct).
+struct Combination {
+    std::array<uint32_t, 3> vertex{};
+    std::array<double, 3> weight{};
+    int count = 0;
+    void add(uint32_t v, double w) {
+        if (!(w != 0)) return;
+        for (int k = 0; k < count; ++k)
+            if (vertex[size_t(k)] == v) { weight[size_t(k)] += w; return; }
+        vertex[size_t(count)] = v;
+        weight[size_t(count)] = w;
+        ++count;
+    }
+};
+
+// r = s (sum_k w_k x_k - target): linear in the vertices, so its Jacobian blocks are s w_k I.
+class PointCost final : public ceres::CostFunction {
+public:
+    PointCost(const Combination& c, Vec3 target, double s) : c_(c), target_(target), s_(s) {
+        set_num_residuals(3);
+        for (int k = 0; k < c.count; ++k) mutable_parameter_block_sizes()->push_back(3);
+    }
+    bool Evaluate(double const* const* x, double* r, double** J) const override {
+        for (int a = 0; a < 3; ++a) {
+            double v = -target_[a];
+            for (int k = 0; k < c_.count; ++k) v += c_.weight[size_t(k)] * x[k][a];
+            r[a] = s_ * v;
+        }
+        if (J)
+            for (int k = 0; k < c_.count; ++k)
+                if (J[k])
+                    for (int a = 0; a < 9; ++a) J[k][a] = a % 4 == 0 ? s_ * c_.weight[size_t(k)] : 0;
+        return true;
+    }
+
+private:
+    Combination c_;
+    Vec3 target_;
+    double s_;
+};
+
+double area(Vec3 a, Vec3 b, Vec3 c) { return 0.5 * length(cross(b - a, c - a)); }
+
+// Points spread over triangles by area: stratified along the cumulative area, barycentrics from
+// the R2 low-discrepancy sequence. Each sample is (triangle index, barycentrics).
+struct SurfaceSample {
+    uint32_t triangle = 0;
+    std::array<double, 3> bary{};
+};
+
+std::vector<SurfaceSample> areaSamples(const std::vector<Vec3>& positions, const std::vector<Tri>& triangles, size_t count) {
+    std::vector<double> cumulative(triangles.size());
+    double total = 0;
+    for (size_t t = 0; t < triangles.size(); ++t) {
+        const Tri& f = triangles[t];
+        total += area(positions[f[0]], positions[f[1]], positions[f[2]]);
+        cumulative[t] = total;
+    }
+    std::vector<SurfaceSample> out;
+    if (!(total > 0)) return out;
+    out.resize(count);
+    for (size_t i = 0; i < count; ++i) {
+        const double u = (double(i) + 0.5) / double(count) * total;
+        const size_t t = size_t(std::upper_bound(cumulative.begin(), cumulative.end(), u) - cumulative.begin());
+        double a = std::fmod(0.5 + double(i) * 0.7548776662466927, 1.0), b = std::fmod(0.5 + double(i) * 0.5698402909980532, 1.0);
+        if (a + b > 1) { a = 1 - a; b = 1 - b; }
+        out[i] = {uint32_t(std::min(t, triangles.size() - 1)), {1 - a - b, a, b}};
+    }
+    return out;
+}
+
+// The closest point of `mesh`'s faces to p through its grid: the search box grows from r until the
+// best face found lies within it (then no face outside the box can be closer). Returns the squared
+// distance (1e300 when the mesh has no faces).
+double closestThroughGrid(const TriMesh& mesh, const FaceGrid& grid, Vec3 p, double r, double limit, uint32_t& face,
+                          std::array<double, 3>& bary) {
+    for (;; r *= 2) {
+        const std::vector<uint32_t> faces = grid.facesIn(p - Vec3{r, r, r}, p + Vec3{r, r, r});
+        if (!faces.empty()) {
+            const double d = closestSurfacePoint(mesh, faces, p, face, bary);
+            if (d <= r * r || r > limit) return d;
+        } else if (r > limit) {
+            return 1e300;
+        }
+    }
+}
+
+Vec3 pointOf(const std::vector<Vec3>& positions, const Tri& t, const std::array<double, 3>& b) {
+    return positions[t[0]] * b[0] + positions[t[1]] * b[1] + positions[t[2]] * b[2];
+}
+
+ceres::Solver::Options solverOptions(size_t unknowns) {
+    ceres::Solver::Options so;
+    so.minimizer_type = ceres::TRUST_REGION;
+    so.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+    // Each round is linear least squares: a wide first trust region makes the first step the
+    // Gauss-Newton (exact) one.
+    so.initial_trust_region_radius = 1e12;
+    chooseSparseSolver(so, unknowns, 300);
+    so.max_num_iterations = 10;
+    so.num_threads = 1;  // the same floating-point sums whatever the machine
+    so.logging_type = ceres::SILENT;
+    so.minimizer_progress_to_stdout = false;
+    so.function_tolerance = 1e-10;
+    return so;
+}
+
+}  // namespace
+
+PlacementResult placeLevelVertices(const TriMesh& original, const FaceGrid& originalGrid, const Level& level,
+                                   const PlacementOptions& options) {
+    PlacementResult res;
+    res.positions = original.positions;
+    if (level.triangles.empty()) return res;
+    std::vector<Vec3>& pos = res.positions;
+
+    // The level's vertices (ascending welded ids) and local ids.
+    std::vector<uint32_t> verts;
+    for (const Tri& t : level.triangles) verts.insert(verts.end(), t.begin(), t.end());
+    std::sort(verts.begin(), verts.end());
+    verts.erase(std::unique(verts.begin(), verts.end()), verts.end());
+    std::vector<uint32_t> local(original.vertexCount(), UINT32_MAX);
+    for (uint32_t i = 0; i < verts.size(); ++i) local[verts[i]] = i;
+    const size_t nv = verts.size();
+
+    // Vertices on an edge used by one level triangle or by more than two stay put.
+    std::map<std::pair<uint32_t, uint32_t>, int> edgeUse;
+    for (const Tri& t : level.triangles) {
+        if (degenerateIndices(t)) continue;
+        for (size_t k = 0; k < 3; ++k) ++edgeUse[std::minmax(t[k], t[(k + 1) % 3])];
+    }
+    std::vector<char> fixed(nv, 0);
+    for (const auto& [e, n] : edgeUse)
+        if (n != 2) fixed[local[e.first]] = fixed[local[e.second]] = 1;
+    for (char f : fixed) res.fixed += size_t(f);
+    if (res.fixed == nv) return res;
+
+    // Reference orientation of every level face (as simplify left it).
+    const size_t nt = level.triangles.size();
+    std::vector<Vec3> reference(nt);
+    for (size_t t = 0; t < nt; ++t) {
+        const Tri& f = level.triangles[t];
+        reference[t] = cross(pos[f[1]] - pos[f[0]], pos[f[2]] - pos[f[0]]);
+    }
+    auto faceHolds = [&](size_t t) {
+        const Tri& f = level.triangles[t];
+        const Vec3 n = cross(pos[f[1]] - pos[f[0]], pos[f[2]] - pos[f[0]]);
+        return dot(n, reference[t]) > 0 && length(n) > 1e-3 * length(reference[t]);
+    };
+
+    const double diagonal = bounds(original).diagonal();
+    // First search radius: most closest points of a coarse level lie within a few thousandths of
+    // the diagonal; the search widens from there.
+    const double reach = std::min(std::max(level.maxDeviation, 1e-4 * diagonal), 2e-3 * diagonal);
+    double originalArea = 0;
+    for (const Tri& f : original.triangles) originalArea += area(pos[f[0]], pos[f[1]], pos[f[2]]);
+    const std::vector<SurfaceSample> originalSamples = areaSamples(original.positions, original.triangles, options.samplesPerSide);
+    std::vector<Vec3> originalPoints(originalSamples.size());
+    for (size_t i = 0; i < originalSamples.size(); ++i)
+        originalPoints[i] = pointOf(original.positions, original.triangles[originalSamples[i].triangle], originalSamples[i].bary);
+
+    std::vector<char> movedEver(nv, 0);
+    for (int round = 0; round < options.rounds; ++round) {
+        // The level as it stands: its area, samples on it, closest points both ways.
+        TriMesh current;
+        current.positions = pos;
+        current.triangles = level.triangles;
+        double levelArea = 0;
+        for (const Tri& f : level.triangles) levelArea += area(pos[f[0]], pos[f[1]], pos[f[2]]);
+        if (!(levelArea > 0) || !(originalArea > 0)) break;
+        // A small level is searched face by face (pruned by boxes, the previous sample's face as
+        // the hint: consecutive samples lie close together), a large one through a grid.
+        std::unique_ptr<FaceGrid> currentGrid;
+        std::unique_ptr<BoxedFaces> currentFaces;
+        if (nt > kSmallLevel) {
+            currentGrid = std::make_unique<FaceGrid>(current);
+        } else {
+            std::vector<uint32_t> all(nt);
+            for (uint32_t t = 0; t < nt; ++t) all[t] = t;
+            currentFaces = std::make_unique<BoxedFaces>(current, std::move(all));
+        }
+        std::vector<std::pair<uint32_t, std::array<double, 3>>> onLevel(originalPoints.size(), {UINT32_MAX, {}});
+        parallelChunks(originalPoints.size(), 256, options.threads, [&](size_t begin, size_t end, size_t) {
+            uint32_t hint = UINT32_MAX;
+            for (size_t i = begin; i < end; ++i) {
+                uint32_t f = 0;
+                std::array<double, 3> b{};
+                const double d = currentGrid ? closestThroughGrid(current, *currentGrid, originalPoints[i], reach, 4 * diagonal, f, b)
+                                             : currentFaces->closest(originalPoints[i], hint, f, b);
+                if (d < 1e300) onLevel[i] = {f, b}, hint = f;
+            }
+        });
+        const std::vector<SurfaceSample> levelSamples = areaSamples(pos, level.triangles, options.samplesPerSide);
+        std::vector<Vec3> onOriginal(levelSamples.size());
+        std::vector<char> found(levelSamples.size(), 0);
+        parallelFor(levelSamples.size(), options.threads, [&](size_t i) {
+            const Vec3 p = pointOf(pos, level.triangles[levelSamples[i].triangle], levelSamples[i].bary);
+            uint32_t f = 0;
+            std::array<double, 3> b{};
+            if (closestThroughGrid(original, originalGrid, p, reach, 4 * diagonal, f, b) < 1e300) {
+                onOriginal[i] = pointOf(original.positions, original.triangles[f], b);
+                found[i] = 1;
+            }
+        });
+
+        double rms = 0;
+        {
+            double sum = 0;
+            size_t n = 0;
+            for (size_t i = 0; i < originalPoints.size(); ++i)
+                if (onLevel[i].first != UINT32_MAX) {
+                    sum += length2(pointOf(pos, level.triangles[onLevel[i].first], onLevel[i].second) - originalPoints[i]);
+                    ++n;
+                }
+            for (size_t i = 0; i < levelSamples.size(); ++i)
+                if (found[i]) {
+                    sum += length2(pointOf(pos, level.triangles[levelSamples[i].triangle], levelSamples[i].bary) - onOriginal[i]);
+                    ++n;
+                }
+            rms = n ? std::sqrt(sum / double(n)) : 0;
+        }
+        // The linear least squares of this round.
+        std::vector<double> x(3 * nv);
+        for (size_t i = 0; i < nv; ++i)
+            for (int a = 0; a < 3; ++a) x[3 * i + size_t(a)] = pos[verts[i]][a];
+        const std::vector<double> start = x;
+        ceres::Problem problem;
+        for (size_t i = 0; i < nv; ++i) {
+            problem.AddParameterBlock(&x[3 * i], 3);
+            if (fixed[i]) problem.SetParameterBlockConstant(&x[3 * i]);
+        }
+        auto addTerm = [&](const Combination& c, Vec3 target, double weight) {
+            if (c.count == 0) return;
+            if (options.reweightPower > 0 && rms > 0) {
+                Vec3 p{0, 0, 0};
+                for (int k = 0; k < c.count; ++k) p += pos[verts[c.vertex[size_t(k)]]] * c.weight[size_t(k)];
+                weight *= 1 + std::pow(length(p - target) / rms, options.reweightPower);
+            }
+            std::vector<double*> blocks;
+            for (int k = 0; k < c.count; ++k) blocks.push_back(&x[3 * size_t(c.vertex[size_t(k)])]);
+            problem.AddResidualBlock(new PointCost(c, target, std::sqrt(weight)), nullptr, blocks);
+        };
+        auto combinationOf = [&](const Tri& t, const std::array<double, 3>& b) {
+            Combination c;
+            for (size_t k = 0; k < 3; ++k) c.add(local[t[k]], b[k]);
+            return c;
+        };
+        const double pairWeight = level.pairs.empty() ? 0 : 0.5 * originalArea / double(level.pairs.size());
+        for (const SimplificationPair& p : level.pairs) {
+            if (p.vertex >= original.vertexCount()) continue;
+            Combination c;
+            bool valid = true;
+            for (size_t k = 0; k < 3; ++k) {
+                if (p.coarse[k] >= local.size() || local[p.coarse[k]] == UINT32_MAX) { valid = false; break; }
+                c.add(local[p.coarse[k]], double(p.bary[k]));
+            }
+            if (valid) addTerm(c, original.positions[p.vertex], pairWeight);
+        }
+        const double originalWeight = originalArea / double(std::max<size_t>(1, originalPoints.size()));
+        for (size_t i = 0; i < originalPoints.size(); ++i)
+            if (onLevel[i].first != UINT32_MAX)
+                addTerm(combinationOf(level.triangles[onLevel[i].first], onLevel[i].second), originalPoints[i], originalWeight);
+        const double levelWeight = levelArea / double(std::max<size_t>(1, levelSamples.size()));
+        for (size_t i = 0; i < levelSamples.size(); ++i)
+            if (found[i]) addTerm(combinationOf(level.triangles[levelSamples[i].triangle], levelSamples[i].bary), onOriginal[i], levelWeight);
+        const double anchorWeight = options.damping * levelArea / double(nv);
+        for (size_t i = 0; i < nv; ++i) {
+            if (fixed[i]) continue;
+            Combination c;
+            c.add(uint32_t(i), 1);
+            addTerm(c, pos[verts[i]], anchorWeight);
+        }
+        ceres::Solver::Summary summary;
+        ceres::Solve(solverOptions(x.size()), &problem, &summary);
+        ++res.rounds;
+        if (summary.termination_type == ceres::FAILURE) break;
+        bool finite = true;
+        for (double v : x) finite = finite && std::isfinite(v);
+        if (!finite) break;
+
+        // Take the step, shortened per vertex until no face that held at the round's start flips:
+        // halved up to 8 times, then withdrawn.
+        std::vector<char> heldBefore(nt);
+        for (size_t t = 0; t < nt; ++t) heldBefore[t] = faceHolds(t);
+        std::vector<double> alpha(nv, 1.0);
+        std::vector<int> halvings(nv, 0);
+        for (int pass = 0;; ++pass) {
+            for (size_t i = 0; i < nv; ++i)
+                for (int a = 0; a < 3; ++a) {
+                    const size_t j = 3 * i + size_t(a);
+                    double& p = a == 0 ? pos[verts[i]].x : a == 1 ? pos[verts[i]].y : pos[verts[i]].z;
+                    p = start[j] + alpha[i] * (x[j] - start[j]);
+                }
+            bool flipped = false;
+            for (size_t t = 0; t < nt; ++t) {
+                if (!heldBefore[t] || faceHolds(t)) continue;
+                flipped = true;
+                for (uint32_t v : level.triangles[t]) {
+                    const uint32_t i = local[v];
+                    if (alpha[i] == 0) continue;
+                    ++res.shortened;
+                    alpha[i] = ++halvings[i] > 8 ? 0 : 0.5 * alpha[i];
+                }
+            }
+            if (!flipped) break;
+        }
+        for (size_t i = 0; i < nv; ++i)
+            if (alpha[i] > 0 && !fixed[i]) movedEver[i] = 1;
+    }
+    for (char m : movedEver) res.moved += size_t(m);
+    return res;
+}
+
+}  // namespace lodbake::lod_detail

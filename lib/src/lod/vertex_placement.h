@@ -1,0 +1,57 @@
+// Vertex placement of a coarse level whose connectivity is final (issue 24): half-edge collapse
+// keeps every coarse vertex at an original vertex's position, so a coarse level lies inside the
+// surface where the original bulges and outside where it is hollow. Placement moves the level's
+// vertices to minimise the two-sided squared distance to the original surface:
+//
+//   E(x) = sum over simplification pairs   w_p |P(x) - V|^2        (removed vertex V, its point P on the level)
+//        + sum over samples S of the original   w_o |Q(x) - S|^2   (Q: S's closest point on the level)
+//        + sum over samples L(x) of the level   w_l |L(x) - C|^2   (C: L's closest point on the original)
+//        + sum over level vertices   w_a |x_v - x_v^0|^2           (damping towards the round's start)
+//
+// (each weight then scaled by 1 + (d / rms)^p, see PlacementOptions::reweightPower)
+// with P, Q and L fixed barycentric combinations of the level's vertices, so each round is a
+// linear least-squares problem (solved with Ceres); the closest points are found again between
+// rounds (ICP-style). The weights make the sample sums area integrals (w = area / samples), so
+// both sides count alike whatever their triangle counts.
+//
+// Constraints: vertices on an open or non-manifold edge of the level stay where they are (the
+// boundary of an open surface, and the rim where parts touch); a welded vertex moves as one, so all
+// its wedges (charts, regions, materials, skin weights) follow it; a round's step is shortened
+// per vertex until no level face turns by 90 degrees or more from its unmoved orientation (or
+// loses almost all its area). Output depends on the inputs only, never on the thread count.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "lodbake/core/face_grid.h"
+#include "lodbake/core/mesh.h"
+#include "lodbake/core/simplification_hierarchy.h"
+
+namespace lodbake::lod_detail {
+
+struct PlacementOptions {
+    int rounds = 8;               // closest points found again and the least squares solved this many times
+    // Each term's weight is multiplied by 1 + (d / rms)^p, d its distance at the round's start and
+    // rms that of all sample terms: least squares alone lowers the mean distance, the reweighting
+    // leans it towards the largest ones (the Hausdorff distance). 0 = plain least squares.
+    double reweightPower = 2;
+    size_t samplesPerSide = 20000;  // area samples on the original and on the level, per round
+    double damping = 1e-2;        // weight of |x - x_round_start|^2 relative to the mean area per level vertex
+    int threads = 0;              // closest-point queries; 0 = all cores (never changes the result)
+};
+
+struct PlacementResult {
+    std::vector<Vec3> positions;  // the original's welded positions with the level's vertices moved
+    size_t moved = 0;             // level vertices that moved
+    size_t fixed = 0;             // level vertices held on an open or non-manifold edge
+    size_t shortened = 0;         // vertex steps shortened (summed over rounds) to keep faces from flipping
+    int rounds = 0;               // rounds run
+};
+
+// `original` is the full-resolution mesh and `originalGrid` a FaceGrid over it; `level` names its
+// vertices (welded ids of `original`) and carries the simplification pairs.
+PlacementResult placeLevelVertices(const TriMesh& original, const FaceGrid& originalGrid, const Level& level,
+                                   const PlacementOptions& options = {});
+
+}  // namespace lodbake::lod_detail
