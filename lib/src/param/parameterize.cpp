@@ -245,25 +245,40 @@ void solveChart(LocalChart& c, const ParameterizeOptions& o, double resolution, 
     c.uv = tutte;
     rep.method = "tutte";
     size_t bestFolds = levelFolds(c.mesh, tutte);
-    auto consider = [&](const ChartSolveResult& r, const char* method) {
-        if (!r.improved || !valid(r.uv)) return;
-        size_t folds = levelFolds(c.mesh, r.uv);
+    auto consider = [&](const std::vector<Vec2>& uv, const char* method) {
+        if (!valid(uv)) return;
+        size_t folds = levelFolds(c.mesh, uv);
         if (rep.method != "tutte" && folds >= bestFolds) return;
         if (rep.method == "tutte" && folds > bestFolds) return;
-        c.uv = r.uv;
+        c.uv = uv;
         rep.method = method;
         bestFolds = folds;
     };
+    // The solve starts from the least-squares conformal map when it is injective and lower in E
+    // than Tutte's (its free boundary follows the chart, so few iterations remain), else Tutte's.
+    // With no iterations the Tutte map is kept as it is.
+    const std::vector<Vec2>* start = &tutte;
+    std::vector<Vec2> lscm;
+    ChartEnergy lscmEnergy;
+    if (so.maxIterations > 0) try {
+        lscm = lscmEmbedding(c.mesh);
+        lscmEnergy = chartEnergy(c.mesh, c.pairs, lscm, so.energy);
+        if (std::isfinite(lscmEnergy.E) && lscmEnergy.E < rep.tutte.E && valid(lscm)) start = &lscm;
+    } catch (const Error&) {
+        // Singular or degenerate: Tutte's start, which exists whenever the chart is a disk.
+    }
+    rep.start = start == &lscm ? "lscm" : "tutte";
     if (so.maxIterations > 0) {
-        ChartSolveResult r = optimizeChartUV(c.mesh, c.pairs, tutte, so);
+        ChartSolveResult r = optimizeChartUV(c.mesh, c.pairs, *start, so);
         rep.iterations = r.iterations;
-        consider(r, "ceres");
+        if (r.improved) consider(r.uv, "ceres");
+        if (start == &lscm && rep.method == "tutte") consider(lscm, "lscm");
         if (so.energy.beta < 1 && (rep.method == "tutte" || bestFolds > 0)) {
             ChartSolveOptions s1 = so;
             s1.energy.beta = 1;
-            ChartSolveResult r1 = optimizeChartUV(c.mesh, c.pairs, tutte, s1);
+            ChartSolveResult r1 = optimizeChartUV(c.mesh, c.pairs, *start, s1);
             rep.iterations += r1.iterations;
-            consider(r1, "ceres-beta1");
+            if (r1.improved) consider(r1.uv, "ceres-beta1");
         }
     }
     rep.levelFlips = countLevelFlips(c.mesh, c.uv);
