@@ -52,6 +52,19 @@ TriMesh latLong(int rings, int seg, bool closed) {
 
 ChartMesh asChart(const TriMesh& m) { return {m.positions, m.triangles, {}}; }
 
+// A start map's contract: no flipped triangle, no crossing boundary edges, total UV area = 3D area.
+void expectInjectiveAndAreaMatched(const ChartMesh& c, const std::vector<Vec2>& uv) {
+    ASSERT_EQ(uv.size(), c.positions.size());
+    EXPECT_EQ(countFlips(c, uv), 0u);
+    EXPECT_EQ(countOverlaps(c, uv), 0u);
+    double a2 = 0, a3 = 0;
+    for (const Tri& t : c.triangles) {
+        a2 += 0.5 * cross(uv[t[1]] - uv[t[0]], uv[t[2]] - uv[t[0]]);
+        a3 += 0.5 * length(cross(c.positions[t[1]] - c.positions[t[0]], c.positions[t[2]] - c.positions[t[0]]));
+    }
+    EXPECT_NEAR(a2, a3, 1e-9 * a3);
+}
+
 }  // namespace
 
 //      pole
@@ -59,17 +72,7 @@ ChartMesh asChart(const TriMesh& m) { return {m.positions, m.triangles, {}}; }
 //    /_|_\   .
 TEST(ParamTutte, HemisphereHasNoFlipsOrOverlaps) {
     ChartMesh c = asChart(latLong(6, 16, false));
-    std::vector<Vec2> uv = tutteEmbedding(c);
-    ASSERT_EQ(uv.size(), c.positions.size());
-    EXPECT_EQ(countFlips(c, uv), 0u);
-    EXPECT_EQ(countOverlaps(c, uv), 0u);
-    // Area-matched: total UV area equals the 3D area.
-    double a2 = 0, a3 = 0;
-    for (const Tri& t : c.triangles) {
-        a2 += 0.5 * cross(uv[t[1]] - uv[t[0]], uv[t[2]] - uv[t[0]]);
-        a3 += 0.5 * length(cross(c.positions[t[1]] - c.positions[t[0]], c.positions[t[2]] - c.positions[t[0]]));
-    }
-    EXPECT_NEAR(a2, a3, 1e-9 * a3);
+    expectInjectiveAndAreaMatched(c, tutteEmbedding(c));
 }
 
 TEST(ParamTutte, ClosedSphereIsRejected) {
@@ -100,9 +103,7 @@ ChartMesh bentGrid() {
 TEST(ParamLscm, DevelopableChartUnfoldsIsometrically) {
     ChartMesh c = bentGrid();
     std::vector<Vec2> uv = lscmEmbedding(c);
-    ASSERT_EQ(uv.size(), c.positions.size());
-    EXPECT_EQ(countFlips(c, uv), 0u);
-    EXPECT_EQ(countOverlaps(c, uv), 0u);
+    expectInjectiveAndAreaMatched(c, uv);
     // Every edge keeps its 3D length (the unfolding is an isometry; area matching keeps the scale).
     for (const Tri& t : c.triangles)
         for (int k = 0; k < 3; ++k) {
@@ -118,15 +119,7 @@ TEST(ParamLscm, DevelopableChartUnfoldsIsometrically) {
 
 TEST(ParamLscm, HemisphereIsInjectiveAndAreaMatched) {
     ChartMesh c = asChart(latLong(6, 16, false));
-    std::vector<Vec2> uv = lscmEmbedding(c);
-    EXPECT_EQ(countFlips(c, uv), 0u);
-    EXPECT_EQ(countOverlaps(c, uv), 0u);
-    double a2 = 0, a3 = 0;
-    for (const Tri& t : c.triangles) {
-        a2 += 0.5 * cross(uv[t[1]] - uv[t[0]], uv[t[2]] - uv[t[0]]);
-        a3 += 0.5 * length(cross(c.positions[t[1]] - c.positions[t[0]], c.positions[t[2]] - c.positions[t[0]]));
-    }
-    EXPECT_NEAR(a2, a3, 1e-9 * a3);
+    expectInjectiveAndAreaMatched(c, lscmEmbedding(c));
     EXPECT_THROW(lscmEmbedding(asChart(latLong(6, 8, true))), Error);
 }
 
