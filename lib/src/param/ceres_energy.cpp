@@ -19,6 +19,9 @@ namespace {
 
 using param_detail::EnergyTerms;
 
+// Unknowns (2 per chart vertex) above which the step is solved by conjugate gradients.
+constexpr size_t kLargeChartUnknowns = 2000;
+
 // Weight of the sliver barriers (AreaCost, guarded LevelCost); zero above kBarrier x 3D area.
 constexpr double kBarrierWeight = 0.1;
 
@@ -250,9 +253,16 @@ ChartSolveResult optimizeChartUV(const ChartMesh& chart, const std::vector<Chart
         so.minimizer_type = ceres::TRUST_REGION;
         so.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
         // The Jacobian is very sparse (a residual touches at most a few vertices): sparse
-        // Cholesky of the normal equations at every size; a dense QR of a few hundred unknowns
-        // already costs more than the whole rest of parameterize.
-        if (ceres::IsSparseLinearAlgebraLibraryTypeAvailable(ceres::SUITE_SPARSE)) {
+        // Cholesky of the normal equations for small charts; a dense QR of a few hundred unknowns
+        // already costs more than the whole rest of parameterize. Large charts take conjugate
+        // gradients on the normal equations (Jacobi-preconditioned, a bounded number of steps):
+        // the pairs and level triangles couple far-apart vertices, so the Cholesky factor fills
+        // in, and its memory and time grow far faster than the chart (docs/benchmarks.md).
+        if (x.size() > kLargeChartUnknowns) {
+            so.linear_solver_type = ceres::CGNR;
+            so.preconditioner_type = ceres::JACOBI;
+            so.max_linear_solver_iterations = 50;
+        } else if (ceres::IsSparseLinearAlgebraLibraryTypeAvailable(ceres::SUITE_SPARSE)) {
             so.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
             so.sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
         } else if (ceres::IsSparseLinearAlgebraLibraryTypeAvailable(ceres::EIGEN_SPARSE)) {
