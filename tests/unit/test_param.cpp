@@ -52,18 +52,11 @@ TriMesh latLong(int rings, int seg, bool closed) {
 
 ChartMesh asChart(const TriMesh& m) { return {m.positions, m.triangles, {}}; }
 
-}  // namespace
-
-//      pole
-//     /|\      hemisphere: 6 rings x 16 segments, boundary = equator (one loop)
-//    /_|_\   .
-TEST(ParamTutte, HemisphereHasNoFlipsOrOverlaps) {
-    ChartMesh c = asChart(latLong(6, 16, false));
-    std::vector<Vec2> uv = tutteEmbedding(c);
+// A start map's contract: no flipped triangle, no crossing boundary edges, total UV area = 3D area.
+void expectInjectiveAndAreaMatched(const ChartMesh& c, const std::vector<Vec2>& uv) {
     ASSERT_EQ(uv.size(), c.positions.size());
     EXPECT_EQ(countFlips(c, uv), 0u);
     EXPECT_EQ(countOverlaps(c, uv), 0u);
-    // Area-matched: total UV area equals the 3D area.
     double a2 = 0, a3 = 0;
     for (const Tri& t : c.triangles) {
         a2 += 0.5 * cross(uv[t[1]] - uv[t[0]], uv[t[2]] - uv[t[0]]);
@@ -72,9 +65,62 @@ TEST(ParamTutte, HemisphereHasNoFlipsOrOverlaps) {
     EXPECT_NEAR(a2, a3, 1e-9 * a3);
 }
 
+}  // namespace
+
+//      pole
+//     /|\      hemisphere: 6 rings x 16 segments, boundary = equator (one loop)
+//    /_|_\   .
+TEST(ParamTutte, HemisphereHasNoFlipsOrOverlaps) {
+    ChartMesh c = asChart(latLong(6, 16, false));
+    expectInjectiveAndAreaMatched(c, tutteEmbedding(c));
+}
+
 TEST(ParamTutte, ClosedSphereIsRejected) {
     ChartMesh c = asChart(latLong(6, 8, true));
     EXPECT_THROW(tutteEmbedding(c), Error);
+}
+
+// A flat, developable chart: a 6 x 4 grid of unit squares bent 90 degrees along x = 3 (an L
+// folded like a book). Tutte puts its boundary on a circle; LSCM unfolds it exactly.
+//   +--+--+--+   (z up)
+//   |  |  |  |
+//   +--+--+--+--+--+--+  (y = 0 plane)
+ChartMesh bentGrid() {
+    ChartMesh c;
+    const int nx = 6, ny = 4;
+    for (int j = 0; j <= ny; ++j)
+        for (int i = 0; i <= nx; ++i)
+            c.positions.push_back(i <= 3 ? Vec3{double(i), double(j), 0} : Vec3{3, double(j), double(i - 3)});
+    auto id = [&](int i, int j) { return uint32_t(j * (nx + 1) + i); };
+    for (int j = 0; j < ny; ++j)
+        for (int i = 0; i < nx; ++i) {
+            c.triangles.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+            c.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+        }
+    return c;
+}
+
+TEST(ParamLscm, DevelopableChartUnfoldsIsometrically) {
+    ChartMesh c = bentGrid();
+    std::vector<Vec2> uv = lscmEmbedding(c);
+    expectInjectiveAndAreaMatched(c, uv);
+    // Every edge keeps its 3D length (the unfolding is an isometry; area matching keeps the scale).
+    for (const Tri& t : c.triangles)
+        for (int k = 0; k < 3; ++k) {
+            uint32_t a = t[k], b = t[(k + 1) % 3];
+            EXPECT_NEAR(std::sqrt(dot(uv[a] - uv[b], uv[a] - uv[b])), length(c.positions[a] - c.positions[b]), 1e-6);
+        }
+    // So E_pixel is zero up to rounding, far below the Tutte start's.
+    ChartEnergyOptions o;
+    o.beta = 1;
+    EXPECT_LT(chartEnergy(c, {}, uv, o).E, 1e-9);
+    EXPECT_GT(chartEnergy(c, {}, tutteEmbedding(c), o).E, 1.0);
+}
+
+TEST(ParamLscm, HemisphereIsInjectiveAndAreaMatched) {
+    ChartMesh c = asChart(latLong(6, 16, false));
+    expectInjectiveAndAreaMatched(c, lscmEmbedding(c));
+    EXPECT_THROW(lscmEmbedding(asChart(latLong(6, 8, true))), Error);
 }
 
 TEST(ParamCeres, HemisphereLowersEnergyWithoutFolding) {

@@ -20,6 +20,9 @@ namespace {
 
 using param_detail::EnergyTerms;
 
+// Unknowns (2 per chart vertex) above which the step is solved by conjugate gradients.
+constexpr size_t kLargeChartUnknowns = 2000;
+
 // Weight of the sliver barriers (AreaCost, guarded LevelCost); zero above kBarrier x 3D area.
 constexpr double kBarrierWeight = 0.1;
 
@@ -251,9 +254,18 @@ ChartSolveResult optimizeChartUV(const ChartMesh& chart, const std::vector<Chart
         so.minimizer_type = ceres::TRUST_REGION;
         so.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
         // The Jacobian is very sparse (a residual touches at most a few vertices): sparse
-        // Cholesky of the normal equations at every size; a dense QR of a few hundred unknowns
-        // already costs more than the whole rest of parameterize.
-        chooseSparseSolver(so, x.size(), 200);
+        // Cholesky of the normal equations for small charts; a dense QR of a few hundred unknowns
+        // already costs more than the whole rest of parameterize. Large charts take conjugate
+        // gradients on the normal equations (Jacobi-preconditioned, a bounded number of steps):
+        // the pairs and level triangles couple far-apart vertices, so the Cholesky factor fills
+        // in, and its memory and time grow far faster than the chart (docs/benchmarks.md).
+        if (x.size() > kLargeChartUnknowns) {
+            so.linear_solver_type = ceres::CGNR;
+            so.preconditioner_type = ceres::JACOBI;
+            so.max_linear_solver_iterations = 50;
+        } else {
+            chooseSparseSolver(so, x.size(), 200);
+        }
         so.max_num_iterations = options.maxIterations;
         so.num_threads = 1;
         so.logging_type = ceres::SILENT;

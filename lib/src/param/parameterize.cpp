@@ -245,25 +245,40 @@ void solveChart(LocalChart& c, const ParameterizeOptions& o, double resolution, 
     c.uv = tutte;
     rep.method = "tutte";
     size_t bestFolds = levelFolds(c.mesh, tutte);
-    auto consider = [&](const ChartSolveResult& r, const char* method) {
-        if (!r.improved || !valid(r.uv)) return;
-        size_t folds = levelFolds(c.mesh, r.uv);
+    auto consider = [&](const std::vector<Vec2>& uv, const char* method) {
+        if (!valid(uv)) return;
+        size_t folds = levelFolds(c.mesh, uv);
         if (rep.method != "tutte" && folds >= bestFolds) return;
         if (rep.method == "tutte" && folds > bestFolds) return;
-        c.uv = r.uv;
+        c.uv = uv;
         rep.method = method;
         bestFolds = folds;
     };
+    // The solve starts from the least-squares conformal map when it is injective and lower in E
+    // than Tutte's (its free boundary follows the chart, so few iterations remain), else Tutte's.
+    // With no iterations the Tutte map is kept as it is.
+    const std::vector<Vec2>* start = &tutte;
+    std::vector<Vec2> lscm;
+    ChartEnergy lscmEnergy;
+    if (so.maxIterations > 0) try {
+        lscm = lscmEmbedding(c.mesh);
+        lscmEnergy = chartEnergy(c.mesh, c.pairs, lscm, so.energy);
+        if (std::isfinite(lscmEnergy.E) && lscmEnergy.E < rep.tutte.E && valid(lscm)) start = &lscm;
+    } catch (const Error&) {
+        // Singular or degenerate: Tutte's start, which exists whenever the chart is a disk.
+    }
+    rep.start = start == &lscm ? "lscm" : "tutte";
     if (so.maxIterations > 0) {
-        ChartSolveResult r = optimizeChartUV(c.mesh, c.pairs, tutte, so);
+        ChartSolveResult r = optimizeChartUV(c.mesh, c.pairs, *start, so);
         rep.iterations = r.iterations;
-        consider(r, "ceres");
+        if (r.improved) consider(r.uv, "ceres");
+        if (start == &lscm && rep.method == "tutte") consider(lscm, "lscm");
         if (so.energy.beta < 1 && (rep.method == "tutte" || bestFolds > 0)) {
             ChartSolveOptions s1 = so;
             s1.energy.beta = 1;
-            ChartSolveResult r1 = optimizeChartUV(c.mesh, c.pairs, tutte, s1);
+            ChartSolveResult r1 = optimizeChartUV(c.mesh, c.pairs, *start, s1);
             rep.iterations += r1.iterations;
-            consider(r1, "ceres-beta1");
+            if (r1.improved) consider(r1.uv, "ceres-beta1");
         }
     }
     rep.levelFlips = countLevelFlips(c.mesh, c.uv);
@@ -705,6 +720,29 @@ bool crossingIslandsFit(const Multires& multires, const AtlasState& st, const Pa
     return fits;
 }
 
+// The faces of `candidates` (ascending) an island's bake and deviation sample: exactly
+// facesNearTriangle(candidates, triangle), found without its closest-point scan over every
+// candidate. The triangle's own face bounds the centroid's distance to the candidates from above,
+// so only faces whose boxes lie within that bound's reach (a superset of facesNearTriangle's, which
+// holds the closest face) are scanned; the ones within the true reach are the same faces in the
+// same order. Later calls of facesNearTriangle on the result return it unchanged.
+std::vector<uint32_t> islandFaces(const TriMesh& mesh, const std::vector<uint32_t>& candidates, const Tri& v, uint32_t ownFace) {
+    const std::array<Vec3, 3> tri{mesh.positions[v[0]], mesh.positions[v[1]], mesh.positions[v[2]]};
+    if (!std::binary_search(candidates.begin(), candidates.end(), ownFace)) return facesNearTriangle(mesh, candidates, tri);
+    const Vec3 c = (tri[0] + tri[1] + tri[2]) * (1.0 / 3);
+    const Tri& o = mesh.triangles[ownFace];
+    const auto b = closestOnTriangle(c, mesh.positions[o[0]], mesh.positions[o[1]], mesh.positions[o[2]]);
+    const Vec3 q = mesh.positions[o[0]] * b[0] + mesh.positions[o[1]] * b[1] + mesh.positions[o[2]] * b[2];
+    double r = 0;
+    for (const Vec3& p : tri) r = std::max(r, length(p - c));
+    // Twice facesNearTriangle's margin: the bound's reach is never below the true one.
+    const double reach = (length(q - c) + 2 * r) * (1 + 2e-9) + 2e-12;
+    std::vector<uint32_t> near;
+    for (uint32_t f : candidates)
+        if (boxDistance2(faceBox(mesh, f), c) <= reach * reach) near.push_back(f);
+    return facesNearTriangle(mesh, near, tri);
+}
+
 // Checks every level in the atlas as the tool does (float UVs, overlap tolerance 1e-7) and gives
 // an island to each level triangle that is flipped, crossing (with `crossing`), or the one of an
 // overlapping pair with more projected corners (it straddles a chart cut), else the smaller.
@@ -751,8 +789,10 @@ size_t addFoldIslands(const TriMesh& mesh, const Multires& multires, const std::
             for (uint32_t vv : v) cs.insert(cs.end(), st.vertexCharts[vv].begin(), st.vertexCharts[vv].end());
             std::sort(cs.begin(), cs.end());
             cs.erase(std::unique(cs.begin(), cs.end()), cs.end());
-            for (uint32_t c : cs) isl.faces.insert(isl.faces.end(), charts[c].faces.begin(), charts[c].faces.end());
-            std::sort(isl.faces.begin(), isl.faces.end());
+            std::vector<uint32_t> candidates;
+            for (uint32_t c : cs) candidates.insert(candidates.end(), charts[c].faces.begin(), charts[c].faces.end());
+            std::sort(candidates.begin(), candidates.end());
+            isl.faces = islandFaces(mesh, candidates, v, L.faces[t]);
             res.islands.push_back(std::move(isl));
             ++added;
         }

@@ -62,6 +62,7 @@ nlohmann::json makeReport(const ParameterizeSettings& s, const Asset& asset, con
                           {"vertices", r.vertices},
                           {"pairs", r.pairs},
                           {"method", r.method},
+                          {"start", r.start},
                           {"iterations", r.iterations},
                           {"tutte", energyJson(r.tutte)},
                           {"final", energyJson(r.final)},

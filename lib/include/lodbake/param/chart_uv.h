@@ -42,6 +42,13 @@ struct ChartMesh {
 // \throw Impossible when the chart is not a disk (no single boundary loop).
 std::vector<Vec2> tutteEmbedding(const ChartMesh& chart);
 
+// Least-squares conformal map (Lévy et al. 2002) with two far-apart boundary vertices pinned, then
+// oriented counter-clockwise and scaled so the total UV area equals the 3D area. Its boundary is
+// free, so it is not guaranteed injective: check countFlips / countOverlaps before using it.
+// \throw Impossible when the chart has no boundary; SolverError when the system is singular (a
+// vertex no non-degenerate triangle constrains).
+std::vector<Vec2> lscmEmbedding(const ChartMesh& chart);
+
 // A simplification pair restricted to one chart (indices are local vertices of the chart).
 struct ChartPair {
     uint32_t vertex = 0;

@@ -43,8 +43,9 @@ struct ChartReport {
     size_t flips = 0, overlaps = 0;
     size_t levelFlips = 0;                  // flipped level triangles of this chart (all levels)
     int iterations = 0;
-    std::string method;                     // "ceres", "ceres-beta1", "tutte", "single-face" (a face
-                                            // split off by the fold fallback) or "failed" (no map)
+    std::string method;                     // "ceres", "ceres-beta1", "lscm", "tutte", "single-face" (a
+                                            // face split off by the fold fallback) or "failed" (no map)
+    std::string start;                      // the solve's start: "lscm" or "tutte" (empty: not solved)
     std::string failure;                    // why the solver failed ("failed" only)
     double seconds = 0;
 };
