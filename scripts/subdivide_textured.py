@@ -15,6 +15,9 @@ import sys
 
 import numpy as np
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "../tests/cli"))
+from lodbake_test import Gltf  # noqa: E402
+
 COMPONENTS = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4, "MAT4": 16}
 DTYPES = {5120: np.int8, 5121: np.uint8, 5122: np.int16, 5123: np.uint16, 5125: np.uint32, 5126: np.float32}
 
@@ -24,28 +27,11 @@ class Source:
 
     def __init__(self, path):
         self.dir = os.path.dirname(path)
-        with open(path, "rb") as f:
-            data = f.read()
-        self.glb_bin = None
-        if data[:4] == b"glTF":
-            off = 12
-            while off < len(data):
-                clen, ctype = struct.unpack_from("<II", data, off)
-                chunk = data[off + 8: off + 8 + clen]
-                if ctype == 0x4E4F534A:
-                    self.json = json.loads(chunk.decode("utf-8"))
-                elif ctype == 0x004E4942:
-                    self.glb_bin = chunk
-                off += 8 + clen
-        else:
-            self.json = json.loads(data.decode("utf-8"))
-        self.buffers = []
-        for b in self.json.get("buffers", []):
-            if "uri" in b:
-                with open(os.path.join(self.dir, b["uri"]), "rb") as f:
-                    self.buffers.append(f.read())
-            else:
-                self.buffers.append(self.glb_bin)
+        g = Gltf(path)  # JSON and buffer 0 (GLB chunk or external .bin)
+        self.json = g.json
+        if len(self.json.get("buffers", [])) > 1:
+            sys.exit("subdivide_textured.py: %s: more than one buffer is not supported" % path)
+        self.buffers = [g.bin]
 
     def view_bytes(self, index):
         v = self.json["bufferViews"][index]
