@@ -147,6 +147,34 @@ TEST(PackAtlas, PowerOfTwoAndMaxSize) {
     }
 }
 
+// A density limit far beyond any page (a level that switches at a huge screen coverage, as a
+// near-exact simplification does): the charts are never rasterised at that density, so the
+// packer neither runs out of memory nor overflows texel counts, and it packs the densest fit of
+// the page, free size and power of two alike.
+TEST(PackAtlas, HugeDensityLimitPacksTheDensestFitOfThePage) {
+    std::vector<AtlasChart> charts;
+    for (int i = 0; i < 40; ++i) charts.push_back(rectChart(0, 0, 0.05 + 0.01 * (i % 7), 0.04));
+    for (bool pot : {false, true}) {
+        AtlasOptions o;
+        o.maxTexelsPerUnit = 1e12;
+        o.gutter = 4;
+        o.maxSize = 512;
+        o.powerOfTwo = pot;
+        AtlasResult r = packAtlas(charts, o);
+        EXPECT_LE(r.width, 512);
+        EXPECT_LE(r.height, 512);
+        EXPECT_GT(r.texelsPerUnit, 500);  // the charts' 0.1 square units fill much of 512^2 texels
+        EXPECT_LT(r.texelsPerUnit, 2000);
+        for (size_t i = 0; i < charts.size(); ++i) {
+            Box b = boxOf(placed(charts[i], r.charts[i]));
+            EXPECT_GE(b.x0, -1e-6);
+            EXPECT_GE(b.y0, -1e-6);
+            EXPECT_LE(b.x1, r.width + 1e-6);
+            EXPECT_LE(b.y1, r.height + 1e-6);
+        }
+    }
+}
+
 // Shapes, not boxes: two right triangles whose bounding boxes cannot share a row or column
 // without wasting half of each box nest into one square (one turned by 180 degrees), and their
 // placed triangles stay at least the gutter apart.

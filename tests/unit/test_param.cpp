@@ -392,6 +392,39 @@ TEST(Bake, IslandSamplesTheClosestSurfacePoint) {
     EXPECT_THROW(bakeBaseColor(a, twoQuadsUV(), o, {none}), InvalidInput);
 }
 
+// A 21 x 21 vertex grid (z = 0) in two charts (left and right halves, 800 faces in all) and two
+// layout islands: a small one across the chart border and one spanning the grid. An island's
+// faces are only those near it, yet the bake's closest-point faces (facesNearTriangle) are the
+// same as over every face of the charts holding its corners, in the same order.
+TEST(Bake, LayoutIslandFacesAreTheNearOnesOfTheirCharts) {
+    TriMesh m;
+    auto v = [](int x, int y) { return uint32_t(y * 21 + x); };
+    for (int y = 0; y <= 20; ++y)
+        for (int x = 0; x <= 20; ++x) m.positions.push_back({0.1 * x, 0.1 * y, 0});
+    ChartLayout layout;
+    layout.chartCount = 2;
+    for (int y = 0; y < 20; ++y)
+        for (int x = 0; x < 20; ++x) {
+            m.triangles.push_back({v(x, y), v(x + 1, y), v(x + 1, y + 1)});
+            m.triangles.push_back({v(x, y), v(x + 1, y + 1), v(x, y + 1)});
+            layout.faceChart.insert(layout.faceChart.end(), 2, x < 10 ? 0u : 1u);
+        }
+    layout.cornerUV.assign(m.triangles.size(), {Vec2{0, 0}, Vec2{1, 0}, Vec2{0, 1}});
+    LayoutIsland small, large;
+    small.vertices = {v(9, 5), v(11, 5), v(10, 7)};
+    large.vertices = {v(0, 0), v(20, 0), v(10, 20)};
+    layout.islands = {small, large};
+    std::vector<BakeIsland> islands = layoutBakeIslands(m, layout);
+    ASSERT_EQ(islands.size(), 2u);
+    EXPECT_LT(islands[0].faces.size(), 400u);  // of the 800 faces of its two charts
+    for (const BakeIsland& isl : islands) {
+        std::vector<uint32_t> all(m.triangles.size());
+        for (uint32_t f = 0; f < all.size(); ++f) all[f] = f;
+        std::stable_sort(all.begin(), all.end(), [&](uint32_t a, uint32_t b) { return layout.faceChart[a] < layout.faceChart[b]; });
+        EXPECT_EQ(facesNearTriangle(m, isl.faces, isl.position), facesNearTriangle(m, all, isl.position));
+    }
+}
+
 namespace {
 
 // A flat 5 x 5 vertex grid (z = 0, normal +z) as the original mesh, one base region, and one

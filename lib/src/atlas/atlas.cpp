@@ -111,7 +111,9 @@ std::vector<Oriented> chartOrientations(const AtlasChart& chart) {
     return {frameAt(chart, hull, bestC, bestS)};
 }
 
-int texels(double extent, double t) { return std::max(1, int(std::ceil(extent * t - 1e-9))); }
+// Texels an extent takes at density t; held below 2^30 so that sums and gutters stay in int range
+// at any density asked for.
+int texels(double extent, double t) { return int(std::clamp(std::ceil(extent * t - 1e-9), 1.0, double(1 << 30))); }
 
 // A chart's footprint on the page at one density and rotation: the texels its triangles touch
 // (conservative rasterisation), grown by the gutter radius, as runs [a, b] per row.
@@ -359,6 +361,7 @@ constexpr size_t kManyChartsForRules = 256;
 constexpr size_t kManyChartsWidthStride = 4;
 constexpr int kShuffledOrders = 8;
 constexpr int kOrderSweeps = 8;
+constexpr double kCoverageSlack = 4;  // mayFit: chart coverage may exceed the page this many times
 
 // Placement search on large pages runs on a grid of scale x scale texel blocks (charts and their
 // gutters rounded up to whole blocks), keeping the search near 512 blocks across.
@@ -487,20 +490,42 @@ double paddedArea(const std::vector<Oriented>& charts, double t, int gutter) {
     return a;
 }
 
+// False when the charts cannot fit a binW x binH page at density t: a chart's rectangle is
+// longer than the page in either quarter turn, or their coverage exceeds the page many times
+// over (the slack allows for charts whose triangles overlap in UV). Footprints are rasterised
+// at t only when this holds, so their memory stays within a few pages whatever the density
+// limit: a level that switches at a huge coverage (a near-exact simplification) asks for one.
+bool mayFit(const std::vector<Oriented>& charts, double t, int binW, int binH) {
+    const int shortSide = std::min(binW, binH), longSide = std::max(binW, binH);
+    double area = 0;
+    for (const Oriented& c : charts) {
+        const int a = texels(c.w, t), b = texels(c.h, t);
+        if (std::min(a, b) > shortSide || std::max(a, b) > longSide) return false;
+        area += c.uvArea * t * t;
+    }
+    return area <= kCoverageSlack * double(binW) * binH;
+}
+
 // The densest t in (0, hi] at which the charts fit in binW x binH, to 0.5%: a bracket around the
 // density whose padded area fills 3/4 of the page (area grows as t^2), narrowed by bisection.
 std::optional<std::pair<double, Packing>> densestFit(const Orientations& charts, const std::vector<size_t>& order, int threads,
                                                      double hi, int gutter, int binW, int binH) {
     const int scale = searchScale(std::max(binW, binH));
     auto fit = [&](double t) { return packBitmap(charts, order, t, gutter, binW, binH, scale, threads); };
-    if (auto p = fit(hi)) return std::make_pair(hi, *p);
     std::vector<Oriented> first;
     for (const auto& c : charts) first.push_back(c.front());
+    if (mayFit(first, hi, binW, binH))
+        if (auto p = fit(hi)) return std::make_pair(hi, *p);
     double t = std::min(hi, hi * std::sqrt(0.75 * double(binW) * binH / std::max(1e-300, paddedArea(first, hi, gutter))));
+    // The charts' coverage bounds the start too (it binds only when texels() saturates at a huge hi).
+    double uvArea = 0;
+    for (const Oriented& c : first) uvArea += c.uvArea;
+    if (uvArea > 0) t = std::min(t, std::sqrt(double(binW) * binH / uvArea));
     double lo = 0;
     std::optional<Packing> loPack;
     for (int k = 0; k < 64 && !loPack; ++k, t *= 0.8) {
-        if (auto p = fit(t)) { lo = t; loPack = p; }
+        if (!mayFit(first, t, binW, binH)) hi = t;
+        else if (auto p = fit(t)) { lo = t; loPack = p; }
         else hi = t;
     }
     if (!loPack) {
@@ -510,7 +535,8 @@ std::optional<std::pair<double, Packing>> densestFit(const Orientations& charts,
     }
     while (hi - lo > 0.005 * hi) {
         double mid = 0.5 * (lo + hi);
-        if (auto p = fit(mid)) { lo = mid; loPack = p; }
+        if (!mayFit(first, mid, binW, binH)) hi = mid;
+        else if (auto p = fit(mid)) { lo = mid; loPack = p; }
         else hi = mid;
     }
     return std::make_pair(std::max(lo, 1e-12), *loPack);
@@ -594,7 +620,6 @@ PagePick packFreeSize(const Orientations& turned, const std::vector<Oriented>& c
     double a = 0;
     for (const Oriented& c : charts) a += std::pow(std::sqrt(c.uvArea) * tMax + gutter, 2);
     const int scale = searchScale(std::sqrt(a));
-    Footprints fp = footprintsAt(turned, tMax, gutter, scale, threads);
     double bestArea = 1e300;
     const bool manyCharts = charts.size() > kManyChartsForRules;
     const std::vector<Placement> rules = manyCharts ? std::vector<Placement>{Placement::TopEdge}
@@ -612,6 +637,9 @@ PagePick packFreeSize(const Orientations& turned, const std::vector<Oriented>& c
             for (size_t o = 0; o < orders.size(); ++o)
                 for (size_t k = 0; k < std::size(kStripWidths); k += widthStride)
                     if (k == 0 || stripWidth(k) != stripWidth(k - widthStride)) trials.push_back({rule, o, stripWidth(k)});
+    // Rasterised only for the trials: at a density whose padded area exceeds the page they would
+    // take memory in proportion to tMax^2 for nothing.
+    const Footprints fp = trials.empty() ? Footprints{} : footprintsAt(turned, tMax, gutter, scale, threads);
     std::vector<std::optional<Packing>> packed(trials.size());
     parallelFor(trials.size(), threads, [&](size_t i) {
         packed[i] = packBitmap(fp, orders[trials[i].order], trials[i].width, maxSize, trials[i].rule);

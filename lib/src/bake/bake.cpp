@@ -26,6 +26,7 @@
 
 #include "lodbake/core/closest_point.h"
 #include "lodbake/core/errors.h"
+#include "lodbake/core/face_grid.h"
 #include "lodbake/core/parallel.h"
 #include "lodbake/core/tangents.h"
 #include "lodbake/texture/codec.h"
@@ -655,14 +656,20 @@ BakeResult bakeMaterial(const BakeSources& bs, const std::vector<std::array<Vec2
 std::vector<BakeIsland> layoutBakeIslands(const TriMesh& mesh, const ChartLayout& layout) {
     std::vector<BakeIsland> out;
     if (layout.islands.empty()) return out;
-    std::vector<std::vector<uint32_t>> chartFaces(layout.chartCount);
     std::vector<std::vector<uint32_t>> vertexCharts(mesh.vertexCount());
+    std::vector<uint32_t> unindexed;  // faces with a repeated corner index: FaceGrid leaves them out
     for (uint32_t f = 0; f < mesh.triangleCount(); ++f) {
         const uint32_t c = layout.faceChart.at(f);
         if (c >= layout.chartCount) throw InvalidInput("layout: chart id out of range");
-        chartFaces[c].push_back(f);
         for (uint32_t v : mesh.triangles[f]) vertexCharts[v].push_back(c);
+        if (degenerateIndices(mesh.triangles[f])) unindexed.push_back(f);
     }
+    // An island samples the faces of every chart that holds one of its corners, but the bake
+    // (facesNearTriangle) keeps only those whose box lies within d0 + 2r of the island's centroid
+    // c (d0: c's distance to them, r: the largest |corner - c|). A corner lies on such a face, so
+    // d0 <= r: the faces within 4r of c hold all it keeps, in the same order (by chart, then id),
+    // and the island's face list stays proportional to its own size, not its charts'.
+    const FaceGrid grid(mesh);
     for (size_t i = 0; i < layout.islands.size(); ++i) {
         const LayoutIsland& isl = layout.islands[i];
         BakeIsland b;
@@ -675,7 +682,20 @@ std::vector<BakeIsland> layoutBakeIslands(const TriMesh& mesh, const ChartLayout
         }
         std::sort(charts.begin(), charts.end());
         charts.erase(std::unique(charts.begin(), charts.end()), charts.end());
-        for (uint32_t c : charts) b.faces.insert(b.faces.end(), chartFaces[c].begin(), chartFaces[c].end());
+        if (charts.empty()) throw InvalidInput("layout island " + std::to_string(i) + " touches no chart");
+        const Vec3 c = (b.position[0] + b.position[1] + b.position[2]) * (1.0 / 3);
+        double r = 0;
+        for (const Vec3& q : b.position) r = std::max(r, length(q - c));
+        const double reach = 4 * r * (1 + 1e-6) + 1e-9 * (1 + length(c));
+        std::vector<uint32_t> near = grid.facesIn(c - Vec3{reach, reach, reach}, c + Vec3{reach, reach, reach});
+        near.insert(near.end(), unindexed.begin(), unindexed.end());
+        for (uint32_t f : near)
+            if (std::binary_search(charts.begin(), charts.end(), layout.faceChart[f]) && boxDistance2(faceBox(mesh, f), c) <= reach * reach)
+                b.faces.push_back(f);
+        std::sort(b.faces.begin(), b.faces.end(), [&](uint32_t x, uint32_t y) {
+            return std::make_pair(layout.faceChart[x], x) < std::make_pair(layout.faceChart[y], y);
+        });
+        b.faces.erase(std::unique(b.faces.begin(), b.faces.end()), b.faces.end());
         if (b.faces.empty()) throw InvalidInput("layout island " + std::to_string(i) + " touches no chart");
         out.push_back(std::move(b));
     }

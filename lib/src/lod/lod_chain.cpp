@@ -765,7 +765,11 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
     double area3D = 0;
     for (const Tri& t : mesh.triangles) area3D += triArea3(mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]);
     const FaceGrid grid(mesh);
+    const auto tMeasure = Clock::now();
+    const double cpuMeasure = processCpuSeconds();
     measureLevels(asset, grid, views, options, res, progress);  // 2
+    res.measureSeconds = secondsSince(tMeasure);
+    res.measureCpuSeconds = processCpuSeconds() - cpuMeasure;
     res.screenCoverage = screenCoverages(res, options);  // 3
 
     // 4. Per level: texture, page, mesh, bake.
@@ -784,9 +788,20 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
         selectTexture(mr, layouts, views[k].level, hierarchy, area3D, options, r);
         const LayoutData& lay = layouts[r.rank];
         const bool projected = k > 0 && options.projectLevels;
+        auto tStep = Clock::now();
+        double cpuStep = processCpuSeconds();
+        auto lap = [&](double& wall, double& cpu) {
+            const double c = processCpuSeconds();
+            wall = secondsSince(tStep);
+            cpu = c - cpuStep;
+            tStep = Clock::now();
+            cpuStep = c;
+        };
         const LevelUVs luv = projected ? ownCharts(mesh, lay, views[k], levelUVs(mesh, lay, views[k], views[k].data))
                                        : levelUVs(mesh, lay, views[k], views[k].data);
+        lap(r.wall.uvs, r.cpu.uvs);
         const LevelAtlas la = packLevelPage(lay, luv, k, r, res.reports, options);
+        lap(r.wall.page, r.cpu.page);
         recordPage(la, lay, r);
         r.absorbedIslands = luv.absorbedIslands;
         LodLevelData& L = res.levels[k];
@@ -799,13 +814,16 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
         const BakeChannels channels = levelChannels(plan, normalMap);
         if (channels.normal) L.tangents = levelTangents(L);
         const BakeTarget target = levelBakeTarget(L, la.atlas.width, la.atlas.height);
+        lap(r.wall.mesh, r.cpu.mesh);
         const double reach = 1.5 * r.hausdorff + kProjectionSlack * res.diagonal;
         const BakeResult baked = projected
                                      ? bakeProjected(sources, grid, L, front, la.atlas.width, la.atlas.height, reach, res.diagonal, channels, target,
                                                      options.threads)
                                      : bakePage(sources, lay, la, channels, target, options.threads);
         r.bakeSeconds = baked.seconds;
+        lap(r.wall.bake, r.cpu.bake);
         L.material = levelMaterial(plan, baked, la.atlas.width, la.atlas.height, io, L.name);
+        lap(r.wall.material, r.cpu.material);
         r.channels = channelNames(L.material);
         r.triangles = L.indices.size() / 3;
         r.vertices = L.positions.size() / 3;

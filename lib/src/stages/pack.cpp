@@ -16,6 +16,9 @@ nlohmann::json makeReport(const PackSettings& s, const Asset& asset, const Multi
     for (size_t k = 0; k < res.reports.size(); ++k) {
         const PackLevelReport& r = res.reports[k];
         auto cache = [](const VertexCacheStats& v) { return nlohmann::json{{"acmr", v.acmr}, {"atvr", v.atvr}}; };
+        auto steps = [](const PackLevelReport::Steps& t) {
+            return nlohmann::json{{"uvs", t.uvs}, {"page", t.page}, {"mesh", t.mesh}, {"bake", t.bake}, {"material", t.material}};
+        };
         levels.push_back({{"lod", k},
                           {"source", r.source},
                           {"triangles", r.triangles},
@@ -44,6 +47,8 @@ nlohmann::json makeReport(const PackSettings& s, const Asset& asset, const Multi
                           {"maxScreenCoverage", r.maxCoverage},
                           {"switchDistance", r.switchDistance},
                           {"bakeSeconds", r.bakeSeconds},
+                          {"seconds", steps(r.wall)},
+                          {"cpuSeconds", steps(r.cpu)},
                           {"channels", r.channels},
                           {"textureRank", r.rank},
                           {"pageSideNeeded", r.sideNeeded},
@@ -84,7 +89,7 @@ nlohmann::json makeReport(const PackSettings& s, const Asset& asset, const Multi
     warnings.insert(warnings.end(), res.warnings.begin(), res.warnings.end());
     warnings.insert(warnings.end(), ws.warnings.begin(), ws.warnings.end());
     rep["warnings"] = warnings;
-    rep["time"] = {{"load", loadSeconds}, {"pack", res.seconds}, {"write", writeSeconds}};
+    rep["time"] = {{"load", loadSeconds}, {"pack", res.seconds}, {"measure", res.measureSeconds}, {"measureCpu", res.measureCpuSeconds}, {"write", writeSeconds}};
     return rep;
 }
 

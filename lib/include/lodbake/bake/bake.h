@@ -52,7 +52,8 @@ struct BakeIsland {
 };
 
 // The level-triangle islands of a chart layout as the bake takes them: the layout's UVs, and as
-// faces every face of a chart that holds one of the island's vertices.
+// faces those of the charts holding one of the island's vertices that lie near enough to hold a
+// closest point of the island (the bake's facesNearTriangle keeps no others).
 // \throw InvalidInput (an island touching no chart).
 std::vector<BakeIsland> layoutBakeIslands(const TriMesh& mesh, const ChartLayout& layout);
 

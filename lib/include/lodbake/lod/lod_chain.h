@@ -97,6 +97,12 @@ struct PackLevelReport {
     double maxCoverage = 0;       // ... and below this (the next finer level's threshold; LOD0: lod0Coverage)
     double switchDistance = 0;    // camera distance (model units, fovY) at which the next coarser level takes over
     double bakeSeconds = 0;
+    // Where the level's time went, seconds: layout UVs (and own charts), page search, level mesh
+    // (with tangents), bake, material (the baked channels encoded); wall and process CPU time.
+    struct Steps {
+        double uvs = 0, page = 0, mesh = 0, bake = 0, material = 0;
+    };
+    Steps wall, cpu;
     std::vector<std::string> channels;  // the textures of the level's material (level_material.h channelNames)
     double sideNeeded = 0;        // page side estimate the level needs: sqrt(3D area) x texelLimit / 0.8, capped by maxSize
     uint32_t rank = 0;            // texture hierarchy rank the level is textured with (0 = T0)
@@ -113,6 +119,7 @@ struct PackResult {
     Rig rig;                                // the asset's skin and animations, written once for every level
     MorphTargets morph;                     // the asset's morph target names and default weights
     double seconds = 0;
+    double measureSeconds = 0, measureCpuSeconds = 0;  // of seconds: the levels' measured deviation (wall, CPU)
 };
 
 // \pre `multires.charts` is set (the asset went through parameterize) and matches asset.mesh.
