@@ -68,8 +68,8 @@ double posedVertexDeviation(const Asset& a, const Level& level, const std::vecto
     vertices.samplesPerSide = 0;  // vertices only: what simplify's deviation bounds
     double worst = 0;
     for (const PoseSample& s : poses)
-        worst = std::max(worst, surfaceDistance(poseMesh(a.rig, a.mesh, s.animation, s.time),
-                                                poseMesh(a.rig, coarse, s.animation, s.time), vertices).aToB.max);
+        worst = std::max(worst, surfaceDistance(poseMesh(a.rig, a.morph, a.mesh, s.animation, s.time),
+                                                poseMesh(a.rig, a.morph, coarse, s.animation, s.time), vertices).aToB.max);
     return worst;
 }
 
@@ -100,9 +100,9 @@ TEST(PoseSamples, RestPoseThenEvenTimesOfEachAnimation) {
 TEST(PoseSamples, PosedWedgesMatchPoseMeshAndRigidJoints) {
     Asset a = bentTube();
     const std::vector<PoseSample> poses = samplePoses(a.rig, {});
-    PosedWedges posed = poseWedges(a.rig, a.mesh, poses);
+    PosedWedges posed = poseWedges(a.rig, a.morph, a.mesh, poses);
     ASSERT_EQ(posed.positions.size(), poses.size());
-    const TriMesh end = poseMesh(a.rig, a.mesh, 0, 1);
+    const TriMesh end = poseMesh(a.rig, a.morph, a.mesh, 0, 1);
     for (uint32_t w = 0; w < a.mesh.wedges.size(); ++w) {
         EXPECT_NEAR(length(posed.positions.back()[w] - end.positions[end.wedges.vertex[w]]), 0, 1e-12);
         const Vec4& q = a.mesh.wedges.weights[w];
@@ -124,7 +124,7 @@ TEST(SimplifyPosed, LevelsStayWithinTheirDeviationWhenPosed) {
     bind.levels = {{0.5, 0, 0}, {0.1, 0, 0}};
     bind.maxInfluenceChange = 1;  // the influence rule off: only the posed measure guards the knee
     SimplifyOptions posedOptions = bind;
-    posedOptions.posed = poseWedges(a.rig, a.mesh, poses);
+    posedOptions.posed = poseWedges(a.rig, a.morph, a.mesh, poses);
     const SimplifyResult flat = simplify(a.mesh, bind);
     const SimplifyResult posed = simplify(a.mesh, posedOptions);
     ASSERT_EQ(posed.multires.levels.size(), 2u);
@@ -145,8 +145,8 @@ TEST(SimplifyPosed, LevelsStayWithinTheirDeviationWhenPosed) {
         DistanceOptions d;
         d.samplesPerSide = 2000;
         d.threads = 1;
-        const double hl = posedSurfaceDistance(a.rig, a.mesh, lm, poses, d).hausdorff;
-        const double hf = posedSurfaceDistance(a.rig, a.mesh, fm, poses, d).hausdorff;
+        const double hl = posedSurfaceDistance(a.rig, a.morph, a.mesh, lm, poses, d).hausdorff;
+        const double hf = posedSurfaceDistance(a.rig, a.morph, a.mesh, fm, poses, d).hausdorff;
         EXPECT_LE(hl, 1.1 * L.maxDeviation + 1e-12) << "level " << k + 1;
         EXPECT_LT(hl, hf) << "level " << k + 1;
     }

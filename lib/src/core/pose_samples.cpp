@@ -40,7 +40,7 @@ static bool isRigid(const Mat4& m) {
     return det3(m) > 0;
 }
 
-PosedWedges poseWedges(const Rig& rig, const TriMesh& mesh, const std::vector<PoseSample>& samples) {
+PosedWedges poseWedges(const Rig& rig, const MorphTargets& morph, const TriMesh& mesh, const std::vector<PoseSample>& samples) {
     PosedWedges out;
     const Wedges& W = mesh.wedges;
     if (samples.empty() || rig.empty() || W.size() == 0 || W.joints.size() != W.size() || W.weights.size() != W.size())
@@ -49,7 +49,7 @@ PosedWedges poseWedges(const Rig& rig, const TriMesh& mesh, const std::vector<Po
     // this measure poses exactly as compare and the viewers do.
     std::vector<uint8_t> rigid(rig.joints.size(), 1);
     for (const PoseSample& s : samples) {
-        const TriMesh posed = poseMesh(rig, mesh, s.animation, s.time);
+        const TriMesh posed = poseMesh(rig, morph, mesh, s.animation, s.time);
         std::vector<Vec3> p(W.size());
         for (size_t w = 0; w < W.size(); ++w) {
             const uint32_t v = posed.wedges.vertex[w];

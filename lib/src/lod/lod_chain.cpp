@@ -569,7 +569,7 @@ GeometricDistance measureLevel(const Asset& asset, const LevelView& lv, const st
         level.wedges = asset.mesh.wedges;
         level.cornerWedges = lv.cornerWedges;
     }
-    return posedSurfaceDistance(asset.rig, asset.mesh, level, poses, dopt);
+    return posedSurfaceDistance(asset.rig, asset.morph, asset.mesh, level, poses, dopt);
 }
 
 // Vertex placement of level view `lv` (measured as `d`): kept when the measured Hausdorff

@@ -19,14 +19,15 @@ void raise(OneSidedDistance& to, const OneSidedDistance& d) {
 
 }  // namespace
 
-GeometricDistance posedSurfaceDistance(const Rig& rig, const TriMesh& a, const TriMesh& b,
+GeometricDistance posedSurfaceDistance(const Rig& rig, const MorphTargets& morph, const TriMesh& a, const TriMesh& b,
                                        const std::vector<PoseSample>& poses, const DistanceOptions& options) {
     GeometricDistance out = surfaceDistance(a, b, options);
     if (rig.empty()) return out;
     for (const PoseSample& s : poses) {
         GeometricDistance d;
         try {
-            d = surfaceDistance(poseMesh(rig, a, s.animation, s.time), poseMesh(rig, b, s.animation, s.time), options);
+            d = surfaceDistance(poseMesh(rig, morph, a, s.animation, s.time),
+                                poseMesh(rig, morph, b, s.animation, s.time), options);
         } catch (const Impossible&) {
             continue;  // the pose scales a mesh to no area: nothing to see there
         }

@@ -54,7 +54,7 @@ StageResult runSimplify(const SimplifySettings& s) {
     opt.progress = s.common.progress;
     Clock::time_point t1 = Clock::now();
     const std::vector<PoseSample> poses = samplePoses(asset.rig, s.poses);
-    opt.posed = poseWedges(asset.rig, asset.mesh, poses);
+    opt.posed = poseWedges(asset.rig, asset.morph, asset.mesh, poses);
     SimplifyResult result = simplify(asset.mesh, opt);
     double simplifySeconds = secondsSince(t1);
     double writeSeconds = writeStageOutput(s.common, asset, &result.multires, "simplify");

@@ -41,6 +41,6 @@ struct PosedWedges {
 
 // \pre mesh is an asset's mesh whose wedges carry the rig's influences (Wedges::joints/weights).
 // Empty when `samples` is empty, the rig is empty or the mesh has no influences.
-PosedWedges poseWedges(const Rig& rig, const TriMesh& mesh, const std::vector<PoseSample>& samples);
+PosedWedges poseWedges(const Rig& rig, const MorphTargets& morph, const TriMesh& mesh, const std::vector<PoseSample>& samples);
 
 }  // namespace lodbake

@@ -14,7 +14,7 @@ namespace lodbake {
 // the bind-pose figures with hausdorff, mean and rms (and their one-sided parts) raised to the
 // largest over the poses. The relative figures stay relative to a's bind-pose diagonal. A pose
 // that flattens either mesh to no area is skipped.
-GeometricDistance posedSurfaceDistance(const Rig& rig, const TriMesh& a, const TriMesh& b,
+GeometricDistance posedSurfaceDistance(const Rig& rig, const MorphTargets& morph, const TriMesh& a, const TriMesh& b,
                                        const std::vector<PoseSample>& poses, const DistanceOptions& options = {});
 
 }  // namespace lodbake
