@@ -158,8 +158,11 @@ class AnimationChain(unittest.TestCase):
                 diagonals.append(r0["geometry"]["diagonal"])
                 for k in (1, 2):
                     rk = posed(MORPH_CUBE, p + ".lod.glb", k, time)
-                    measured = reports["pack"]["levels"][k]["deviation"]["relHausdorff"]
-                    self.assertLessEqual(rk["geometry"]["relHausdorff"], measured + 0.005, (k, measured, rk["geometry"]))
+                    # Absolute distances: compare's relative figures are relative to the posed
+                    # diagonal, pack's to the rest pose's, and the cube's shrinks while it morphs.
+                    measured = reports["pack"]["levels"][k]["deviation"]["hausdorff"]
+                    slack = 0.005 * rk["geometry"]["diagonal"]
+                    self.assertLessEqual(rk["geometry"]["hausdorff"], measured + slack, (k, measured, rk["geometry"]))
         # The animation changes the cube's shape: the posed bounds differ between start and middle.
         self.assertGreater(abs(diagonals[0] - diagonals[1]), 0.1 * diagonals[0], diagonals)
         # Compressed variants: meshopt + quantization keep the targets (FLOAT positions); Draco
