@@ -899,11 +899,11 @@ ParameterizeResult parameterize(const TriMesh& mesh, const Multires& multires, c
     const std::vector<uint32_t>& regions = multires.levels.empty() ? kNoRegions : multires.levels.back().faceRegion;
     res.charts = buildCharts(mesh, regions, options.charts);
 
-    // The original faces by place, for closest-point and near-face queries; the typical face size
-    // is where those queries' search boxes start.
-    const FaceGrid grid(mesh);
+    // The original faces by place, for closest-point and near-face queries (not held while the
+    // charts are solved, the run's peak); the typical face size is where those queries' search
+    // boxes start.
     const double radius = typicalFaceSize(mesh);
-    std::vector<LocalChart> charts = localCharts(mesh, multires, res.charts, grid, radius);  // (2)
+    std::vector<LocalChart> charts = localCharts(mesh, multires, res.charts, FaceGrid(mesh), radius);  // (2)
     solveCharts(charts, options, res);                                         // (3)
     splitFailedCharts(mesh, options, charts, res);                             // (3b)
     double chartUvArea = measureCharts(charts, res);                           // (4)
@@ -912,6 +912,7 @@ ParameterizeResult parameterize(const TriMesh& mesh, const Multires& multires, c
     // map that is not injective, corners that fold once rounded to float) leave their charts as
     // single-face charts of at least 2 texels a side, and the atlas is laid out again.
     constexpr int kMaxCarvePasses = 4;
+    const FaceGrid grid(mesh);
     for (int pass = 0;; ++pass) {
         layoutAtlas(mesh, multires, charts, chartUvArea, grid, radius, options, res);
         res.floatRepairs = nudgeRoundedSliverCorners(mesh, res.charts.faceChart, res.cornerUV);
