@@ -96,57 +96,6 @@ void gatherPairs(const TriMesh& mesh, const Multires& mr, std::vector<LocalChart
         }
 }
 
-// The point of `faces` (ascending ids, none index-degenerate) closest to p, as a scan of `faces`
-// in order keeping the first of equally close ones finds it: the position in `faces` of its face,
-// and its barycentrics; false when `faces` is empty. Only the faces in a box around p are
-// measured, looked up in `grid` (the whole mesh's faces): the box grows from `radius` until it
-// holds a face of the set no farther than the box reaches, so every face at least as close lies
-// in it too, and the first closest one by id is the scan's answer.
-bool closestFaceOf(const TriMesh& mesh, const FaceGrid& grid, const std::vector<uint32_t>& faces, Vec3 p, double radius,
-                   size_t& index, std::array<double, 3>& bary) {
-    auto distance2 = [&](uint32_t f, std::array<double, 3>& b) {
-        const Tri& t = mesh.triangles[f];
-        b = closestOnTriangle(p, mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]);
-        const Vec3 q = mesh.positions[t[0]] * b[0] + mesh.positions[t[1]] * b[1] + mesh.positions[t[2]] * b[2];
-        return length2(q - p);
-    };
-    if (faces.empty()) return false;
-    const double scale = 1e-9 * (1 + std::abs(p.x) + std::abs(p.y) + std::abs(p.z));
-    // Small sets, and a box still empty of them after 24 doublings, are scanned whole.
-    double r = std::max(radius, scale);
-    for (int grow = 0; grow < 24 && faces.size() > 64; ++grow, r *= 2) {
-        double best = 1e300;
-        bool found = false;
-        for (uint32_t f : grid.facesIn(p - Vec3{r, r, r}, p + Vec3{r, r, r})) {
-            auto it = std::lower_bound(faces.begin(), faces.end(), f);
-            if (it == faces.end() || *it != f) continue;
-            std::array<double, 3> b;
-            const double d = distance2(f, b);
-            if (d < best) {
-                best = d;
-                index = size_t(it - faces.begin());
-                bary = b;
-                found = true;
-            }
-        }
-        // Faces as close as the best have boxes within its distance of p: inside the box.
-        if (found && std::sqrt(best) * (1 + 1e-6) + scale <= r) return true;
-    }
-    double best = 1e300;
-    bool found = false;
-    for (size_t i = 0; i < faces.size(); ++i) {
-        std::array<double, 3> b;
-        const double d = distance2(faces[i], b);
-        if (d < best) {
-            best = d;
-            index = i;
-            bary = b;
-            found = true;
-        }
-    }
-    return found;
-}
-
 // The square root of the mean face area: a face's usual size.
 double typicalFaceSize(const TriMesh& mesh) {
     double area = 0;
@@ -167,7 +116,7 @@ void gatherLevelTriangles(const TriMesh& mesh, const ChartResult& cr, const Mult
         ChartPoint cp;
         size_t i = 0;
         std::array<double, 3> b{};
-        if (closestFaceOf(mesh, grid, ch.faces, mesh.positions[v], radius, i, b)) {
+        if (closestFaceIn(mesh, grid, ch.faces, mesh.positions[v], radius, i, b)) {
             cp.vertex = ch.mesh.triangles[i];
             cp.weight = b;
         }
@@ -559,7 +508,7 @@ struct Projection {
 struct AtlasState {
     AtlasState(const FaceGrid& g, double r) : grid(g), radius(r) {}
     const FaceGrid& grid;                               // the original faces (islands, projections)
-    double radius;                                      // closestFaceOf's first box
+    double radius;                                      // closestFaceIn's first box
     std::vector<uint32_t> faceChart;                    // chart per original face (unassigned -> 0)
     std::vector<std::vector<uint32_t>> levelTriChart;   // per level: chart each triangle takes UVs from
     std::vector<std::vector<uint32_t>> vertexCharts;    // per vertex: the charts holding it
@@ -707,7 +656,7 @@ const Projection& projectOntoChart(const TriMesh& mesh, const LocalChart& chart,
     if (pj == st.projections.end()) {
         Projection pr;
         size_t i = 0;
-        if (closestFaceOf(mesh, st.grid, chart.faces, mesh.positions[v], st.radius, i, pr.bary)) pr.face = chart.faces[i];
+        if (closestFaceIn(mesh, st.grid, chart.faces, mesh.positions[v], st.radius, i, pr.bary)) pr.face = chart.faces[i];
         pj = st.projections.emplace(key, pr).first;
     }
     return pj->second;
