@@ -72,4 +72,52 @@ std::vector<uint32_t> FaceGrid::facesIn(Vec3 lo, Vec3 hi) const {
     return out;
 }
 
+// Every face at least as close as the best one found has its box within that distance of p, so
+// inside the query box once the box reaches past it: the first closest by id among the box's
+// faces is the first closest of the whole set.
+bool closestFaceIn(const TriMesh& mesh, const FaceGrid& grid, const std::vector<uint32_t>& faces, Vec3 p, double radius,
+                   size_t& index, std::array<double, 3>& bary) {
+    auto distance2 = [&](uint32_t f, std::array<double, 3>& b) {
+        const Tri& t = mesh.triangles[f];
+        b = closestOnTriangle(p, mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]);
+        const Vec3 q = mesh.positions[t[0]] * b[0] + mesh.positions[t[1]] * b[1] + mesh.positions[t[2]] * b[2];
+        return length2(q - p);
+    };
+    if (faces.empty()) return false;
+    const double scale = 1e-9 * (1 + std::abs(p.x) + std::abs(p.y) + std::abs(p.z));
+    // Small sets, and a box still empty of them after 24 doublings, are scanned whole.
+    double r = std::max(radius, scale);
+    for (int grow = 0; grow < 24 && faces.size() > 64; ++grow, r *= 2) {
+        double best = 1e300;
+        bool found = false;
+        for (uint32_t f : grid.facesIn(p - Vec3{r, r, r}, p + Vec3{r, r, r})) {
+            auto it = std::lower_bound(faces.begin(), faces.end(), f);
+            if (it == faces.end() || *it != f) continue;
+            std::array<double, 3> b;
+            const double d = distance2(f, b);
+            if (d < best) {
+                best = d;
+                index = size_t(it - faces.begin());
+                bary = b;
+                found = true;
+            }
+        }
+        // Faces as close as the best have boxes within its distance of p: inside the box.
+        if (found && std::sqrt(best) * (1 + 1e-6) + scale <= r) return true;
+    }
+    double best = 1e300;
+    bool found = false;
+    for (size_t i = 0; i < faces.size(); ++i) {
+        std::array<double, 3> b;
+        const double d = distance2(faces[i], b);
+        if (d < best) {
+            best = d;
+            index = i;
+            bary = b;
+            found = true;
+        }
+    }
+    return found;
+}
+
 }  // namespace lodbake

@@ -29,6 +29,7 @@
 #include "lodbake/atlas/atlas.h"
 #include "lodbake/core/closest_point.h"
 #include "lodbake/core/errors.h"
+#include "lodbake/core/face_grid.h"
 #include "lodbake/core/timing.h"
 #include "lodbake/core/parallel.h"
 #include "param/uv_check_detail.h"
@@ -95,27 +96,29 @@ void gatherPairs(const TriMesh& mesh, const Multires& mr, std::vector<LocalChart
         }
 }
 
+// The square root of the mean face area: a face's usual size.
+double typicalFaceSize(const TriMesh& mesh) {
+    double area = 0;
+    for (const Tri& t : mesh.triangles)
+        area += 0.5 * length(cross(mesh.positions[t[1]] - mesh.positions[t[0]], mesh.positions[t[2]] - mesh.positions[t[0]]));
+    return std::sqrt(area / double(std::max<size_t>(1, mesh.triangleCount())));
+}
+
 // Level triangles of every level, per chart of their face (deduplicated across levels), with
 // corners that are not chart vertices projected onto the chart's surface (as applyAtlas does).
-void gatherLevelTriangles(const TriMesh& mesh, const ChartResult& cr, const Multires& mr, std::vector<LocalChart>& charts) {
+void gatherLevelTriangles(const TriMesh& mesh, const ChartResult& cr, const Multires& mr, const FaceGrid& grid, double radius,
+                          std::vector<LocalChart>& charts) {
     std::vector<std::set<std::array<uint32_t, 3>>> seen(charts.size());
     std::vector<std::map<uint32_t, ChartPoint>> projected(charts.size());
     auto project = [&](LocalChart& ch, size_t c, uint32_t v) {
         auto it = projected[c].find(v);
         if (it != projected[c].end()) return it->second;
-        const Vec3 p = mesh.positions[v];
-        double best = 1e300;
         ChartPoint cp;
-        for (size_t i = 0; i < ch.faces.size(); ++i) {
-            const Tri& t = mesh.triangles[ch.faces[i]];
-            auto b = closestOnTriangle(p, mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]);
-            Vec3 q = mesh.positions[t[0]] * b[0] + mesh.positions[t[1]] * b[1] + mesh.positions[t[2]] * b[2];
-            double d = length2(q - p);
-            if (d < best) {
-                best = d;
-                cp.vertex = ch.mesh.triangles[i];
-                cp.weight = b;
-            }
+        size_t i = 0;
+        std::array<double, 3> b{};
+        if (closestFaceIn(mesh, grid, ch.faces, mesh.positions[v], radius, i, b)) {
+            cp.vertex = ch.mesh.triangles[i];
+            cp.weight = b;
         }
         projected[c].emplace(v, cp);
         return cp;
@@ -503,6 +506,9 @@ struct Projection {
 
 // The chart tables and island state shared by the packing rounds (islands grow between rounds).
 struct AtlasState {
+    AtlasState(const FaceGrid& g, double r) : grid(g), radius(r) {}
+    const FaceGrid& grid;                               // the original faces (islands, projections)
+    double radius;                                      // closestFaceIn's first box
     std::vector<uint32_t> faceChart;                    // chart per original face (unassigned -> 0)
     std::vector<std::vector<uint32_t>> levelTriChart;   // per level: chart each triangle takes UVs from
     std::vector<std::vector<uint32_t>> vertexCharts;    // per vertex: the charts holding it
@@ -513,11 +519,12 @@ struct AtlasState {
 };
 
 // (2) The charts as local meshes with their simplification pairs and level triangles.
-std::vector<LocalChart> localCharts(const TriMesh& mesh, const Multires& multires, const ChartResult& cr) {
+std::vector<LocalChart> localCharts(const TriMesh& mesh, const Multires& multires, const ChartResult& cr, const FaceGrid& grid,
+                                    double radius) {
     std::vector<LocalChart> charts;
     extractCharts(mesh, cr, charts);
     gatherPairs(mesh, multires, charts);
-    gatherLevelTriangles(mesh, cr, multires, charts);
+    gatherLevelTriangles(mesh, cr, multires, grid, radius, charts);
     return charts;
 }
 
@@ -582,9 +589,10 @@ double measureCharts(const std::vector<LocalChart>& charts, ParameterizeResult& 
 
 // The per-face, per-level and per-vertex chart tables the packing rounds read.
 // \throw InvalidInput when a level's faces and triangles disagree or a face id is out of range.
-AtlasState atlasState(const TriMesh& mesh, const Multires& multires, const ChartResult& cr, const std::vector<LocalChart>& charts) {
+AtlasState atlasState(const TriMesh& mesh, const Multires& multires, const ChartResult& cr, const std::vector<LocalChart>& charts,
+                      const FaceGrid& grid, double radius) {
     const size_t nf = mesh.triangleCount();
-    AtlasState st;
+    AtlasState st(grid, radius);
     st.faceChart.resize(nf);
     for (size_t f = 0; f < nf; ++f) st.faceChart[f] = uint32_t(std::max(cr.faceChart[f], 0));
     st.levelTriChart.resize(multires.levels.size());
@@ -647,17 +655,8 @@ const Projection& projectOntoChart(const TriMesh& mesh, const LocalChart& chart,
     auto pj = st.projections.find(key);
     if (pj == st.projections.end()) {
         Projection pr;
-        double best = 1e300;
-        for (uint32_t f : chart.faces) {
-            const Tri& ft = mesh.triangles[f];
-            auto bb = closestOnTriangle(mesh.positions[v], mesh.positions[ft[0]], mesh.positions[ft[1]], mesh.positions[ft[2]]);
-            Vec3 q = mesh.positions[ft[0]] * bb[0] + mesh.positions[ft[1]] * bb[1] + mesh.positions[ft[2]] * bb[2];
-            double dd = length2(q - mesh.positions[v]);
-            if (dd < best) {
-                best = dd;
-                pr = {f, bb};
-            }
-        }
+        size_t i = 0;
+        if (closestFaceIn(mesh, st.grid, chart.faces, mesh.positions[v], st.radius, i, pr.bary)) pr.face = chart.faces[i];
         pj = st.projections.emplace(key, pr).first;
     }
     return pj->second;
@@ -720,15 +719,29 @@ bool crossingIslandsFit(const Multires& multires, const AtlasState& st, const Pa
     return fits;
 }
 
-// The faces of `candidates` (ascending) an island's bake and deviation sample: exactly
-// facesNearTriangle(candidates, triangle), found without its closest-point scan over every
-// candidate. The triangle's own face bounds the centroid's distance to the candidates from above,
-// so only faces whose boxes lie within that bound's reach (a superset of facesNearTriangle's, which
-// holds the closest face) are scanned; the ones within the true reach are the same faces in the
-// same order. Later calls of facesNearTriangle on the result return it unchanged.
-std::vector<uint32_t> islandFaces(const TriMesh& mesh, const std::vector<uint32_t>& candidates, const Tri& v, uint32_t ownFace) {
+// The faces an island's bake and deviation sample: exactly facesNearTriangle(candidates, triangle)
+// with `candidates` the faces of charts `cs` (ascending ids, each chart's faces as charts[c].faces
+// holds them), found without listing the charts' faces or scanning them all. The triangle's own
+// face, when a candidate, bounds the centroid's distance to the candidates from above, so only
+// candidates whose boxes lie within that bound's reach (a superset of facesNearTriangle's, which
+// holds the closest face) are kept, looked up in the face grid; the ones within the true reach are
+// the same faces in the same order. Later calls of facesNearTriangle on the result return it
+// unchanged.
+std::vector<uint32_t> islandFaces(const TriMesh& mesh, const std::vector<LocalChart>& charts, const std::vector<int32_t>& faceChart,
+                                  const FaceGrid& grid, const std::vector<uint32_t>& cs, const Tri& v, uint32_t ownFace) {
     const std::array<Vec3, 3> tri{mesh.positions[v[0]], mesh.positions[v[1]], mesh.positions[v[2]]};
-    if (!std::binary_search(candidates.begin(), candidates.end(), ownFace)) return facesNearTriangle(mesh, candidates, tri);
+    // A candidate: a face with a chart among cs that is not index-degenerate (charts hold no such
+    // face, and the grid leaves them out).
+    auto candidate = [&](uint32_t f) {
+        return faceChart[f] >= 0 && std::binary_search(cs.begin(), cs.end(), uint32_t(faceChart[f])) &&
+               !degenerateIndices(mesh.triangles[f]);
+    };
+    if (!candidate(ownFace)) {
+        std::vector<uint32_t> candidates;
+        for (uint32_t c : cs) candidates.insert(candidates.end(), charts[c].faces.begin(), charts[c].faces.end());
+        std::sort(candidates.begin(), candidates.end());
+        return facesNearTriangle(mesh, candidates, tri);
+    }
     const Vec3 c = (tri[0] + tri[1] + tri[2]) * (1.0 / 3);
     const Tri& o = mesh.triangles[ownFace];
     const auto b = closestOnTriangle(c, mesh.positions[o[0]], mesh.positions[o[1]], mesh.positions[o[2]]);
@@ -737,9 +750,12 @@ std::vector<uint32_t> islandFaces(const TriMesh& mesh, const std::vector<uint32_
     for (const Vec3& p : tri) r = std::max(r, length(p - c));
     // Twice facesNearTriangle's margin: the bound's reach is never below the true one.
     const double reach = (length(q - c) + 2 * r) * (1 + 2e-9) + 2e-12;
+    // The grid box is padded past the reach so rounding of its corners never drops a face the
+    // exact box-distance test keeps.
+    const double pad = reach * (1 + 1e-6) + 1e-9 * (1 + std::abs(c.x) + std::abs(c.y) + std::abs(c.z));
     std::vector<uint32_t> near;
-    for (uint32_t f : candidates)
-        if (boxDistance2(faceBox(mesh, f), c) <= reach * reach) near.push_back(f);
+    for (uint32_t f : grid.facesIn(c - Vec3{pad, pad, pad}, c + Vec3{pad, pad, pad}))
+        if (candidate(f) && boxDistance2(faceBox(mesh, f), c) <= reach * reach) near.push_back(f);
     return facesNearTriangle(mesh, near, tri);
 }
 
@@ -789,10 +805,7 @@ size_t addFoldIslands(const TriMesh& mesh, const Multires& multires, const std::
             for (uint32_t vv : v) cs.insert(cs.end(), st.vertexCharts[vv].begin(), st.vertexCharts[vv].end());
             std::sort(cs.begin(), cs.end());
             cs.erase(std::unique(cs.begin(), cs.end()), cs.end());
-            std::vector<uint32_t> candidates;
-            for (uint32_t c : cs) candidates.insert(candidates.end(), charts[c].faces.begin(), charts[c].faces.end());
-            std::sort(candidates.begin(), candidates.end());
-            isl.faces = islandFaces(mesh, candidates, v, L.faces[t]);
+            isl.faces = islandFaces(mesh, charts, res.charts.faceChart, st.grid, cs, v, L.faces[t]);
             res.islands.push_back(std::move(isl));
             ++added;
         }
@@ -805,9 +818,9 @@ size_t addFoldIslands(const TriMesh& mesh, const Multires& multires, const std::
 // take atlas space the atlas is packed again and every level re-checked until none folds (at
 // most kMaxRounds repacks).
 void layoutAtlas(const TriMesh& mesh, const Multires& multires, const std::vector<LocalChart>& charts, double chartUvArea,
-                 const ParameterizeOptions& options, ParameterizeResult& res) {
+                 const FaceGrid& grid, double radius, const ParameterizeOptions& options, ParameterizeResult& res) {
     constexpr int kMaxRounds = 8;
-    AtlasState st = atlasState(mesh, multires, res.charts, charts);
+    AtlasState st = atlasState(mesh, multires, res.charts, charts, grid, radius);
     res.islands.clear();
     res.crossingIslandsSkipped = 0;
     const double uvArea = chartUvArea > 0 ? chartUvArea : 1;
@@ -835,7 +848,11 @@ ParameterizeResult parameterize(const TriMesh& mesh, const Multires& multires, c
     const std::vector<uint32_t>& regions = multires.levels.empty() ? kNoRegions : multires.levels.back().faceRegion;
     res.charts = buildCharts(mesh, regions, options.charts);
 
-    std::vector<LocalChart> charts = localCharts(mesh, multires, res.charts);  // (2)
+    // The original faces by place, for closest-point and near-face queries (not held while the
+    // charts are solved, the run's peak); the typical face size is where those queries' search
+    // boxes start.
+    const double radius = typicalFaceSize(mesh);
+    std::vector<LocalChart> charts = localCharts(mesh, multires, res.charts, FaceGrid(mesh), radius);  // (2)
     solveCharts(charts, options, res);                                         // (3)
     splitFailedCharts(mesh, options, charts, res);                             // (3b)
     double chartUvArea = measureCharts(charts, res);                           // (4)
@@ -844,8 +861,9 @@ ParameterizeResult parameterize(const TriMesh& mesh, const Multires& multires, c
     // map that is not injective, corners that fold once rounded to float) leave their charts as
     // single-face charts of at least 2 texels a side, and the atlas is laid out again.
     constexpr int kMaxCarvePasses = 4;
+    const FaceGrid grid(mesh);
     for (int pass = 0;; ++pass) {
-        layoutAtlas(mesh, multires, charts, chartUvArea, options, res);
+        layoutAtlas(mesh, multires, charts, chartUvArea, grid, radius, options, res);
         res.floatRepairs = nudgeRoundedSliverCorners(mesh, res.charts.faceChart, res.cornerUV);
         const std::vector<uint32_t> folded = foldedAtlasFaces(mesh, res);
         if (folded.empty() || pass == kMaxCarvePasses || res.texelsPerUnit <= 0) break;

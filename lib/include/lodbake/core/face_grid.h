@@ -1,5 +1,6 @@
 // A uniform grid over a mesh's triangles by their bounding boxes, for "which faces lie near this
-// box" queries (pack's projection bake asks it once per level triangle).
+// box" queries (pack's projection bake asks it once per level triangle), and the closest face of a
+// subset of the faces (parameterize's level-corner projections).
 #pragma once
 
 #include <array>
@@ -26,5 +27,14 @@ private:
     std::vector<std::array<double, 6>> boxes_;
     void cellRange(Vec3 lo, Vec3 hi, int (&a)[3], int (&b)[3]) const;
 };
+
+// The point of `faces` (ascending ids, none index-degenerate) closest to p, exactly as
+// closestSurfacePoint's scan of `faces` in order finds it (the first of equally close faces): its
+// position in `faces` and its barycentrics; false when `faces` is empty. Only the faces of the
+// set in a box around p are measured, looked up in `grid` (built over `mesh`, whose faces these
+// are): the box grows from half-side `radius` (a face's usual size is a good start) until it holds
+// a face of the set no farther than the box reaches. Cost: the faces near p, not the set's size.
+bool closestFaceIn(const TriMesh& mesh, const FaceGrid& grid, const std::vector<uint32_t>& faces, Vec3 p, double radius,
+                   size_t& index, std::array<double, 3>& bary);
 
 }  // namespace lodbake

@@ -1,0 +1,66 @@
+// closestFaceIn (lib/include/lodbake/core/face_grid.h): the closest face of a subset found through
+// the face grid is the one a scan of the subset in id order finds, ties included.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "lodbake/core/closest_point.h"
+#include "lodbake/core/face_grid.h"
+#include "synthetic_meshes.h"
+
+using namespace lodbake;
+
+namespace {
+
+// Checks closestFaceIn against closestSurfacePoint for `points` over `faces` of `mesh`: the same
+// face (so the same of equally close ones) and the same barycentrics, bit for bit.
+void expectSameAsScan(const TriMesh& mesh, const FaceGrid& grid, const std::vector<uint32_t>& faces,
+                      const std::vector<Vec3>& points, double radius) {
+    for (const Vec3& p : points) {
+        uint32_t scanFace = 0;
+        std::array<double, 3> scanBary{};
+        closestSurfacePoint(mesh, faces, p, scanFace, scanBary);
+        size_t index = 0;
+        std::array<double, 3> bary{};
+        ASSERT_TRUE(closestFaceIn(mesh, grid, faces, p, radius, index, bary));
+        ASSERT_LT(index, faces.size());
+        EXPECT_EQ(faces[index], scanFace) << "at " << p.x << " " << p.y << " " << p.z;
+        for (size_t k = 0; k < 3; ++k) EXPECT_EQ(bary[k], scanBary[k]);
+    }
+}
+
+}  // namespace
+
+// A bumpy 60 x 60 grid: a random half of its faces as the set, points above and beside it, on its
+// vertices and edge midpoints (equally close to several faces), and far away (the box must grow).
+TEST(FaceGrid, ClosestFaceInMatchesTheScanWithTies) {
+    const TriMesh mesh = test::grid(60, 60, [](int i, int j) { return 0.3 * std::sin(0.4 * i) * std::cos(0.3 * j); });
+    const FaceGrid grid(mesh);
+    std::mt19937 rng(7);
+    std::vector<uint32_t> half;
+    for (uint32_t f = 0; f < mesh.triangleCount(); ++f)
+        if (rng() % 2) half.push_back(f);
+    std::vector<Vec3> points;
+    std::uniform_real_distribution<double> u(-5, 65), h(-2, 2);
+    for (int i = 0; i < 300; ++i) points.push_back({u(rng), u(rng), h(rng)});
+    for (uint32_t v = 0; v < mesh.vertexCount(); v += 7) points.push_back(mesh.positions[v]);
+    for (uint32_t f = 0; f < mesh.triangleCount(); f += 11) {
+        const Tri& t = mesh.triangles[f];
+        points.push_back((mesh.positions[t[0]] + mesh.positions[t[1]]) * 0.5);
+    }
+    points.push_back({500, -300, 40});
+    expectSameAsScan(mesh, grid, half, points, 1.0);
+    expectSameAsScan(mesh, grid, half, points, 1e-6);  // a tiny first box only costs doublings
+    // A set of one corner of the grid, queried from the far corner.
+    std::vector<uint32_t> corner;
+    for (uint32_t f = 0; f < 200; ++f) corner.push_back(f);
+    expectSameAsScan(mesh, grid, corner, {Vec3{60, 60, 0}, Vec3{59.5, 0.5, 1}}, 1.0);
+}
+
+TEST(FaceGrid, ClosestFaceInOfNoFacesIsFalse) {
+    const TriMesh mesh = test::grid(4, 4);
+    const FaceGrid grid(mesh);
+    size_t index = 0;
+    std::array<double, 3> bary{};
+    EXPECT_FALSE(closestFaceIn(mesh, grid, {}, Vec3{1, 1, 0}, 1.0, index, bary));
+}
