@@ -164,8 +164,13 @@ def check_pack(tc, name, source, tex, r, work):
         # A refined page larger than T0's (T0 trimmed more: colors LOD1, 448 x 448 vs 448 x 428)
         # must win by more than its extra texels' worth.
         surplus = 10 * math.log10(max(1.0, texels_ref / texels_t0))
-        if levels[k]["textureRank"] >= 1:
+        if levels[k]["textureRank"] >= 1 and k == 0:
             tc.assertGreater(p_ref, p_t0 + surplus, what)
+        elif levels[k]["textureRank"] >= 1:
+            # LOD1: parameterize's conformal start already gives T0 low stretch, so on Duck a
+            # refined LOD1 page only matches T0 (docs/benchmarks.md, texture-refine): it must not
+            # be worse than packing noise.
+            tc.assertGreater(p_ref, p_t0 - 0.1, what)
         else:
             # No refined texture is offered for this level: both chains use T0 there. The page may
             # still be smaller (a level never gets more texels than the finer one, and the refined
