@@ -2,8 +2,8 @@
 # Peer comparison: lodbake's chain (simplify -> parameterize -> pack) against Debian's
 # gltfpack -si R, npm gltfpack -si R -sp -se 1 (permissive: may cross attribute seams, no error
 # limit) and Blender's Decimate modifier (collapse, headless), at 10% and 2% of the triangles, on
-# Duck, Avocado, CesiumMilkTruck and 2CylinderEngine (ASSETS may also name BoxTextured, ChrKnight
-# and ShapeCollection). Every output is measured against the
+# Duck, Avocado, CesiumMilkTruck and 2CylinderEngine (ASSETS may also name BoxTextured, ChrKnight,
+# ShapeCollection and StanfordBunny). Every output is measured against the
 # original with `compare ORIGINAL OUT [--lod K] --json` (lit PBR and base-colour PSNR, triangles, draw calls)
 # and a Markdown table is printed (docs/benchmarks.md, "Against the peers").
 # Usage: scripts/bench_peers.sh [BIN] [WORKDIR]
@@ -28,7 +28,8 @@ fresh() { [ "$REUSE_PEERS" != 1 ] || [ ! -s "$1" ]; }
 mkdir -p "$WORK"
 declare -A FILES=([Duck]=Duck/Duck.glb [Avocado]=Avocado/Avocado.gltf [CesiumMilkTruck]=CesiumMilkTruck/CesiumMilkTruck.glb
                   [2CylinderEngine]=2CylinderEngine/2CylinderEngine.glb [BoxTextured]=BoxTextured/BoxTextured.glb
-                  [ChrKnight]=ChrKnight/chr_knight.glb [ShapeCollection]=ShapeCollection/ShapeCollection.glb)
+                  [ChrKnight]=ChrKnight/chr_knight.glb [ShapeCollection]=ShapeCollection/ShapeCollection.glb
+                  [StanfordBunny]=StanfordBunny/StanfordBunny.glb)
 ROWS="["
 sep=""
 row() { ROWS="$ROWS$sep{\"asset\":\"$1\",\"ratio\":\"$2\",\"tool\":\"$3\",\"original\":\"$4\",\"file\":\"$5\",\"lod\":$6}"; sep=","; }
