@@ -36,7 +36,7 @@ class ParameterizeCli(unittest.TestCase):
         self.assertEqual(t["flips"], 0)
         self.assertEqual(t["overlaps"], 0)
         self.assertGreaterEqual(t["charts"], 1)
-        self.assertLessEqual(t["final"]["E"], t["tutte"]["E"] + 1e-9)
+        self.assertLessEqual(t["final"]["E"], t["initial"]["E"] + 1e-9)
         self.assertEqual(sum(t["areaRatioHistogram"]), sum(c["faces"] for c in r["charts"]))
         g = lt.Gltf(uv)
         mats = g.json["materials"]

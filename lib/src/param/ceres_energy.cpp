@@ -20,11 +20,12 @@ namespace {
 
 using param_detail::EnergyTerms;
 
-// Unknowns (2 per chart vertex) above which the step is solved by conjugate gradients.
-constexpr size_t kLargeChartUnknowns = 2000;
-
 // Weight of the sliver barriers (AreaCost, guarded LevelCost); zero above kBarrier x 3D area.
 constexpr double kBarrierWeight = 0.1;
+
+// A level triangle is guarded (barrier, kept positive) when its UV det exceeds this fraction of
+// its 3D area at the round's start: the barrier's residual stays finite (below 2e7) there.
+constexpr double kGuardMargin = 1e-9;
 
 // r = s (|v_i - v_j|^2 - L2) / L2
 class EdgeCost final : public ceres::SizedCostFunction<1, 2, 2> {
@@ -243,11 +244,19 @@ ChartSolveResult optimizeChartUV(const ChartMesh& chart, const std::vector<Chart
                     w[b][size_t(c)] += wk;
                 }
             if (verts.size() < 3) continue;
-            bool guard = levelDet(t, current) > 0;
+            // Guarded only with a margin the barrier can take: a level triangle that starts a
+            // sliver (det a tiny fraction of its area, or rounded to zero in the scaled frame)
+            // would make the barrier's first residual infinite and Ceres would stop before its
+            // first step; it is pulled back like a flipped one instead. A triangle without 3D
+            // area has nothing to pull towards once flat.
+            const double a2 = t.area2 * k * k;
+            const double det = levelDet(t, current) * k * k;
+            bool guard = det > kGuardMargin * a2;
+            if (!guard && !(a2 > 0)) continue;
             if (!guard) ++penalties;
             std::vector<double*> blocks;
             for (uint32_t v : verts) blocks.push_back(block(v));
-            problem.AddResidualBlock(new LevelCost(guard, std::sqrt(10.0), t.area2 * k * k, w), nullptr, blocks);
+            problem.AddResidualBlock(new LevelCost(guard, std::sqrt(10.0), a2, w), nullptr, blocks);
         }
 
         ceres::Solver::Options so;
@@ -259,14 +268,15 @@ ChartSolveResult optimizeChartUV(const ChartMesh& chart, const std::vector<Chart
         // gradients on the normal equations (Jacobi-preconditioned, a bounded number of steps):
         // the pairs and level triangles couple far-apart vertices, so the Cholesky factor fills
         // in, and its memory and time grow far faster than the chart (docs/benchmarks.md).
-        if (x.size() > kLargeChartUnknowns) {
+        so.max_num_iterations = options.maxIterations;
+        if (initial.size() > kLargeChartVertices) {
             so.linear_solver_type = ceres::CGNR;
             so.preconditioner_type = ceres::JACOBI;
             so.max_linear_solver_iterations = 50;
+            so.max_num_iterations = std::min(options.maxIterations, kLargeChartIterations);
         } else {
             chooseSparseSolver(so, x.size(), 200);
         }
-        so.max_num_iterations = options.maxIterations;
         so.num_threads = 1;
         so.logging_type = ceres::SILENT;
         so.minimizer_progress_to_stdout = false;

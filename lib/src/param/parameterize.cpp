@@ -224,9 +224,27 @@ size_t levelFolds(const ChartMesh& chart, const std::vector<Vec2>& uv) {
 
 void solveChart(LocalChart& c, const ParameterizeOptions& o, double resolution, ChartReport& rep) {
     auto t0 = Clock::now();
-    std::vector<Vec2> tutte;
-    try {
-        tutte = tutteEmbedding(c.mesh);
+    ChartSolveOptions so = o.solve;
+    so.energy.resolution = resolution;
+    auto valid = [&](const std::vector<Vec2>& uv) {
+        return countFlips(c.mesh, uv) == 0 && countOverlaps(c.mesh, uv) == 0;
+    };
+    // The start: the least-squares conformal map when it is injective (its free boundary follows
+    // the chart, so few iterations remain), else Tutte's, which exists whenever the chart is a
+    // disk. With no iterations the Tutte map is kept as it is, and so is an LSCM start of more
+    // than kKeepLscmAboveVertices vertices. Tutte's solve is the costliest step on large charts
+    // (its LU factor was parameterize's memory peak), so it runs only as that fallback.
+    std::vector<Vec2> start;
+    if (so.maxIterations > 0) try {
+        start = lscmEmbedding(c.mesh);
+        if (!valid(start)) start.clear();
+    } catch (const Error&) {
+        // Singular or degenerate: Tutte's start.
+        start.clear();
+    }
+    rep.start = start.empty() ? "tutte" : "lscm";
+    if (start.empty()) try {
+        start = tutteEmbedding(c.mesh);
     } catch (const Error& e) {
         // No map of this chart: splitFailedCharts lays its faces out one by one.
         rep.method = "failed";
@@ -235,51 +253,34 @@ void solveChart(LocalChart& c, const ParameterizeOptions& o, double resolution, 
         rep.seconds = secondsSince(t0);
         return;
     }
-    ChartSolveOptions so = o.solve;
-    so.energy.resolution = resolution;
-    rep.tutte = chartEnergy(c.mesh, c.pairs, tutte, so.energy);
-    auto valid = [&](const std::vector<Vec2>& uv) {
-        return countFlips(c.mesh, uv) == 0 && countOverlaps(c.mesh, uv) == 0;
-    };
+    rep.initial = chartEnergy(c.mesh, c.pairs, start, so.energy);
     // Candidates in order of preference; the first injective one without folded level triangles
-    // wins, else the injective one with the fewest (the tool reports and refuses those). Tutte's
-    // convex boundary keeps every level's boundary simple, so it is the fallback when the
-    // optimised maps fold a level.
-    c.uv = tutte;
-    rep.method = "tutte";
-    size_t bestFolds = levelFolds(c.mesh, tutte);
+    // wins, else the injective one with the fewest (level triangles that stay folded get islands
+    // of their own). The start is the fallback: a candidate with as few folds replaces it.
+    c.uv = start;
+    rep.method = rep.start;
+    bool fallback = true;
+    size_t bestFolds = levelFolds(c.mesh, start);
     auto consider = [&](const std::vector<Vec2>& uv, const char* method) {
         if (!valid(uv)) return;
         size_t folds = levelFolds(c.mesh, uv);
-        if (rep.method != "tutte" && folds >= bestFolds) return;
-        if (rep.method == "tutte" && folds > bestFolds) return;
+        if (folds > bestFolds || (!fallback && folds == bestFolds)) return;
         c.uv = uv;
         rep.method = method;
         bestFolds = folds;
+        fallback = false;
     };
-    // The solve starts from the least-squares conformal map when it is injective and lower in E
-    // than Tutte's (its free boundary follows the chart, so few iterations remain), else Tutte's.
-    // With no iterations the Tutte map is kept as it is.
-    const std::vector<Vec2>* start = &tutte;
-    std::vector<Vec2> lscm;
-    ChartEnergy lscmEnergy;
-    if (so.maxIterations > 0) try {
-        lscm = lscmEmbedding(c.mesh);
-        lscmEnergy = chartEnergy(c.mesh, c.pairs, lscm, so.energy);
-        if (std::isfinite(lscmEnergy.E) && lscmEnergy.E < rep.tutte.E && valid(lscm)) start = &lscm;
-    } catch (const Error&) {
-        // Singular or degenerate: Tutte's start, which exists whenever the chart is a disk.
-    }
-    rep.start = start == &lscm ? "lscm" : "tutte";
-    if (so.maxIterations > 0) {
-        ChartSolveResult r = optimizeChartUV(c.mesh, c.pairs, *start, so);
+    const bool solve = so.maxIterations > 0 && (rep.start != "lscm" || c.mesh.positions.size() <= kKeepLscmAboveVertices);
+    if (solve) {
+        ChartSolveResult r = optimizeChartUV(c.mesh, c.pairs, start, so);
         rep.iterations = r.iterations;
         if (r.improved) consider(r.uv, "ceres");
-        if (start == &lscm && rep.method == "tutte") consider(lscm, "lscm");
-        if (so.energy.beta < 1 && (rep.method == "tutte" || bestFolds > 0)) {
+        // The beta = 1 retry: when the solve kept nothing, or (small charts) to lower the folds.
+        const bool large = c.mesh.positions.size() > kLargeChartVertices;
+        if (so.energy.beta < 1 && (fallback || (bestFolds > 0 && !large))) {
             ChartSolveOptions s1 = so;
             s1.energy.beta = 1;
-            ChartSolveResult r1 = optimizeChartUV(c.mesh, c.pairs, *start, s1);
+            ChartSolveResult r1 = optimizeChartUV(c.mesh, c.pairs, start, s1);
             rep.iterations += r1.iterations;
             if (r1.improved) consider(r1.uv, "ceres-beta1");
         }
@@ -551,7 +552,7 @@ void solveCharts(std::vector<LocalChart>& charts, const ParameterizeOptions& opt
     });
     for (size_t c = 0; c < charts.size(); ++c) {
         const ChartReport& rep = res.chartReports[c];
-        res.tutteTotal = addEnergy(res.tutteTotal, rep.tutte);
+        res.initialTotal = addEnergy(res.initialTotal, rep.initial);
         res.finalTotal = addEnergy(res.finalTotal, rep.final);
         res.flips += rep.flips;
         res.overlaps += rep.overlaps;

@@ -64,7 +64,7 @@ nlohmann::json makeReport(const ParameterizeSettings& s, const Asset& asset, con
                           {"method", r.method},
                           {"start", r.start},
                           {"iterations", r.iterations},
-                          {"tutte", energyJson(r.tutte)},
+                          {"initial", energyJson(r.initial)},
                           {"final", energyJson(r.final)},
                           {"stretchL2", r.stretchL2},
                           {"stretchLinf", r.stretchLinf},
@@ -103,7 +103,7 @@ nlohmann::json makeReport(const ParameterizeSettings& s, const Asset& asset, con
                     {"baseRegions", param.charts.baseRegions},
                     {"splitRegions", param.charts.splitRegions},
                     {"merges", param.charts.merges},
-                    {"tutte", energyJson(param.tutteTotal)},
+                    {"initial", energyJson(param.initialTotal)},
                     {"final", energyJson(param.finalTotal)},
                     {"stretchL2", param.stretchL2},
                     {"stretchLinf", param.stretchLinf},
@@ -138,7 +138,7 @@ std::string statistics(const Multires& multires, const ParameterizeResult& param
     std::string out;
     appendf(out, "charts: %u (from %u base regions, %u split), flips %zu, overlaps %zu\n", param.charts.chartCount,
             param.charts.baseRegions, param.charts.splitRegions, param.flips, param.overlaps);
-    appendf(out, "E: Tutte %.6g -> final %.6g (E_pixel %.6g, E_poly %.6g)\n", param.tutteTotal.E, param.finalTotal.E,
+    appendf(out, "E: start %.6g -> final %.6g (E_pixel %.6g, E_poly %.6g)\n", param.initialTotal.E, param.finalTotal.E,
             param.finalTotal.pixel, param.finalTotal.poly);
     appendf(out, "stretch L2 %.4f, Linf %.4f, area-ratio std-dev %.4f, atlas fill %.1f%%\n", param.stretchL2,
             param.stretchLinf, param.areaRatioStdDev, 100 * param.atlasFill);

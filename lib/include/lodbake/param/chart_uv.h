@@ -73,6 +73,17 @@ struct ChartEnergy {
 ChartEnergy chartEnergy(const ChartMesh& chart, const std::vector<ChartPair>& pairs, const std::vector<Vec2>& uv,
                         const ChartEnergyOptions& options = {});
 
+// Charts above this many vertices are large: their Ceres steps are solved by conjugate gradients
+// (a sparse Cholesky factor fills in: the pairs and level triangles couple far-apart vertices) and
+// take at most kLargeChartIterations iterations per solve. From the LSCM start a large chart's E
+// falls by a few percent at most in a full solve (docs/benchmarks.md), while each iteration costs
+// time in proportion to the chart.
+constexpr size_t kLargeChartVertices = 1000;
+constexpr int kLargeChartIterations = 10;
+// Above this many vertices an injective LSCM start is kept as it is: the solve lowered such
+// charts' E by 2% at most while its problem was parameterize's time and memory peak.
+constexpr size_t kKeepLscmAboveVertices = 20000;
+
 struct ChartSolveOptions {
     ChartEnergyOptions energy;
     int maxIterations = 50;  // Ceres iterations per solve; 0 = keep the initial map

@@ -37,7 +37,7 @@ struct ParameterizeOptions {
 
 struct ChartReport {
     uint32_t faces = 0, vertices = 0, pairs = 0;
-    ChartEnergy tutte, final;
+    ChartEnergy initial, final;             // E of the solve's start map and of the kept map
     double stretchL2 = 0, stretchLinf = 0;  // Sander et al., normalised so 1 = isometric up to scale
     double areaRatioStdDev = 0;             // std-dev of (UV area / 3D area) / (chart mean ratio)
     size_t flips = 0, overlaps = 0;
@@ -76,7 +76,7 @@ struct ParameterizeResult {
     ChartResult charts;
     std::vector<std::array<Vec2, 3>> cornerUV;  // per original face corner, atlas UV (glTF: [0,1], v down)
     std::vector<ChartReport> chartReports;
-    ChartEnergy tutteTotal, finalTotal;        // sums over charts
+    ChartEnergy initialTotal, finalTotal;      // sums over charts
     double stretchL2 = 0, stretchLinf = 0;     // whole atlas (area-normalised)
     double areaRatioStdDev = 0;                // per triangle (UV area / 3D area), normalised by the mean
     std::array<uint32_t, 10> areaRatioHistogram{};  // bins of normalised ratio over [0, 2]; the last holds >= 1.8
