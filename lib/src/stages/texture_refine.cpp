@@ -84,7 +84,7 @@ nlohmann::json makeReport(const TextureRefineSettings& s, const Asset& asset, co
     rep["input"] = {{"path", s.common.input}, {"triangles", asset.mesh.triangleCount()}, {"levels", multires.levels.size()},
                     {"charts", multires.charts.chartCount}};
     rep["output"] = s.common.output;
-    rep["options"] = {{"size", o.param.textureSize}, {"sizes", o.sizes}, {"ranks", o.ranks},
+    rep["options"] = {{"size", o.param.textureSize}, {"sizes", o.sizes}, {"imagesBaked", o.bakeImages}, {"ranks", o.ranks},
                       {"minRefinedSize", o.minRefinedSize}, {"keepLevelTrianglesWhole", o.keepLevelTrianglesWhole},
                       {"minStdDev", o.minAreaRatioStdDev}, {"maxExtraCuts", o.maxExtraCutFraction},
                       {"split", o.splitPerChart}, {"alpha", o.param.solve.energy.alpha}, {"beta", o.param.solve.energy.beta}, {"iterations", o.param.solve.maxIterations}};

@@ -13,6 +13,7 @@
 //   bakeHierarchy             every layout at every size with bakeBaseColor (original appearance)
 #include <algorithm>
 #include <map>
+#include <optional>
 #include <unordered_map>
 
 #include "lodbake/bake/bake.h"
@@ -303,27 +304,30 @@ bool trimServedLevels(const TriMesh& mesh, const Multires& mr, const RefineOptio
 }
 
 // Every layout at every size (a rank >= 1 only at sizes >= minRefinedSize, and at the largest),
-// baked from the original appearance; `step` is called after each bake.
+// baked from the original appearance unless o.bakeImages is false; `step` is called after each.
 template <class Step>
 void bakeHierarchy(const Asset& asset, const RefineOptions& o, RefineResult& res, Step&& step) {
     std::vector<int> sizes = o.sizes;
     std::sort(sizes.begin(), sizes.end());
     sizes.erase(std::unique(sizes.begin(), sizes.end()), sizes.end());
-    const BakeSources sources(asset);  // the original images, decoded once for every bake
+    std::optional<BakeSources> sources;  // the original images, decoded once for every bake
+    if (o.bakeImages) sources.emplace(asset);
     for (const RankResult& rr : res.ranks)
         for (int size : sizes) {
             if (rr.rank > 0 && size < o.minRefinedSize && size != sizes.back()) continue;
-            BakeOptions bo;
-            bo.size = size;
-            bo.threads = o.param.threads;
-            BakeResult b = bakeBaseColor(sources, rr.layout.cornerUV, bo, layoutBakeIslands(asset.mesh, rr.layout));
             RefinedImage img;
             img.rank = rr.rank;
             img.size = size;
-            img.image = std::move(b.image);
-            img.image.name = "lodbake_T" + std::to_string(rr.rank) + "_" + std::to_string(size);
-            img.coveredTexels = b.coveredTexels;
-            img.seconds = b.seconds;
+            if (sources) {
+                BakeOptions bo;
+                bo.size = size;
+                bo.threads = o.param.threads;
+                BakeResult b = bakeBaseColor(*sources, rr.layout.cornerUV, bo, layoutBakeIslands(asset.mesh, rr.layout));
+                img.image = std::move(b.image);
+                img.image.name = "lodbake_T" + std::to_string(rr.rank) + "_" + std::to_string(size);
+                img.coveredTexels = b.coveredTexels;
+                img.seconds = b.seconds;
+            }
             res.images.push_back(std::move(img));
             step();
         }
@@ -331,8 +335,11 @@ void bakeHierarchy(const Asset& asset, const RefineOptions& o, RefineResult& res
 
 }  // namespace
 
-RefineResult refineTextures(const Asset& asset, const Multires& mr, const RefineOptions& o) {
+RefineResult refineTextures(const Asset& asset, const Multires& mr, const RefineOptions& options) {
     auto t0 = Clock::now();
+    // Re-split attempts and later candidates re-solve many unchanged charts: remember every solve.
+    RefineOptions o = options;
+    if (!o.param.solveCache) o.param.solveCache = makeChartSolveCache();
     checkRefineInput(asset, mr, o);
     const TriMesh& mesh = asset.mesh;
     const uint32_t n = uint32_t(mr.levels.size());
@@ -403,13 +410,15 @@ void applyTextureHierarchy(Asset& asset, Multires& mr, const RefineResult& resul
         if (rr.rank > 0) h.ranks.push_back(rr.layout);
     for (const RefinedImage& img : result.images) {
         if (img.rank > h.ranks.size()) throw InvalidInput("applyTextureHierarchy: image of an unknown rank");
-        asset.images.push_back(img.image);
         HierarchyTexture t;
         t.rank = img.rank;
         t.firstLevel = 0;
         t.lastLevel = result.ranks.at(img.rank).lastLevel;
-        t.image = int(asset.images.size()) - 1;
         t.size = img.size;
+        if (!img.image.encoded.empty()) {  // not baked (bakeImages false): the entry has no image
+            asset.images.push_back(img.image);
+            t.image = int(asset.images.size()) - 1;
+        }
         h.textures.push_back(t);
         if (img.rank > 0) {
             ChartLayout& lay = h.ranks[img.rank - 1];

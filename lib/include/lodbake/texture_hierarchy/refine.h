@@ -85,6 +85,10 @@ struct RefineOptions {
     // merging: the split charts are final), param.levelIslands and param.progress itself.
     ParameterizeOptions param = rankParameterizeDefaults();
     std::vector<int> sizes{128, 256, 512, 1024};  // MIP-style: every layout baked at each of these sides
+    // false: the hierarchy's textures (rank, levels, size) are recorded without baking their
+    // images. `pack` reads only those (it re-bakes every page from the original), so the chain
+    // skips the bakes of an intermediate nobody else sees.
+    bool bakeImages = true;
     // Rank layouts (j >= 1) are baked only at sizes >= this (the largest size when none is): their
     // extra chart seams and gutters cost more than they give on small pages. `pack` uses a rank
     // only for levels whose page is at least its smallest size.
@@ -123,7 +127,7 @@ struct RankResult {
 struct RefinedImage {
     uint32_t rank = 0;
     int size = 0;
-    Image image;
+    Image image;  // empty (no encoded bytes) when RefineOptions::bakeImages is false
     size_t coveredTexels = 0;
     double seconds = 0;
 };
