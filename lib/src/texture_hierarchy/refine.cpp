@@ -129,6 +129,12 @@ std::vector<uint32_t> splitCharts(const TriMesh& mesh, const std::vector<uint32_
 std::vector<uint32_t> splitCharts(const TriMesh& mesh, const std::vector<uint32_t>& parentChart, uint32_t parentCount,
                                   const std::vector<uint32_t>& faceRegion, const std::vector<uint32_t>& perChart,
                                   uint32_t& count) {
+    return splitCharts(mesh, parentChart, parentCount, faceRegion, perChart, count, nullptr);
+}
+
+std::vector<uint32_t> splitCharts(const TriMesh& mesh, const std::vector<uint32_t>& parentChart, uint32_t parentCount,
+                                  const std::vector<uint32_t>& faceRegion, const std::vector<uint32_t>& perChart,
+                                  uint32_t& count, SplitMemo* memo) {
     const size_t nf = mesh.triangleCount();
     if (perChart.size() != parentCount) throw InvalidInput("splitCharts: perChart does not match the parent charts");
     if (parentChart.size() != nf || faceRegion.size() != nf) throw InvalidInput("splitCharts: tables do not match the mesh");
@@ -143,6 +149,16 @@ std::vector<uint32_t> splitCharts(const TriMesh& mesh, const std::vector<uint32_
     for (uint32_t c = 0; c < parentCount; ++c) {
         const std::vector<uint32_t>& F = faces[c];
         if (F.empty()) continue;
+        const std::pair<uint32_t, uint32_t> key{c, perChart[c]};
+        if (memo) {
+            auto it = memo->find(key);
+            if (it != memo->end()) {
+                for (uint32_t i = 0; i < F.size(); ++i) out[F[i]] = it->second.first[i];
+                count += it->second.second;
+                continue;
+            }
+        }
+        const uint32_t countBefore = count;
         // The chart as its own mesh (compact vertices) with its part of every region.
         TriMesh sub;
         std::unordered_map<uint32_t, uint32_t> vmap;
@@ -175,6 +191,11 @@ std::vector<uint32_t> splitCharts(const TriMesh& mesh, const std::vector<uint32_
         // Faces buildCharts left out (index-degenerate) join the chart's first piece.
         for (uint32_t i = 0; i < F.size(); ++i)
             if (cr.faceChart[i] < 0) out[F[i]] = cr.chartCount > 0 && rep[0] != UINT32_MAX ? rep[0] : F[i];
+        if (memo) {
+            std::vector<uint32_t> pieces(F.size());
+            for (uint32_t i = 0; i < F.size(); ++i) pieces[i] = out[F[i]];
+            memo->emplace(key, std::make_pair(std::move(pieces), count - countBefore));
+        }
     }
     return out;
 }
@@ -213,6 +234,7 @@ struct SplitCandidate {
     std::vector<uint32_t> regions;   // that level's faceRegion (level 0: every face its own region)
     std::vector<uint32_t> charts;    // the split charts (splitCharts' faceRegion form)
     uint32_t count = 0;              // how many
+    SplitMemo memo;                  // the pieces of `regions` per (parent chart, target) made so far
 };
 
 // The coarsest level finer than `source` whose regions split the parent's charts into more
@@ -230,7 +252,9 @@ SplitCandidate nextSplit(const TriMesh& mesh, const Multires& mr, const ChartLay
         } else {
             c.regions = mr.levels[c.level - 1].faceRegion;
         }
-        c.charts = splitCharts(mesh, parent.faceChart, parent.chartCount, c.regions, perChart, c.count);
+        c.memo.clear();
+        c.charts = splitCharts(mesh, parent.faceChart, parent.chartCount, c.regions,
+                               std::vector<uint32_t>(parent.chartCount, perChart), c.count, &c.memo);
         if (c.count > parent.chartCount) break;
     }
     return c;
@@ -253,7 +277,7 @@ void keepLevelTrianglesWhole(const TriMesh& mesh, const Multires& mr, const Char
                 changed = true;
             }
         if (!changed) break;
-        cand.charts = splitCharts(mesh, parent.faceChart, parent.chartCount, cand.regions, per, cand.count);
+        cand.charts = splitCharts(mesh, parent.faceChart, parent.chartCount, cand.regions, per, cand.count, &cand.memo);
     }
 }
 
@@ -268,7 +292,7 @@ void solveRankLayout(const TriMesh& mesh, const Multires& mr, const ChartLayout&
         rr.layout = rankLayout(mesh, mr, rr.lastLevel, cand.charts, o, parent.faceChart, parentE, rr, bad);
         if (bad.empty() || attempt == 3) break;
         for (uint32_t p : bad) per[p] = attempt < 2 ? per[p] * 2 : 1;
-        cand.charts = splitCharts(mesh, parent.faceChart, parent.chartCount, cand.regions, per, cand.count);
+        cand.charts = splitCharts(mesh, parent.faceChart, parent.chartCount, cand.regions, per, cand.count, &cand.memo);
         ++rr.resplits;
     }
     for (uint32_t p : per) rr.unsplit += p == 1 ? 1 : 0;

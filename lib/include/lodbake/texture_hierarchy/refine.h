@@ -23,6 +23,7 @@
 #include <functional>
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "lodbake/core/mesh.h"
@@ -67,6 +68,15 @@ std::vector<uint32_t> splitCharts(const TriMesh& mesh, const std::vector<uint32_
 std::vector<uint32_t> splitCharts(const TriMesh& mesh, const std::vector<uint32_t>& parentChart, uint32_t parentCount,
                                   const std::vector<uint32_t>& faceRegion, const std::vector<uint32_t>& perChart,
                                   uint32_t& count);
+
+// Pieces made by splitCharts per (parent chart, target pieces): per face of the parent chart in
+// ascending order its new chart's representative, and the number of pieces. Valid for one
+// parentChart and faceRegion table.
+using SplitMemo = std::map<std::pair<uint32_t, uint32_t>, std::pair<std::vector<uint32_t>, uint32_t>>;
+// The same, taking the pieces of a (parent chart, target) `memo` holds and adding the ones it makes.
+std::vector<uint32_t> splitCharts(const TriMesh& mesh, const std::vector<uint32_t>& parentChart, uint32_t parentCount,
+                                  const std::vector<uint32_t>& faceRegion, const std::vector<uint32_t>& perChart,
+                                  uint32_t& count, SplitMemo* memo);
 
 // How refineTextures parameterises rank layouts by default: parameterize's defaults on a
 // 512-texel atlas.
