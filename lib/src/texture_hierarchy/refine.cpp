@@ -361,9 +361,7 @@ void bakeHierarchy(const Asset& asset, const RefineOptions& o, RefineResult& res
 
 RefineResult refineTextures(const Asset& asset, const Multires& mr, const RefineOptions& options) {
     auto t0 = Clock::now();
-    // Re-split attempts and later candidates re-solve many unchanged charts: remember every solve.
-    RefineOptions o = options;
-    if (!o.param.solveCache) o.param.solveCache = makeChartSolveCache();
+    RefineOptions o = options;  // param.solveCache: one per candidate, below
     checkRefineInput(asset, mr, o);
     const TriMesh& mesh = asset.mesh;
     const uint32_t n = uint32_t(mr.levels.size());
@@ -403,12 +401,16 @@ RefineResult refineTextures(const Asset& asset, const Multires& mr, const Refine
         }
         // A rank only refines T0: when its (more numerous) charts cannot fit the texture, the
         // hierarchy stops at the ranks it has, and the report says why.
+        // Re-split rounds re-solve the unchanged charts of the candidate: its solves are remembered
+        // (another candidate serves other levels, so its charts have other pairs: none would hit).
+        o.param.solveCache = makeChartSolveCache();
         try {
             solveRankLayout(mesh, mr, parent, o, eo, per, cand, rr);
         } catch (const Impossible& e) {
             res.rejected.push_back({cand.level, cand.count, std::string("its charts do not fit the texture (") + e.what() + ")"});
             break;
         }
+        o.param.solveCache.reset();
         if (rr.layout.chartCount <= parent.chartCount) {
             res.rejected.push_back({cand.level, rr.layout.chartCount, "no piece solved better than its parent"});
             continue;
