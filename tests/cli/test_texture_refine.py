@@ -12,6 +12,7 @@ than the chain packed with T0 only (every input but the near-isometric wall5 get
 texture on both);
 gltf-validator 0 errors on the final chain; usage errors.
 """
+import filecmp
 import json
 import math
 import os
@@ -200,6 +201,46 @@ class TextureRefineCli(unittest.TestCase):
         for name in SAMPLES:
             with self.subTest(sample=name):
                 self.run_one(name, os.path.join(self.samples, name + ".glb"))
+
+    def test_no_images_packs_the_same(self):
+        # pack reads the hierarchy's layouts and texture sizes, never its images: --no-images (what
+        # lodbake does with an intermediate it does not keep) records the same hierarchy without
+        # them, and pack writes the same bytes from either. Remembered chart solves and splits
+        # leave the output the same for any thread count.
+        work = os.path.join(self.work, "no_images")
+        os.makedirs(work, exist_ok=True)
+        src = os.path.join(self.samples, "colors.glb")
+        mr, uv = os.path.join(work, "c.mr.glb"), os.path.join(work, "c.uv.glb")
+        lt.run([lt.tool("simplify"), "-i", src, "-o", mr, "--ratio", "0.5,0.1,0.02", "--quiet"])
+        lt.run([lt.tool("parameterize"), "-i", mr, "-o", uv, "--quiet"])
+        runs = {}
+        for label, extra in (("baked", ["--threads", "1"]), ("baked2", ["--threads", "2"]),
+                             ("bare", ["--no-images", "--threads", "2"])):
+            tex = os.path.join(work, label + ".tex.glb")
+            lt.run([lt.tool("texture-refine"), "-i", uv, "-o", tex, "--report", tex + ".json"] + REFINE + extra)
+            with open(tex + ".json") as f:
+                runs[label] = (tex, json.load(f))
+        self.assertTrue(filecmp.cmp(runs["baked"][0], runs["baked2"][0], shallow=False), "texture-refine --threads 1 vs 2")
+        baked, bare = lt.Gltf(runs["baked"][0]), lt.Gltf(runs["bare"][0])
+        hb, hn = baked.multires()["textureHierarchy"], bare.multires()["textureHierarchy"]
+        self.assertGreaterEqual(len(hb["ranks"]), 1)
+        self.assertEqual([(t["rank"], t["levels"], t["size"]) for t in hb["textures"]],
+                         [(t["rank"], t["levels"], t["size"]) for t in hn["textures"]])
+        self.assertTrue(all("image" in t for t in hb["textures"]))
+        self.assertFalse(any("image" in t for t in hn["textures"]))
+        self.assertEqual(len(baked.json.get("images", [])) - len(bare.json.get("images", [])), len(hb["textures"]))
+        self.assertFalse(runs["bare"][1]["options"]["imagesBaked"])
+        self.assertEqual(runs["baked"][1]["rejectedCandidates"], runs["bare"][1]["rejectedCandidates"])
+        for rb, rn in zip(runs["baked"][1]["ranks"], runs["bare"][1]["ranks"]):
+            for k in (rb, rn):
+                k.get("parameterize", {}).pop("seconds", None)
+            self.assertEqual(rb, rn)
+        lods = []
+        for label in ("baked", "bare"):
+            out = os.path.join(work, label + ".lod.glb")
+            lt.run([lt.tool("pack"), "-i", runs[label][0], "-o", out] + PACK)
+            lods.append(out)
+        self.assertTrue(filecmp.cmp(*lods, shallow=False), "pack output from the baked and the image-less hierarchy")
 
     def test_usage_and_input_errors(self):
         uv = os.path.join(self.work, "plain.uv.glb")

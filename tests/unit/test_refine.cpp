@@ -69,6 +69,57 @@ TEST(RefineSplit, PiecesAreDisksInsideTheirParent) {
     }
 }
 
+TEST(RefineSplit, RememberedPiecesGiveTheSameSplit) {
+    // refineTextures re-splits only some parents per round; the memo must not change any result.
+    const Parameterized& p = hemisphereAsset();
+    const TriMesh& m = p.asset.mesh;
+    const std::vector<uint32_t>& regions = p.mr.levels[0].faceRegion;
+    const uint32_t parents = p.mr.charts.chartCount;
+    ASSERT_GE(parents, 1u);
+    SplitMemo memo;
+    std::vector<uint32_t> per(parents, 4);
+    uint32_t countMemo = 0, countFresh = 0;
+    EXPECT_EQ(splitCharts(m, p.mr.charts.faceChart, parents, regions, per, countMemo, &memo),
+              splitCharts(m, p.mr.charts.faceChart, parents, regions, per, countFresh));
+    EXPECT_EQ(countMemo, countFresh);
+    EXPECT_EQ(memo.size(), parents);
+    for (uint32_t target : {8u, 2u, 4u}) {  // 4 again: taken from the memo
+        per[0] = target;
+        EXPECT_EQ(splitCharts(m, p.mr.charts.faceChart, parents, regions, per, countMemo, &memo),
+                  splitCharts(m, p.mr.charts.faceChart, parents, regions, per, countFresh));
+        EXPECT_EQ(countMemo, countFresh);
+    }
+    EXPECT_EQ(memo.size(), parents + 2);
+}
+
+TEST(RefineSolveCache, RememberedSolvesGiveTheSameLayout) {
+    // A second parameterize through the same cache takes every chart's map from it: the layout and
+    // the reports are those of a run without the cache.
+    const Parameterized& p = hemisphereAsset();
+    ParameterizeOptions po;
+    po.textureSize = 256;
+    ParameterizeResult fresh = parameterize(p.asset.mesh, p.mr, po);
+    po.solveCache = makeChartSolveCache();
+    ParameterizeResult first = parameterize(p.asset.mesh, p.mr, po);
+    ParameterizeResult again = parameterize(p.asset.mesh, p.mr, po);
+    for (const ParameterizeResult* r : {&first, &again}) {
+        EXPECT_EQ(r->charts.faceChart, fresh.charts.faceChart);
+        ASSERT_EQ(r->cornerUV.size(), fresh.cornerUV.size());
+        for (size_t f = 0; f < fresh.cornerUV.size(); ++f)
+            for (size_t k = 0; k < 3; ++k) {
+                EXPECT_EQ(r->cornerUV[f][k].x, fresh.cornerUV[f][k].x);
+                EXPECT_EQ(r->cornerUV[f][k].y, fresh.cornerUV[f][k].y);
+            }
+        ASSERT_EQ(r->chartReports.size(), fresh.chartReports.size());
+        for (size_t c = 0; c < fresh.chartReports.size(); ++c) {
+            EXPECT_EQ(r->chartReports[c].method, fresh.chartReports[c].method);
+            EXPECT_EQ(r->chartReports[c].final.E, fresh.chartReports[c].final.E);
+        }
+    }
+    // Remembered reports are copies: the second run's solve times are the first run's.
+    for (size_t c = 0; c < first.chartReports.size(); ++c) EXPECT_EQ(again.chartReports[c].seconds, first.chartReports[c].seconds);
+}
+
 TEST(RefineMeasure, T0IsInjectiveOnTheOriginalAndEnergyGrowsWithLevels) {
     const Parameterized& p = hemisphereAsset();
     const uint32_t n = uint32_t(p.mr.levels.size());

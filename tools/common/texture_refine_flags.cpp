@@ -33,6 +33,9 @@ void addTextureRefineFlags(ArgParser& p, TextureRefineFlags& a, const std::strin
                      o.sizes.push_back(int(x));
                  }
              });
+    p.flag("--no-images", "record the hierarchy's textures (rank, levels, size) without baking their images; pack does not read "
+                          "them (lodbake bakes them only into a kept .tex.glb)",
+           [&o] { o.bakeImages = false; });
     p.option("--min-refined-size", "N",
              "refined ranks are baked only at --sizes >= N; pack uses a rank only on pages >= its smallest size "
              "(default " + std::to_string(o.minRefinedSize) + ")",

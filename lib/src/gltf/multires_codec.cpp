@@ -358,7 +358,8 @@ Multires readMultires(const ReadContext& c, const json& ext, const TriMesh& mesh
                 h.size = jint(X, "size", 0);
                 if (rank < 0 || size_t(rank) > mr.textures.ranks.size()) fail(c, tw + ": texture rank out of range");
                 if (first < 0 || last < first || size_t(last) > mr.levels.size()) fail(c, tw + ": texture levels out of range");
-                if (h.image < 0 || h.image >= int(images) || h.size <= 0) fail(c, tw + ": texture image or size out of range");
+                // No image (-1): the texture was recorded without baking (pack reads rank, levels, size).
+                if (h.image < -1 || h.image >= int(images) || h.size <= 0) fail(c, tw + ": texture image or size out of range");
                 h.rank = uint32_t(rank);
                 h.firstLevel = uint32_t(first);
                 h.lastLevel = uint32_t(last);
@@ -506,8 +507,12 @@ json writeMultires(BufferBuilder& w, const Asset& asset, const Multires& mr, con
         // texture-refine's hierarchy: rank layouts (schema of charts) and the textures.
         json ranks = json::array(), textures = json::array();
         for (const ChartLayout& lay : mr.textures.ranks) ranks.push_back(layoutJson(w, lay));
-        for (const HierarchyTexture& h : mr.textures.textures)
-            textures.push_back({{"rank", h.rank}, {"levels", {h.firstLevel, h.lastLevel}}, {"image", h.image}, {"size", h.size}});
+        for (const HierarchyTexture& h : mr.textures.textures) {
+            json t = {{"rank", h.rank}, {"levels", {h.firstLevel, h.lastLevel}}};
+            if (h.image >= 0) t["image"] = h.image;
+            t["size"] = h.size;
+            textures.push_back(t);
+        }
         ext["textureHierarchy"] = {{"ranks", ranks}, {"textures", textures}};
     }
     return ext;

@@ -23,6 +23,7 @@
 #include <map>
 #include <numeric>
 #include <set>
+#include <string>
 #include <thread>
 #include <unordered_map>
 
@@ -529,27 +530,90 @@ std::vector<LocalChart> localCharts(const TriMesh& mesh, const Multires& multire
     return charts;
 }
 
+template <class T>
+void appendBytes(std::string& key, const T& x) {
+    key.append(reinterpret_cast<const char*>(&x), sizeof(T));
+}
+
+// Everything solveChart reads of a chart, as bytes (field by field: no padding).
+std::string solveKey(const LocalChart& c, double resolution) {
+    std::string key;
+    appendBytes(key, resolution);
+    appendBytes(key, c.mesh.positions.size());
+    for (const Vec3& p : c.mesh.positions) { appendBytes(key, p.x); appendBytes(key, p.y); appendBytes(key, p.z); }
+    appendBytes(key, c.mesh.triangles.size());
+    for (const Tri& t : c.mesh.triangles) for (uint32_t v : t) appendBytes(key, v);
+    appendBytes(key, c.pairs.size());
+    for (const ChartPair& p : c.pairs) {
+        appendBytes(key, p.vertex);
+        for (size_t k = 0; k < 3; ++k) { appendBytes(key, p.coarse[k]); appendBytes(key, p.bary[k]); }
+        appendBytes(key, p.deviation);
+    }
+    appendBytes(key, c.mesh.levelTriangles.size());
+    for (const ChartLevelTriangle& t : c.mesh.levelTriangles) {
+        for (const ChartPoint& q : t.corner)
+            for (size_t k = 0; k < 3; ++k) { appendBytes(key, q.vertex[k]); appendBytes(key, q.weight[k]); }
+        appendBytes(key, t.area2);
+        appendBytes(key, t.level);
+    }
+    return key;
+}
+
+}  // namespace
+
+struct ChartSolveCache {
+    struct Entry {
+        std::vector<Vec2> uv;
+        ChartReport report;
+    };
+    std::unordered_map<std::string, Entry> entries;  // by solveKey
+};
+
+std::shared_ptr<ChartSolveCache> makeChartSolveCache() { return std::make_shared<ChartSolveCache>(); }
+
+namespace {
+
 // (3) Tutte, Ceres and checks per chart. Charts are independent: solved on up to options.threads
 // threads, largest first, results kept per chart and summed in chart order (identical for any
-// thread count). Progress runs to 0.9.
+// thread count). A chart options.solveCache remembers takes the remembered result (looked up and
+// stored outside the parallel loop). Progress runs to 0.9.
 void solveCharts(std::vector<LocalChart>& charts, const ParameterizeOptions& options, ParameterizeResult& res) {
     const double resolution = (512.0 * 512.0) / (double(options.textureSize) * options.textureSize);
     res.chartReports.resize(charts.size());
     std::vector<size_t> bySize(charts.size());
     std::iota(bySize.begin(), bySize.end(), size_t(0));
     std::stable_sort(bySize.begin(), bySize.end(), [&](size_t a, size_t b) { return charts[a].faces.size() > charts[b].faces.size(); });
+    ChartSolveCache* cache = options.solveCache.get();
+    std::vector<std::string> keys(cache ? charts.size() : 0);
+    std::vector<const ChartSolveCache::Entry*> known(charts.size(), nullptr);
+    if (cache)
+        for (size_t c = 0; c < charts.size(); ++c) {
+            if (charts[c].faces.empty()) continue;
+            keys[c] = solveKey(charts[c], resolution);
+            auto it = cache->entries.find(keys[c]);
+            if (it != cache->entries.end()) known[c] = &it->second;
+        }
     std::atomic<size_t> solved{0};
     const std::thread::id caller = std::this_thread::get_id();
     parallelFor(charts.size(), options.threads, [&](size_t i) {
         size_t c = bySize[i];
         ChartReport& rep = res.chartReports[c];
-        rep.faces = uint32_t(charts[c].faces.size());
-        rep.vertices = uint32_t(charts[c].vertices.size());
-        rep.pairs = uint32_t(charts[c].pairs.size());
-        if (!charts[c].faces.empty()) solveChart(charts[c], options, resolution, rep);
+        if (known[c]) {
+            charts[c].uv = known[c]->uv;
+            rep = known[c]->report;
+        } else {
+            rep.faces = uint32_t(charts[c].faces.size());
+            rep.vertices = uint32_t(charts[c].vertices.size());
+            rep.pairs = uint32_t(charts[c].pairs.size());
+            if (!charts[c].faces.empty()) solveChart(charts[c], options, resolution, rep);
+        }
         size_t done = ++solved;
         if (options.progress && std::this_thread::get_id() == caller) options.progress(0.9 * double(done) / double(charts.size()));
     });
+    if (cache)
+        for (size_t c = 0; c < charts.size(); ++c)
+            if (!known[c] && !charts[c].faces.empty())
+                cache->entries.emplace(std::move(keys[c]), ChartSolveCache::Entry{charts[c].uv, res.chartReports[c]});
     for (size_t c = 0; c < charts.size(); ++c) {
         const ChartReport& rep = res.chartReports[c];
         res.initialTotal = addEnergy(res.initialTotal, rep.initial);

@@ -78,7 +78,11 @@ StageResult runChain(const ChainSettings& s) {
     const Intermediate* packInput = &parameterized;
     Intermediate refined{chain.intermediatePath(".tex.glb"), {}};
     if (s.runTextureRefine) {
-        chain.run("texture-refine", s.textureRefine, &parameterized, &refined, runTextureRefine);
+        // pack reads the hierarchy's layouts and texture sizes, never its images: they are baked
+        // only for an intermediate that is kept.
+        TextureRefineSettings refine = s.textureRefine;
+        refine.refine.bakeImages = refine.refine.bakeImages && !s.keepIntermediates.empty();
+        chain.run("texture-refine", refine, &parameterized, &refined, runTextureRefine);
         parameterized.bytes = Bytes();
         packInput = &refined;
     }

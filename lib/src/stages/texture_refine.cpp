@@ -84,7 +84,7 @@ nlohmann::json makeReport(const TextureRefineSettings& s, const Asset& asset, co
     rep["input"] = {{"path", s.common.input}, {"triangles", asset.mesh.triangleCount()}, {"levels", multires.levels.size()},
                     {"charts", multires.charts.chartCount}};
     rep["output"] = s.common.output;
-    rep["options"] = {{"size", o.param.textureSize}, {"sizes", o.sizes}, {"ranks", o.ranks},
+    rep["options"] = {{"size", o.param.textureSize}, {"sizes", o.sizes}, {"imagesBaked", o.bakeImages}, {"ranks", o.ranks},
                       {"minRefinedSize", o.minRefinedSize}, {"keepLevelTrianglesWhole", o.keepLevelTrianglesWhole},
                       {"minStdDev", o.minAreaRatioStdDev}, {"maxExtraCuts", o.maxExtraCutFraction},
                       {"split", o.splitPerChart}, {"alpha", o.param.solve.energy.alpha}, {"beta", o.param.solve.energy.beta}, {"iterations", o.param.solve.maxIterations}};
@@ -119,7 +119,11 @@ std::string statistics(const TextureRefineSettings& s, const RefineResult& res, 
 StageResult runTextureRefine(const TextureRefineSettings& s) {
     std::optional<Multires> multires;
     double loadSeconds = 0;
-    Asset asset = loadStageInput(s.common, loadSeconds, &multires, [](Asset& a) { checkImages(a); });
+    // Without bakes this stage reads no pixels: a header check names an unreadable image, and the
+    // stage that reads the pixels (pack) decodes them.
+    void (*check)(Asset&) = [](Asset& a) { checkImages(a, ImageCheck::Decode); };
+    if (!s.refine.bakeImages) check = [](Asset& a) { checkImages(a, ImageCheck::Header); };
+    Asset asset = loadStageInput(s.common, loadSeconds, &multires, check);
     if (!multires) throw Impossible(s.common.input + ": no LODBAKE_multires extension; run simplify and parameterize first");
     if (multires->charts.empty()) throw Impossible(s.common.input + ": no chart layout; run parameterize first");
 

@@ -13,6 +13,7 @@
 //   bakeHierarchy             every layout at every size with bakeBaseColor (original appearance)
 #include <algorithm>
 #include <map>
+#include <optional>
 #include <unordered_map>
 
 #include "lodbake/bake/bake.h"
@@ -128,6 +129,12 @@ std::vector<uint32_t> splitCharts(const TriMesh& mesh, const std::vector<uint32_
 std::vector<uint32_t> splitCharts(const TriMesh& mesh, const std::vector<uint32_t>& parentChart, uint32_t parentCount,
                                   const std::vector<uint32_t>& faceRegion, const std::vector<uint32_t>& perChart,
                                   uint32_t& count) {
+    return splitCharts(mesh, parentChart, parentCount, faceRegion, perChart, count, nullptr);
+}
+
+std::vector<uint32_t> splitCharts(const TriMesh& mesh, const std::vector<uint32_t>& parentChart, uint32_t parentCount,
+                                  const std::vector<uint32_t>& faceRegion, const std::vector<uint32_t>& perChart,
+                                  uint32_t& count, SplitMemo* memo) {
     const size_t nf = mesh.triangleCount();
     if (perChart.size() != parentCount) throw InvalidInput("splitCharts: perChart does not match the parent charts");
     if (parentChart.size() != nf || faceRegion.size() != nf) throw InvalidInput("splitCharts: tables do not match the mesh");
@@ -142,6 +149,16 @@ std::vector<uint32_t> splitCharts(const TriMesh& mesh, const std::vector<uint32_
     for (uint32_t c = 0; c < parentCount; ++c) {
         const std::vector<uint32_t>& F = faces[c];
         if (F.empty()) continue;
+        const std::pair<uint32_t, uint32_t> key{c, perChart[c]};
+        if (memo) {
+            auto it = memo->find(key);
+            if (it != memo->end()) {
+                for (uint32_t i = 0; i < F.size(); ++i) out[F[i]] = it->second.first[i];
+                count += it->second.second;
+                continue;
+            }
+        }
+        const uint32_t countBefore = count;
         // The chart as its own mesh (compact vertices) with its part of every region.
         TriMesh sub;
         std::unordered_map<uint32_t, uint32_t> vmap;
@@ -174,6 +191,11 @@ std::vector<uint32_t> splitCharts(const TriMesh& mesh, const std::vector<uint32_
         // Faces buildCharts left out (index-degenerate) join the chart's first piece.
         for (uint32_t i = 0; i < F.size(); ++i)
             if (cr.faceChart[i] < 0) out[F[i]] = cr.chartCount > 0 && rep[0] != UINT32_MAX ? rep[0] : F[i];
+        if (memo) {
+            std::vector<uint32_t> pieces(F.size());
+            for (uint32_t i = 0; i < F.size(); ++i) pieces[i] = out[F[i]];
+            memo->emplace(key, std::make_pair(std::move(pieces), count - countBefore));
+        }
     }
     return out;
 }
@@ -212,6 +234,7 @@ struct SplitCandidate {
     std::vector<uint32_t> regions;   // that level's faceRegion (level 0: every face its own region)
     std::vector<uint32_t> charts;    // the split charts (splitCharts' faceRegion form)
     uint32_t count = 0;              // how many
+    SplitMemo memo;                  // the pieces of `regions` per (parent chart, target) made so far
 };
 
 // The coarsest level finer than `source` whose regions split the parent's charts into more
@@ -229,7 +252,9 @@ SplitCandidate nextSplit(const TriMesh& mesh, const Multires& mr, const ChartLay
         } else {
             c.regions = mr.levels[c.level - 1].faceRegion;
         }
-        c.charts = splitCharts(mesh, parent.faceChart, parent.chartCount, c.regions, perChart, c.count);
+        c.memo.clear();
+        c.charts = splitCharts(mesh, parent.faceChart, parent.chartCount, c.regions,
+                               std::vector<uint32_t>(parent.chartCount, perChart), c.count, &c.memo);
         if (c.count > parent.chartCount) break;
     }
     return c;
@@ -252,7 +277,7 @@ void keepLevelTrianglesWhole(const TriMesh& mesh, const Multires& mr, const Char
                 changed = true;
             }
         if (!changed) break;
-        cand.charts = splitCharts(mesh, parent.faceChart, parent.chartCount, cand.regions, per, cand.count);
+        cand.charts = splitCharts(mesh, parent.faceChart, parent.chartCount, cand.regions, per, cand.count, &cand.memo);
     }
 }
 
@@ -267,7 +292,7 @@ void solveRankLayout(const TriMesh& mesh, const Multires& mr, const ChartLayout&
         rr.layout = rankLayout(mesh, mr, rr.lastLevel, cand.charts, o, parent.faceChart, parentE, rr, bad);
         if (bad.empty() || attempt == 3) break;
         for (uint32_t p : bad) per[p] = attempt < 2 ? per[p] * 2 : 1;
-        cand.charts = splitCharts(mesh, parent.faceChart, parent.chartCount, cand.regions, per, cand.count);
+        cand.charts = splitCharts(mesh, parent.faceChart, parent.chartCount, cand.regions, per, cand.count, &cand.memo);
         ++rr.resplits;
     }
     for (uint32_t p : per) rr.unsplit += p == 1 ? 1 : 0;
@@ -303,27 +328,30 @@ bool trimServedLevels(const TriMesh& mesh, const Multires& mr, const RefineOptio
 }
 
 // Every layout at every size (a rank >= 1 only at sizes >= minRefinedSize, and at the largest),
-// baked from the original appearance; `step` is called after each bake.
+// baked from the original appearance unless o.bakeImages is false; `step` is called after each.
 template <class Step>
 void bakeHierarchy(const Asset& asset, const RefineOptions& o, RefineResult& res, Step&& step) {
     std::vector<int> sizes = o.sizes;
     std::sort(sizes.begin(), sizes.end());
     sizes.erase(std::unique(sizes.begin(), sizes.end()), sizes.end());
-    const BakeSources sources(asset);  // the original images, decoded once for every bake
+    std::optional<BakeSources> sources;  // the original images, decoded once for every bake
+    if (o.bakeImages) sources.emplace(asset);
     for (const RankResult& rr : res.ranks)
         for (int size : sizes) {
             if (rr.rank > 0 && size < o.minRefinedSize && size != sizes.back()) continue;
-            BakeOptions bo;
-            bo.size = size;
-            bo.threads = o.param.threads;
-            BakeResult b = bakeBaseColor(sources, rr.layout.cornerUV, bo, layoutBakeIslands(asset.mesh, rr.layout));
             RefinedImage img;
             img.rank = rr.rank;
             img.size = size;
-            img.image = std::move(b.image);
-            img.image.name = "lodbake_T" + std::to_string(rr.rank) + "_" + std::to_string(size);
-            img.coveredTexels = b.coveredTexels;
-            img.seconds = b.seconds;
+            if (sources) {
+                BakeOptions bo;
+                bo.size = size;
+                bo.threads = o.param.threads;
+                BakeResult b = bakeBaseColor(*sources, rr.layout.cornerUV, bo, layoutBakeIslands(asset.mesh, rr.layout));
+                img.image = std::move(b.image);
+                img.image.name = "lodbake_T" + std::to_string(rr.rank) + "_" + std::to_string(size);
+                img.coveredTexels = b.coveredTexels;
+                img.seconds = b.seconds;
+            }
             res.images.push_back(std::move(img));
             step();
         }
@@ -331,8 +359,9 @@ void bakeHierarchy(const Asset& asset, const RefineOptions& o, RefineResult& res
 
 }  // namespace
 
-RefineResult refineTextures(const Asset& asset, const Multires& mr, const RefineOptions& o) {
+RefineResult refineTextures(const Asset& asset, const Multires& mr, const RefineOptions& options) {
     auto t0 = Clock::now();
+    RefineOptions o = options;  // param.solveCache: one per candidate, below
     checkRefineInput(asset, mr, o);
     const TriMesh& mesh = asset.mesh;
     const uint32_t n = uint32_t(mr.levels.size());
@@ -372,12 +401,16 @@ RefineResult refineTextures(const Asset& asset, const Multires& mr, const Refine
         }
         // A rank only refines T0: when its (more numerous) charts cannot fit the texture, the
         // hierarchy stops at the ranks it has, and the report says why.
+        // Re-split rounds re-solve the unchanged charts of the candidate: its solves are remembered
+        // (another candidate serves other levels, so its charts have other pairs: none would hit).
+        o.param.solveCache = makeChartSolveCache();
         try {
             solveRankLayout(mesh, mr, parent, o, eo, per, cand, rr);
         } catch (const Impossible& e) {
             res.rejected.push_back({cand.level, cand.count, std::string("its charts do not fit the texture (") + e.what() + ")"});
             break;
         }
+        o.param.solveCache.reset();
         if (rr.layout.chartCount <= parent.chartCount) {
             res.rejected.push_back({cand.level, rr.layout.chartCount, "no piece solved better than its parent"});
             continue;
@@ -403,13 +436,15 @@ void applyTextureHierarchy(Asset& asset, Multires& mr, const RefineResult& resul
         if (rr.rank > 0) h.ranks.push_back(rr.layout);
     for (const RefinedImage& img : result.images) {
         if (img.rank > h.ranks.size()) throw InvalidInput("applyTextureHierarchy: image of an unknown rank");
-        asset.images.push_back(img.image);
         HierarchyTexture t;
         t.rank = img.rank;
         t.firstLevel = 0;
         t.lastLevel = result.ranks.at(img.rank).lastLevel;
-        t.image = int(asset.images.size()) - 1;
         t.size = img.size;
+        if (!img.image.encoded.empty()) {  // not baked (bakeImages false): the entry has no image
+            asset.images.push_back(img.image);
+            t.image = int(asset.images.size()) - 1;
+        }
         h.textures.push_back(t);
         if (img.rank > 0) {
             ChartLayout& lay = h.ranks[img.rank - 1];

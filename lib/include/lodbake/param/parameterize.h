@@ -6,6 +6,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -15,6 +16,14 @@
 #include "lodbake/param/chart_uv.h"
 
 namespace lodbake {
+
+// Chart solves remembered across parameterize calls (texture-refine re-solves layouts in which
+// most charts are unchanged): a chart whose local mesh, pairs and level triangles are exactly
+// those of a remembered one takes its map and report instead of being solved again, so results
+// are the same as without it. Valid for one setting of ParameterizeOptions::solve (the texture
+// size is part of the key); one parameterize call at a time may use it.
+struct ChartSolveCache;
+std::shared_ptr<ChartSolveCache> makeChartSolveCache();
 
 struct ParameterizeOptions {
     ChartOptions charts;
@@ -33,6 +42,7 @@ struct ParameterizeOptions {
     // their smallest footprints would take more than a quarter of the atlas (then none does).
     bool crossingIslands = true;
     std::function<bool(double)> progress;  // fraction done; may be empty
+    std::shared_ptr<ChartSolveCache> solveCache;  // may be empty (every chart solved)
 };
 
 struct ChartReport {

@@ -23,6 +23,7 @@
 #include <functional>
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "lodbake/core/mesh.h"
@@ -68,6 +69,15 @@ std::vector<uint32_t> splitCharts(const TriMesh& mesh, const std::vector<uint32_
                                   const std::vector<uint32_t>& faceRegion, const std::vector<uint32_t>& perChart,
                                   uint32_t& count);
 
+// Pieces made by splitCharts per (parent chart, target pieces): per face of the parent chart in
+// ascending order its new chart's representative, and the number of pieces. Valid for one
+// parentChart and faceRegion table.
+using SplitMemo = std::map<std::pair<uint32_t, uint32_t>, std::pair<std::vector<uint32_t>, uint32_t>>;
+// The same, taking the pieces of a (parent chart, target) `memo` holds and adding the ones it makes.
+std::vector<uint32_t> splitCharts(const TriMesh& mesh, const std::vector<uint32_t>& parentChart, uint32_t parentCount,
+                                  const std::vector<uint32_t>& faceRegion, const std::vector<uint32_t>& perChart,
+                                  uint32_t& count, SplitMemo* memo);
+
 // How refineTextures parameterises rank layouts by default: parameterize's defaults on a
 // 512-texel atlas.
 inline ParameterizeOptions rankParameterizeDefaults() {
@@ -85,6 +95,10 @@ struct RefineOptions {
     // merging: the split charts are final), param.levelIslands and param.progress itself.
     ParameterizeOptions param = rankParameterizeDefaults();
     std::vector<int> sizes{128, 256, 512, 1024};  // MIP-style: every layout baked at each of these sides
+    // false: the hierarchy's textures (rank, levels, size) are recorded without baking their
+    // images. `pack` reads only those (it re-bakes every page from the original), so the chain
+    // skips the bakes of an intermediate nobody else sees.
+    bool bakeImages = true;
     // Rank layouts (j >= 1) are baked only at sizes >= this (the largest size when none is): their
     // extra chart seams and gutters cost more than they give on small pages. `pack` uses a rank
     // only for levels whose page is at least its smallest size.
@@ -123,7 +137,7 @@ struct RankResult {
 struct RefinedImage {
     uint32_t rank = 0;
     int size = 0;
-    Image image;
+    Image image;  // empty (no encoded bytes) when RefineOptions::bakeImages is false
     size_t coveredTexels = 0;
     double seconds = 0;
 };
