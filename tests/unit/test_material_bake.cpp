@@ -150,5 +150,70 @@ TEST(BakeMaterial, OrmAndEmissiveFollowFactorsAndTextures) {
     }
 }
 
+// Adds an 8x8 PNG whose texels vary (a different value per texel and channel) as a texture.
+int addVaryingTexture(Asset& a, int seed) {
+    std::vector<uint8_t> px(8 * 8 * 3);
+    for (size_t i = 0; i < px.size(); ++i) px[i] = uint8_t((i * 37 + size_t(seed) * 91) % 256);
+    a.images.push_back(encodePng(px, 8, 8, "varying"));
+    a.textures.push_back(Texture{int(a.images.size()) - 1, -1});
+    return int(a.textures.size()) - 1;
+}
+
+// The quad on the upper-left part of a larger page, leaving texels for the gap fill; every
+// channel textured with varying texels.
+struct PartialPage {
+    Asset asset;
+    std::vector<std::array<Vec2, 3>> uv;
+    BakeTarget target;
+    PartialPage() : asset(unitQuad()) {
+        Material& m = asset.materials[0];
+        m.baseColor.texture = addVaryingTexture(asset, 1);
+        m.metallicRoughness.texture = addVaryingTexture(asset, 2);
+        m.emissive.texture = addVaryingTexture(asset, 3);
+        m.normal.texture = addVaryingTexture(asset, 4);
+        m.emissiveFactor = {1, 1, 1};
+        m.alphaMode = AlphaMode::Blend;
+        m.baseColorFactor = {1, 1, 1, 0.5};
+        uv = ownUVs(asset.mesh);
+        for (auto& t : uv)
+            for (Vec2& p : t) p = {0.1 + 0.5 * p.x, 0.2 + 0.6 * p.y};
+        target = ownTarget(asset.mesh);
+        target.uv = uv;
+    }
+};
+
+// Rows are shaded on any number of threads and the gap fill runs once for every channel: each
+// channel comes out the same for 1 and 2 threads, and the same as when it is baked alone.
+TEST(BakeMaterial, ChannelsDoNotDependOnThreadsOrOnEachOther) {
+    const PartialPage page;
+    BakeSources sources(page.asset);
+    BakeOptions o;
+    o.size = 40;
+    o.width = 36;
+    o.channels.alpha = o.channels.orm = o.channels.emissive = o.channels.normal = true;
+    o.threads = 1;
+    const BakeResult one = bakeMaterial(sources, page.uv, o, {}, &page.target);
+    o.threads = 2;
+    const BakeResult two = bakeMaterial(sources, page.uv, o, {}, &page.target);
+    ASSERT_GT(one.coveredTexels, 0u);
+    ASSERT_LT(one.coveredTexels, size_t(36 * 40));  // some texels are gap-filled
+    EXPECT_EQ(one.pixels, two.pixels);
+    EXPECT_EQ(one.alpha, two.alpha);
+    EXPECT_EQ(one.orm, two.orm);
+    EXPECT_EQ(one.emissive, two.emissive);
+    EXPECT_EQ(one.normal, two.normal);
+    const auto alone = [&](void (*pick)(BakeChannels&)) {
+        BakeOptions a = o;
+        a.channels = BakeChannels{};
+        pick(a.channels);
+        return bakeMaterial(sources, page.uv, a, {}, &page.target);
+    };
+    EXPECT_EQ(alone([](BakeChannels&) {}).pixels, one.pixels);
+    EXPECT_EQ(alone([](BakeChannels& c) { c.alpha = true; }).alpha, one.alpha);
+    EXPECT_EQ(alone([](BakeChannels& c) { c.orm = true; }).orm, one.orm);
+    EXPECT_EQ(alone([](BakeChannels& c) { c.emissive = true; }).emissive, one.emissive);
+    EXPECT_EQ(alone([](BakeChannels& c) { c.normal = true; }).normal, one.normal);
+}
+
 }  // namespace
 }  // namespace lodbake

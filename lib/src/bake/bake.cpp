@@ -7,8 +7,9 @@
 // parameterize could not keep injective in their chart: their texels sample the original surface
 // at the closest point) -> shadeTexel (base colour factor x filtered texture lookup at the original
 // UV with derivatives from the UV Jacobian x COLOR_0, in linear space; rows on BakeOptions::threads
-// threads) -> fill gaps (ImageBufAlgo::fillholes_pushpull with coverage as alpha) -> encode PNG
-// (unless the caller encodes). Only the width x height region of the size x size grid is baked.
+// threads) -> fill gaps (ImageBufAlgo::fillholes_pushpull with coverage as alpha, one pyramid for
+// every channel) -> encode PNG (unless the caller encodes). Only the width x height region of the
+// size x size grid is baked.
 #include "lodbake/bake/bake.h"
 
 #include <algorithm>
@@ -18,6 +19,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <memory>
 #include <unistd.h>
 
 #include <OpenImageIO/imagebuf.h>
@@ -62,6 +64,7 @@ std::string extensionFor(const Image& img) {
 
 struct SourceTexture {
     ustring file;
+    OIIO::TextureSystem::TextureHandle* handle = nullptr;  // the file's cache entry: lookups skip the name search
     int channels = 0;
 };
 
@@ -84,6 +87,8 @@ std::vector<SourceTexture> writeSourceImages(const Asset& asset, const TempDir& 
             st.file = ustring(p.string());
             if (!ts.get_texture_info(st.file, 0, ustring("channels"), OIIO::TypeDesc::INT, &st.channels) || st.channels <= 0)
                 throw IOError("image " + std::to_string(i) + " (" + img.name + ") cannot be decoded for baking");
+            st.handle = ts.get_texture_handle(st.file);
+            if (!st.handle) throw IOError("image " + std::to_string(i) + " (" + img.name + ") cannot be decoded for baking");
             out[size_t(i)] = st;
         }
     return out;
@@ -229,6 +234,7 @@ struct ShadeContext {
     const std::array<std::vector<Vec4>, 2>& tangents;
     OIIO::TextureSystem& ts;
     int size;
+    OIIO::TextureSystem::Perthread* thread = nullptr;  // the calling thread's TextureSystem state
 };
 
 const Material& materialOf(const ShadeContext& c, uint32_t f) {
@@ -295,7 +301,7 @@ bool lookup(const ShadeContext& c, const TextureRef& ref, const TexelHit& h, flo
     if (interp == Interp::Data) opt.interpmode = OIIO::TextureOpt::InterpBilinear;
     const SourceTexture& src = c.sources[size_t(tex.image)];
     float r[4] = {1, 1, 1, 1};
-    c.ts.texture(src.file, opt, float(st.x), float(st.y), float(tdx.x), float(tdx.y), float(tdy.x), float(tdy.y),
+    c.ts.texture(src.handle, c.thread, opt, float(st.x), float(st.y), float(tdx.x), float(tdx.y), float(tdy.x), float(tdy.y),
                  std::min(src.channels, 4), r);
     if (src.channels == 2) r[3] = r[1];
     if (src.channels <= 2) r[2] = r[1] = r[0];
@@ -449,24 +455,58 @@ void encodeInTarget(const BakeTarget* targetOrNull, const TargetHit& th, Vec3 N,
     rgb[2] = n.z * 0.5 + 0.5;
 }
 
-// Pull-push fill of the uncovered texels of an RGB channel image (coverage as alpha), in place.
-void fillGaps(std::vector<float>& rgb, const std::vector<uint8_t>& covered, int w, int h) {
+// The most channels one gap fill takes at once: the fill's images (several full-size copies)
+// grow with them, and a few channels already share most of the pyramid's per-texel cost.
+constexpr int kFillChannels = 7;
+
+// One channel image being filled: `channels` floats per texel, interleaved.
+struct FillLayer {
+    std::vector<float>* values;
+    int channels;
+};
+
+// Pull-push fill of the uncovered texels of every layer (coverage as alpha), in place: one
+// pyramid for all layers. Each output channel depends only on its own channel and the coverage
+// (the pyramid's resizes, alpha divisions and composites work channel by channel), so filling
+// the layers together gives what filling each alone gives.
+void fillGaps(const std::vector<FillLayer>& layers, const std::vector<uint8_t>& covered, int w, int h) {
     const size_t texels = size_t(w) * size_t(h);
-    std::vector<float> px(texels * 4);
+    int nc = 0;
+    for (const FillLayer& l : layers) nc += l.channels;
+    const size_t stride = size_t(nc) + 1;
+    OIIO::ImageSpec spec(w, h, nc + 1, OIIO::TypeDesc::FLOAT);
+    spec.alpha_channel = nc;
+    // The pixels are written and read in place (local float buffers, rows contiguous): no copy
+    // of the whole multi-channel image besides those the fill makes.
+    auto buf = std::make_unique<OIIO::ImageBuf>(spec);
+    float* in = static_cast<float*>(buf->localpixels());
+    if (!in) throw SolverError("bake: cannot allocate the gap-fill image");
     for (size_t i = 0; i < texels; ++i) {
         const float a = covered[i] ? 1.0f : 0.0f;
-        for (size_t k = 0; k < 3; ++k) px[i * 4 + k] = rgb[i * 3 + k] * a;
-        px[i * 4 + 3] = a;
+        float* p = &in[i * stride];
+        for (const FillLayer& l : layers) {
+            const float* v = &(*l.values)[i * size_t(l.channels)];
+            for (int k = 0; k < l.channels; ++k) *p++ = v[k] * a;
+        }
+        *p = a;
     }
-    OIIO::ImageSpec spec(w, h, 4, OIIO::TypeDesc::FLOAT);
-    spec.alpha_channel = 3;
-    OIIO::ImageBuf buf(spec), filled;
-    const OIIO::ROI roi(0, w, 0, h, 0, 1, 0, 4);
-    buf.set_pixels(roi, OIIO::TypeDesc::FLOAT, px.data());
-    if (!OIIO::ImageBufAlgo::fillholes_pushpull(filled, buf)) throw SolverError("bake: pull-push fill failed: " + filled.geterror());
-    filled.get_pixels(roi, OIIO::TypeDesc::FLOAT, px.data());
-    for (size_t i = 0; i < texels; ++i)
-        for (size_t k = 0; k < 3; ++k) rgb[i * 3 + k] = px[i * 4 + k];
+    OIIO::ImageBuf filled;
+    if (!OIIO::ImageBufAlgo::fillholes_pushpull(filled, *buf)) throw SolverError("bake: pull-push fill failed: " + filled.geterror());
+    buf.reset();
+    std::vector<float> copy;
+    const float* out = filled.spec().format == OIIO::TypeDesc::FLOAT ? static_cast<const float*>(filled.localpixels()) : nullptr;
+    if (!out) {
+        copy.resize(texels * stride);
+        filled.get_pixels(OIIO::ROI(0, w, 0, h, 0, 1, 0, nc + 1), OIIO::TypeDesc::FLOAT, copy.data());
+        out = copy.data();
+    }
+    for (size_t i = 0; i < texels; ++i) {
+        const float* p = &out[i * stride];
+        for (const FillLayer& l : layers) {
+            float* v = &(*l.values)[i * size_t(l.channels)];
+            for (int k = 0; k < l.channels; ++k) v[k] = *p++;
+        }
+    }
 }
 
 // Rounds values in [0,1] to 8-bit steps, as they will be stored.
@@ -552,15 +592,17 @@ BakeResult bakeMaterial(const BakeSources& bs, const std::vector<std::array<Vec2
 
     // Shade: linear RGB + coverage, rows in parallel (each texel depends only on its hit).
     const size_t texels = size_t(g.w) * size_t(g.h);
-    std::vector<float> px(texels * 4, 0.0f);
-    if (ch.alpha) res.alpha.assign(texels * 3, 0.0f);  // RGB while filling, one channel at the end
+    std::vector<float> px(texels * 3, 0.0f);
+    if (ch.alpha) res.alpha.assign(texels, 0.0f);
     if (ch.orm) res.orm.assign(texels * 3, 0.0f);
     if (ch.emissive) res.emissive.assign(texels * 3, 0.0f);
     if (ch.normal) res.normal.assign(texels * 3, 0.0f);
     std::vector<uint8_t> covered(texels, 0);
     std::vector<size_t> rowCovered(size_t(g.h), 0), rowIsland(size_t(g.h), 0), rowLookups(size_t(g.h), 0);
-    const ShadeContext ctx{asset, cornerUV, islands, sources, BakeSourcesAccess::tangents(bs), *ts, g.size};
+    const ShadeContext shared{asset, cornerUV, islands, sources, BakeSourcesAccess::tangents(bs), *ts, g.size};
     parallelFor(size_t(g.h), o.threads, [&](size_t y) {
+        ShadeContext ctx = shared;
+        ctx.thread = ts->get_perthread_info();
         for (int x = 0; x < g.w; ++x) {
             const size_t i = g.at(x, int(y));
             const TexelHit& h = hits[i];
@@ -570,10 +612,8 @@ BakeResult bakeMaterial(const BakeSources& bs, const std::vector<std::array<Vec2
             if (h.island >= 0) ++rowIsland[y];
             double rgb[3], a = 1;
             if (shadeTexel(ctx, h, rgb, &a)) ++rowLookups[y];
-            float* p = &px[i * 4];
-            for (int c = 0; c < 3; ++c) p[c] = float(rgb[c]);
-            p[3] = 1;
-            if (ch.alpha) res.alpha[i * 3] = float(a);
+            for (size_t c = 0; c < 3; ++c) px[i * 3 + c] = float(rgb[c]);
+            if (ch.alpha) res.alpha[i] = float(a);
             double v[3];
             if (ch.orm) {
                 shadeOrm(ctx, h, v);
@@ -595,29 +635,26 @@ BakeResult bakeMaterial(const BakeSources& bs, const std::vector<std::array<Vec2
         res.islandTexels += rowIsland[y];
         res.texturedLookups += rowLookups[y];
     }
-    OIIO::ImageSpec spec(g.w, g.h, 4, OIIO::TypeDesc::FLOAT);
-    spec.alpha_channel = 3;
-    OIIO::ImageBuf buf(spec);
-    const OIIO::ROI roi(0, g.w, 0, g.h, 0, 1, 0, 4);
-    buf.set_pixels(roi, OIIO::TypeDesc::FLOAT, px.data());
-
-    // Gap fill: pull-push with coverage as alpha.
-    OIIO::ImageBuf filled;
+    // Gap fill: pull-push with coverage as alpha, up to kFillChannels channels in one pyramid.
     if (o.fillGaps && res.coveredTexels > 0) {
-        if (!OIIO::ImageBufAlgo::fillholes_pushpull(filled, buf))
-            throw SolverError("bake: pull-push fill failed: " + filled.geterror());
-    } else {
-        filled.copy(buf);
+        hits = {};  // shaded: freed before the fill allocates its images
+        targetHits = {};
+        std::vector<FillLayer> group{{&px, 3}};
+        int groupChannels = 3;
+        for (std::vector<float>* c : {&res.alpha, &res.orm, &res.emissive, &res.normal}) {
+            if (c->empty()) continue;
+            const FillLayer layer{c, c == &res.alpha ? 1 : 3};
+            if (groupChannels + layer.channels > kFillChannels) {
+                fillGaps(group, covered, g.w, g.h);
+                group.clear();
+                groupChannels = 0;
+            }
+            group.push_back(layer);
+            groupChannels += layer.channels;
+        }
+        fillGaps(group, covered, g.w, g.h);
     }
-    filled.get_pixels(roi, OIIO::TypeDesc::FLOAT, px.data());
-    const bool fill = o.fillGaps && res.coveredTexels > 0;
-    for (std::vector<float>* c : {&res.alpha, &res.orm, &res.emissive, &res.normal})
-        if (!c->empty() && fill) fillGaps(*c, covered, g.w, g.h);
-    if (ch.alpha) {
-        for (size_t i = 0; i < texels; ++i) res.alpha[i] = res.alpha[i * 3];
-        res.alpha.resize(texels);
-        quantize(res.alpha);
-    }
+    if (ch.alpha) quantize(res.alpha);
     if (ch.orm) quantize(res.orm);
     if (ch.emissive) {
         double peak = 0;
@@ -643,7 +680,7 @@ BakeResult bakeMaterial(const BakeSources& bs, const std::vector<std::array<Vec2
     std::vector<uint8_t> rgb8(res.pixels.size());
     for (size_t i = 0; i < texels; ++i)
         for (int c = 0; c < 3; ++c) {
-            double v = linearToSrgb(double(px[i * 4 + size_t(c)]));
+            double v = linearToSrgb(double(px[i * 3 + size_t(c)]));
             uint8_t b = uint8_t(std::lround(v * 255));
             rgb8[i * 3 + size_t(c)] = b;
             res.pixels[i * 3 + size_t(c)] = float(b) / 255.0f;

@@ -86,27 +86,6 @@ inline double boxDistance2(const std::array<double, 6>& b, Vec3 p) {
     return d2;
 }
 
-// The faces of `faces` that can hold the closest point of some point of triangle `tri`: those
-// whose bounding box lies within d0 + 2r of the triangle's centroid c, with d0 = the distance from
-// c to `faces` and r = the largest |corner - c|. (For X on the triangle, its closest face f has
-// d(X, f) <= d(X, f0) <= d0 + r, f0 being c's closest face, so d(c, f) <= d0 + 2r.) The closest
-// point of any point of the triangle is the same over these faces as over all of them.
-inline std::vector<uint32_t> facesNearTriangle(const TriMesh& mesh, const std::vector<uint32_t>& faces,
-                                               const std::array<Vec3, 3>& tri) {
-    const Vec3 c = (tri[0] + tri[1] + tri[2]) * (1.0 / 3);
-    uint32_t f0 = 0;
-    std::array<double, 3> b0{};
-    const double d0 = closestSurfacePoint(mesh, faces, c, f0, b0);
-    if (!(d0 < 1e300)) return {};
-    double r = 0;
-    for (const Vec3& q : tri) r = std::max(r, length(q - c));
-    const double reach = (std::sqrt(d0) + 2 * r) * (1 + 1e-9) + 1e-12;
-    std::vector<uint32_t> near;
-    for (uint32_t f : faces)
-        if (boxDistance2(faceBox(mesh, f), c) <= reach * reach) near.push_back(f);
-    return near;
-}
-
 // Faces with their bounding boxes, for many closest-point queries near one place (an island's
 // texels or samples): a query skips every face whose box is farther than a hint face (the
 // previous query's answer), so it returns exactly what closestSurfacePoint returns over the same
@@ -144,6 +123,26 @@ public:
         }
         return best;
     }
+    // The face whose box is nearest to p (the first on ties; ~0u without faces): a good hint.
+    uint32_t nearestBox(Vec3 p) const {
+        uint32_t face = ~0u;
+        double best = 1e300;
+        for (size_t i = 0; i < faces_.size(); ++i) {
+            const double d = boxDistance2(box_[i], p);
+            if (d < best) {
+                best = d;
+                face = faces_[i];
+            }
+        }
+        return face;
+    }
+    // The faces whose boxes lie within `reach` of p, in their order.
+    std::vector<uint32_t> within(Vec3 p, double reach) const {
+        std::vector<uint32_t> out;
+        for (size_t i = 0; i < faces_.size(); ++i)
+            if (boxDistance2(box_[i], p) <= reach * reach) out.push_back(faces_[i]);
+        return out;
+    }
 
 private:
     double distance2(Vec3 p, uint32_t f, std::array<double, 3>* bary) const {
@@ -158,6 +157,27 @@ private:
     std::vector<std::array<double, 6>> box_;
     double extent_ = 0;  // largest |coordinate| of the faces
 };
+
+// The faces of `faces` that can hold the closest point of some point of triangle `tri`: those
+// whose bounding box lies within d0 + 2r of the triangle's centroid c, with d0 = the distance from
+// c to `faces` and r = the largest |corner - c|. (For X on the triangle, its closest face f has
+// d(X, f) <= d(X, f0) <= d0 + r, f0 being c's closest face, so d(c, f) <= d0 + 2r.) The closest
+// point of any point of the triangle is the same over these faces as over all of them. d0 is
+// closestSurfacePoint's, found by BoxedFaces from the face whose box is nearest to c: only the
+// faces whose boxes are as near are measured exactly.
+inline std::vector<uint32_t> facesNearTriangle(const TriMesh& mesh, const std::vector<uint32_t>& faces,
+                                               const std::array<Vec3, 3>& tri) {
+    const Vec3 c = (tri[0] + tri[1] + tri[2]) * (1.0 / 3);
+    const BoxedFaces boxed(mesh, faces);
+    uint32_t f0 = 0;
+    std::array<double, 3> b0{};
+    const double d0 = boxed.closest(c, boxed.nearestBox(c), f0, b0);
+    if (!(d0 < 1e300)) return {};
+    double r = 0;
+    for (const Vec3& q : tri) r = std::max(r, length(q - c));
+    const double reach = (std::sqrt(d0) + 2 * r) * (1 + 1e-9) + 1e-12;
+    return boxed.within(c, reach);
+}
 
 // The texture coordinate of the point of `faces` closest to p, interpolated from the faces'
 // per-corner UVs (cornerUV[f][k]). {0, 0} when faces is empty.
