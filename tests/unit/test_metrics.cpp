@@ -147,6 +147,30 @@ TEST(SurfaceDistance, DegenerateMeshIsImpossible) {
     EXPECT_THROW(surfaceDistance(a, flat), Impossible);
 }
 
+TEST(SurfaceDistance, ReferenceReusedGivesTheSameFigures) {
+    const TriMesh a = box({1, 2, 3});
+    const DistanceReference reference(a);
+    for (double shift : {0.01, 0.2}) {
+        const TriMesh b = box({1.1, 2, 2.9}, {shift, -0.02, 0.03});
+        const DistanceOptions o{20000};
+        const GeometricDistance once = surfaceDistance(a, b, o), shared = surfaceDistance(reference, b, o);
+        EXPECT_EQ(once.hausdorff, shared.hausdorff);
+        EXPECT_EQ(once.mean, shared.mean);
+        EXPECT_EQ(once.rms, shared.rms);
+        EXPECT_EQ(once.relHausdorff, shared.relHausdorff);
+        EXPECT_EQ(once.aToB.samples, shared.aToB.samples);
+    }
+    EXPECT_THROW(DistanceReference(TriMesh{}), Impossible);
+}
+
+TEST(SurfaceDistance, ReferenceClosestPointLiesOnTheSurface) {
+    const DistanceReference reference(box({1, 2, 3}));
+    const Vec3 outside = reference.closestPoint({0.5, 1, 4});  // above the top face
+    EXPECT_NEAR(length(outside - Vec3{0.5, 1, 3}), 0, 1e-12);
+    const Vec3 inside = reference.closestPoint({0.9, 1, 1.5});  // nearest the x = 1 face
+    EXPECT_NEAR(length(inside - Vec3{1, 1, 1.5}), 0, 1e-12);
+}
+
 // --- rendering and image metrics ----------------------------------------------------------
 
 TEST(Render, SquareSeenFromAboveCoversTheCentre) {

@@ -149,5 +149,10 @@ TEST(SimplifyPosed, LevelsStayWithinTheirDeviationWhenPosed) {
         const double hf = posedSurfaceDistance(a.rig, a.morph, a.mesh, fm, poses, d).hausdorff;
         EXPECT_LE(hl, 1.1 * L.maxDeviation + 1e-12) << "level " << k + 1;
         EXPECT_LT(hl, hf) << "level " << k + 1;
+        // One reference for both levels (the original's posed trees built once): the same figures.
+        PosedDistanceReference reference(a.rig, a.morph, a.mesh, poses);
+        EXPECT_EQ(reference.distance(lm, d).hausdorff, hl) << "level " << k + 1;
+        EXPECT_EQ(reference.distance(fm, d).hausdorff, hf) << "level " << k + 1;
+        EXPECT_EQ(reference.distance(lm, d).rms, posedSurfaceDistance(a.rig, a.morph, a.mesh, lm, poses, d).rms);
     }
 }

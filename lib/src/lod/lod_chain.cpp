@@ -562,28 +562,29 @@ std::vector<LayoutData> layoutsOf(const Asset& asset, const Multires& mr, bool h
 
 // The measured deviation of a level view from the original; for a rigged asset the largest over
 // the bind pose and the sampled poses (posed through the wedges its corners keep).
-GeometricDistance measureLevel(const Asset& asset, const LevelView& lv, const std::vector<PoseSample>& poses,
+GeometricDistance measureLevel(const Asset& asset, const LevelView& lv, bool posed, PosedDistanceReference& original,
                                const DistanceOptions& dopt) {
     TriMesh level = asTriMesh(asset.mesh, lv);
-    if (!poses.empty()) {
+    if (posed) {
         level.wedges = asset.mesh.wedges;
         level.cornerWedges = lv.cornerWedges;
     }
-    return posedSurfaceDistance(asset.rig, asset.morph, asset.mesh, level, poses, dopt);
+    return original.distance(level, dopt);
 }
 
 // Vertex placement of level view `lv` (measured as `d`): kept when the measured Hausdorff
 // distance does not grow, which `d` then holds.
-void placeVertices(const Asset& asset, const FaceGrid& grid, LevelView& lv, const std::vector<PoseSample>& poses,
+void placeVertices(const Asset& asset, LevelView& lv, bool posed, PosedDistanceReference& original,
                    const DistanceOptions& dopt, GeometricDistance& d, PackLevelReport::Placement& report) {
     auto t0 = Clock::now();
     PlacementOptions po;
     po.threads = dopt.threads;
-    PlacementResult placed = placeLevelVertices(asset.mesh, grid, *lv.data, po);
-    report = {true, false, d.hausdorff, d.relHausdorff, d.rms, d.relRms, placed.moved, placed.fixed, placed.shortened, 0};
+    PlacementResult placed = placeLevelVertices(asset.mesh, original.bind(), *lv.data, po);
+    report = {true, false, d.hausdorff, d.relHausdorff, d.rms, d.relRms, placed.moved, placed.fixed, placed.shortened,
+              placed.rounds, 0, secondsSince(t0)};
     if (placed.moved > 0) {
         lv.positions = std::move(placed.positions);
-        GeometricDistance after = measureLevel(asset, lv, poses, dopt);
+        GeometricDistance after = measureLevel(asset, lv, posed, original, dopt);
         report.applied = after.hausdorff <= d.hausdorff;
         if (report.applied) d = after;
         else lv.positions.clear();
@@ -595,7 +596,7 @@ void placeVertices(const Asset& asset, const FaceGrid& grid, LevelView& lv, cons
 // where it applies; for a rigged asset the largest over the bind pose and the sampled poses.
 // Progress to 0.3.
 template <class Progress>
-void measureLevels(const Asset& asset, const FaceGrid& grid, std::vector<LevelView>& views, const PackOptions& options,
+void measureLevels(const Asset& asset, std::vector<LevelView>& views, const PackOptions& options,
                    PackResult& res, Progress&& progress) {
     const std::vector<PoseSample> poses = samplePoses(asset.rig, options.poses);
     const size_t n = views.size();
@@ -603,14 +604,17 @@ void measureLevels(const Asset& asset, const FaceGrid& grid, std::vector<LevelVi
     DistanceOptions dopt;
     dopt.samplesPerSide = options.distanceSamples;
     dopt.threads = options.threads;
+    // The original's trees, built once for every level and placement and freed before the bakes.
+    PosedDistanceReference original(asset.rig, asset.morph, asset.mesh, poses);
+    const bool posed = !poses.empty();
     for (size_t k = 0; k < n; ++k) {
         PackLevelReport& r = res.reports[k];
         r.source = views[k].source;
         r.maxDeviation = views[k].maxDeviation;
         if (k == 0) continue;
-        GeometricDistance d = measureLevel(asset, views[k], poses, dopt);
+        GeometricDistance d = measureLevel(asset, views[k], posed, original, dopt);
         if (options.vertexPlacement && options.projectLevels && views[k].data)
-            placeVertices(asset, grid, views[k], poses, dopt, d, r.placement);
+            placeVertices(asset, views[k], posed, original, dopt, d, r.placement);
         r.hausdorff = d.hausdorff;
         r.relHausdorff = d.relHausdorff;
         r.rms = d.rms;
@@ -764,13 +768,13 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
     const std::vector<LayoutData> layouts = layoutsOf(asset, mr, hierarchy);  // 1
     double area3D = 0;
     for (const Tri& t : mesh.triangles) area3D += triArea3(mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]);
-    const FaceGrid grid(mesh);
     const auto tMeasure = Clock::now();
     const double cpuMeasure = processCpuSeconds();
-    measureLevels(asset, grid, views, options, res, progress);  // 2
+    measureLevels(asset, views, options, res, progress);  // 2
     res.measureSeconds = secondsSince(tMeasure);
     res.measureCpuSeconds = processCpuSeconds() - cpuMeasure;
     res.screenCoverage = screenCoverages(res, options);  // 3
+    const FaceGrid grid(mesh);  // built after the measure, whose trees are freed by now
 
     // 4. Per level: texture, page, mesh, bake.
     const MaterialPlan plan = options.baseColorOnly ? baseColorPlan(planMaterial(asset)) : planMaterial(asset);

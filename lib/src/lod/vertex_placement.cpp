@@ -1,5 +1,7 @@
-// Vertex placement of a coarse level (vertex_placement.h). The only translation unit of the lod
-// module that includes Ceres.
+// Vertex placement of a coarse level (vertex_placement.h). Each round's linear least squares is
+// solved through its normal equations: a term's Jacobian block on vertex k is w_k I, so the
+// normal matrix is N (x) I3 with N over the free vertices alone, one sparse Cholesky factorisation
+// for the three coordinates.
 #include "lod/vertex_placement.h"
 
 #include <algorithm>
@@ -9,17 +11,18 @@
 #include <memory>
 #include <utility>
 
-#include <ceres/ceres.h>
+#include <Eigen/Sparse>
+#include <Eigen/SparseCholesky>
 
 #include "lodbake/core/closest_point.h"
+#include "lodbake/core/face_grid.h"
 #include "lodbake/core/parallel.h"
-#include "param/sparse_solver.h"
 
 namespace lodbake::lod_detail {
 namespace {
 
 // Levels up to this many triangles are searched without a grid.
-constexpr size_t kSmallLevel = 4096;
+constexpr size_t kSmallLevel = 64;
 
 // A point of the level as a weighted sum of its vertices (local ids, distinct).
 struct Combination {
@@ -34,32 +37,6 @@ struct Combination {
         weight[size_t(count)] = w;
         ++count;
     }
-};
-
-// r = s (sum_k w_k x_k - target): linear in the vertices, so its Jacobian blocks are s w_k I.
-class PointCost final : public ceres::CostFunction {
-public:
-    PointCost(const Combination& c, Vec3 target, double s) : c_(c), target_(target), s_(s) {
-        set_num_residuals(3);
-        for (int k = 0; k < c.count; ++k) mutable_parameter_block_sizes()->push_back(3);
-    }
-    bool Evaluate(double const* const* x, double* r, double** J) const override {
-        for (int a = 0; a < 3; ++a) {
-            double v = -target_[a];
-            for (int k = 0; k < c_.count; ++k) v += c_.weight[size_t(k)] * x[k][a];
-            r[a] = s_ * v;
-        }
-        if (J)
-            for (int k = 0; k < c_.count; ++k)
-                if (J[k])
-                    for (int a = 0; a < 9; ++a) J[k][a] = a % 4 == 0 ? s_ * c_.weight[size_t(k)] : 0;
-        return true;
-    }
-
-private:
-    Combination c_;
-    Vec3 target_;
-    double s_;
 };
 
 double area(Vec3 a, Vec3 b, Vec3 c) { return 0.5 * length(cross(b - a, c - a)); }
@@ -112,25 +89,9 @@ Vec3 pointOf(const std::vector<Vec3>& positions, const Tri& t, const std::array<
     return positions[t[0]] * b[0] + positions[t[1]] * b[1] + positions[t[2]] * b[2];
 }
 
-ceres::Solver::Options solverOptions(size_t unknowns) {
-    ceres::Solver::Options so;
-    so.minimizer_type = ceres::TRUST_REGION;
-    so.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
-    // Each round is linear least squares: a wide first trust region makes the first step the
-    // Gauss-Newton (exact) one.
-    so.initial_trust_region_radius = 1e12;
-    chooseSparseSolver(so, unknowns, 300);
-    so.max_num_iterations = 10;
-    so.num_threads = 1;  // the same floating-point sums whatever the machine
-    so.logging_type = ceres::SILENT;
-    so.minimizer_progress_to_stdout = false;
-    so.function_tolerance = 1e-10;
-    return so;
-}
-
 }  // namespace
 
-PlacementResult placeLevelVertices(const TriMesh& original, const FaceGrid& originalGrid, const Level& level,
+PlacementResult placeLevelVertices(const TriMesh& original, const DistanceReference& surface, const Level& level,
                                    const PlacementOptions& options) {
     PlacementResult res;
     res.positions = original.positions;
@@ -177,7 +138,11 @@ PlacementResult placeLevelVertices(const TriMesh& original, const FaceGrid& orig
     const double reach = std::min(std::max(level.maxDeviation, 1e-4 * diagonal), 2e-3 * diagonal);
     double originalArea = 0;
     for (const Tri& f : original.triangles) originalArea += area(pos[f[0]], pos[f[1]], pos[f[2]]);
-    const std::vector<SurfaceSample> originalSamples = areaSamples(original.positions, original.triangles, options.samplesPerSide);
+    // The samples resolve the original's detail (the level has fewer triangles than the original),
+    // so their count on either side follows the original's triangles.
+    const size_t sampleCount =
+        std::min(options.samplesPerSide, std::max(options.minSamples, options.samplesPerTriangle * original.triangles.size()));
+    const std::vector<SurfaceSample> originalSamples = areaSamples(original.positions, original.triangles, sampleCount);
     std::vector<Vec3> originalPoints(originalSamples.size());
     for (size_t i = 0; i < originalSamples.size(); ++i)
         originalPoints[i] = pointOf(original.positions, original.triangles[originalSamples[i].triangle], originalSamples[i].bary);
@@ -213,17 +178,10 @@ PlacementResult placeLevelVertices(const TriMesh& original, const FaceGrid& orig
                 if (d < 1e300) onLevel[i] = {f, b}, hint = f;
             }
         });
-        const std::vector<SurfaceSample> levelSamples = areaSamples(pos, level.triangles, options.samplesPerSide);
+        const std::vector<SurfaceSample> levelSamples = areaSamples(pos, level.triangles, sampleCount);
         std::vector<Vec3> onOriginal(levelSamples.size());
-        std::vector<char> found(levelSamples.size(), 0);
         parallelFor(levelSamples.size(), options.threads, [&](size_t i) {
-            const Vec3 p = pointOf(pos, level.triangles[levelSamples[i].triangle], levelSamples[i].bary);
-            uint32_t f = 0;
-            std::array<double, 3> b{};
-            if (closestThroughGrid(original, originalGrid, p, reach, 4 * diagonal, f, b) < 1e300) {
-                onOriginal[i] = pointOf(original.positions, original.triangles[f], b);
-                found[i] = 1;
-            }
+            onOriginal[i] = surface.closestPoint(pointOf(pos, level.triangles[levelSamples[i].triangle], levelSamples[i].bary));
         });
 
         double rms = 0;
@@ -235,23 +193,18 @@ PlacementResult placeLevelVertices(const TriMesh& original, const FaceGrid& orig
                     sum += length2(pointOf(pos, level.triangles[onLevel[i].first], onLevel[i].second) - originalPoints[i]);
                     ++n;
                 }
-            for (size_t i = 0; i < levelSamples.size(); ++i)
-                if (found[i]) {
-                    sum += length2(pointOf(pos, level.triangles[levelSamples[i].triangle], levelSamples[i].bary) - onOriginal[i]);
-                    ++n;
-                }
+            for (size_t i = 0; i < levelSamples.size(); ++i, ++n)
+                sum += length2(pointOf(pos, level.triangles[levelSamples[i].triangle], levelSamples[i].bary) - onOriginal[i]);
             rms = n ? std::sqrt(sum / double(n)) : 0;
         }
-        // The linear least squares of this round.
-        std::vector<double> x(3 * nv);
+        // The linear least squares of this round, as normal equations over the free vertices:
+        // N x = rhs, one column per coordinate; fixed vertices move their terms to the right side.
+        std::vector<uint32_t> unknown(nv, UINT32_MAX);
+        uint32_t nu = 0;
         for (size_t i = 0; i < nv; ++i)
-            for (int a = 0; a < 3; ++a) x[3 * i + size_t(a)] = pos[verts[i]][a];
-        const std::vector<double> start = x;
-        ceres::Problem problem;
-        for (size_t i = 0; i < nv; ++i) {
-            problem.AddParameterBlock(&x[3 * i], 3);
-            if (fixed[i]) problem.SetParameterBlockConstant(&x[3 * i]);
-        }
+            if (!fixed[i]) unknown[i] = nu++;
+        std::vector<Eigen::Triplet<double>> entries;
+        Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(nu, 3);
         auto addTerm = [&](const Combination& c, Vec3 target, double weight) {
             if (c.count == 0) return;
             if (options.reweightPower > 0 && rms > 0) {
@@ -259,9 +212,19 @@ PlacementResult placeLevelVertices(const TriMesh& original, const FaceGrid& orig
                 for (int k = 0; k < c.count; ++k) p += pos[verts[c.vertex[size_t(k)]]] * c.weight[size_t(k)];
                 weight *= 1 + std::pow(length(p - target) / rms, options.reweightPower);
             }
-            std::vector<double*> blocks;
-            for (int k = 0; k < c.count; ++k) blocks.push_back(&x[3 * size_t(c.vertex[size_t(k)])]);
-            problem.AddResidualBlock(new PointCost(c, target, std::sqrt(weight)), nullptr, blocks);
+            Vec3 known = target;
+            for (int k = 0; k < c.count; ++k)
+                if (fixed[c.vertex[size_t(k)]]) known -= pos[verts[c.vertex[size_t(k)]]] * c.weight[size_t(k)];
+            for (int j = 0; j < c.count; ++j) {
+                const uint32_t uj = unknown[c.vertex[size_t(j)]];
+                if (uj == UINT32_MAX) continue;
+                const double wj = weight * c.weight[size_t(j)];
+                for (int k = 0; k < c.count; ++k) {
+                    const uint32_t uk = unknown[c.vertex[size_t(k)]];
+                    if (uk != UINT32_MAX) entries.emplace_back(uj, uk, wj * c.weight[size_t(k)]);
+                }
+                for (int a = 0; a < 3; ++a) rhs(uj, a) += wj * known[a];
+            }
         };
         auto combinationOf = [&](const Tri& t, const std::array<double, 3>& b) {
             Combination c;
@@ -285,7 +248,7 @@ PlacementResult placeLevelVertices(const TriMesh& original, const FaceGrid& orig
                 addTerm(combinationOf(level.triangles[onLevel[i].first], onLevel[i].second), originalPoints[i], originalWeight);
         const double levelWeight = levelArea / double(std::max<size_t>(1, levelSamples.size()));
         for (size_t i = 0; i < levelSamples.size(); ++i)
-            if (found[i]) addTerm(combinationOf(level.triangles[levelSamples[i].triangle], levelSamples[i].bary), onOriginal[i], levelWeight);
+            addTerm(combinationOf(level.triangles[levelSamples[i].triangle], levelSamples[i].bary), onOriginal[i], levelWeight);
         const double anchorWeight = options.damping * levelArea / double(nv);
         for (size_t i = 0; i < nv; ++i) {
             if (fixed[i]) continue;
@@ -293,13 +256,20 @@ PlacementResult placeLevelVertices(const TriMesh& original, const FaceGrid& orig
             c.add(uint32_t(i), 1);
             addTerm(c, pos[verts[i]], anchorWeight);
         }
-        ceres::Solver::Summary summary;
-        ceres::Solve(solverOptions(x.size()), &problem, &summary);
+        Eigen::SparseMatrix<double> normal(nu, nu);
+        normal.setFromTriplets(entries.begin(), entries.end());
+        entries = {};
+        Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(normal);
         ++res.rounds;
-        if (summary.termination_type == ceres::FAILURE) break;
-        bool finite = true;
-        for (double v : x) finite = finite && std::isfinite(v);
-        if (!finite) break;
+        if (ldlt.info() != Eigen::Success) break;
+        const Eigen::MatrixXd solved = ldlt.solve(rhs);
+        if (ldlt.info() != Eigen::Success || !solved.allFinite()) break;
+        std::vector<double> x(3 * nv), start(3 * nv);
+        for (size_t i = 0; i < nv; ++i)
+            for (int a = 0; a < 3; ++a) {
+                start[3 * i + size_t(a)] = pos[verts[i]][a];
+                x[3 * i + size_t(a)] = fixed[i] ? pos[verts[i]][a] : solved(unknown[i], a);
+            }
 
         // Take the step, shortened per vertex until no face that held at the round's start flips:
         // halved up to 8 times, then withdrawn.

@@ -10,8 +10,8 @@
 //
 // (each weight then scaled by 1 + (d / rms)^p, see PlacementOptions::reweightPower)
 // with P, Q and L fixed barycentric combinations of the level's vertices, so each round is a
-// linear least-squares problem (solved with Ceres); the closest points are found again between
-// rounds (ICP-style). The weights make the sample sums area integrals (w = area / samples), so
+// linear least-squares problem (solved through its normal equations); the closest points are
+// found again between rounds (ICP-style). The weights make the sample sums area integrals (w = area / samples), so
 // both sides count alike whatever their triangle counts.
 //
 // Constraints: vertices on an open or non-manifold edge of the level stay where they are (the
@@ -24,19 +24,26 @@
 #include <cstddef>
 #include <vector>
 
-#include "lodbake/core/face_grid.h"
 #include "lodbake/core/mesh.h"
 #include "lodbake/core/simplification_hierarchy.h"
+#include "lodbake/metrics/distance.h"
 
 namespace lodbake::lod_detail {
 
 struct PlacementOptions {
-    int rounds = 8;               // closest points found again and the least squares solved this many times
+    // Closest points found again and the least squares solved this many times. No early stop: the
+    // sampled RMS distance levels off after 2-3 rounds while the reweighting keeps lowering the
+    // largest distances.
+    int rounds = 8;
     // Each term's weight is multiplied by 1 + (d / rms)^p, d its distance at the round's start and
     // rms that of all sample terms: least squares alone lowers the mean distance, the reweighting
     // leans it towards the largest ones (the Hausdorff distance). 0 = plain least squares.
     double reweightPower = 2;
-    size_t samplesPerSide = 20000;  // area samples on the original and on the level, per round
+    // Area samples per side and round: samplesPerTriangle per triangle of the original, at least
+    // minSamples, at most samplesPerSide.
+    size_t samplesPerTriangle = 16;
+    size_t minSamples = 2000;
+    size_t samplesPerSide = 20000;
     double damping = 1e-2;        // weight of |x - x_round_start|^2 relative to the mean area per level vertex
     int threads = 0;              // closest-point queries; 0 = all cores (never changes the result)
 };
@@ -49,9 +56,10 @@ struct PlacementResult {
     int rounds = 0;               // rounds run
 };
 
-// `original` is the full-resolution mesh and `originalGrid` a FaceGrid over it; `level` names its
-// vertices (welded ids of `original`) and carries the simplification pairs.
-PlacementResult placeLevelVertices(const TriMesh& original, const FaceGrid& originalGrid, const Level& level,
+// `original` is the full-resolution mesh and `surface` its nearest-point reference (shared with
+// the measurement of the levels); `level` names its vertices (welded ids of `original`) and carries
+// the simplification pairs.
+PlacementResult placeLevelVertices(const TriMesh& original, const DistanceReference& surface, const Level& level,
                                    const PlacementOptions& options = {});
 
 }  // namespace lodbake::lod_detail

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <list>
+#include <memory>
 #include <vector>
 
 #include <CGAL/AABB_traits.h>
@@ -38,7 +39,6 @@ Point toPoint(Vec3 p) { return Point(p.x, p.y, p.z); }
 struct Surface {
     TriangleList triangles;
     std::vector<double> cumulativeArea;  // inclusive prefix sums
-    std::vector<Vec3> corners;           // 3 per triangle, for sampling
     std::vector<Vec3> vertices;          // referenced welded positions
 };
 
@@ -54,7 +54,6 @@ Surface collectSurface(const TriMesh& m) {
         Triangle tri(toPoint(a), toPoint(b), toPoint(c));
         if (tri.is_degenerate()) continue;
         s.triangles.push_back(tri);
-        s.corners.insert(s.corners.end(), {a, b, c});
         total += area;
         s.cumulativeArea.push_back(total);
     }
@@ -62,6 +61,21 @@ Surface collectSurface(const TriMesh& m) {
         if (used[v]) s.vertices.push_back(m.positions[v]);
     return s;
 }
+
+Vec3 toVec(const Point& p) { return {p.x(), p.y(), p.z()}; }
+
+// A surface with its nearest-point tree, built before any parallel query (the lazy build is not
+// thread-safe). The tree refers to `surface.triangles`, which never moves after construction.
+struct Measured {
+    Surface surface;
+    Tree tree;
+    explicit Measured(const TriMesh& m) : surface(collectSurface(m)) {
+        if (surface.triangles.empty()) return;
+        tree.rebuild(surface.triangles.begin(), surface.triangles.end());
+        tree.accelerate_distance_queries();
+        tree.squared_distance(surface.triangles[0].vertex(0));
+    }
+};
 
 // The i-th of n stratified area samples.
 Vec3 samplePoint(const Surface& s, size_t i, size_t n, double offset) {
@@ -77,7 +91,7 @@ Vec3 samplePoint(const Surface& s, size_t i, size_t n, double offset) {
         u = 1 - u;
         v = 1 - v;
     }
-    Vec3 a = s.corners[3 * t], b = s.corners[3 * t + 1], c = s.corners[3 * t + 2];
+    const Vec3 a = toVec(s.triangles[t].vertex(0)), b = toVec(s.triangles[t].vertex(1)), c = toVec(s.triangles[t].vertex(2));
     return a + (b - a) * u + (c - a) * v;
 }
 
@@ -93,9 +107,15 @@ OneSidedDistance oneSided(const Surface& from, const Tree& to, const DistanceOpt
     parallelFor(chunks, o.threads, [&](size_t c) {
         Partial p;
         size_t end = std::min(total, (c + 1) * kChunk);
+        // Consecutive samples lie close together: the previous one's closest point starts the
+        // search (the tree still returns the exact closest point).
+        Point hint;
+        bool hinted = false;
         for (size_t i = c * kChunk; i < end; ++i) {
-            Vec3 q = i < n ? samplePoint(from, i, n, offset) : from.vertices[i - n];
-            double d = std::sqrt(to.squared_distance(toPoint(q)));
+            const Point q = toPoint(i < n ? samplePoint(from, i, n, offset) : from.vertices[i - n]);
+            hint = hinted ? to.closest_point(q, hint) : to.closest_point(q);
+            hinted = true;
+            double d = std::sqrt(CGAL::squared_distance(q, hint));
             p.max = std::max(p.max, d);
             if (i < n) {
                 p.sum += d;
@@ -121,32 +141,43 @@ OneSidedDistance oneSided(const Surface& from, const Tree& to, const DistanceOpt
 
 }  // namespace
 
-GeometricDistance surfaceDistance(const TriMesh& a, const TriMesh& b, const DistanceOptions& options) {
-    Surface sa = collectSurface(a), sb = collectSurface(b);
-    if (sa.triangles.empty()) throw Impossible("first mesh has no triangle with non-zero area");
-    if (sb.triangles.empty()) throw Impossible("second mesh has no triangle with non-zero area");
+struct DistanceReference::Prepared {
+    Measured measured;
+    double diagonal = 0;
+    explicit Prepared(const TriMesh& a) : measured(a), diagonal(bounds(a).diagonal()) {}
+};
 
-    Tree treeA(sa.triangles.begin(), sa.triangles.end());
-    Tree treeB(sb.triangles.begin(), sb.triangles.end());
-    treeA.accelerate_distance_queries();
-    treeB.accelerate_distance_queries();
-    // Build the trees now, before the parallel queries (the lazy build is not thread-safe).
-    treeA.squared_distance(toPoint(sa.corners[0]));
-    treeB.squared_distance(toPoint(sb.corners[0]));
+DistanceReference::DistanceReference(const TriMesh& a) : prepared_(std::make_unique<Prepared>(a)) {
+    if (prepared_->measured.surface.triangles.empty()) throw Impossible("first mesh has no triangle with non-zero area");
+}
+DistanceReference::~DistanceReference() = default;
+DistanceReference::DistanceReference(DistanceReference&&) noexcept = default;
+DistanceReference& DistanceReference::operator=(DistanceReference&&) noexcept = default;
+
+Vec3 DistanceReference::closestPoint(Vec3 p) const { return toVec(prepared_->measured.tree.closest_point(toPoint(p))); }
+
+GeometricDistance surfaceDistance(const DistanceReference& reference, const TriMesh& b, const DistanceOptions& options) {
+    const Measured& ma = reference.prepared().measured;
+    const Measured mb(b);
+    if (mb.surface.triangles.empty()) throw Impossible("second mesh has no triangle with non-zero area");
 
     GeometricDistance r;
-    r.aToB = oneSided(sa, treeB, options);
-    r.bToA = oneSided(sb, treeA, options);
+    r.aToB = oneSided(ma.surface, mb.tree, options);
+    r.bToA = oneSided(mb.surface, ma.tree, options);
     r.hausdorff = std::max(r.aToB.max, r.bToA.max);
     r.mean = 0.5 * (r.aToB.mean + r.bToA.mean);
     r.rms = std::sqrt(0.5 * (r.aToB.rms * r.aToB.rms + r.bToA.rms * r.bToA.rms));
-    r.diagonal = bounds(a).diagonal();
+    r.diagonal = reference.prepared().diagonal;
     if (r.diagonal > 0) {
         r.relHausdorff = r.hausdorff / r.diagonal;
         r.relMean = r.mean / r.diagonal;
         r.relRms = r.rms / r.diagonal;
     }
     return r;
+}
+
+GeometricDistance surfaceDistance(const TriMesh& a, const TriMesh& b, const DistanceOptions& options) {
+    return surfaceDistance(DistanceReference(a), b, options);
 }
 
 }  // namespace lodbake

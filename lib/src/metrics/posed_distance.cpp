@@ -3,6 +3,7 @@
 #include "lodbake/metrics/posed_distance.h"
 
 #include <algorithm>
+#include <utility>
 
 #include "lodbake/core/errors.h"
 #include "lodbake/core/pose.h"
@@ -19,17 +20,34 @@ void raise(OneSidedDistance& to, const OneSidedDistance& d) {
 
 }  // namespace
 
-GeometricDistance posedSurfaceDistance(const Rig& rig, const MorphTargets& morph, const TriMesh& a, const TriMesh& b,
-                                       const std::vector<PoseSample>& poses, const DistanceOptions& options) {
-    GeometricDistance out = surfaceDistance(a, b, options);
-    if (rig.empty()) return out;
-    for (const PoseSample& s : poses) {
+PosedDistanceReference::PosedDistanceReference(const Rig& rig, const MorphTargets& morph, const TriMesh& a,
+                                               std::vector<PoseSample> poses)
+    : rig_(rig), morph_(morph), a_(a), poses_(std::move(poses)), posed_(poses_.size()), posedTried_(poses_.size(), 0) {}
+
+const DistanceReference& PosedDistanceReference::bind() {
+    if (!bind_) bind_.emplace(a_);
+    return *bind_;
+}
+
+GeometricDistance PosedDistanceReference::distance(const TriMesh& b, const DistanceOptions& options) {
+    GeometricDistance out = surfaceDistance(bind(), b, options);
+    if (rig_.empty()) return out;
+    for (size_t k = 0; k < poses_.size(); ++k) {
+        const PoseSample& s = poses_[k];
+        if (!posedTried_[k]) {
+            posedTried_[k] = 1;
+            try {
+                posed_[k].emplace(poseMesh(rig_, morph_, a_, s.animation, s.time));
+            } catch (const Impossible&) {
+                // the pose scales the original to no area: nothing to see there
+            }
+        }
+        if (!posed_[k]) continue;
         GeometricDistance d;
         try {
-            d = surfaceDistance(poseMesh(rig, morph, a, s.animation, s.time),
-                                poseMesh(rig, morph, b, s.animation, s.time), options);
+            d = surfaceDistance(*posed_[k], poseMesh(rig_, morph_, b, s.animation, s.time), options);
         } catch (const Impossible&) {
-            continue;  // the pose scales a mesh to no area: nothing to see there
+            continue;  // the pose scales the level to no area
         }
         raise(out.aToB, d.aToB);
         raise(out.bToA, d.bToA);
@@ -42,6 +60,11 @@ GeometricDistance posedSurfaceDistance(const Rig& rig, const MorphTargets& morph
     out.relMean = diag > 0 ? out.mean / diag : 0;
     out.relRms = diag > 0 ? out.rms / diag : 0;
     return out;
+}
+
+GeometricDistance posedSurfaceDistance(const Rig& rig, const MorphTargets& morph, const TriMesh& a, const TriMesh& b,
+                                       const std::vector<PoseSample>& poses, const DistanceOptions& options) {
+    return PosedDistanceReference(rig, morph, a, poses).distance(b, options);
 }
 
 }  // namespace lodbake

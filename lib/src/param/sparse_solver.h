@@ -1,7 +1,7 @@
 // The linear solver of lodbake's Ceres problems, whose Jacobians are very sparse (a residual
 // touches a few vertices): sparse Cholesky of the normal equations with whichever sparse library
 // Ceres was built with. Included only by the translation units that include Ceres
-// (param/ceres_energy.cpp, lod/vertex_placement.cpp).
+// (param/ceres_energy.cpp).
 #pragma once
 
 #include <cstddef>

@@ -59,7 +59,8 @@ nlohmann::json makeReport(const PackSettings& s, const Asset& asset, const Multi
                                           {"before", {{"hausdorff", pl.hausdorff}, {"relHausdorff", pl.relHausdorff},
                                                       {"rms", pl.rms}, {"relRms", pl.relRms}}},
                                           {"movedVertices", pl.moved}, {"fixedVertices", pl.fixed},
-                                          {"shortenedSteps", pl.shortened}, {"seconds", pl.seconds}};
+                                          {"shortenedSteps", pl.shortened}, {"rounds", pl.rounds},
+                                          {"seconds", pl.seconds}, {"placeSeconds", pl.placeSeconds}};
         }
     }
     nlohmann::json rep;

@@ -91,7 +91,9 @@ struct PackLevelReport {
         bool tried = false, applied = false;
         double hausdorff = 0, relHausdorff = 0, rms = 0, relRms = 0;  // before placement
         size_t moved = 0, fixed = 0, shortened = 0;  // vertices moved / held on open edges / steps shortened against flips
-        double seconds = 0;
+        int rounds = 0;               // least-squares rounds run
+        double seconds = 0;           // placement and the measure of the moved level
+        double placeSeconds = 0;      // placement alone
     } placement;
     double coverage = 0;          // MSFT_screencoverage value: the level is used at coverage >= this
     double maxCoverage = 0;       // ... and below this (the next finer level's threshold; LOD0: lod0Coverage)

@@ -7,6 +7,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 
 #include "lodbake/core/mesh.h"
 
@@ -44,5 +45,28 @@ struct GeometricDistance {
 // \pre a and b each have at least one triangle with non-zero area.
 // \throw Impossible when a mesh has no non-degenerate triangle.
 GeometricDistance surfaceDistance(const TriMesh& a, const TriMesh& b, const DistanceOptions& options = {});
+
+// Surface `a` of surfaceDistance prepared once (its sampled triangles and nearest-point tree) to
+// measure many surfaces against it: the figures are surfaceDistance(a, b)'s exactly.
+class DistanceReference {
+public:
+    // \throw Impossible when `a` has no non-degenerate triangle.
+    explicit DistanceReference(const TriMesh& a);
+    ~DistanceReference();
+    DistanceReference(DistanceReference&&) noexcept;
+    DistanceReference& operator=(DistanceReference&&) noexcept;
+
+    // The closest point of `a`'s surface to p (thread-safe).
+    Vec3 closestPoint(Vec3 p) const;
+
+    struct Prepared;
+    const Prepared& prepared() const { return *prepared_; }
+
+private:
+    std::unique_ptr<Prepared> prepared_;
+};
+
+// \throw Impossible when b has no non-degenerate triangle.
+GeometricDistance surfaceDistance(const DistanceReference& a, const TriMesh& b, const DistanceOptions& options = {});
 
 }  // namespace lodbake

@@ -2,6 +2,7 @@
 // poses (lodbake/core/pose_samples.h): what a level deviates by while the asset moves.
 #pragma once
 
+#include <optional>
 #include <vector>
 
 #include "lodbake/core/pose_samples.h"
@@ -16,5 +17,27 @@ namespace lodbake {
 // that flattens either mesh to no area is skipped.
 GeometricDistance posedSurfaceDistance(const Rig& rig, const MorphTargets& morph, const TriMesh& a, const TriMesh& b,
                                        const std::vector<PoseSample>& poses, const DistanceOptions& options = {});
+
+// The original `a` of posedSurfaceDistance prepared once for all levels measured against it: its
+// bind pose and each pose's posed mesh with their nearest-point trees (built on first use, held
+// until the reference is destroyed). Figures are posedSurfaceDistance's exactly.
+class PosedDistanceReference {
+public:
+    // `rig`, `morph` and `a` must outlive the reference.
+    PosedDistanceReference(const Rig& rig, const MorphTargets& morph, const TriMesh& a, std::vector<PoseSample> poses);
+
+    GeometricDistance distance(const TriMesh& b, const DistanceOptions& options = {});
+    // The bind pose's reference.
+    const DistanceReference& bind();
+
+private:
+    const Rig& rig_;
+    const MorphTargets& morph_;
+    const TriMesh& a_;
+    std::vector<PoseSample> poses_;
+    std::optional<DistanceReference> bind_;
+    std::vector<std::optional<DistanceReference>> posed_;  // per pose; empty when the pose leaves `a` no area
+    std::vector<char> posedTried_;
+};
 
 }  // namespace lodbake
