@@ -294,10 +294,8 @@ TEST(Simplify, MaxErrorTargetStopsBeforeTheError) {
     EXPECT_EQ(l.stopReason, "target");
 }
 
-TEST(Simplify, Deterministic) {
-    TriMesh m = test::seamGrid(20);
-    SimplifyOptions o = withLevels({ratio(0.3), ratio(0.05)});
-    Multires a = simplify(m, o).multires, b = simplify(m, o).multires;
+// Two runs gave the same hierarchy: collapses, region updates, level faces and pairs.
+void expectSameMultires(const Multires& a, const Multires& b) {
     ASSERT_EQ(a.collapses.size(), b.collapses.size());
     for (size_t k = 0; k < a.collapses.size(); ++k) {
         EXPECT_EQ(a.collapses[k].removed, b.collapses[k].removed);
@@ -318,7 +316,33 @@ TEST(Simplify, Deterministic) {
         for (size_t p = 0; p < a.levels[l].pairs.size(); ++p) {
             EXPECT_EQ(a.levels[l].pairs[p].face, b.levels[l].pairs[p].face);
             EXPECT_EQ(a.levels[l].pairs[p].bary, b.levels[l].pairs[p].bary);
+            EXPECT_EQ(a.levels[l].pairs[p].deviation, b.levels[l].pairs[p].deviation);
         }
+    }
+}
+
+TEST(Simplify, Deterministic) {
+    TriMesh m = test::seamGrid(20);
+    SimplifyOptions o = withLevels({ratio(0.3), ratio(0.05)});
+    expectSameMultires(simplify(m, o).multires, simplify(m, o).multires);
+}
+
+// Candidates are evaluated and pairs projected in fixed vertex chunks (several here) whatever the
+// thread count: 1, 2 and 3 threads give the same hierarchy.
+TEST(Simplify, SameResultForAnyThreadCount) {
+    TriMesh m = test::grid(110, 110, [](int i, int j) {
+        return 3.0 * std::sin(0.05 * i) * std::cos(0.07 * j) + 0.02 * std::sin(12.9898 * i + 78.233 * j);
+    });
+    ASSERT_GT(m.positions.size(), 3u * 4096u);  // more than three evaluation chunks
+    SimplifyOptions o = withLevels({ratio(0.1), ratio(0.01)});
+    o.threads = 1;
+    const Multires one = simplify(m, o).multires;
+    ASSERT_EQ(one.levels.size(), 2u);
+    EXPECT_LT(one.levels[1].triangles.size(), m.triangles.size() / 50);
+    for (int threads : {2, 3}) {
+        SCOPED_TRACE(threads);
+        o.threads = threads;
+        expectSameMultires(one, simplify(m, o).multires);
     }
 }
 

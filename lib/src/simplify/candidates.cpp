@@ -172,9 +172,13 @@ size_t evaluateCandidates(CandidateState& c, const RuleContext& ctx, std::vector
     std::vector<uint8_t> chunkValid(chunks, 0);
     std::vector<size_t> chunkDeferred(chunks, 0);
     parallelChunks(s.vertexCount, kChunk, int(work.size()), [&](size_t begin, size_t end, size_t t) {
+        // Counters and entries stay local until the chunk ends: the slots of neighbouring chunks
+        // share cache lines, and the other thread writes them.
         const size_t k = begin / kChunk;
-        std::vector<PassEntry>& out = c.chunkEntries[k];
+        std::vector<PassEntry> out = std::move(c.chunkEntries[k]);
         out.clear();
+        bool valid = false;
+        size_t deferredHere = 0;
         for (uint32_t v = uint32_t(begin); v < end; ++v) {
             // Evaluation stalls on the fan's faces and the ring's positions, scattered in memory:
             // fetch them a few vertices ahead for the vertices likely to be evaluated.
@@ -187,15 +191,18 @@ size_t evaluateCandidates(CandidateState& c, const RuleContext& ctx, std::vector
             }
             if (s.removed[v] || s.vfaces[v].empty()) continue;
             if (!evaluateOrDefer(c, ctx, work[t], v, bound)) {
-                ++chunkDeferred[k];
+                ++deferredHere;
                 continue;
             }
             const Candidate& cand = c.cand[v];
             if (cand.reason != Reject::None) continue;
-            chunkValid[k] = 1;
+            valid = true;
             if (cand.dev > maxCost) continue;
             out.push_back(passEntry(ctx, v, cand));
         }
+        c.chunkEntries[k] = std::move(out);
+        chunkValid[k] = valid;
+        chunkDeferred[k] = deferredHere;
     });
     size_t deferred = 0;
     for (size_t k = 0; k < chunks; ++k) {
@@ -215,19 +222,25 @@ size_t resolveDeferred(CandidateState& c, const RuleContext& ctx, std::vector<Ev
     std::vector<uint8_t> valid(chunks, 0);
     parallelChunks(s.vertexCount, kChunk, int(work.size()), [&](size_t begin, size_t end, size_t t) {
         const size_t k = begin / kChunk;
+        std::vector<PassEntry> out;
+        bool anyHere = false;
+        size_t leftHere = 0;
         for (uint32_t v = uint32_t(begin); v < end; ++v) {
             if (!c.deferred[v] || s.removed[v] || s.vfaces[v].empty()) continue;
             if (c.costBound[v] > upTo) {
-                ++left[k];
+                ++leftHere;
                 continue;
             }
             c.deferred[v] = 0;
             c.cand[v] = evaluateVertex(ctx, work[t], v, c.pass);
             const Candidate& cand = c.cand[v];
             if (cand.reason != Reject::None) continue;
-            valid[k] = 1;
-            if (cand.dev <= maxCost) found[k].push_back(passEntry(ctx, v, cand));
+            anyHere = true;
+            if (cand.dev <= maxCost) out.push_back(passEntry(ctx, v, cand));
         }
+        found[k] = std::move(out);
+        valid[k] = anyHere;
+        left[k] = leftHere;
     });
     size_t stay = 0;
     for (size_t k = 0; k < chunks; ++k) {

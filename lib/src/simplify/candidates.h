@@ -36,8 +36,9 @@ struct Option {
     uint32_t key;
 };
 
-// Per-thread scratch of candidate evaluation.
-struct EvalScratch : RuleScratch {
+// Per-thread scratch of candidate evaluation; each on its own cache lines (the threads write their
+// stamps and vector ends all the time).
+struct alignas(64) EvalScratch : RuleScratch {
     std::vector<Option> options;  // one per ring entry (ringOptions)
 };
 

@@ -105,13 +105,18 @@ static double computePairs(const CollapseState& s, const RegionState& r, double 
     std::vector<uint32_t> faceStamp(faceMark.size(), 0);
     parallelChunks(s.vertexCount, kChunk, threads, [&](size_t begin, size_t end, size_t t) {
         if (faceMark[t].size() != s.faceCount) faceMark[t].assign(s.faceCount, 0);
-        std::vector<SimplificationPair>& out = chunkPairs[begin / kChunk];
+        // The stamp and the pairs stay local until the chunk ends: the per-thread stamps and the
+        // chunks' vectors share cache lines with the other threads' ones.
+        uint32_t stamp = faceStamp[t];
+        std::vector<SimplificationPair> out;
         for (uint32_t u = uint32_t(begin); u < end; ++u) {  // in input order
             uint32_t v = s.newId[u];
             uint32_t rv = rootOf[v];
             if (rv == kNone || s.vfaces[rv].empty()) continue;
-            out.push_back(projectVertex(s, r, v, rv, runningMax2, faceMark[t], faceStamp[t]));
+            out.push_back(projectVertex(s, r, v, rv, runningMax2, faceMark[t], stamp));
         }
+        faceStamp[t] = stamp;
+        chunkPairs[begin / kChunk] = std::move(out);
     });
     double sum = 0, maxPair = 0;
     size_t total = 0;
