@@ -272,3 +272,38 @@ TEST(PackAtlas, FewChartsSameLayoutForAnyThreadCountAndKeepTheGutter) {
             EXPECT_GE(dist, 2.0 - 1e-6) << "charts " << i << " and " << j;
         }
 }
+
+// Enough charts for every search stage (orders, rules, strip widths, the local search of swaps),
+// with sizes from a fixed seed. Trials that cannot beat the best finished one stop early, and the
+// trials running at once share that best: the layout must still be the same for any thread count.
+TEST(PackAtlas, TrialBoundsKeepTheLayoutForAnyThreadCount) {
+    std::vector<AtlasChart> charts;
+    uint64_t seed = 12345;
+    auto next = [&] {
+        seed = seed * 6364136223846793005ull + 1442695040888963407ull;
+        return double(seed >> 11) / double(uint64_t(1) << 53);
+    };
+    for (int i = 0; i < 24; ++i) {
+        AtlasChart c;
+        const double s = 0.05 + 0.3 * next(), t = 0.05 + 0.3 * next(), x = 0.5 * i;
+        const Vec2 a{x, 0}, b{x + s, 0}, d{x + 0.5 * s * next(), t};
+        c.triangles.push_back({a, b, d});
+        c.points.assign(c.triangles[0].begin(), c.triangles[0].end());
+        c.uvArea = 0.5 * std::abs(cross(b - a, d - a));
+        charts.push_back(c);
+    }
+    AtlasOptions o;
+    o.maxTexelsPerUnit = 256;
+    o.gutter = 4;
+    o.threads = 1;
+    const AtlasResult one = packAtlas(charts, o);
+    EXPECT_DOUBLE_EQ(one.texelsPerUnit, 256);
+    EXPECT_GT(one.utilisation, 0.4);
+    for (int threads : {2, 4}) {
+        o.threads = threads;
+        const AtlasResult r = packAtlas(charts, o);
+        ASSERT_EQ(r.width, one.width);
+        ASSERT_EQ(r.height, one.height);
+        for (size_t i = 0; i < charts.size(); ++i) EXPECT_EQ(r.charts[i].m, one.charts[i].m) << "chart " << i;
+    }
+}
