@@ -119,7 +119,7 @@ std::string statistics(const TextureRefineSettings& s, const RefineResult& res, 
 StageResult runTextureRefine(const TextureRefineSettings& s) {
     std::optional<Multires> multires;
     double loadSeconds = 0;
-    Asset asset = loadStageInput(s.common, loadSeconds, &multires, [](Asset& a) { checkImages(a); });
+    Asset asset = loadStageInput(s.common, loadSeconds, &multires, checkImages);
     if (!multires) throw Impossible(s.common.input + ": no LODBAKE_multires extension; run simplify and parameterize first");
     if (multires->charts.empty()) throw Impossible(s.common.input + ": no chart layout; run parameterize first");
 
