@@ -188,6 +188,16 @@ class Images(unittest.TestCase):
         self.assertEqual(len(lines), 1, p.stderr)
         self.assertTrue(lines[0].startswith("parameterize error: " + mr + ": image 0 'cut': cannot decode"), lines[0])
         self.assertFalse(os.path.exists(out))
+        # The chain in one process: parameterize decodes the images it is handed in memory too
+        # (the later stages check only headers of images it decoded).
+        lod = os.path.join(d, "cut-image.lod.glb")
+        p = lt.run([lt.tool("lodbake"), "-i", src, "-o", lod, "--ratio", "0.5", "--quiet"], check=False, timeout=120)
+        self.assertEqual(p.returncode, 2, p.stderr)
+        lines = p.stderr.strip().splitlines()
+        self.assertEqual(len(lines), 1, p.stderr)
+        self.assertTrue(lines[0].startswith("lodbake error: "), lines[0])
+        self.assertIn(": image 0 'cut': cannot decode", lines[0])
+        self.assertFalse(os.path.exists(lod))
 
 
 class Usage(unittest.TestCase):

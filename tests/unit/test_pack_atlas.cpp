@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
 
 #include "lodbake/atlas/atlas.h"
 
@@ -37,6 +38,30 @@ double pointToSegment(Vec2 p, Vec2 a, Vec2 b) {
     double u = std::clamp(dot(p - a, e) / dot(e, e), 0.0, 1.0);
     Vec2 q{a.x + u * e.x - p.x, a.y + u * e.y - p.y};
     return std::sqrt(dot(q, q));
+}
+
+// A one-triangle chart.
+AtlasChart triangleChart(Vec2 a, Vec2 b, Vec2 d) {
+    AtlasChart c;
+    c.triangles.push_back({a, b, d});
+    c.points.assign(c.triangles[0].begin(), c.triangles[0].end());
+    c.uvArea = 0.5 * std::abs(cross(b - a, d - a));
+    return c;
+}
+
+// The charts packed on one thread, after checking that every other thread count gives the same
+// page and chart maps.
+AtlasResult packedAlikeOnAnyThreads(const std::vector<AtlasChart>& charts, AtlasOptions o, std::initializer_list<int> threads) {
+    o.threads = 1;
+    AtlasResult one = packAtlas(charts, o);
+    for (int n : threads) {
+        o.threads = n;
+        const AtlasResult r = packAtlas(charts, o);
+        EXPECT_EQ(r.width, one.width) << n << " threads";
+        EXPECT_EQ(r.height, one.height) << n << " threads";
+        for (size_t i = 0; i < charts.size() && i < r.charts.size(); ++i) EXPECT_EQ(r.charts[i].m, one.charts[i].m) << "chart " << i;
+    }
+    return one;
 }
 
 struct Box { double x0, y0, x1, y1; };
@@ -220,26 +245,13 @@ TEST(PackAtlas, TrianglesNestByShape) {
 TEST(PackAtlas, FewChartsSameLayoutForAnyThreadCountAndKeepTheGutter) {
     std::vector<AtlasChart> charts;
     for (int i = 0; i < 9; ++i) {
-        AtlasChart c;
         const double s = 0.1 + 0.05 * i, x = 0.7 * i;
-        const Vec2 a{x, 0}, b = i % 2 ? Vec2{x + s, s} : Vec2{x + s, 0}, d{x, s};
-        c.triangles = {{a, b, d}};
-        c.points = {a, b, d};
-        c.uvArea = 0.5 * std::abs(cross(b - a, d - a));
-        charts.push_back(c);
+        charts.push_back(triangleChart({x, 0}, i % 2 ? Vec2{x + s, s} : Vec2{x + s, 0}, {x, s}));
     }
     AtlasOptions o;
     o.maxTexelsPerUnit = 256;
     o.gutter = 2;
-    o.threads = 1;
-    const AtlasResult one = packAtlas(charts, o);
-    for (int threads : {2, 3}) {
-        o.threads = threads;
-        const AtlasResult r = packAtlas(charts, o);
-        ASSERT_EQ(r.width, one.width);
-        ASSERT_EQ(r.height, one.height);
-        for (size_t i = 0; i < charts.size(); ++i) EXPECT_EQ(r.charts[i].m, one.charts[i].m) << "chart " << i;
-    }
+    const AtlasResult one = packedAlikeOnAnyThreads(charts, o, {2, 3});
     EXPECT_DOUBLE_EQ(one.texelsPerUnit, 256);
     EXPECT_GT(one.utilisation, 0.5);
     // Every placed triangle inside the page, and every pair at least the gutter apart: the distance
@@ -271,4 +283,27 @@ TEST(PackAtlas, FewChartsSameLayoutForAnyThreadCountAndKeepTheGutter) {
             }
             EXPECT_GE(dist, 2.0 - 1e-6) << "charts " << i << " and " << j;
         }
+}
+
+// Enough charts for every search stage (orders, rules, strip widths, the local search of swaps),
+// with sizes from a fixed seed. Trials that cannot beat the best finished one stop early, and the
+// trials running at once share that best: the layout must still be the same for any thread count.
+TEST(PackAtlas, TrialBoundsKeepTheLayoutForAnyThreadCount) {
+    std::vector<AtlasChart> charts;
+    uint64_t seed = 12345;
+    auto next = [&] {
+        seed = seed * 6364136223846793005ull + 1442695040888963407ull;
+        return double(seed >> 11) / double(uint64_t(1) << 53);
+    };
+    for (int i = 0; i < 24; ++i) {
+        const double s = 0.05 + 0.3 * next(), t = 0.05 + 0.3 * next(), x = 0.5 * i;
+        const double apex = x + 0.5 * s * next();
+        charts.push_back(triangleChart({x, 0}, {x + s, 0}, {apex, t}));
+    }
+    AtlasOptions o;
+    o.maxTexelsPerUnit = 256;
+    o.gutter = 4;
+    const AtlasResult one = packedAlikeOnAnyThreads(charts, o, {2, 4});
+    EXPECT_DOUBLE_EQ(one.texelsPerUnit, 256);
+    EXPECT_GT(one.utilisation, 0.4);
 }

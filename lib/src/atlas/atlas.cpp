@@ -14,17 +14,22 @@
 //      widths (five for very many charts), three sorted chart orders plus eight shuffled ones (few
 //      charts) and two placement rules (smallest page wins; the trials run on
 //      AtlasOptions::threads threads, the winner is picked in trial order), then, for few charts,
-//      a local search of pairwise swaps on the winner's order (improveOrder); packPowerOfTwo
+//      a local search of pairwise swaps on the winner's order (improveOrder: a swap (a, b) resumes
+//      from the winner's packing before position a). Trials share the smallest page finished so
+//      far (CostBound): one whose partial page already costs more stops, exact and independent of
+//      the thread count since such a trial cannot win; packPowerOfTwo
 //      takes the largest power-of-two page not far above the need; densestFit searches the
 //      density when the charts do not fit. packBitmap places each chart at the lowest free
 //      position of each quarter turn (the lowest top edge, or the lowest centre of gravity, wins);
 //      no gutter along the page border (the samplers clamp to the edge); the search skips rows
-//      whose longest free run is shorter than the chart's row needs, and jumps over a whole
-//      occupied stretch on a collision;
+//      whose longest free run is shorter than the chart's row needs (past every position a page
+//      row too full for any of the chart's rows rules out), and jumps over a whole occupied
+//      stretch on a collision;
 //   4. placeCharts: the affine UV -> texel map of each chart (placementFor); utilisation figures.
 #include "lodbake/atlas/atlas.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <iterator>
@@ -123,6 +128,7 @@ struct Footprint {
     std::vector<int> rowCells;                         // occupied texels per row
     std::vector<int> rowLongest;                       // longest run per row
     double centroidRow = 0;                            // mean row of the occupied texels
+    int leastCells = 0, leastLongest = 0;              // smallest rowCells and rowLongest
 };
 
 // True when triangle q[0..2] and the unit cell [x, x+1] x [y, y+1] overlap by more than a hair
@@ -222,6 +228,10 @@ Footprint rotatedFootprint(const std::vector<uint8_t>& mask, int gw, int gh, int
         moment += f.rowCells[size_t(y)] * (y + 0.5);
     }
     f.centroidRow = cells > 0 ? moment / cells : 0.5 * f.h;
+    if (f.h > 0) {
+        f.leastCells = *std::min_element(f.rowCells.begin(), f.rowCells.end());
+        f.leastLongest = *std::min_element(f.rowLongest.begin(), f.rowLongest.end());
+    }
     return f;
 }
 
@@ -234,12 +244,23 @@ public:
 
     // The lowest position (smallest y + key, then smallest x) with y + key below `limit`.
     bool find(const Footprint& f, double key, double limit, int& outX, int& outY) const {
+        int fullRow = -1;
         for (int y = 0; y + f.h <= H_ && y + key < limit; ++y) {
-            bool roomy = true;
             // A row needs as many free texels as the footprint's row, and a free run as long as
-            // its longest run (fragmented rows low on the page fail here).
-            for (int i = 0; i < f.h && roomy; ++i)
-                roomy = rowFree_[size_t(y + i)] >= f.rowCells[size_t(i)] && rowRun_[size_t(y + i)] >= f.rowLongest[size_t(i)];
+            // its longest run (fragmented rows low on the page fail here). A page row short of
+            // the footprint's least row rules out every position that covers it: the search
+            // resumes above it (rows are tested top first, so the jump is the longest).
+            // The page row that failed last is tested first: it usually fails the next position too.
+            auto tooFull = [&](int i) {
+                const int free = rowFree_[size_t(y + i)], run = rowRun_[size_t(y + i)];
+                if (free >= f.rowCells[size_t(i)] && run >= f.rowLongest[size_t(i)]) return false;
+                fullRow = y + i;
+                if (free < f.leastCells || run < f.leastLongest) y += i;
+                return true;
+            };
+            if (fullRow >= y && tooFull(fullRow - y)) continue;
+            bool roomy = true;
+            for (int i = f.h - 1; i >= 0 && roomy; --i) roomy = !tooFull(i);
             if (!roomy) continue;
             int x = 0, hot = 0;  // the footprint row that collided last is tested first
             while (x + f.w <= W_) {
@@ -266,7 +287,14 @@ public:
     void place(const Footprint& f, int x, int y) {
         for (int i = 0; i < f.h; ++i)
             for (const auto& [a, b] : f.rows[size_t(i)]) {
-                for (int c = x + a; c <= x + b; ++c) bits_[size_t(y + i) * words_ + size_t(c) / 64] |= uint64_t(1) << (c % 64);
+                uint64_t* row = bits_.data() + size_t(y + i) * words_;
+                const int lo = x + a, hi = x + b;
+                for (int w = lo / 64; w <= hi / 64; ++w) {
+                    uint64_t m = ~uint64_t(0);
+                    if (w == lo / 64) m &= ~uint64_t(0) << (lo % 64);
+                    if (w == hi / 64 && hi % 64 != 63) m &= (uint64_t(1) << (hi % 64 + 1)) - 1;
+                    row[w] |= m;
+                }
                 rowFree_[size_t(y + i)] -= b - a + 1;
             }
         for (int i = 0; i < f.h; ++i) rowRun_[size_t(y + i)] = longestFreeRun(y + i);
@@ -275,6 +303,7 @@ public:
     }
     int usedWidth() const { return usedW_; }
     int usedHeight() const { return usedH_; }
+    int height() const { return H_; }
 
 private:
     int W_, H_;
@@ -291,14 +320,17 @@ private:
             uint64_t m = row[w];
             const int n = w + 1 == words_ && W_ % 64 ? W_ % 64 : 64;  // texels of the page in this word
             if (n < 64) m |= ~uint64_t(0) << n;
-            if (m == 0) { run += 64; continue; }
-            for (int b = 0; b < 64; ++b) {
-                if ((m >> b) & 1) {
-                    best = std::max(best, run);
-                    run = 0;
-                } else {
-                    ++run;
-                }
+            // Alternate over the word: a free stretch (ends the run), then a set stretch.
+            for (int pos = 0; pos < 64;) {
+                const uint64_t rest = m >> pos;
+                if (rest == 0) { run += 64 - pos; break; }
+                const int free = __builtin_ctzll(rest);
+                best = std::max(best, run + free);
+                run = 0;
+                pos += free;
+                const uint64_t clear = ~(m >> pos);  // the bits shifted in count as clear
+                if (clear == 0) break;
+                pos += __builtin_ctzll(clear);
             }
         }
         return std::max(best, run);
@@ -405,6 +437,35 @@ Footprints footprintsAt(const Orientations& charts, double t, int gutter, int sc
     return fp;
 }
 
+// Page side rounded up to a multiple of 4 texels (block-compression friendly, aligned rows).
+int roundToFour(int side, int maxSize) { return std::min(maxSize, (std::max(side, 4) + 3) / 4 * 4); }
+
+// What packFreeSize minimises: the page area (sides rounded to 4 texels), then the longer side.
+// It never decreases as a packing's used width and height grow.
+double pageCost(int width, int height, int maxSize) {
+    const int pw = roundToFour(width, maxSize), ph = roundToFour(height, maxSize);
+    return double(pw) * ph + 1e-3 * std::max(pw, ph);
+}
+
+// The smallest pageCost of the packings finished so far, shared by trials that run at once. A
+// trial whose partial packing already costs more gives up: it could not have won, and every trial
+// that can win (cost at most the final minimum, which no finished trial undercuts) runs to the
+// end, so the winner does not depend on which trials finished first.
+class CostBound {
+public:
+    CostBound(int maxSize, double best = 1e300) : maxSize_(maxSize), best_(best) {}
+    int maxSize() const { return maxSize_; }
+    double best() const { return best_.load(std::memory_order_relaxed); }
+    void offer(double cost) {
+        double b = best_.load(std::memory_order_relaxed);
+        while (cost < b && !best_.compare_exchange_weak(b, cost, std::memory_order_relaxed)) {}
+    }
+
+private:
+    int maxSize_;
+    std::atomic<double> best_;
+};
+
 // Where a chart goes: the free position with the lowest top edge (bottom-left fill), or with the
 // lowest centre of gravity (nests irregular charts differently: neither wins on every asset).
 enum class Placement { TopEdge, Gravity };
@@ -413,15 +474,44 @@ enum class Placement { TopEdge, Gravity };
 // quarter turns. Returns nothing when one does not fit. The samplers clamp to the page edge, so
 // no gutter is kept along the page border: the bitmap extends `radius` texels beyond every side of
 // the page and a chart's gutter ring may lie out there.
+// A packing under way: the page and the slots of the charts placed so far.
+struct PackState {
+    BitmapPage page;
+    Packing packing;
+};
+
+// `prefix`, when given, receives the state before each chart of `order` is placed; `from`, when
+// given, is such a state of an order that agrees with `order` on its first `fromIndex` charts:
+// the packing resumes there (the same charts placed the same way).
 std::optional<Packing> packBitmap(const Footprints& fp, const std::vector<size_t>& order, int binW, int binH,
-                                  Placement placement = Placement::TopEdge) {
+                                  Placement placement = Placement::TopEdge, CostBound* bound = nullptr,
+                                  std::vector<PackState>* prefix = nullptr, const PackState* from = nullptr, size_t fromIndex = 0) {
     const int scale = fp.scale, r = fp.radius;
-    BitmapPage page((binW + 2 * r) / scale, (binH + 2 * r) / scale);
-    Packing p;
-    p.slots.resize(fp.charts.size());
-    for (size_t i : order) {
+    PackState state = from ? *from : PackState{BitmapPage((binW + 2 * r) / scale, (binH + 2 * r) / scale), Packing{}};
+    BitmapPage& page = state.page;
+    Packing& p = state.packing;
+    // The page's cost when the bitmap's used part is w x h blocks.
+    auto costOf = [&](int w, int h) { return pageCost(std::max(1, w * scale - 2 * r), std::max(1, h * scale - 2 * r), bound->maxSize()); };
+    if (!from) p.slots.resize(fp.charts.size());
+    for (size_t step = from ? fromIndex : 0; step < order.size(); ++step) {
+        if (prefix) prefix->push_back(state);
+        const size_t i = order[step];
         Slot& s = p.slots[i];
-        double bestKey = 1e300;
+        // With the top-edge rule a chart's key is its top edge: positions whose top edge costs more
+        // than the bound are not searched (the lowest one that remains is the rule's choice).
+        double firstLimit = 1e300;
+        if (bound && placement == Placement::TopEdge) {
+            const double b = bound->best();
+            int lo = page.usedHeight(), hi = page.height();  // the highest top edge within the bound
+            if (costOf(page.usedWidth(), lo) > b) return std::nullopt;
+            while (lo < hi) {
+                const int mid = lo + (hi - lo + 1) / 2;
+                if (costOf(page.usedWidth(), mid) > b) hi = mid - 1;
+                else lo = mid;
+            }
+            firstLimit = lo + 1;
+        }
+        double bestKey = firstLimit;
         for (size_t v = 0; v < fp.charts[i].size(); ++v)
             for (int rot = 0; rot < 4; ++rot) {
                 const Footprint& f = fp.charts[i][v].rot[size_t(rot)];
@@ -432,13 +522,14 @@ std::optional<Packing> packBitmap(const Footprints& fp, const std::vector<size_t
                     s.x = x; s.y = y; s.rotation = rot; s.orientation = v;
                 }
             }
-        if (bestKey == 1e300) return std::nullopt;
+        if (bestKey == firstLimit) return std::nullopt;
         const ChartFootprints& c = fp.charts[i][s.orientation];
         s.gw = c.gw;
         s.gh = c.gh;
         p.rasterTexels += c.raster;
         p.footprintTexels += c.footprint;
         page.place(c.rot[size_t(s.rotation)], s.x, s.y);
+        if (bound && costOf(page.usedWidth(), page.usedHeight()) > bound->best()) return std::nullopt;
         // Back to texels: the chart's grid turns inside its block-rounded footprint.
         int fw = c.cw * scale, fh = c.ch * scale;
         s.x *= scale;
@@ -451,6 +542,7 @@ std::optional<Packing> packBitmap(const Footprints& fp, const std::vector<size_t
     }
     p.width = std::max(1, page.usedWidth() * scale - 2 * r);
     p.height = std::max(1, page.usedHeight() * scale - 2 * r);
+    if (bound) bound->offer(pageCost(p.width, p.height, bound->maxSize()));
     return p;
 }
 
@@ -465,22 +557,31 @@ std::optional<Packing> packBitmap(const Orientations& charts, const std::vector<
 // `keep(packing)` takes a packing when it is the smallest page yet and says whether it did.
 // It finds tighter pages than many more random orders would.
 template <class Keep>
-void improveOrder(const Footprints& fp, std::vector<size_t> order, int width, int maxSize, Placement rule, int threads, Keep&& keep) {
+void improveOrder(const Footprints& fp, std::vector<size_t> order, int width, int maxSize, Placement rule, int threads, double best,
+                  Keep&& keep) {
     std::vector<std::pair<size_t, size_t>> swaps;
     for (size_t a = 0; a < order.size(); ++a)
         for (size_t b = a + 1; b < order.size(); ++b) swaps.push_back({a, b});
     for (int round = 0; round < kOrderSweeps; ++round) {
         std::vector<std::optional<Packing>> packed(swaps.size());
+        CostBound bound(maxSize, best);
+        // A swap (a, b) places the same charts as the order before position a: it resumes there.
+        std::vector<PackState> prefix;
+        prefix.reserve(order.size());
+        packBitmap(fp, order, width, maxSize, rule, nullptr, &prefix);
         parallelFor(swaps.size(), threads, [&](size_t i) {
             std::vector<size_t> o = order;
             std::swap(o[swaps[i].first], o[swaps[i].second]);
-            packed[i] = packBitmap(fp, o, width, maxSize, rule);
+            const size_t a = swaps[i].first;
+            packed[i] = a < prefix.size() ? packBitmap(fp, o, width, maxSize, rule, &bound, nullptr, &prefix[a], a)
+                                          : packBitmap(fp, o, width, maxSize, rule, &bound);
         });
         size_t kept = swaps.size();
         for (size_t i = 0; i < swaps.size(); ++i)
             if (keep(packed[i])) kept = i;
         if (kept == swaps.size()) return;
         std::swap(order[swaps[kept].first], order[swaps[kept].second]);
+        best = bound.best();
     }
 }
 
@@ -603,9 +704,6 @@ struct PagePick {
     int width = 0, height = 0;                       // page, texels
 };
 
-// Page side rounded up to a multiple of 4 texels (block-compression friendly, aligned rows).
-int roundToFour(int side, int maxSize) { return std::min(maxSize, (std::max(side, 4) + 3) / 4 * 4); }
-
 // A page of free size: every (placement rule, chart order, strip width) packed at the density
 // limit tMax, on options.threads threads, each into its own slot; the smallest page (rounded to 4
 // texels; on equal areas the squarer one, then the first tried) wins, in that fixed order, so the
@@ -641,26 +739,26 @@ PagePick packFreeSize(const Orientations& turned, const std::vector<Oriented>& c
     // take memory in proportion to tMax^2 for nothing.
     const Footprints fp = trials.empty() ? Footprints{} : footprintsAt(turned, tMax, gutter, scale, threads);
     std::vector<std::optional<Packing>> packed(trials.size());
+    CostBound bound(maxSize);
     parallelFor(trials.size(), threads, [&](size_t i) {
-        packed[i] = packBitmap(fp, orders[trials[i].order], trials[i].width, maxSize, trials[i].rule);
+        packed[i] = packBitmap(fp, orders[trials[i].order], trials[i].width, maxSize, trials[i].rule, &bound);
     });
     auto keepIfSmaller = [&](std::optional<Packing>& p) {
         if (!p) return false;
-        int pw = roundToFour(p->width, maxSize);
-        int ph = roundToFour(p->height, maxSize);
-        double area = double(pw) * ph + 1e-3 * std::max(pw, ph);
+        const double area = pageCost(p->width, p->height, maxSize);
         if (area >= bestArea) return false;
         bestArea = area;
         pick.best = std::make_pair(tMax, std::move(*p));
-        pick.width = pw;
-        pick.height = ph;
+        pick.width = roundToFour(pick.best->second.width, maxSize);
+        pick.height = roundToFour(pick.best->second.height, maxSize);
         return true;
     };
     size_t winner = trials.size();
     for (size_t i = 0; i < packed.size(); ++i)
         if (keepIfSmaller(packed[i])) winner = i;
     if (winner < trials.size() && charts.size() > 2 && charts.size() <= kManyCharts)
-        improveOrder(fp, orders[trials[winner].order], trials[winner].width, maxSize, trials[winner].rule, threads, keepIfSmaller);
+        improveOrder(fp, orders[trials[winner].order], trials[winner].width, maxSize, trials[winner].rule, threads, bestArea,
+                     keepIfSmaller);
     if (!pick.best) {
         pick.best = densestFit(turned, orders[0], threads, tMax, gutter, maxSize, maxSize);
         if (pick.best) { pick.width = pick.best->second.width; pick.height = pick.best->second.height; }

@@ -14,6 +14,7 @@ using Bytes = std::vector<unsigned char>;
 struct Intermediate {
     std::string path;
     Bytes bytes;
+    bool imagesDecoded = false;  // its images were decoded in full by the stage that wrote it or an earlier one
 };
 
 struct ChainRun {
@@ -52,7 +53,10 @@ struct ChainRun {
     template <class Settings, class Stage>
     void run(const std::string& stage, Settings s, const Intermediate* in, Intermediate* out, Stage runStage) {
         s.common = common(stage, in ? in->path : settings.common.input, out ? out->path : settings.common.output);
-        if (in) s.common.inputBytes = &in->bytes;
+        if (in) {
+            s.common.inputBytes = &in->bytes;
+            s.common.inputImagesDecoded = in->imagesDecoded;
+        }
         if (out) s.common.outputBytes = &out->bytes;
         StageResult r = runStage(s);
         if (out && !settings.keepIntermediates.empty()) {
@@ -72,11 +76,13 @@ StageResult runChain(const ChainSettings& s) {
 
     Intermediate multires{chain.intermediatePath(".mr.glb"), {}};
     chain.run("simplify", s.simplify, nullptr, &multires, runSimplify);
-    Intermediate parameterized{chain.intermediatePath(".uv.glb"), {}};
+    // parameterize decodes every input image (the original's, which simplify passes on): the
+    // stages after it read only images it or they checked, or wrote.
+    Intermediate parameterized{chain.intermediatePath(".uv.glb"), {}, true};
     chain.run("parameterize", s.parameterize, &multires, &parameterized, runParameterize);
     multires.bytes = Bytes();
     const Intermediate* packInput = &parameterized;
-    Intermediate refined{chain.intermediatePath(".tex.glb"), {}};
+    Intermediate refined{chain.intermediatePath(".tex.glb"), {}, true};
     if (s.runTextureRefine) {
         // pack reads the hierarchy's layouts and texture sizes, never its images: they are baked
         // only for an intermediate that is kept.

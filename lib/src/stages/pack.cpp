@@ -118,7 +118,7 @@ const char* normalMapsName(NormalMaps mode) {
 StageResult runPack(const PackSettings& s) {
     std::optional<Multires> multires;
     double loadSeconds = 0;
-    Asset asset = loadStageInput(s.common, loadSeconds, &multires, [](Asset& a) { checkImages(a); });
+    Asset asset = loadStageInput(s.common, loadSeconds, &multires, checkImages);
     if (!multires) throw Impossible(s.common.input + ": no LODBAKE_multires extension; run simplify and parameterize first");
 
     PackOptions opt = s.pack;

@@ -158,7 +158,7 @@ std::string statistics(const Multires& multires, const ParameterizeResult& param
 StageResult runParameterize(const ParameterizeSettings& s) {
     Timings time;
     std::optional<Multires> multires;
-    Asset asset = loadStageInput(s.common, time.load, &multires, [](Asset& a) { checkImages(a); });
+    Asset asset = loadStageInput(s.common, time.load, &multires, checkImages);
     if (!multires) throw Impossible(s.common.input + ": no LODBAKE_multires extension; run simplify first");
 
     ParameterizeOptions opt = s.parameterize;

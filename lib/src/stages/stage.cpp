@@ -5,15 +5,16 @@
 
 #include "lodbake/core/timing.h"
 #include "lodbake/gltf/gltf.h"
+#include "lodbake/texture/codec.h"
 
 namespace lodbake {
 
 Asset loadStageInput(const StageCommon& common, double& seconds, std::optional<Multires>* multires,
-                     void (*check)(Asset&)) {
+                     void (*check)(Asset&, ImageCheck)) {
     Clock::time_point t0 = Clock::now();
     Asset asset = common.inputBytes ? readGltfBytes(common.input, *common.inputBytes, {}, multires)
                                     : readGltf(common.input, {}, multires);
-    if (check) check(asset);
+    if (check) check(asset, common.inputImagesDecoded ? ImageCheck::Header : ImageCheck::Decode);
     seconds = secondsSince(t0);
     if (common.warning)
         for (const std::string& w : asset.warnings) common.warning(w);

@@ -18,6 +18,8 @@
 
 namespace lodbake {
 
+enum class ImageCheck;  // lodbake/texture/codec.h
+
 // Settings every stage takes (the flags -i, -o, --report, -v, --threads).
 struct StageCommon {
     std::string input;   // glTF to read (.gltf or .glb)
@@ -34,6 +36,9 @@ struct StageCommon {
     // writing the file.
     const std::vector<unsigned char>* inputBytes = nullptr;
     std::vector<unsigned char>* outputBytes = nullptr;
+    // Every image of the input was decoded in full by an earlier stage of this process (the lodbake
+    // chain hands its own intermediates on): loading checks image headers only.
+    bool inputImagesDecoded = false;
 };
 
 struct StageResult {
@@ -43,11 +48,12 @@ struct StageResult {
 
 // Reads common.input and, when `multires` is given, its LODBAKE_multires extension; `check`, when
 // given, runs on the asset as part of loading (stages that use the images pass checkImages; the
-// others keep images encoded and never load OpenImageIO). Passes the reader's warnings to
+// others keep images encoded and never load OpenImageIO), with ImageCheck::Header when
+// common.inputImagesDecoded and ImageCheck::Decode otherwise. Passes the reader's warnings to
 // common.warning. `seconds` gets the load time.
 // \throw the errors of readGltf and of `check`.
 Asset loadStageInput(const StageCommon& common, double& seconds, std::optional<Multires>* multires = nullptr,
-                     void (*check)(Asset&) = nullptr);
+                     void (*check)(Asset&, ImageCheck) = nullptr);
 
 // Writes asset + multires to common.output (or common.outputBytes) with generator
 // "lodbake TOOL 0.1.0"; returns seconds. \throw the errors of writeGltf.
