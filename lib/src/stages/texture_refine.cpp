@@ -119,15 +119,10 @@ std::string statistics(const TextureRefineSettings& s, const RefineResult& res, 
 StageResult runTextureRefine(const TextureRefineSettings& s) {
     std::optional<Multires> multires;
     double loadSeconds = 0;
-<<<<<<< HEAD
     // Without bakes this stage reads no pixels: a header check names an unreadable image, and the
     // stage that reads the pixels (pack) decodes them.
-    void (*check)(Asset&) = [](Asset& a) { checkImages(a, ImageCheck::Decode); };
-    if (!s.refine.bakeImages) check = [](Asset& a) { checkImages(a, ImageCheck::Header); };
-    Asset asset = loadStageInput(s.common, loadSeconds, &multires, check);
-=======
-    Asset asset = loadStageInput(s.common, loadSeconds, &multires, checkImages);
->>>>>>> h-pagespeed
+    void (*headerOnly)(Asset&, ImageCheck) = [](Asset& a, ImageCheck) { checkImages(a, ImageCheck::Header); };
+    Asset asset = loadStageInput(s.common, loadSeconds, &multires, s.refine.bakeImages ? &checkImages : headerOnly);
     if (!multires) throw Impossible(s.common.input + ": no LODBAKE_multires extension; run simplify and parameterize first");
     if (multires->charts.empty()) throw Impossible(s.common.input + ": no chart layout; run parameterize first");
 
