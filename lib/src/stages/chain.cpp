@@ -73,7 +73,11 @@ StageResult runChain(const ChainSettings& s) {
     Intermediate multires{chain.intermediatePath(".mr.glb"), {}};
     chain.run("simplify", s.simplify, nullptr, &multires, runSimplify);
     Intermediate parameterized{chain.intermediatePath(".uv.glb"), {}};
-    chain.run("parameterize", s.parameterize, &multires, &parameterized, runParameterize);
+    // texture-refine and pack bake from the original images, never from parameterize's atlas
+    // image: it is baked only for an intermediate that is kept.
+    ParameterizeSettings parameterize = s.parameterize;
+    parameterize.bakeImage = parameterize.bakeImage && !s.keepIntermediates.empty();
+    chain.run("parameterize", parameterize, &multires, &parameterized, runParameterize);
     multires.bytes = Bytes();
     const Intermediate* packInput = &parameterized;
     Intermediate refined{chain.intermediatePath(".tex.glb"), {}};
