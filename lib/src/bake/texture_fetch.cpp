@@ -20,7 +20,17 @@
 namespace lodbake {
 namespace {
 
-constexpr float kUnit = 1.0f / 65535.0f;
+constexpr float kUnit = 1.0f / 255.0f;
+
+// An empty level of w x h texels, every tile whole.
+MipTexture::Level makeLevel(int w, int h) {
+    MipTexture::Level L;
+    L.width = w;
+    L.height = h;
+    L.tilesX = size_t(w + 3) / 4;
+    L.rgba.assign(L.tilesX * size_t(h + 3) / 4 * 64, 0);
+    return L;
+}
 
 // Texture coordinate reduced to a range where texel indices stay small (any finite input):
 // [0, 1) repeating, [0, 2) mirrored, [-1, 2] clamped.
@@ -42,19 +52,18 @@ int wrapIndex(int i, int n, TextureWrap m) {
     return i < 0 ? 0 : (i >= n ? n - 1 : i);
 }
 
-// acc += weight x the bilinear RGBA of level L at (s, t) (texel units scaled by 65535).
+// acc += weight x the bilinear RGBA of level L at (s, t) (0..255).
 void addBilinear(const MipTexture::Level& L, const FetchOptions& o, double s, double t, float weight, float acc[4]) {
     const double x = reduceCoord(s, o.wrapS) * L.width - 0.5, y = reduceCoord(t, o.wrapT) * L.height - 0.5;
     const double xf = std::floor(x), yf = std::floor(y);
     const float fx = float(x - xf), fy = float(y - yf);
     const int xi = int(xf), yi = int(yf);
-    const size_t x0 = size_t(wrapIndex(xi, L.width, o.wrapS)), x1 = size_t(wrapIndex(xi + 1, L.width, o.wrapS));
-    const size_t r0 = size_t(wrapIndex(yi, L.height, o.wrapT)) * size_t(L.width);
-    const size_t r1 = size_t(wrapIndex(yi + 1, L.height, o.wrapT)) * size_t(L.width);
-    const uint16_t* p00 = &L.rgba[(r0 + x0) * 4];
-    const uint16_t* p10 = &L.rgba[(r0 + x1) * 4];
-    const uint16_t* p01 = &L.rgba[(r1 + x0) * 4];
-    const uint16_t* p11 = &L.rgba[(r1 + x1) * 4];
+    const int x0 = wrapIndex(xi, L.width, o.wrapS), x1 = wrapIndex(xi + 1, L.width, o.wrapS);
+    const int y0 = wrapIndex(yi, L.height, o.wrapT), y1 = wrapIndex(yi + 1, L.height, o.wrapT);
+    const uint8_t* p00 = &L.rgba[L.at(x0, y0)];
+    const uint8_t* p10 = &L.rgba[L.at(x1, y0)];
+    const uint8_t* p01 = &L.rgba[L.at(x0, y1)];
+    const uint8_t* p11 = &L.rgba[L.at(x1, y1)];
     const float w00 = weight * (1 - fx) * (1 - fy), w10 = weight * fx * (1 - fy), w01 = weight * (1 - fx) * fy, w11 = weight * fx * fy;
     for (int c = 0; c < 4; ++c) acc[c] += w00 * float(p00[c]) + w10 * float(p10[c]) + w01 * float(p01[c]) + w11 * float(p11[c]);
 }
@@ -66,38 +75,30 @@ MipTexture buildMipTexture(const DecodedImage& image) {
         image.pixels.size() != size_t(image.width) * size_t(image.height) * size_t(image.channels))
         throw InvalidInput("texture fetch: decoded image has no or inconsistent pixels");
     MipTexture t;
-    MipTexture::Level base;
-    base.width = image.width;
-    base.height = image.height;
-    const size_t n = size_t(image.width) * size_t(image.height);
-    base.rgba.resize(n * 4);
+    MipTexture::Level base = makeLevel(image.width, image.height);
     const int nc = image.channels, used = std::min(nc, 4);  // channels past RGBA are not read
-    auto q = [](float v) { return uint16_t(std::clamp(v, 0.0f, 1.0f) * 65535.0f + 0.5f); };
-    for (size_t i = 0; i < n; ++i) {
-        const float* p = &image.pixels[i * size_t(nc)];
-        uint16_t* d = &base.rgba[i * 4];
-        d[0] = q(p[0]);
-        d[1] = used >= 3 ? q(p[1]) : d[0];
-        d[2] = used >= 3 ? q(p[2]) : d[0];
-        d[3] = used == 2 ? q(p[1]) : (used == 4 ? q(p[3]) : uint16_t(65535));
-    }
+    auto q = [](float v) { return uint8_t(std::clamp(v, 0.0f, 1.0f) * 255.0f + 0.5f); };
+    for (int y = 0; y < image.height; ++y)
+        for (int x = 0; x < image.width; ++x) {
+            const float* p = &image.pixels[(size_t(y) * size_t(image.width) + size_t(x)) * size_t(nc)];
+            uint8_t* d = &base.rgba[base.at(x, y)];
+            d[0] = q(p[0]);
+            d[1] = used >= 3 ? q(p[1]) : d[0];
+            d[2] = used >= 3 ? q(p[2]) : d[0];
+            d[3] = used == 2 ? q(p[1]) : (used == 4 ? q(p[3]) : uint8_t(255));
+        }
     t.levels.push_back(std::move(base));
     while (t.levels.back().width > 1 || t.levels.back().height > 1) {
         const MipTexture::Level& s = t.levels.back();
-        MipTexture::Level d;
-        d.width = (s.width + 1) / 2;
-        d.height = (s.height + 1) / 2;
-        d.rgba.resize(size_t(d.width) * size_t(d.height) * 4);
+        MipTexture::Level d = makeLevel((s.width + 1) / 2, (s.height + 1) / 2);
         for (int y = 0; y < d.height; ++y) {
             const int ya = 2 * y, yb = std::min(2 * y + 1, s.height - 1);
             for (int x = 0; x < d.width; ++x) {
                 const int xa = 2 * x, xb = std::min(2 * x + 1, s.width - 1);
-                const uint16_t* a = &s.rgba[(size_t(ya) * size_t(s.width) + size_t(xa)) * 4];
-                const uint16_t* b = &s.rgba[(size_t(ya) * size_t(s.width) + size_t(xb)) * 4];
-                const uint16_t* c = &s.rgba[(size_t(yb) * size_t(s.width) + size_t(xa)) * 4];
-                const uint16_t* e = &s.rgba[(size_t(yb) * size_t(s.width) + size_t(xb)) * 4];
-                uint16_t* o = &d.rgba[(size_t(y) * size_t(d.width) + size_t(x)) * 4];
-                for (int k = 0; k < 4; ++k) o[k] = uint16_t((uint32_t(a[k]) + b[k] + c[k] + e[k] + 2) / 4);
+                const uint8_t *a = &s.rgba[s.at(xa, ya)], *b = &s.rgba[s.at(xb, ya)];
+                const uint8_t *c = &s.rgba[s.at(xa, yb)], *e = &s.rgba[s.at(xb, yb)];
+                uint8_t* o = &d.rgba[d.at(x, y)];
+                for (int k = 0; k < 4; ++k) o[k] = uint8_t((unsigned(a[k]) + b[k] + c[k] + e[k] + 2) / 4);
             }
         }
         t.levels.push_back(std::move(d));

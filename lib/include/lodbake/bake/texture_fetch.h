@@ -1,4 +1,4 @@
-// The bake's texture sampling: a decoded image as MIP levels (16-bit RGBA, box-filtered) and a
+// The bake's texture sampling: a decoded image as MIP levels (8-bit RGBA, box-filtered) and a
 // footprint-filtered fetch (trilinear, a few taps along the footprint's major axis), and the
 // pull-push gap fill of a baked page. Plain loops over memory: OpenImageIO only decodes the image.
 #pragma once
@@ -12,11 +12,16 @@
 namespace lodbake {
 
 // MIP levels of one image: level 0 is the image, each next level half the size (rounded up) down
-// to 1 x 1. Texels RGBA as stored (grey fills RGB, no alpha gives 1), 0..65535, top row first.
+// to 1 x 1. Texels RGBA as stored (grey fills RGB, no alpha gives 1), 0..255, in 4 x 4 tiles of
+// 64 bytes (a cache line: a bilinear tap mostly reads one, whatever direction the fetches walk).
 struct MipTexture {
     struct Level {
         int width = 0, height = 0;
-        std::vector<uint16_t> rgba;
+        size_t tilesX = 0;          // tiles per tile row: ceil(width / 4)
+        std::vector<uint8_t> rgba;  // tile (x / 4, y / 4), then row y % 4, column x % 4
+        size_t at(int x, int y) const {
+            return ((size_t(y >> 2) * tilesX + size_t(x >> 2)) * 16 + size_t(y & 3) * 4 + size_t(x & 3)) * 4;
+        }
     };
     std::vector<Level> levels;
 };
