@@ -2,7 +2,8 @@
 parameterize -> texture-refine -> pack with the same flags (and to simplify -> parameterize -> pack
 with --no-texture-refine), whatever --threads; --keep-intermediates writes the tools' intermediates
 byte for byte and nothing is written between the stages without it; the report has one section per
-stage (each tool's own report) plus the total time; bad flags and inputs give the documented exit
+stage (each tool's own report) plus the total time; parameterize's atlas image, which nothing
+downstream reads, is baked only into a kept .uv.glb; bad flags and inputs give the documented exit
 codes, a one-line error and no output file."""
 import json
 import os
@@ -69,11 +70,18 @@ class Lodbake(unittest.TestCase):
         self.assertEqual(len(rep["stages"][-1]["levels"]), 3)  # LOD0 + two simplified levels
         self.assertGreater(rep["time"]["total"], 0)
         self.assertEqual(rep["intermediates"], [])
+        # Nothing downstream reads parameterize's atlas image: the chain bakes it only when kept
+        # (the bytes above show pack's output does not depend on it).
+        self.assertFalse(rep["stages"][1]["total"]["imageBaked"])
+        self.assertEqual(rep["stages"][1]["total"]["coveredTexels"], 0)
 
         # --keep-intermediates: the tools' files, byte for byte; -v: each stage's statistics.
         lod2 = os.path.join(out, SAMPLE + ".keep.lod.glb")
-        p = run([tool("lodbake"), "-i", self.src, "-o", lod2, "--keep-intermediates", keep, "-v", "-q"] + CHAIN)
+        report2 = os.path.join(out, SAMPLE + ".keep.json")
+        p = run([tool("lodbake"), "-i", self.src, "-o", lod2, "--keep-intermediates", keep, "-v", "-q", "--report", report2]
+                + CHAIN)
         self.assertEqual(read(lod2), read(expected))
+        self.assertTrue(json.load(open(report2))["stages"][1]["total"]["imageBaked"])
         for suffix in (".mr.glb", ".uv.glb", ".tex.glb"):
             with self.subTest(intermediate=suffix):
                 self.assertEqual(read(os.path.join(keep, SAMPLE + suffix)), read(os.path.join(tools_dir, SAMPLE + suffix)))

@@ -66,10 +66,12 @@ AtlasApplyStats applyAtlas(Asset& asset, Multires& multires, const ParameterizeR
         baked.emissiveFactor = src.emissive.texture >= 0 ? Vec3{} : src.emissiveFactor;
     }
     for (const Material& m : asset.materials) baked.doubleSided = baked.doubleSided || m.doubleSided;
-    asset.images.push_back(bakedImage);
-    asset.textures.push_back({int(asset.images.size()) - 1, -1});
-    baked.baseColor.texture = int(asset.textures.size()) - 1;
-    baked.baseColor.texCoord = 0;
+    if (!bakedImage.encoded.empty()) {  // no image (not baked): the material keeps its factors
+        asset.images.push_back(bakedImage);
+        asset.textures.push_back({int(asset.images.size()) - 1, -1});
+        baked.baseColor.texture = int(asset.textures.size()) - 1;
+        baked.baseColor.texCoord = 0;
+    }
     asset.materials.push_back(baked);
     stats.material = int(asset.materials.size()) - 1;
 

@@ -1,14 +1,13 @@
 // Bake: original appearance -> new atlas (DESIGN.md "Bake and gap fill").
 //
-// Pipeline: BakeSources (once per asset: writeSourceImages, the encoded images in a temp folder
-// read back through OIIO's TextureSystem with automatic MIP-maps, decoded on first use and kept
-// for every later bake) -> rasterizeTriangles (original faces in atlas texel space, 1-texel
+// Pipeline: BakeSources (once per asset: each image a bake reads decoded once to MIP levels,
+// texture_fetch.h, and kept for every later bake) -> rasterizeTriangles (original faces in atlas texel space, 1-texel
 // conservative dilation, exact coverage wins over dilated) -> rasterizeIslands (level triangles
 // parameterize could not keep injective in their chart: their texels sample the original surface
-// at the closest point) -> shadeTexel (base colour factor x filtered texture lookup at the original
-// UV with derivatives from the UV Jacobian x COLOR_0, in linear space; rows on BakeOptions::threads
-// threads) -> fill gaps (ImageBufAlgo::fillholes_pushpull with coverage as alpha, one pyramid for
-// every channel) -> encode PNG (unless the caller encodes). Only the width x height region of the
+// at the closest point) -> shadeTexel (base colour factor x filtered texture fetch at the original
+// UV with the footprint from the UV Jacobian x COLOR_0, in linear space; rows on
+// BakeOptions::threads threads) -> fill gaps (pullPushFill with coverage, per channel image) ->
+// encode PNG (unless the caller encodes). Only the width x height region of the
 // size x size grid is baked.
 #include "lodbake/bake/bake.h"
 
@@ -16,16 +15,11 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
-#include <filesystem>
-#include <fstream>
 #include <iterator>
 #include <memory>
-#include <unistd.h>
+#include <mutex>
 
-#include <OpenImageIO/imagebuf.h>
-#include <OpenImageIO/imagebufalgo.h>
-#include <OpenImageIO/texture.h>
-
+#include "lodbake/bake/texture_fetch.h"
 #include "lodbake/core/closest_point.h"
 #include "lodbake/core/errors.h"
 #include "lodbake/core/face_grid.h"
@@ -38,67 +32,12 @@
 namespace lodbake {
 namespace {
 
-namespace fs = std::filesystem;
-using OIIO::ustring;
-
-// A temp folder removed on scope exit.
-struct TempDir {
-    fs::path path;
-    TempDir() {
-        std::string tmpl = (fs::temp_directory_path() / "lodbake-bake-XXXXXX").string();
-        if (!mkdtemp(tmpl.data())) throw IOError("cannot create a temporary folder for baking");
-        path = tmpl;
-    }
-    ~TempDir() {
-        std::error_code ec;
-        fs::remove_all(path, ec);
-    }
-};
-
-std::string extensionFor(const Image& img) {
-    const auto& b = img.encoded;
-    if (b.size() >= 3 && b[0] == 0xFF && b[1] == 0xD8) return ".jpg";
-    if (img.mimeType == "image/jpeg") return ".jpg";
-    return ".png";
-}
-
+// An image a material channel reads, decoded on the first bake that reads it.
 struct SourceTexture {
-    ustring file;
-    OIIO::TextureSystem::TextureHandle* handle = nullptr;  // the file's cache entry: lookups skip the name search
-    int channels = 0;
+    bool used = false;  // some material channel references it
+    std::once_flag decoded;
+    MipTexture mip;
 };
-
-// Writes every image a material channel uses; returns per image index its file (empty if unused).
-std::vector<SourceTexture> writeSourceImages(const Asset& asset, const TempDir& dir, OIIO::TextureSystem& ts) {
-    std::vector<SourceTexture> out(asset.images.size());
-    for (const Material& m : asset.materials)
-        for (const TextureRef* ref : {&m.baseColor, &m.metallicRoughness, &m.occlusion, &m.emissive, &m.normal, &m.specularGlossiness}) {
-            int t = ref->texture;
-            if (t < 0 || t >= int(asset.textures.size())) continue;
-            int i = asset.textures[size_t(t)].image;
-            if (i < 0 || i >= int(asset.images.size()) || !out[size_t(i)].file.empty()) continue;
-            const Image& img = asset.images[size_t(i)];
-            fs::path p = dir.path / ("image" + std::to_string(i) + extensionFor(img));
-            std::ofstream f(p, std::ios::binary);
-            f.write(reinterpret_cast<const char*>(img.encoded.data()), std::streamsize(img.encoded.size()));
-            if (!f) throw IOError("cannot write a temporary image for baking: " + p.string());
-            f.close();
-            SourceTexture st;
-            st.file = ustring(p.string());
-            if (!ts.get_texture_info(st.file, 0, ustring("channels"), OIIO::TypeDesc::INT, &st.channels) || st.channels <= 0)
-                throw IOError("image " + std::to_string(i) + " (" + img.name + ") cannot be decoded for baking");
-            st.handle = ts.get_texture_handle(st.file);
-            if (!st.handle) throw IOError("image " + std::to_string(i) + " (" + img.name + ") cannot be decoded for baking");
-            out[size_t(i)] = st;
-        }
-    return out;
-}
-
-OIIO::Tex::Wrap wrapMode(int gl) {
-    if (gl == 33071) return OIIO::Tex::Wrap::Clamp;
-    if (gl == 33648) return OIIO::Tex::Wrap::Mirror;
-    return OIIO::Tex::Wrap::Periodic;
-}
 
 struct TexelHit {
     int32_t face = -1;
@@ -230,11 +169,9 @@ struct ShadeContext {
     const Asset& asset;
     const std::vector<std::array<Vec2, 3>>& cornerUV;
     const std::vector<BakeIsland>& islands;
-    const std::vector<SourceTexture>& sources;
+    std::vector<SourceTexture>& sources;
     const std::array<std::vector<Vec4>, 2>& tangents;
-    OIIO::TextureSystem& ts;
     int size;
-    OIIO::TextureSystem::Perthread* thread = nullptr;  // the calling thread's TextureSystem state
 };
 
 const Material& materialOf(const ShadeContext& c, uint32_t f) {
@@ -243,11 +180,6 @@ const Material& materialOf(const ShadeContext& c, uint32_t f) {
     int mi = f < mesh.triangleMaterial.size() ? mesh.triangleMaterial[f] : -1;
     return (mi >= 0 && mi < int(c.asset.materials.size())) ? c.asset.materials[size_t(mi)] : kDefault;
 }
-
-// How a channel's texture is interpolated: colour with OpenImageIO's default (bicubic where the
-// texture is magnified), data (roughness, metallic, occlusion, normals) bilinearly, as a renderer
-// samples them; a cubic's overshoot would also move data values past what the texels hold.
-enum class Interp { Color, Data };
 
 // True when two texture references read the same texels at the same UVs (the usual
 // occlusion-in-red of a metallic-roughness texture): one lookup serves both.
@@ -258,10 +190,23 @@ bool sameLookup(const TextureRef& a, const TextureRef& b) {
            s.offset.y == t.offset.y && s.rotation == t.rotation && s.scale.x == t.scale.x && s.scale.y == t.scale.y;
 }
 
-// The filtered texel of texture reference `ref` at hit h: RGBA as stored (no colour conversion;
-// grey images fill RGB, images without alpha give alpha 1). False when the material has no such
-// texture (or no UVs of its set): `out` is then untouched.
-bool lookup(const ShadeContext& c, const TextureRef& ref, const TexelHit& h, float out[4], Interp interp = Interp::Color) {
+// The decoded MIP levels of image i, decoded by the first caller (others wait for it).
+// \throw IOError (the image cannot be decoded).
+const MipTexture& decodedSource(const Asset& asset, SourceTexture& src, size_t i) {
+    std::call_once(src.decoded, [&] {
+        DecodedImage img;
+        std::string error;
+        if (!decodeImage(asset.images[i], img, error)) throw IOError("cannot decode for baking: " + error);
+        src.mip = buildMipTexture(img);
+    });
+    return src.mip;
+}
+
+// The filtered texel of texture reference `ref` at hit h (bilinear / trilinear over the texel's
+// footprint, as a renderer samples it): RGBA as stored (no colour conversion; grey images fill
+// RGB, images without alpha give alpha 1). False when the material has no such texture (or no UVs
+// of its set): `out` is then untouched.
+bool lookup(const ShadeContext& c, const TextureRef& ref, const TexelHit& h, float out[4]) {
     const TriMesh& mesh = c.asset.mesh;
     const uint32_t f = uint32_t(h.face);
     int ti = ref.texture;
@@ -269,7 +214,7 @@ bool lookup(const ShadeContext& c, const TextureRef& ref, const TexelHit& h, flo
     const Texture& tex = c.asset.textures[size_t(ti)];
     int set = ref.transform.texCoord >= 0 ? ref.transform.texCoord : ref.texCoord;
     const std::vector<Vec2>& uvs = set == 1 ? mesh.wedges.uv1 : mesh.wedges.uv0;
-    if (tex.image < 0 || size_t(tex.image) >= c.sources.size() || c.sources[size_t(tex.image)].file.empty() || uvs.empty())
+    if (tex.image < 0 || size_t(tex.image) >= c.sources.size() || !c.sources[size_t(tex.image)].used || uvs.empty())
         return false;
     const Tri& cw = mesh.cornerWedges[f];
     Vec2 T[3];
@@ -294,18 +239,11 @@ bool lookup(const ShadeContext& c, const TextureRef& ref, const TexelHit& h, flo
     Vec2 tdy = applyLinear(lm, dy);
     Sampler smp;
     if (tex.sampler >= 0 && tex.sampler < int(c.asset.samplers.size())) smp = c.asset.samplers[size_t(tex.sampler)];
-    OIIO::TextureOpt opt;
-    opt.swrap = OIIO::TextureOpt::Wrap(wrapMode(smp.wrapS));
-    opt.twrap = OIIO::TextureOpt::Wrap(wrapMode(smp.wrapT));
-    opt.fill = 1.0f;
-    if (interp == Interp::Data) opt.interpmode = OIIO::TextureOpt::InterpBilinear;
-    const SourceTexture& src = c.sources[size_t(tex.image)];
-    float r[4] = {1, 1, 1, 1};
-    c.ts.texture(src.handle, c.thread, opt, float(st.x), float(st.y), float(tdx.x), float(tdx.y), float(tdy.x), float(tdy.y),
-                 std::min(src.channels, 4), r);
-    if (src.channels == 2) r[3] = r[1];
-    if (src.channels <= 2) r[2] = r[1] = r[0];
-    if (src.channels == 1 || src.channels == 3) r[3] = 1;
+    FetchOptions opt;
+    opt.wrapS = textureWrapFromGl(smp.wrapS);
+    opt.wrapT = textureWrapFromGl(smp.wrapT);
+    float r[4];
+    fetchFiltered(decodedSource(c.asset, c.sources[size_t(tex.image)], size_t(tex.image)), opt, st, tdx, tdy, r);
     for (int i = 0; i < 4; ++i) out[i] = r[i];
     return true;
 }
@@ -351,14 +289,14 @@ void shadeOrm(const ShadeContext& c, const TexelHit& h, double orm[3]) {
     orm[1] = m.roughnessFactor;
     orm[2] = m.metallicFactor;
     float r[4];
-    const bool mr = lookup(c, m.metallicRoughness, h, r, Interp::Data);
+    const bool mr = lookup(c, m.metallicRoughness, h, r);
     if (mr) {
         orm[1] *= std::clamp(double(r[1]), 0.0, 1.0);
         orm[2] *= std::clamp(double(r[2]), 0.0, 1.0);
     }
     float sg[4];
-    if (lookup(c, m.specularGlossiness, h, sg, Interp::Data)) orm[1] = 1 - m.glossinessFactor * std::clamp(double(sg[3]), 0.0, 1.0);
-    if ((mr && sameLookup(m.occlusion, m.metallicRoughness)) || lookup(c, m.occlusion, h, r, Interp::Data))
+    if (lookup(c, m.specularGlossiness, h, sg)) orm[1] = 1 - m.glossinessFactor * std::clamp(double(sg[3]), 0.0, 1.0);
+    if ((mr && sameLookup(m.occlusion, m.metallicRoughness)) || lookup(c, m.occlusion, h, r))
         orm[0] = 1 + m.occlusion.scale * (std::clamp(double(r[0]), 0.0, 1.0) - 1);
     for (int i = 0; i < 3; ++i) orm[i] = std::clamp(orm[i], 0.0, 1.0);
 }
@@ -391,7 +329,7 @@ Vec3 shadingNormal(const ShadeContext& c, const TexelHit& h) {
     }
     const Material& m = materialOf(c, f);
     float r[4];
-    if (!lookup(c, m.normal, h, r, Interp::Data)) return N;
+    if (!lookup(c, m.normal, h, r)) return N;
     const int set = m.normal.transform.texCoord >= 0 ? m.normal.transform.texCoord : m.normal.texCoord;
     const std::vector<Vec4>& tangents = mesh.wedges.tangent.empty() ? c.tangents[set == 1 ? 1 : 0] : mesh.wedges.tangent;
     if (tangents.empty()) return N;
@@ -455,60 +393,6 @@ void encodeInTarget(const BakeTarget* targetOrNull, const TargetHit& th, Vec3 N,
     rgb[2] = n.z * 0.5 + 0.5;
 }
 
-// The most channels one gap fill takes at once: the fill's images (several full-size copies)
-// grow with them, and a few channels already share most of the pyramid's per-texel cost.
-constexpr int kFillChannels = 7;
-
-// One channel image being filled: `channels` floats per texel, interleaved.
-struct FillLayer {
-    std::vector<float>* values;
-    int channels;
-};
-
-// Pull-push fill of the uncovered texels of every layer (coverage as alpha), in place: one
-// pyramid for all layers. Each output channel depends only on its own channel and the coverage
-// (the pyramid's resizes, alpha divisions and composites work channel by channel), so filling
-// the layers together gives what filling each alone gives.
-void fillGaps(const std::vector<FillLayer>& layers, const std::vector<uint8_t>& covered, int w, int h) {
-    const size_t texels = size_t(w) * size_t(h);
-    int nc = 0;
-    for (const FillLayer& l : layers) nc += l.channels;
-    const size_t stride = size_t(nc) + 1;
-    OIIO::ImageSpec spec(w, h, nc + 1, OIIO::TypeDesc::FLOAT);
-    spec.alpha_channel = nc;
-    // The pixels are written and read in place (local float buffers, rows contiguous): no copy
-    // of the whole multi-channel image besides those the fill makes.
-    auto buf = std::make_unique<OIIO::ImageBuf>(spec);
-    float* in = static_cast<float*>(buf->localpixels());
-    if (!in) throw SolverError("bake: cannot allocate the gap-fill image");
-    for (size_t i = 0; i < texels; ++i) {
-        const float a = covered[i] ? 1.0f : 0.0f;
-        float* p = &in[i * stride];
-        for (const FillLayer& l : layers) {
-            const float* v = &(*l.values)[i * size_t(l.channels)];
-            for (int k = 0; k < l.channels; ++k) *p++ = v[k] * a;
-        }
-        *p = a;
-    }
-    OIIO::ImageBuf filled;
-    if (!OIIO::ImageBufAlgo::fillholes_pushpull(filled, *buf)) throw SolverError("bake: pull-push fill failed: " + filled.geterror());
-    buf.reset();
-    std::vector<float> copy;
-    const float* out = filled.spec().format == OIIO::TypeDesc::FLOAT ? static_cast<const float*>(filled.localpixels()) : nullptr;
-    if (!out) {
-        copy.resize(texels * stride);
-        filled.get_pixels(OIIO::ROI(0, w, 0, h, 0, 1, 0, nc + 1), OIIO::TypeDesc::FLOAT, copy.data());
-        out = copy.data();
-    }
-    for (size_t i = 0; i < texels; ++i) {
-        const float* p = &out[i * stride];
-        for (const FillLayer& l : layers) {
-            float* v = &(*l.values)[i * size_t(l.channels)];
-            for (int k = 0; k < l.channels; ++k) v[k] = *p++;
-        }
-    }
-}
-
 // Rounds values in [0,1] to 8-bit steps, as they will be stored.
 void quantize(std::vector<float>& v) {
     for (float& x : v) x = float(std::lround(std::clamp(double(x), 0.0, 1.0) * 255)) / 255.0f;
@@ -518,18 +402,16 @@ void quantize(std::vector<float>& v) {
 
 struct BakeSources::Impl {
     const Asset& asset;
-    TempDir dir;
-    OIIO::TextureSystem* ts = nullptr;
-    std::vector<SourceTexture> sources;
+    std::vector<SourceTexture> sources;  // per image
     std::array<std::vector<Vec4>, 2> tangents;  // per UV set a normal map uses, when the file has no TANGENT
-    explicit Impl(const Asset& a) : asset(a), ts(OIIO::TextureSystem::create(false)) {
-        ts->attribute("automip", 1);
-        try {
-            sources = writeSourceImages(asset, dir, *ts);
-        } catch (...) {
-            OIIO::TextureSystem::destroy(ts, true);
-            throw;
-        }
+    explicit Impl(const Asset& a) : asset(a), sources(a.images.size()) {
+        for (const Material& m : asset.materials)
+            for (const TextureRef* ref : {&m.baseColor, &m.metallicRoughness, &m.occlusion, &m.emissive, &m.normal, &m.specularGlossiness}) {
+                const int t = ref->texture;
+                if (t < 0 || t >= int(asset.textures.size())) continue;
+                const int i = asset.textures[size_t(t)].image;
+                if (i >= 0 && i < int(asset.images.size())) sources[size_t(i)].used = true;
+            }
         if (asset.mesh.wedges.tangent.empty())
             for (const Material& m : asset.materials) {
                 if (m.normal.texture < 0) continue;
@@ -537,13 +419,10 @@ struct BakeSources::Impl {
                 if (tangents[size_t(set)].empty()) tangents[size_t(set)] = computeWedgeTangents(asset.mesh, set);
             }
     }
-    // teardown_imagecache: the private ImageCache that create(false) made is freed only then.
-    ~Impl() { OIIO::TextureSystem::destroy(ts, true); }
 };
 
 struct BakeSourcesAccess {
-    static const std::vector<SourceTexture>& sources(const BakeSources& s) { return s.impl_->sources; }
-    static OIIO::TextureSystem* textureSystem(const BakeSources& s) { return s.impl_->ts; }
+    static std::vector<SourceTexture>& sources(const BakeSources& s) { return s.impl_->sources; }
     static const std::array<std::vector<Vec4>, 2>& tangents(const BakeSources& s) { return s.impl_->tangents; }
 };
 
@@ -571,8 +450,7 @@ BakeResult bakeMaterial(const BakeSources& bs, const std::vector<std::array<Vec2
                         const std::vector<BakeIsland>& islands, const BakeTarget* target) {
     auto t0 = std::chrono::steady_clock::now();
     const Asset& asset = bs.asset();
-    const std::vector<SourceTexture>& sources = BakeSourcesAccess::sources(bs);
-    OIIO::TextureSystem* ts = BakeSourcesAccess::textureSystem(bs);
+    std::vector<SourceTexture>& sources = BakeSourcesAccess::sources(bs);
     const TriMesh& mesh = asset.mesh;
     if (cornerUV.size() != mesh.triangleCount()) throw InvalidInput("bake: cornerUV size differs from the face count");
     if (o.size < 1) throw InvalidInput("bake: size must be >= 1");
@@ -599,10 +477,8 @@ BakeResult bakeMaterial(const BakeSources& bs, const std::vector<std::array<Vec2
     if (ch.normal) res.normal.assign(texels * 3, 0.0f);
     std::vector<uint8_t> covered(texels, 0);
     std::vector<size_t> rowCovered(size_t(g.h), 0), rowIsland(size_t(g.h), 0), rowLookups(size_t(g.h), 0);
-    const ShadeContext shared{asset, cornerUV, islands, sources, BakeSourcesAccess::tangents(bs), *ts, g.size};
+    const ShadeContext ctx{asset, cornerUV, islands, sources, BakeSourcesAccess::tangents(bs), g.size};
     parallelFor(size_t(g.h), o.threads, [&](size_t y) {
-        ShadeContext ctx = shared;
-        ctx.thread = ts->get_perthread_info();
         for (int x = 0; x < g.w; ++x) {
             const size_t i = g.at(x, int(y));
             const TexelHit& h = hits[i];
@@ -635,24 +511,13 @@ BakeResult bakeMaterial(const BakeSources& bs, const std::vector<std::array<Vec2
         res.islandTexels += rowIsland[y];
         res.texturedLookups += rowLookups[y];
     }
-    // Gap fill: pull-push with coverage as alpha, up to kFillChannels channels in one pyramid.
+    // Gap fill: pull-push with coverage, each channel image alone.
     if (o.fillGaps && res.coveredTexels > 0) {
-        hits = {};  // shaded: freed before the fill allocates its images
+        hits = {};  // shaded: freed before the fill allocates its pyramids
         targetHits = {};
-        std::vector<FillLayer> group{{&px, 3}};
-        int groupChannels = 3;
-        for (std::vector<float>* c : {&res.alpha, &res.orm, &res.emissive, &res.normal}) {
-            if (c->empty()) continue;
-            const FillLayer layer{c, c == &res.alpha ? 1 : 3};
-            if (groupChannels + layer.channels > kFillChannels) {
-                fillGaps(group, covered, g.w, g.h);
-                group.clear();
-                groupChannels = 0;
-            }
-            group.push_back(layer);
-            groupChannels += layer.channels;
-        }
-        fillGaps(group, covered, g.w, g.h);
+        pullPushFill(px, 3, covered, g.w, g.h, o.threads);
+        for (std::vector<float>* c : {&res.alpha, &res.orm, &res.emissive, &res.normal})
+            if (!c->empty()) pullPushFill(*c, c == &res.alpha ? 1 : 3, covered, g.w, g.h, o.threads);
     }
     if (ch.alpha) quantize(res.alpha);
     if (ch.orm) quantize(res.orm);

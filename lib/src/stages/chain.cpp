@@ -79,7 +79,11 @@ StageResult runChain(const ChainSettings& s) {
     // parameterize decodes every input image (the original's, which simplify passes on): the
     // stages after it read only images it or they checked, or wrote.
     Intermediate parameterized{chain.intermediatePath(".uv.glb"), {}, true};
-    chain.run("parameterize", s.parameterize, &multires, &parameterized, runParameterize);
+    // texture-refine and pack bake from the original images, never from parameterize's atlas
+    // image: it is baked only for an intermediate that is kept.
+    ParameterizeSettings parameterize = s.parameterize;
+    parameterize.bakeImage = parameterize.bakeImage && !s.keepIntermediates.empty();
+    chain.run("parameterize", parameterize, &multires, &parameterized, runParameterize);
     multires.bytes = Bytes();
     const Intermediate* packInput = &parameterized;
     Intermediate refined{chain.intermediatePath(".tex.glb"), {}, true};

@@ -126,7 +126,8 @@ nlohmann::json makeReport(const ParameterizeSettings& s, const Asset& asset, con
                     {"islandTriangles", applied.islandTriangles},
                     {"islandTexels", baked.islandTexels},
                     {"coveredTexels", baked.coveredTexels},
-                    {"texturedLookups", baked.texturedLookups}};
+                    {"texturedLookups", baked.texturedLookups},
+                    {"imageBaked", s.bakeImage}};
     rep["warnings"] = asset.warnings;
     rep["time"] = {{"load", time.load}, {"parameterize", param.seconds}, {"bake", time.bake}, {"checks", time.checks}};
     return rep;
@@ -168,10 +169,13 @@ StageResult runParameterize(const ParameterizeSettings& s) {
     for (const std::string& w : param.warnings) warn(s.common, asset, w);
 
     Clock::time_point t1 = Clock::now();
-    BakeOptions bo;
-    bo.size = opt.textureSize;
-    bo.threads = s.common.threads;
-    BakeResult baked = bakeBaseColor(asset, param.cornerUV, bo, bakeIslands(asset.mesh, param.islands));
+    BakeResult baked;
+    if (s.bakeImage) {
+        BakeOptions bo;
+        bo.size = opt.textureSize;
+        bo.threads = s.common.threads;
+        baked = bakeBaseColor(asset, param.cornerUV, bo, bakeIslands(asset.mesh, param.islands));
+    }
     time.bake = secondsSince(t1);
 
     AtlasApplyStats applied = applyAtlas(asset, *multires, param, baked.image);

@@ -25,7 +25,7 @@ struct BakeOptions {
     // narrower or shorter than `size` (pack's non-square pages) is baked and gap-filled alone.
     int width = 0, height = 0;
     double dilation = 1;    // conservative rasterisation margin around each triangle, texels
-    bool fillGaps = true;   // pull-push fill of uncovered texels (ImageBufAlgo::fillholes_pushpull)
+    bool fillGaps = true;   // pull-push fill of uncovered texels (pullPushFill)
     bool encodePng = true;  // BakeResult::image (false: pixels only, for callers that encode themselves)
     int threads = 1;        // texel shading threads (0 = all cores); the result is the same for any count
     BakeChannels channels;
@@ -67,17 +67,17 @@ struct BakeResult {
     std::vector<float> alpha, orm, emissive, normal;
     double emissiveScale = 1;    // the largest linear emissive value when above 1 (KHR_materials_emissive_strength), else 1
     size_t coveredTexels = 0;    // texels hit by a triangle (incl. dilation)
-    size_t texturedLookups = 0;  // texture lookups made through the TextureSystem
+    size_t texturedLookups = 0;  // texels shaded with a filtered base colour texture fetch
     size_t islandTexels = 0;     // texels filled from islands
     double seconds = 0;
 };
 
-// The asset's images, decoded once for every bake of that asset (OpenImageIO's
-// TextureSystem over temporary copies of the encoded images, MIP-maps built on first use): pack
+// The asset's images, decoded once for every bake of that asset (each to MIP levels on the first
+// bake that reads it, lodbake/bake/texture_fetch.h): pack
 // bakes one page per level, texture-refine one per layout and size. The asset must outlive it.
 class BakeSources {
 public:
-    // \throw IOError (an image cannot be decoded / temp files).
+    // \throw IOError (an image cannot be decoded).
     explicit BakeSources(const Asset& asset);
     ~BakeSources();
     BakeSources(const BakeSources&) = delete;
@@ -97,7 +97,7 @@ private:
 // Islands (see BakeIsland) are rasterised too; where an island and a face cover a texel, the
 // exact (undilated) hit wins, then the face.
 // \pre cornerUV.size() == asset.mesh.triangleCount().
-// \throw InvalidInput (size mismatch, island without faces), IOError (an image cannot be decoded / temp files).
+// \throw InvalidInput (size mismatch, island without faces), IOError (an image cannot be decoded).
 BakeResult bakeBaseColor(const BakeSources& sources, const std::vector<std::array<Vec2, 3>>& cornerUV,
                          const BakeOptions& options = {}, const std::vector<BakeIsland>& islands = {});
 // The same with every channel of options.channels: each texel shows the original material at

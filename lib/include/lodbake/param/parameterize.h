@@ -122,7 +122,7 @@ struct AtlasApplyStats {
 
 // Adds the atlas to the asset: appends chart-split wedges (uv0 = atlas UV, normal/tangent/uv1
 // copied, colour white: it is baked) to asset.mesh.wedges, appends a Material using `bakedImage`
-// (plus its Texture and Image), and gives every level new cornerWedges and a triangleMaterial
+// (plus its Texture and Image; factors only when bakedImage has no bytes), and gives every level new cornerWedges and a triangleMaterial
 // override pointing at that material. Level 0 (the original triangles) keeps its wedges and
 // materials; original wedges get uv0 = (0,0) when the asset had no TEXCOORD_0.
 // The level UVs are param.levels (chart of each triangle from levelTriangleCharts; a corner whose

@@ -14,6 +14,10 @@ struct ParameterizeSettings {
     // The algorithm's options (textureSize is also the baked atlas side). threads and progress
     // are taken from `common`.
     ParameterizeOptions parameterize;
+    // Bake the atlas image (the original base colour at the atlas UVs) into the output. texture-refine
+    // and pack never read it (they bake from the original images): the lodbake chain skips it
+    // unless the .uv.glb is kept. Without it the atlas material has factors only.
+    bool bakeImage = true;
 };
 
 // Folds that survive every fallback (see parameterize) are warnings, not errors: the output is

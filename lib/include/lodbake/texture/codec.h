@@ -1,6 +1,6 @@
 // Image decoding, encoding and checking with OpenImageIO: every encoded image lodbake reads or
-// writes goes through this file (the bake's filtered lookups use OpenImageIO's TextureSystem on
-// the same bytes). The glTF reader keeps images encoded, so tools that only pass images
+// writes goes through this file (the bake decodes its source images here, then samples them
+// itself: bake/texture_fetch.h). The glTF reader keeps images encoded, so tools that only pass images
 // through (simplify, agsphere-build) never load OpenImageIO and its ~250 shared libraries, whose
 // symbol binding alone takes 0.2-0.4 s per process.
 #pragma once
