@@ -14,6 +14,7 @@
 
 #include "lodbake/core/closest_point.h"
 #include "lodbake/core/errors.h"
+#include "lodbake/core/face_tree.h"
 #include "lodbake/core/parallel.h"
 #include "lodbake/param/parameterize.h"
 
@@ -128,7 +129,7 @@ TextureDeviation textureDeviation(const TriMesh& mesh, const Level& level, const
         emitted += count[t];
     }
     // Island triangles: the faces that can hold the closest point of any of their points.
-    std::vector<BoxedFaces> islandNear;
+    std::vector<FaceTree> islandNear;
     if (options.islands)
         for (const LevelIsland& isl : *options.islands)
             islandNear.emplace_back(mesh, facesNearTriangle(mesh, isl.faces, {mesh.positions[isl.vertices[0]], mesh.positions[isl.vertices[1]],
@@ -157,7 +158,6 @@ TextureDeviation textureDeviation(const TriMesh& mesh, const Level& level, const
             out.max = std::max(out.max, d);
             ++out.samples;
         };
-        uint32_t islandFace = UINT32_MAX;  // the previous island sample's face: the next one's search bound
         for (size_t s = 0, seq = first[t]; s < count[t]; ++s, ++seq) {
             double r1 = std::fmod(0.5 + a1 * double(seq + 1), 1.0), r2 = std::fmod(0.5 + a2 * double(seq + 1), 1.0);
             double sq = std::sqrt(r1);
@@ -167,7 +167,8 @@ TextureDeviation textureDeviation(const TriMesh& mesh, const Level& level, const
             if (isl != islandOf.end()) {
                 // An island texel shows the closest point of the island's faces (the bake's rule).
                 std::array<double, 3> w{};
-                double dmin = islandNear[isl->second].closest(p, islandFace, islandFace, w);
+                uint32_t islandFace = UINT32_MAX;
+                double dmin = islandNear[isl->second].closest(p, islandFace, w);
                 if (!(dmin < 1e300)) continue;
                 add(std::sqrt(dmin));
                 ++out.islandSamples;
