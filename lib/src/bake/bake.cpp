@@ -29,6 +29,7 @@
 #include "lodbake/core/closest_point.h"
 #include "lodbake/core/errors.h"
 #include "lodbake/core/face_grid.h"
+#include "lodbake/core/face_tree.h"
 #include "lodbake/core/parallel.h"
 #include "lodbake/core/tangents.h"
 #include "lodbake/texture/codec.h"
@@ -185,13 +186,13 @@ void rasterizeIslands(const TriMesh& mesh, const std::vector<BakeIsland>& island
         Vec2 P[3];
         for (int k = 0; k < 3; ++k) P[k] = {isl.uv[size_t(k)].x * g.size, isl.uv[size_t(k)].y * g.size};
         if (std::fabs(cross(P[1] - P[0], P[2] - P[0])) < 1e-12) return;
-        const BoxedFaces near(mesh, facesNearTriangle(mesh, isl.faces, isl.position));
-        uint32_t f = 0xffffffffu;  // the previous texel's face: the next texel's search bound
+        const FaceTree near(mesh, facesNearTriangle(mesh, isl.faces, isl.position));
         forEachTexelNear(P, g, dilation, [&](int x, int y, double d, const std::array<double, 3>& b) {
             if (!(float(d) < hits[g.at(x, y)].dist)) return;  // a face's hit is nearer
             Vec3 X = isl.position[0] * b[0] + isl.position[1] * b[1] + isl.position[2] * b[2];
             std::array<double, 3> fb{};
-            near.closest(X, f, f, fb);
+            uint32_t f = 0xffffffffu;
+            near.closest(X, f, fb);
             found[i].push_back({g.at(x, y), {int32_t(f), float(d), {float(fb[0]), float(fb[1]), float(fb[2])}, int32_t(i)}});
         });
     });
