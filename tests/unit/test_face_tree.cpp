@@ -13,11 +13,16 @@ using namespace lodbake;
 
 namespace {
 
-// The same face (so the same of equally close ones), barycentrics and distance, bit for bit.
+// The same face (so the same of equally close ones), barycentrics and distance, bit for bit,
+// without a hint and with the previous query's answer as the hint.
 void expectSameAsScan(const TriMesh& mesh, const std::vector<uint32_t>& faces, const std::vector<Vec3>& points) {
     const FaceTree tree(mesh, faces);
     ASSERT_EQ(tree.size(), faces.size());
+    uint32_t hint = UINT32_MAX;
     for (const Vec3& p : points) {
+        uint32_t hintedFace = 0;
+        std::array<double, 3> hintedBary{};
+        const double hinted = tree.closest(p, hintedFace, hintedBary, hint);
         uint32_t scanFace = 0, treeFace = 0;
         std::array<double, 3> scanBary{}, treeBary{};
         const double scan = closestSurfacePoint(mesh, faces, p, scanFace, scanBary);
@@ -25,6 +30,11 @@ void expectSameAsScan(const TriMesh& mesh, const std::vector<uint32_t>& faces, c
         EXPECT_EQ(d, scan);
         EXPECT_EQ(treeFace, scanFace) << "at " << p.x << " " << p.y << " " << p.z;
         for (size_t k = 0; k < 3; ++k) EXPECT_EQ(treeBary[k], scanBary[k]);
+        EXPECT_EQ(hinted, scan);
+        EXPECT_EQ(hintedFace, scanFace);
+        ASSERT_LT(hint, faces.size());
+        EXPECT_EQ(faces[hint], scanFace);
+        for (size_t k = 0; k < 3; ++k) EXPECT_EQ(hintedBary[k], scanBary[k]);
     }
 }
 

@@ -187,12 +187,13 @@ void rasterizeIslands(const TriMesh& mesh, const std::vector<BakeIsland>& island
         for (int k = 0; k < 3; ++k) P[k] = {isl.uv[size_t(k)].x * g.size, isl.uv[size_t(k)].y * g.size};
         if (std::fabs(cross(P[1] - P[0], P[2] - P[0])) < 1e-12) return;
         const FaceTree near(mesh, facesNearTriangle(mesh, isl.faces, isl.position));
+        uint32_t hint = UINT32_MAX;  // the previous texel's answer: the next texel's start
         forEachTexelNear(P, g, dilation, [&](int x, int y, double d, const std::array<double, 3>& b) {
             if (!(float(d) < hits[g.at(x, y)].dist)) return;  // a face's hit is nearer
             Vec3 X = isl.position[0] * b[0] + isl.position[1] * b[1] + isl.position[2] * b[2];
             std::array<double, 3> fb{};
-            uint32_t f = 0xffffffffu;
-            near.closest(X, f, fb);
+            uint32_t f = 0;
+            near.closest(X, f, fb, hint);
             found[i].push_back({g.at(x, y), {int32_t(f), float(d), {float(fb[0]), float(fb[1]), float(fb[2])}, int32_t(i)}});
         });
     });

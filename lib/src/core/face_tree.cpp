@@ -78,7 +78,7 @@ void FaceTree::build(uint32_t id, uint32_t begin, uint32_t end) {
     build(child + 1, mid, end);
 }
 
-double FaceTree::closest(Vec3 p, uint32_t& face, std::array<double, 3>& bary) const {
+double FaceTree::closest(Vec3 p, uint32_t& face, std::array<double, 3>& bary, uint32_t& hint) const {
     double best = 1e300;
     uint32_t bestPos = UINT32_MAX;
     // Boxes farther than this are skipped: the best distance with the margin.
@@ -87,7 +87,21 @@ double FaceTree::closest(Vec3 p, uint32_t& face, std::array<double, 3>& bary) co
         const double r = std::sqrt(best) * (1 + 1e-9) + 1e-9 * extent_;
         bound = r * r;
     };
+    auto measure = [&](uint32_t i) {
+        const Tri& t = mesh_.triangles[faces_[i]];
+        const auto b = closestOnTriangle(p, mesh_.positions[t[0]], mesh_.positions[t[1]], mesh_.positions[t[2]]);
+        const Vec3 q = mesh_.positions[t[0]] * b[0] + mesh_.positions[t[1]] * b[1] + mesh_.positions[t[2]] * b[2];
+        const double d = length2(q - p);
+        if (d < best || (d == best && i < bestPos)) {
+            best = d;
+            bestPos = i;
+            bary = b;
+            tighten();
+        }
+    };
     if (nodes_.empty()) return best;
+    // The hint is one candidate measured first: it only makes the bound tight from the start.
+    if (hint < faces_.size()) measure(hint);
     struct Entry {
         uint32_t node;
         double d2;
@@ -102,17 +116,7 @@ double FaceTree::closest(Vec3 p, uint32_t& face, std::array<double, 3>& bary) co
         if (n.end > n.begin) {
             for (uint32_t k = n.begin; k < n.end; ++k) {
                 const uint32_t i = order_[k];
-                if (boxDistance2(box_[i], p) > bound) continue;
-                const Tri& t = mesh_.triangles[faces_[i]];
-                const auto b = closestOnTriangle(p, mesh_.positions[t[0]], mesh_.positions[t[1]], mesh_.positions[t[2]]);
-                const Vec3 q = mesh_.positions[t[0]] * b[0] + mesh_.positions[t[1]] * b[1] + mesh_.positions[t[2]] * b[2];
-                const double d = length2(q - p);
-                if (d < best || (d == best && i < bestPos)) {
-                    best = d;
-                    bestPos = i;
-                    bary = b;
-                    tighten();
-                }
+                if (i != bestPos && boxDistance2(box_[i], p) <= bound) measure(i);
             }
             continue;
         }
@@ -127,7 +131,9 @@ double FaceTree::closest(Vec3 p, uint32_t& face, std::array<double, 3>& bary) co
             stack[top++] = {c, dc};
         }
     }
+    if (bestPos == UINT32_MAX) return best;  // no face with a finite distance
     face = faces_[bestPos];
+    hint = bestPos;
     return best;
 }
 

@@ -152,6 +152,7 @@ TextureDeviation textureDeviation(const TriMesh& mesh, const Level& level, const
         }
         const uint32_t chart = triChart[t];
         auto isl = islandOf.find(v);
+        uint32_t islandHint = UINT32_MAX;  // the previous island sample's answer: the next one's start
         auto add = [&](double d) {
             out.sum += d;
             out.sum2 += d * d;
@@ -167,8 +168,8 @@ TextureDeviation textureDeviation(const TriMesh& mesh, const Level& level, const
             if (isl != islandOf.end()) {
                 // An island texel shows the closest point of the island's faces (the bake's rule).
                 std::array<double, 3> w{};
-                uint32_t islandFace = UINT32_MAX;
-                double dmin = islandNear[isl->second].closest(p, islandFace, w);
+                uint32_t islandFace = 0;
+                double dmin = islandNear[isl->second].closest(p, islandFace, w, islandHint);
                 if (!(dmin < 1e300)) continue;
                 add(std::sqrt(dmin));
                 ++out.islandSamples;

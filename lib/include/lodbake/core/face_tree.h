@@ -19,7 +19,14 @@ public:
     FaceTree(const TriMesh& mesh, std::vector<uint32_t> faces);
     // Squared distance from p to the closest point of the faces (1e300 when there are none);
     // `face` and `bary` receive that point, as closestSurfacePoint gives it.
-    double closest(Vec3 p, uint32_t& face, std::array<double, 3>& bary) const;
+    double closest(Vec3 p, uint32_t& face, std::array<double, 3>& bary) const {
+        uint32_t hint = UINT32_MAX;
+        return closest(p, face, bary, hint);
+    }
+    // The same, starting from the face at position `hint` in the set (a nearby query's answer;
+    // any value past the set for none), which only speeds the search; `hint` receives the
+    // answer's position for the next query.
+    double closest(Vec3 p, uint32_t& face, std::array<double, 3>& bary, uint32_t& hint) const;
     size_t size() const { return faces_.size(); }
 
 private:
