@@ -85,12 +85,12 @@ TEST(ParamTutte, ClosedSphereIsRejected) {
 //   +--+--+--+   (z up)
 //   |  |  |  |
 //   +--+--+--+--+--+--+  (y = 0 plane)
-ChartMesh bentGrid() {
+ChartMesh bentGrid(int nx = 6, int ny = 4) {
     ChartMesh c;
-    const int nx = 6, ny = 4;
+    const int fold = nx / 2;
     for (int j = 0; j <= ny; ++j)
         for (int i = 0; i <= nx; ++i)
-            c.positions.push_back(i <= 3 ? Vec3{double(i), double(j), 0} : Vec3{3, double(j), double(i - 3)});
+            c.positions.push_back(i <= fold ? Vec3{double(i), double(j), 0} : Vec3{double(fold), double(j), double(i - fold)});
     auto id = [&](int i, int j) { return uint32_t(j * (nx + 1) + i); };
     for (int j = 0; j < ny; ++j)
         for (int i = 0; i < nx; ++i) {
@@ -100,21 +100,34 @@ ChartMesh bentGrid() {
     return c;
 }
 
+// Every edge keeps its 3D length (the unfolding is an isometry; area matching keeps the scale).
+void expectEdgeLengthsKept(const ChartMesh& c, const std::vector<Vec2>& uv) {
+    for (const Tri& t : c.triangles)
+        for (int k = 0; k < 3; ++k) {
+            uint32_t a = t[k], b = t[(k + 1) % 3];
+            ASSERT_NEAR(std::sqrt(dot(uv[a] - uv[b], uv[a] - uv[b])), length(c.positions[a] - c.positions[b]), 1e-6);
+        }
+}
+
 TEST(ParamLscm, DevelopableChartUnfoldsIsometrically) {
     ChartMesh c = bentGrid();
     std::vector<Vec2> uv = lscmEmbedding(c);
     expectInjectiveAndAreaMatched(c, uv);
-    // Every edge keeps its 3D length (the unfolding is an isometry; area matching keeps the scale).
-    for (const Tri& t : c.triangles)
-        for (int k = 0; k < 3; ++k) {
-            uint32_t a = t[k], b = t[(k + 1) % 3];
-            EXPECT_NEAR(std::sqrt(dot(uv[a] - uv[b], uv[a] - uv[b])), length(c.positions[a] - c.positions[b]), 1e-6);
-        }
+    expectEdgeLengthsKept(c, uv);
     // So E_pixel is zero up to rounding, far below the Tutte start's.
     ChartEnergyOptions o;
     o.beta = 1;
     EXPECT_LT(chartEnergy(c, {}, uv, o).E, 1e-9);
     EXPECT_GT(chartEnergy(c, {}, tutteEmbedding(c), o).E, 1.0);
+}
+
+// A chart of 11,011 vertices: above the size from which the supernodal factorisation solves it.
+TEST(ParamLscm, LargeDevelopableChartUnfoldsIsometrically) {
+    ChartMesh c = bentGrid(120, 90);
+    ASSERT_GT(2 * (c.positions.size() - 2), 20000u);
+    std::vector<Vec2> uv = lscmEmbedding(c);
+    expectInjectiveAndAreaMatched(c, uv);
+    expectEdgeLengthsKept(c, uv);
 }
 
 TEST(ParamLscm, HemisphereIsInjectiveAndAreaMatched) {

@@ -23,6 +23,7 @@
 #include "lodbake/core/closest_point.h"
 #include "lodbake/core/errors.h"
 #include "lodbake/core/face_grid.h"
+#include "lodbake/core/face_tree.h"
 #include "lodbake/core/parallel.h"
 #include "lodbake/core/tangents.h"
 #include "lodbake/texture/codec.h"
@@ -114,6 +115,8 @@ void rasterizeTriangles(const TriMesh& mesh, const std::vector<std::array<Vec2, 
 // facesNearTriangle, which holds the closest point of every X). Islands are measured on
 // `threads` threads against the faces' hits, then merged in island order (a texel takes the
 // nearest hit, the earlier island on ties), so the result does not depend on the thread count.
+constexpr size_t kIslandTreeFrom = 64;  // island texels from which a FaceTree answers them
+
 void rasterizeIslands(const TriMesh& mesh, const std::vector<BakeIsland>& islands, const Grid& g, double dilation,
                       int threads, std::vector<TexelHit>& hits) {
     for (size_t i = 0; i < islands.size(); ++i)
@@ -124,15 +127,41 @@ void rasterizeIslands(const TriMesh& mesh, const std::vector<BakeIsland>& island
         Vec2 P[3];
         for (int k = 0; k < 3; ++k) P[k] = {isl.uv[size_t(k)].x * g.size, isl.uv[size_t(k)].y * g.size};
         if (std::fabs(cross(P[1] - P[0], P[2] - P[0])) < 1e-12) return;
-        const BoxedFaces near(mesh, facesNearTriangle(mesh, isl.faces, isl.position));
-        uint32_t f = 0xffffffffu;  // the previous texel's face: the next texel's search bound
+        // The texels first: a few of them are answered faster by BoxedFaces' scan than by
+        // building a FaceTree (both give the scan's answer).
+        struct Query {
+            size_t texel;
+            float d;
+            Vec3 X;
+        };
+        std::vector<Query> queries;
         forEachTexelNear(P, g, dilation, [&](int x, int y, double d, const std::array<double, 3>& b) {
             if (!(float(d) < hits[g.at(x, y)].dist)) return;  // a face's hit is nearer
-            Vec3 X = isl.position[0] * b[0] + isl.position[1] * b[1] + isl.position[2] * b[2];
-            std::array<double, 3> fb{};
-            near.closest(X, f, f, fb);
-            found[i].push_back({g.at(x, y), {int32_t(f), float(d), {float(fb[0]), float(fb[1]), float(fb[2])}, int32_t(i)}});
+            queries.push_back({g.at(x, y), float(d), isl.position[0] * b[0] + isl.position[1] * b[1] + isl.position[2] * b[2]});
         });
+        if (queries.empty()) return;
+        auto answer = [&](const auto& near, auto&& closest) {
+            for (const Query& q : queries) {
+                std::array<double, 3> fb{};
+                uint32_t f = closest(near, q.X, fb);
+                found[i].push_back({q.texel, {int32_t(f), q.d, {float(fb[0]), float(fb[1]), float(fb[2])}, int32_t(i)}});
+            }
+        };
+        std::vector<uint32_t> faces = facesNearTriangle(mesh, isl.faces, isl.position);
+        if (queries.size() < kIslandTreeFrom) {
+            uint32_t f = 0xffffffffu;  // the previous texel's face: the next texel's search bound
+            answer(BoxedFaces(mesh, std::move(faces)), [&](const BoxedFaces& near, Vec3 X, std::array<double, 3>& fb) {
+                near.closest(X, f, f, fb);
+                return f;
+            });
+        } else {
+            uint32_t hint = UINT32_MAX;  // the previous texel's answer: the next texel's start
+            answer(FaceTree(mesh, std::move(faces)), [&](const FaceTree& near, Vec3 X, std::array<double, 3>& fb) {
+                uint32_t f = 0;
+                near.closest(X, f, fb, hint);
+                return f;
+            });
+        }
     });
     for (const auto& list : found)
         for (const auto& [texel, hit] : list)

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <unordered_map>
 
+#include <Eigen/CholmodSupport>
 #include <Eigen/Sparse>
 #include <Eigen/SparseCholesky>
 
@@ -18,6 +19,24 @@
 #include "lodbake/param/chart_uv.h"
 
 namespace lodbake {
+namespace {
+
+// From this many unknowns the normal equations are factorised by CHOLMOD's supernodal Cholesky
+// (dense blocks through BLAS), far faster on a chart of 10k+ vertices than Eigen's simplicial
+// LDLT, which keeps smaller charts (and so every small asset's output) as they were.
+constexpr long kSupernodalFrom = 20000;
+
+// x with AtA x = b; false when the system could not be factorised or solved.
+template <class Solver>
+bool solveNormal(const Eigen::SparseMatrix<double>& AtA, const Eigen::VectorXd& b, Eigen::VectorXd& x) {
+    Solver solver;
+    solver.compute(AtA);
+    if (solver.info() != Eigen::Success) return false;
+    x = solver.solve(b);
+    return solver.info() == Eigen::Success && x.allFinite();
+}
+
+}  // namespace
 namespace {
 
 uint64_t directedKey(uint32_t a, uint32_t b) { return (uint64_t(a) << 32) | b; }
@@ -106,11 +125,12 @@ std::vector<Vec2> lscmEmbedding(const ChartMesh& chart) {
         Eigen::SparseMatrix<double> A(row, 2 * m);
         A.setFromTriplets(trip.begin(), trip.end());
         const Eigen::SparseMatrix<double> AtA = A.transpose() * A;
-        Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt;
-        ldlt.compute(AtA);
-        if (ldlt.info() != Eigen::Success) throw SolverError("LSCM system could not be factorised");
-        const Eigen::VectorXd x = ldlt.solve(A.transpose() * rhs.head(row));
-        if (ldlt.info() != Eigen::Success || !x.allFinite()) throw SolverError("LSCM system could not be solved");
+        const Eigen::VectorXd b = A.transpose() * rhs.head(row);
+        Eigen::VectorXd x;
+        const bool solved = 2 * long(m) >= kSupernodalFrom
+                                ? solveNormal<Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>>>(AtA, b, x)
+                                : solveNormal<Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>>(AtA, b, x);
+        if (!solved) throw SolverError("LSCM system could not be factorised or solved");
         for (size_t v = 0; v < n; ++v)
             if (slot[v] >= 0) uv[v] = {x[2 * slot[v]], x[2 * slot[v] + 1]};
     }

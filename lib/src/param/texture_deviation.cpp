@@ -11,9 +11,11 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <memory>
 
 #include "lodbake/core/closest_point.h"
 #include "lodbake/core/errors.h"
+#include "lodbake/core/face_tree.h"
 #include "lodbake/core/parallel.h"
 #include "lodbake/param/parameterize.h"
 
@@ -127,12 +129,20 @@ TextureDeviation textureDeviation(const TriMesh& mesh, const Level& level, const
         first[t] = emitted;
         emitted += count[t];
     }
-    // Island triangles: the faces that can hold the closest point of any of their points.
-    std::vector<BoxedFaces> islandNear;
-    if (options.islands)
-        for (const LevelIsland& isl : *options.islands)
-            islandNear.emplace_back(mesh, facesNearTriangle(mesh, isl.faces, {mesh.positions[isl.vertices[0]], mesh.positions[isl.vertices[1]],
-                                                                               mesh.positions[isl.vertices[2]]}));
+    // Island triangles: the faces that can hold the closest point of any of their points, as a
+    // tree, built (in parallel) only for the islands that get samples at this level.
+    std::vector<char> sampled(options.islands ? options.islands->size() : 0, 0);
+    for (size_t t = 0; t < area.size(); ++t)
+        if (count[t] > 0)
+            if (auto it = islandOf.find(level.triangles[t]); it != islandOf.end()) sampled[it->second] = 1;
+    std::vector<std::unique_ptr<FaceTree>> islandNear(sampled.size());
+    parallelFor(sampled.size(), options.threads, [&](size_t i) {
+        if (!sampled[i]) return;
+        const LevelIsland& isl = (*options.islands)[i];
+        islandNear[i] = std::make_unique<FaceTree>(
+            mesh, facesNearTriangle(mesh, isl.faces, {mesh.positions[isl.vertices[0]], mesh.positions[isl.vertices[1]],
+                                                      mesh.positions[isl.vertices[2]]}));
+    });
     // Triangles are measured on options.threads threads into their own slots, then summed in
     // triangle order: the figures do not depend on the thread count.
     struct Partial {
@@ -151,13 +161,13 @@ TextureDeviation textureDeviation(const TriMesh& mesh, const Level& level, const
         }
         const uint32_t chart = triChart[t];
         auto isl = islandOf.find(v);
+        uint32_t islandHint = UINT32_MAX;  // the previous island sample's answer: the next one's start
         auto add = [&](double d) {
             out.sum += d;
             out.sum2 += d * d;
             out.max = std::max(out.max, d);
             ++out.samples;
         };
-        uint32_t islandFace = UINT32_MAX;  // the previous island sample's face: the next one's search bound
         for (size_t s = 0, seq = first[t]; s < count[t]; ++s, ++seq) {
             double r1 = std::fmod(0.5 + a1 * double(seq + 1), 1.0), r2 = std::fmod(0.5 + a2 * double(seq + 1), 1.0);
             double sq = std::sqrt(r1);
@@ -167,7 +177,8 @@ TextureDeviation textureDeviation(const TriMesh& mesh, const Level& level, const
             if (isl != islandOf.end()) {
                 // An island texel shows the closest point of the island's faces (the bake's rule).
                 std::array<double, 3> w{};
-                double dmin = islandNear[isl->second].closest(p, islandFace, islandFace, w);
+                uint32_t islandFace = 0;
+                double dmin = islandNear[isl->second]->closest(p, islandFace, w, islandHint);
                 if (!(dmin < 1e300)) continue;
                 add(std::sqrt(dmin));
                 ++out.islandSamples;
