@@ -20,7 +20,7 @@ import lodbake_test as lt  # noqa: E402
 from test_pack import check_chain, check_fold_free  # noqa: E402
 
 # LOD0 utilisation floors: the 75% target where it is met, else the reached level less a margin.
-UTILISATION_FLOORS = {"Avocado": 0.66, "Duck": 0.65, "CesiumMilkTruck": 0.67}
+UTILISATION_FLOORS = {"Avocado": 0.66, "Duck": 0.63, "CesiumMilkTruck": 0.67}
 
 
 class PackAssets(unittest.TestCase):
