@@ -15,6 +15,6 @@ if [ "${LODBAKE_SANITIZE_TESTS:-ON}" != OFF ]; then
     -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" -DLODBAKE_WERROR="${LODBAKE_WERROR:-OFF}" \
     "${launcher[@]}" >/dev/null
   cmake --build build-asan -j"$(nproc)" \
-    --target simplify agsphere-build parameterize texture-refine pack compare make-samples
+    --target simplify agsphere-build parameterize texture-refine pack lodbake compare make-samples
   ctest --test-dir build-asan --output-on-failure -j"$(nproc)" -L sanitize
 fi
