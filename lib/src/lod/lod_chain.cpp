@@ -592,6 +592,8 @@ void placeVertices(const Asset& asset, LevelView& lv, bool posed, PosedDistanceR
     report.seconds = secondsSince(t0);
 }
 
+constexpr size_t kMeasureStride = 16;  // coarse pass of pack's measure: every 16th sample (DistanceOptions)
+
 // 2. The measured deviation of each level from the original (LOD0: none), after vertex placement
 // where it applies; for a rigged asset the largest over the bind pose and the sampled poses.
 // Progress to 0.3.
@@ -604,6 +606,9 @@ void measureLevels(const Asset& asset, std::vector<LevelView>& views, const Pack
     DistanceOptions dopt;
     dopt.samplesPerSide = options.distanceSamples;
     dopt.threads = options.threads;
+    // The deviation that picks switch distances is a maximum: a coarse pass finds the worst runs of
+    // samples, which alone are sampled densely.
+    dopt.refineStride = kMeasureStride;
     // The original's trees, built once for every level and placement and freed before the bakes.
     PosedDistanceReference original(asset.rig, asset.morph, asset.mesh, poses);
     const bool posed = !poses.empty();

@@ -139,6 +139,88 @@ OneSidedDistance oneSided(const Surface& from, const Tree& to, const DistanceOpt
     return r;
 }
 
+// oneSided through a coarse pass then a dense pass over the worst runs of samples
+// (DistanceOptions::refineStride). Runs are fixed by the sample indices alone: deterministic.
+OneSidedDistance oneSidedRefined(const Surface& from, const Tree& to, const DistanceOptions& o) {
+    const size_t n = o.samplesPerSide, stride = o.refineStride, nv = from.vertices.size();
+    const double offset = std::fmod(0.5 + 0.6180339887498949 * static_cast<double>(o.seed % 1000003), 1.0);
+    const size_t blocks = (n + kRefineBlock - 1) / kRefineBlock;
+    const size_t blocksPerItem = std::max<size_t>(1, kChunk / kRefineBlock);
+    const size_t sampleItems = (blocks + blocksPerItem - 1) / blocksPerItem;
+    const size_t vertexItems = (nv + kChunk - 1) / kChunk;
+    struct Partial {
+        double max = 0, sum = 0, sum2 = 0;
+        size_t count = 0;
+    };
+    std::vector<Partial> partial(sampleItems + vertexItems);
+    std::vector<double> blockMax(blocks, 0.0);
+    // Queries samples [begin, end) with the given step; returns their maximum, adds to p.
+    auto query = [&](size_t begin, size_t end, size_t step, bool skipStrided, Partial* p) {
+        double m = 0;
+        Point hint;
+        bool hinted = false;
+        for (size_t i = begin; i < end; i += step) {
+            if (skipStrided && i % stride == 0) continue;
+            const Point q = toPoint(samplePoint(from, i, n, offset));
+            hint = hinted ? to.closest_point(q, hint) : to.closest_point(q);
+            hinted = true;
+            const double d = std::sqrt(CGAL::squared_distance(q, hint));
+            m = std::max(m, d);
+            if (p) {
+                p->sum += d;
+                p->sum2 += d * d;
+                ++p->count;
+            }
+        }
+        return m;
+    };
+    parallelFor(sampleItems + vertexItems, o.threads, [&](size_t c) {
+        Partial p;
+        if (c < sampleItems) {
+            for (size_t b = c * blocksPerItem; b < std::min(blocks, (c + 1) * blocksPerItem); ++b) {
+                const size_t first = (b * kRefineBlock + stride - 1) / stride * stride;  // first strided index
+                blockMax[b] = query(first, std::min(n, (b + 1) * kRefineBlock), stride, false, &p);
+                p.max = std::max(p.max, blockMax[b]);
+            }
+        } else {
+            const size_t v0 = (c - sampleItems) * kChunk, v1 = std::min(nv, v0 + kChunk);
+            for (size_t v = v0; v < v1; ++v)
+                p.max = std::max(p.max, std::sqrt(CGAL::squared_distance(toPoint(from.vertices[v]), to.closest_point(toPoint(from.vertices[v])))));
+        }
+        partial[c] = p;
+    });
+    OneSidedDistance r;
+    double sum = 0, sum2 = 0;
+    size_t count = 0;
+    for (const Partial& p : partial) {  // fixed order: deterministic
+        r.max = std::max(r.max, p.max);
+        sum += p.sum;
+        sum2 += p.sum2;
+        count += p.count;
+    }
+    const double threshold = o.refineFraction * std::max(r.max, o.refineFloor);
+    std::vector<size_t> hot;
+    for (size_t b = 0; b < blocks; ++b)
+        if (blockMax[b] >= threshold) hot.push_back(b);
+    std::vector<double> hotMax(hot.size(), 0.0);
+    parallelFor(hot.size(), o.threads, [&](size_t h) {
+        const size_t b = hot[h];
+        hotMax[h] = query(b * kRefineBlock, std::min(n, (b + 1) * kRefineBlock), 1, true, nullptr);
+    });
+    for (double m : hotMax) r.max = std::max(r.max, m);
+    if (count > 0) {
+        r.mean = sum / static_cast<double>(count);
+        r.rms = std::sqrt(sum2 / static_cast<double>(count));
+    }
+    r.samples = count + nv;
+    for (size_t b : hot) r.samples += std::min(n, (b + 1) * kRefineBlock) - b * kRefineBlock;
+    return r;
+}
+
+OneSidedDistance measureSide(const Surface& from, const Tree& to, const DistanceOptions& o) {
+    return o.refineStride > 1 && o.samplesPerSide > 0 ? oneSidedRefined(from, to, o) : oneSided(from, to, o);
+}
+
 }  // namespace
 
 struct DistanceReference::Prepared {
@@ -162,8 +244,10 @@ GeometricDistance surfaceDistance(const DistanceReference& reference, const TriM
     if (mb.surface.triangles.empty()) throw Impossible("second mesh has no triangle with non-zero area");
 
     GeometricDistance r;
-    r.aToB = oneSided(ma.surface, mb.tree, options);
-    r.bToA = oneSided(mb.surface, ma.tree, options);
+    r.aToB = measureSide(ma.surface, mb.tree, options);
+    DistanceOptions second = options;
+    second.refineFloor = std::max(options.refineFloor, r.aToB.max);
+    r.bToA = measureSide(mb.surface, ma.tree, second);
     r.hausdorff = std::max(r.aToB.max, r.bToA.max);
     r.mean = 0.5 * (r.aToB.mean + r.bToA.mean);
     r.rms = std::sqrt(0.5 * (r.aToB.rms * r.aToB.rms + r.bToA.rms * r.bToA.rms));

@@ -44,8 +44,10 @@ GeometricDistance PosedDistanceReference::distance(const TriMesh& b, const Dista
         }
         if (!posed_[k]) continue;
         GeometricDistance d;
+        DistanceOptions posedOptions = options;  // a pose's runs below the maximum so far need no refining
+        posedOptions.refineFloor = std::max(options.refineFloor, out.hausdorff);
         try {
-            d = surfaceDistance(*posed_[k], poseMesh(rig_, morph_, b, s.animation, s.time), options);
+            d = surfaceDistance(*posed_[k], poseMesh(rig_, morph_, b, s.animation, s.time), posedOptions);
         } catch (const Impossible&) {
             continue;  // the pose scales the level to no area
         }

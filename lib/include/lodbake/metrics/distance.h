@@ -22,7 +22,19 @@ struct DistanceOptions {
     uint64_t seed = 1;
     // Worker threads for the queries; 0 = all cores. Never changes the result.
     int threads = 0;
+    // Coarse to fine, for a maximum wanted fast: when > 1, a first pass queries every vertex and
+    // every refineStride-th area sample; then every sample is queried only in the runs of
+    // kRefineBlock consecutive samples (neighbours on the surface) whose coarse maximum reaches
+    // refineFraction x max(the coarse maximum, refineFloor). The maximum is the dense one wherever
+    // the worst regions show in the coarse pass; mean and RMS come from the coarse samples.
+    // 1 = every sample queried (the exact figures of the sampling).
+    size_t refineStride = 1;
+    double refineFraction = 0.5;
+    // A maximum already known to be reached (e.g. another pose's): runs below refineFraction of it
+    // are not refined. surfaceDistance's second side also takes the first side's maximum.
+    double refineFloor = 0;
 };
+constexpr size_t kRefineBlock = 256;  // samples per refinement run
 
 // Distances measured from the samples of one surface to the other surface (model units).
 struct OneSidedDistance {
