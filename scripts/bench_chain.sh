@@ -16,8 +16,9 @@
 #   BIG="duck-1M duck-4M" (inputs: duck-1M, duck-4M = Duck x 4^4, 4^5; avocado-3M = Avocado x 4^6;
 #        "" = none)
 #   SMALL="Avocado Duck BoxTextured CesiumMilkTruck ChrKnight" ("" = none)
-#   STAGES="simplify parameterize texture-refine pack pack-norefine" (stages of the big inputs to
-#        run; a stage left out reuses its cached output in $WORK, e.g. STAGES=pack to work on pack)
+#   STAGES="simplify parameterize texture-refine pack pack-norefine lodbake" (stages of the big
+#        inputs to run; a stage left out reuses its cached output in $WORK, e.g. STAGES=pack to
+#        work on pack; "lodbake" is the whole chain in one process, as users run it)
 #   RATIO=0.1,0.02,0.004 (simplify's levels)  PARAM_FLAGS="" (extra parameterize flags, e.g.
 #        "--iterations 0" for a quick layout; its outputs are then cached under another name)
 #   GLTFPACK=1 (0: skip gltfpack)  THREADS=0 (--threads of every stage; 0 = all cores)
@@ -27,7 +28,7 @@ BIN=${BIN:-build/bin}
 WORK=${WORK:-out/chain}
 BIG=${BIG-duck-1M duck-4M}
 SMALL=${SMALL-Avocado Duck BoxTextured CesiumMilkTruck ChrKnight}
-STAGES=${STAGES:-simplify parameterize texture-refine pack pack-norefine}
+STAGES=${STAGES:-simplify parameterize texture-refine pack pack-norefine lodbake}
 RATIO=${RATIO:-0.1,0.02,0.004}
 PARAM_FLAGS=${PARAM_FLAGS:-}
 GLTFPACK=${GLTFPACK:-1}
@@ -103,6 +104,11 @@ for name in $BIG; do
   if has_stage pack-norefine; then
     measure "$tris" "$label" "pack (no refine)" "$BIN/pack" -i "$WORK/$uvname.uv.glb" -o "$WORK/$uvname.norefine.lod.glb" "${common[@]}" \
       --report "$WORK/$uvname.norefine.lod.json" || true
+  fi
+  if has_stage lodbake; then
+    # shellcheck disable=SC2086
+    measure "$tris" "$label" "whole chain (lodbake)" "$BIN/lodbake" -i "$in" -o "$WORK/$uvname.chain.lod.glb" --ratio "$RATIO" \
+      $PARAM_FLAGS "${common[@]}" --report "$WORK/$uvname.chain.lod.json" || true
   fi
   if [ "$GLTFPACK" = 1 ]; then
     measure "$tris" "$label" "gltfpack -si ${RATIO%%,*} (Debian)" gltfpack -i "$in" -o "$WORK/$name.gltfpack.glb" -si "${RATIO%%,*}" || true
