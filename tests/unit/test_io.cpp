@@ -630,6 +630,25 @@ TEST(IoWrite, MultiresRoundTripIsExact) {
     EXPECT_EQ(readBytes(dir / "mr.glb"), readBytes(p2));
 }
 
+// An attribute no primitive of the original has is absent after reading a multires file, and
+// keeps no storage: the mesh stays loaded for a whole stage (parameterize, pack).
+TEST(IoRead, MultiresAbsentAttributesHoldNoStorage) {
+    auto dir = tempDir("mrabsent");
+    Asset a = cubeAsset(dir);
+    Multires mr = fakeMultires(a.mesh);
+    std::string p = (dir / "mr.glb").string();
+    writeGltf(p, a, &mr);
+    std::optional<Multires> back;
+    Asset b = readGltf(p, {}, &back);
+    ASSERT_TRUE(back.has_value());
+    const Wedges& w = b.mesh.wedges;
+    EXPECT_EQ(w.normal.size(), w.size());  // the cube has normals and TEXCOORD_0
+    EXPECT_EQ(w.uv0.size(), w.size());
+    EXPECT_EQ(w.tangent.capacity(), 0u);
+    EXPECT_EQ(w.uv1.capacity(), 0u);
+    EXPECT_EQ(w.color.capacity(), 0u);
+}
+
 // Files are read in blocks: a GLB and a .bin of several blocks and a partial last one read as the
 // same bytes handed over in memory.
 TEST(IoRead, FileOfSeveralBlocksReadsWhole) {

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <string>
+#include <type_traits>
 
 #include <tiny_gltf.h>
 
@@ -144,11 +145,14 @@ TriMesh rebuildOriginal(const ReadContext& c, const json& ext, const json& orig,
             }
         }
     }
-    if (!hasN) Wd.normal.clear();
-    if (!hasT) Wd.tangent.clear();
-    if (!hasU0) Wd.uv0.clear();
-    if (!hasU1) Wd.uv1.clear();
-    if (!hasC) Wd.color.clear();
+    // An attribute no primitive has is absent: its array goes, storage and all (the mesh stays
+    // loaded for the whole stage).
+    auto release = [](auto& v) { std::decay_t<decltype(v)>().swap(v); };
+    if (!hasN) release(Wd.normal);
+    if (!hasT) release(Wd.tangent);
+    if (!hasU0) release(Wd.uv0);
+    if (!hasU1) release(Wd.uv1);
+    if (!hasC) release(Wd.color);
     return mesh;
 }
 

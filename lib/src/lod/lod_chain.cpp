@@ -21,6 +21,7 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <optional>
 #include <tuple>
 #include <unordered_map>
 
@@ -119,20 +120,31 @@ struct LayoutData {
     std::vector<double> chartUvArea;  // charts, then islands (chart id chartCount + i)
     double uvPerUnit = 0;  // layout UV units per model unit (area-averaged)
     std::unique_ptr<ChartVertexUV> lookup;
-    // Level-triangle islands (parameterize's fallback): sorted vertex triple -> island,
-    // and the original faces each island's bake samples (the charts of its corners).
+    // Level-triangle islands (parameterize's fallback): sorted vertex triple -> island.
     std::map<std::array<uint32_t, 3>, uint32_t> island;
+    // The original faces each island's bake samples (the charts of its corners): found on the
+    // first page bake that places an island (islandFacesOf), as the original triangles' page
+    // places none and the projected levels' pages take their own.
     std::vector<std::vector<uint32_t>> islandFaces;
+    bool islandFacesFound = false;
 };
 
-void addIslands(const TriMesh& mesh, const ChartLayout& ch, LayoutData& d) {
-    std::vector<BakeIsland> bake = layoutBakeIslands(mesh, ch);
+void addIslands(const ChartLayout& ch, LayoutData& d) {
     for (uint32_t i = 0; i < ch.islands.size(); ++i) {
         const LayoutIsland& isl = ch.islands[i];
         d.island.emplace(islandKey(isl.vertices), i);
         d.chartUvArea.push_back(triArea2(isl.uv[0], isl.uv[1], isl.uv[2]));
-        d.islandFaces.push_back(std::move(bake[i].faces));
     }
+}
+
+const std::vector<std::vector<uint32_t>>& islandFacesOf(const TriMesh& mesh, LayoutData& d) {
+    if (!d.islandFacesFound) {
+        std::vector<BakeIsland> bake = layoutBakeIslands(mesh, *d.ch);
+        d.islandFaces.reserve(bake.size());
+        for (BakeIsland& b : bake) d.islandFaces.push_back(std::move(b.faces));
+        d.islandFacesFound = true;
+    }
+    return d.islandFaces;
 }
 
 LayoutData layoutData(const Asset& asset, const ChartLayout& ch, uint32_t rank) {
@@ -159,7 +171,7 @@ LayoutData layoutData(const Asset& asset, const ChartLayout& ch, uint32_t rank) 
     if (!(uvTotal > 0) || !(areaTotal > 0)) throw Impossible(asset.sourcePath + ": the chart layout has no area");
     d.uvPerUnit = std::sqrt(uvTotal / areaTotal);
     d.lookup = std::make_unique<ChartVertexUV>(mesh, ch);
-    addIslands(mesh, ch, d);
+    addIslands(ch, d);
     return d;
 }
 
@@ -315,9 +327,9 @@ BakeOptions pageBakeOptions(int width, int height, const BakeChannels& channels,
 }
 
 // Bakes the original triangles at the page UVs: every channel of `channels`, the normal map in
-// the frames of `target` (the level's own mesh on this page).
-BakeResult bakePage(const BakeSources& sources, const LayoutData& L, const LevelAtlas& la, const BakeChannels& channels,
-                    const BakeTarget& target, int threads) {
+// the frames of `target` (the level's own mesh on this page; null without a normal map).
+BakeResult bakePage(const BakeSources& sources, LayoutData& L, const LevelAtlas& la, const BakeChannels& channels,
+                    const BakeTarget* target, int threads) {
     const Asset& asset = sources.asset();
     const ChartLayout& ch = *L.ch;
     const AtlasResult& a = la.atlas;
@@ -335,19 +347,19 @@ BakeResult bakePage(const BakeSources& sources, const LayoutData& L, const Level
     for (size_t i = 0; i < ch.islands.size(); ++i) {
         int slot = la.chartSlot[ch.chartCount + i];
         if (slot < 0) continue;
+        const std::vector<std::vector<uint32_t>>& islandFaces = islandFacesOf(asset.mesh, L);
         BakeIsland b;
         for (size_t k = 0; k < 3; ++k) {
             b.position[k] = asset.mesh.positions[ch.islands[i].vertices[k]];
             Vec2 p = a.charts[size_t(slot)].apply(ch.islands[i].uv[k]);
             b.uv[k] = {p.x / size, p.y / size};
         }
-        b.faces = L.islandFaces[i];
+        b.faces = islandFaces[i];
         islands.push_back(std::move(b));
     }
     // UVs are scaled by the longer side; only the width x height page is baked (the chain
     // encodes it itself).
-    return bakeMaterial(sources, uv, pageBakeOptions(a.width, a.height, channels, threads), islands,
-                        channels.normal ? &target : nullptr);
+    return bakeMaterial(sources, uv, pageBakeOptions(a.width, a.height, channels, threads), islands, target);
 }
 
 // The projection bake of a coarse level: every level triangle is an island of the page (its own
@@ -356,7 +368,7 @@ BakeResult bakePage(const BakeSources& sources, const LayoutData& L, const Level
 // measured deviation bounds how far that point can be). `front` = the level triangles before
 // back-face copies (those share their UVs).
 BakeResult bakeProjected(const BakeSources& sources, const FaceGrid& grid, const LodLevelData& L, size_t front, int width,
-                         int height, double reach, double diagonal, const BakeChannels& channels, const BakeTarget& target,
+                         int height, double reach, double diagonal, const BakeChannels& channels, const BakeTarget* target,
                          int threads) {
     const Asset& asset = sources.asset();
     const int size = std::max(width, height);
@@ -380,8 +392,7 @@ BakeResult bakeProjected(const BakeSources& sources, const FaceGrid& grid, const
         }
     });
     const std::vector<std::array<Vec2, 3>> offPage(asset.mesh.triangleCount(), {Vec2{-10, -10}, Vec2{-10, -10}, Vec2{-10, -10}});
-    return bakeMaterial(sources, offPage, pageBakeOptions(width, height, channels, threads), islands,
-                        channels.normal ? &target : nullptr);
+    return bakeMaterial(sources, offPage, pageBakeOptions(width, height, channels, threads), islands, target);
 }
 
 // Twice the signed UV area in the glTF convention (v down): > 0 for a front-facing triangle.
@@ -770,7 +781,7 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
     auto progress = [&](double f) { if (options.progress) options.progress(f); };
 
     const bool hierarchy = options.useTextureHierarchy && !mr.textures.empty();
-    const std::vector<LayoutData> layouts = layoutsOf(asset, mr, hierarchy);  // 1
+    std::vector<LayoutData> layouts = layoutsOf(asset, mr, hierarchy);  // 1
     double area3D = 0;
     for (const Tri& t : mesh.triangles) area3D += triArea3(mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]);
     const auto tMeasure = Clock::now();
@@ -779,7 +790,9 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
     res.measureSeconds = secondsSince(tMeasure);
     res.measureCpuSeconds = processCpuSeconds() - cpuMeasure;
     res.screenCoverage = screenCoverages(res, options);  // 3
-    const FaceGrid grid(mesh);  // built after the measure, whose trees are freed by now
+    // The projection bakes' grid over the original, built for the first projected level: the
+    // original triangles' page (the largest bake) runs without it.
+    std::optional<FaceGrid> grid;
 
     // 4. Per level: texture, page, mesh, bake.
     const MaterialPlan plan = options.baseColorOnly ? baseColorPlan(planMaterial(asset)) : planMaterial(asset);
@@ -795,7 +808,7 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
         PackLevelReport& r = res.reports[k];
         levelCoverage(res, k, options, r);
         selectTexture(mr, layouts, views[k].level, hierarchy, area3D, options, r);
-        const LayoutData& lay = layouts[r.rank];
+        LayoutData& lay = layouts[r.rank];
         const bool projected = k > 0 && options.projectLevels;
         auto tStep = Clock::now();
         double cpuStep = processCpuSeconds();
@@ -806,29 +819,36 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
             tStep = Clock::now();
             cpuStep = c;
         };
-        const LevelUVs luv = projected ? ownCharts(mesh, lay, views[k], levelUVs(mesh, lay, views[k], views[k].data))
-                                       : levelUVs(mesh, lay, views[k], views[k].data);
-        lap(r.wall.uvs, r.cpu.uvs);
-        const LevelAtlas la = packLevelPage(lay, luv, k, r, res.reports, options);
-        lap(r.wall.page, r.cpu.page);
-        recordPage(la, lay, r);
-        r.absorbedIslands = luv.absorbedIslands;
         LodLevelData& L = res.levels[k];
         L.name = "LOD" + std::to_string(k);
-        buildLevelMesh(asset, views[k], luv, la, L);
+        LevelAtlas la;
+        {  // the level's layout UVs end with its mesh, before the bake
+            const LevelUVs luv = projected ? ownCharts(mesh, lay, views[k], levelUVs(mesh, lay, views[k], views[k].data))
+                                           : levelUVs(mesh, lay, views[k], views[k].data);
+            lap(r.wall.uvs, r.cpu.uvs);
+            la = packLevelPage(lay, luv, k, r, res.reports, options);
+            lap(r.wall.page, r.cpu.page);
+            recordPage(la, lay, r);
+            r.absorbedIslands = luv.absorbedIslands;
+            buildLevelMesh(asset, views[k], luv, la, L);
+        }
         const size_t front = L.indices.size() / 3;
         if (plan.backFaces) addBackFaces(asset, views[k], L);
         const bool normalMap = !options.baseColorOnly && (options.normalMaps == NormalMaps::Always ||
                                                           (options.normalMaps == NormalMaps::Auto && (plan.normalTexture || k > 0)));
         const BakeChannels channels = levelChannels(plan, normalMap);
         if (channels.normal) L.tangents = levelTangents(L);
-        const BakeTarget target = levelBakeTarget(L, la.atlas.width, la.atlas.height);
+        // The normal map's target frames; none without one.
+        std::optional<BakeTarget> target;
+        if (channels.normal) target = levelBakeTarget(L, la.atlas.width, la.atlas.height);
+        const BakeTarget* targetOrNull = target ? &*target : nullptr;
         lap(r.wall.mesh, r.cpu.mesh);
         const double reach = 1.5 * r.hausdorff + kProjectionSlack * res.diagonal;
+        if (projected && !grid) grid.emplace(mesh);
         const BakeResult baked = projected
-                                     ? bakeProjected(sources, grid, L, front, la.atlas.width, la.atlas.height, reach, res.diagonal, channels, target,
-                                                     options.threads)
-                                     : bakePage(sources, lay, la, channels, target, options.threads);
+                                     ? bakeProjected(sources, *grid, L, front, la.atlas.width, la.atlas.height, reach, res.diagonal, channels,
+                                                     targetOrNull, options.threads)
+                                     : bakePage(sources, lay, la, channels, targetOrNull, options.threads);
         r.bakeSeconds = baked.seconds;
         lap(r.wall.bake, r.cpu.bake);
         L.material = levelMaterial(plan, baked, la.atlas.width, la.atlas.height, io, L.name);

@@ -122,10 +122,17 @@ std::vector<Vec2> lscmEmbedding(const ChartMesh& chart) {
         row += 2;
     }
     if (m > 0) {
-        Eigen::SparseMatrix<double> A(row, 2 * m);
-        A.setFromTriplets(trip.begin(), trip.end());
-        const Eigen::SparseMatrix<double> AtA = A.transpose() * A;
-        const Eigen::VectorXd b = A.transpose() * rhs.head(row);
+        // Only the normal equations stay for the factorisation (on a large chart its memory peak):
+        // the triplets and A go first.
+        Eigen::SparseMatrix<double> AtA;
+        Eigen::VectorXd b;
+        {
+            Eigen::SparseMatrix<double> A(row, 2 * m);
+            A.setFromTriplets(trip.begin(), trip.end());
+            std::vector<Eigen::Triplet<double>>().swap(trip);
+            AtA = A.transpose() * A;
+            b = A.transpose() * rhs.head(row);
+        }
         Eigen::VectorXd x;
         const bool solved = 2 * long(m) >= kSupernodalFrom
                                 ? solveNormal<Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>>>(AtA, b, x)
