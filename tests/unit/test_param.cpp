@@ -569,3 +569,63 @@ TEST(ParamIslands, FoldedLevelTrianglesGetIslandsAndEveryLevelIsInjective) {
     EXPECT_EQ(one.rms, three.rms);
     EXPECT_EQ(one.max, three.max);
 }
+
+// Island samples are queried out of sequence order (so each query starts near the previous
+// answer): the figures must still be the exact closest distances summed in sequence order.
+TEST(TextureDeviation, IslandSamplesAreExactClosestDistancesInSequenceOrder) {
+    TriMesh mesh;
+    const int n = 12;
+    for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x) {
+            const double u = double(x) / (n - 1), v = double(y) / (n - 1);
+            mesh.positions.push_back({u, v, 0.1 * std::sin(3 * u) * std::cos(2 * v)});
+        }
+    for (uint32_t y = 0; y + 1 < n; ++y)
+        for (uint32_t x = 0; x + 1 < n; ++x) {
+            const uint32_t a = y * n + x, b = a + 1, c = a + n, d = c + 1;
+            mesh.triangles.push_back({a, b, d});
+            mesh.triangles.push_back({a, d, c});
+        }
+    const size_t nf = mesh.triangleCount();
+    mesh.cornerWedges.assign(nf, Tri{0, 0, 0});
+    // One coarse triangle over the whole grid, laid out as an island over every face.
+    Level level;
+    level.triangles = {Tri{0, n - 1, n * n - 1}};
+    level.faces = {0};
+    level.cornerWedges = {Tri{0, 0, 0}};
+    ChartLayout layout;
+    layout.chartCount = 1;
+    layout.faceChart.assign(nf, 0);
+    layout.cornerUV.assign(nf, {Vec2{0, 0}, Vec2{1, 0}, Vec2{0, 1}});
+    std::vector<LevelIsland> islands(1);
+    islands[0].vertices = level.triangles[0];
+    islands[0].uv = {Vec2{0.1, 0.9}, Vec2{0.9, 0.9}, Vec2{0.9, 0.1}};
+    for (uint32_t f = 0; f < nf; ++f) islands[0].faces.push_back(f);
+    TextureDeviationOptions dopt;
+    dopt.samples = 3000;
+    dopt.islands = &islands;
+    const TextureDeviation dev = textureDeviation(mesh, level, layout, dopt);
+    ASSERT_EQ(dev.samples, 3000u);
+    EXPECT_EQ(dev.islandSamples, dev.samples);
+    // The reference: every sample in sequence order (R2 points warped onto the triangle), its
+    // distance to the closest face by a linear scan.
+    const Tri& v = level.triangles[0];
+    const double g1 = 1.32471795724474602596, a1 = 1 / g1, a2 = 1 / (g1 * g1);
+    double sum = 0, sum2 = 0, max = 0;
+    for (size_t seq = 0; seq < dopt.samples; ++seq) {
+        const double r1 = std::fmod(0.5 + a1 * double(seq + 1), 1.0), r2 = std::fmod(0.5 + a2 * double(seq + 1), 1.0);
+        const double sq = std::sqrt(r1);
+        const std::array<double, 3> b{1 - sq, sq * (1 - r2), sq * r2};
+        const Vec3 p = mesh.positions[v[0]] * b[0] + mesh.positions[v[1]] * b[1] + mesh.positions[v[2]] * b[2];
+        uint32_t face = 0;
+        std::array<double, 3> w{};
+        const double d = std::sqrt(closestSurfacePoint(mesh, islands[0].faces, p, face, w));
+        sum += d;
+        sum2 += d * d;
+        max = std::max(max, d);
+    }
+    EXPECT_GT(max, 0.01);  // the grid is curved: the samples are off the surface
+    EXPECT_EQ(dev.mean, sum / 3000.0);
+    EXPECT_EQ(dev.rms, std::sqrt(sum2 / 3000.0));
+    EXPECT_EQ(dev.max, max);
+}

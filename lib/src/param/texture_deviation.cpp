@@ -32,6 +32,13 @@ bool barycentric(Vec2 p, Vec2 a, Vec2 b, Vec2 c, std::array<double, 3>& w) {
     return true;
 }
 
+// Interleaved bits of two 10-bit coordinates: nearby (x, y) get nearby keys.
+uint32_t mortonKey(uint32_t x, uint32_t y) {
+    uint32_t key = 0;
+    for (uint32_t b = 0; b < 10; ++b) key |= ((x >> b) & 1u) << (2 * b) | ((y >> b) & 1u) << (2 * b + 1);
+    return key;
+}
+
 // Closest point to p on segment ab, as the parameter along ab.
 double segmentParam(Vec2 p, Vec2 a, Vec2 b) {
     Vec2 e = b - a;
@@ -168,22 +175,47 @@ TextureDeviation textureDeviation(const TriMesh& mesh, const Level& level, const
             out.max = std::max(out.max, d);
             ++out.samples;
         };
-        for (size_t s = 0, seq = first[t]; s < count[t]; ++s, ++seq) {
-            double r1 = std::fmod(0.5 + a1 * double(seq + 1), 1.0), r2 = std::fmod(0.5 + a2 * double(seq + 1), 1.0);
+        auto r2Point = [&](size_t seq) {
+            return std::array<double, 2>{std::fmod(0.5 + a1 * double(seq + 1), 1.0), std::fmod(0.5 + a2 * double(seq + 1), 1.0)};
+        };
+        auto samplePoint = [&](size_t seq, Vec3& p, Vec2& u) {
+            const auto [r1, r2] = r2Point(seq);
             double sq = std::sqrt(r1);
             std::array<double, 3> b{1 - sq, sq * (1 - r2), sq * r2};
-            Vec3 p = mesh.positions[v[0]] * b[0] + mesh.positions[v[1]] * b[1] + mesh.positions[v[2]] * b[2];
-            Vec2 u = luv[0] * b[0] + luv[1] * b[1] + luv[2] * b[2];
-            if (isl != islandOf.end()) {
-                // An island texel shows the closest point of the island's faces (the bake's rule).
+            p = mesh.positions[v[0]] * b[0] + mesh.positions[v[1]] * b[1] + mesh.positions[v[2]] * b[2];
+            u = luv[0] * b[0] + luv[1] * b[1] + luv[2] * b[2];
+        };
+        if (isl != islandOf.end()) {
+            // An island texel shows the closest point of the island's faces (the bake's rule).
+            // The samples are queried in Morton order of their sequence coordinates, so each
+            // query's hint (the previous answer) lies next to it; the answers do not depend on
+            // the hint, and they are summed in sequence order, so the figures are unchanged.
+            std::vector<std::pair<uint32_t, uint32_t>> order(count[t]);
+            for (size_t s = 0; s < count[t]; ++s) {
+                const auto [r1, r2] = r2Point(first[t] + s);
+                order[s] = {mortonKey(uint32_t(r1 * 1024), uint32_t(r2 * 1024)), uint32_t(s)};
+            }
+            std::sort(order.begin(), order.end());
+            std::vector<double> dist(count[t], 1e300);
+            for (const auto& [key, s] : order) {
+                Vec3 p;
+                Vec2 u;
+                samplePoint(first[t] + s, p, u);
                 std::array<double, 3> w{};
                 uint32_t islandFace = 0;
-                double dmin = islandNear[isl->second]->closest(p, islandFace, w, islandHint);
+                dist[s] = islandNear[isl->second]->closest(p, islandFace, w, islandHint);
+            }
+            for (double dmin : dist) {
                 if (!(dmin < 1e300)) continue;
                 add(std::sqrt(dmin));
                 ++out.islandSamples;
-                continue;
             }
+            return;
+        }
+        for (size_t s = 0, seq = first[t]; s < count[t]; ++s, ++seq) {
+            Vec3 p;
+            Vec2 u;
+            samplePoint(seq, p, u);
             // Point location in the chart's original triangles; else the UV-closest one nearby.
             double best = 1e300;
             uint32_t bestFace = UINT32_MAX;
