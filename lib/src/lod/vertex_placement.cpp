@@ -140,26 +140,16 @@ PlacementResult placeLevelVertices(const TriMesh& original, const DistanceRefere
     for (const Tri& f : original.triangles) originalArea += area(pos[f[0]], pos[f[1]], pos[f[2]]);
     // The samples resolve the original's detail (the level has fewer triangles than the original),
     // so their count on either side follows the original's triangles, capped by the level's free
-    // vertices (the unknowns to fit). The first rounds, which move the vertices most, draw a
-    // fraction of them.
-    const size_t freeVertices = nv - res.fixed;
-    const size_t fullCount = std::min({options.samplesPerSide, std::max(options.minSamples, options.samplesPerTriangle * original.triangles.size()),
-                                       std::max(options.minSamples, options.samplesPerVertex * freeVertices)});
-    const size_t earlyCount = std::max(std::min(options.minSamples, fullCount), fullCount / options.earlyDivisor);
-    auto originalPointsOf = [&](size_t count) {
-        const std::vector<SurfaceSample> samples = areaSamples(original.positions, original.triangles, count);
-        std::vector<Vec3> points(samples.size());
-        for (size_t i = 0; i < samples.size(); ++i)
-            points[i] = pointOf(original.positions, original.triangles[samples[i].triangle], samples[i].bary);
-        return points;
-    };
-    const std::vector<Vec3> earlyPoints = originalPointsOf(earlyCount), fullPoints = originalPointsOf(fullCount);
+    // vertices (the unknowns to fit).
+    const size_t sampleCount = std::min({options.samplesPerSide, std::max(options.minSamples, options.samplesPerTriangle * original.triangles.size()),
+                                         std::max(options.minSamples, options.samplesPerVertex * (nv - res.fixed))});
+    const std::vector<SurfaceSample> originalSamples = areaSamples(original.positions, original.triangles, sampleCount);
+    std::vector<Vec3> originalPoints(originalSamples.size());
+    for (size_t i = 0; i < originalSamples.size(); ++i)
+        originalPoints[i] = pointOf(original.positions, original.triangles[originalSamples[i].triangle], originalSamples[i].bary);
 
     std::vector<char> movedEver(nv, 0);
     for (int round = 0; round < options.rounds; ++round) {
-        const bool early = round < options.rounds - options.fullRounds;
-        const std::vector<Vec3>& originalPoints = early ? earlyPoints : fullPoints;
-        const size_t sampleCount = early ? earlyCount : fullCount;
         // The level as it stands: its area, samples on it, closest points both ways.
         TriMesh current;
         current.positions = pos;

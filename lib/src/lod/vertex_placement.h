@@ -47,9 +47,6 @@ struct PlacementOptions {
     // ... and at most samplesPerVertex per free level vertex (at least minSamples): few unknowns need
     // few samples.
     size_t samplesPerVertex = 128;
-    // All rounds but the last fullRounds draw 1 / earlyDivisor of the samples (at least minSamples).
-    int fullRounds = 4;
-    size_t earlyDivisor = 2;
     double damping = 1e-2;        // weight of |x - x_round_start|^2 relative to the mean area per level vertex
     int threads = 0;              // closest-point queries; 0 = all cores (never changes the result)
 };
