@@ -171,6 +171,31 @@ TEST(SurfaceDistance, ReferenceClosestPointLiesOnTheSurface) {
     EXPECT_NEAR(length(inside - Vec3{1, 1, 1.5}), 0, 1e-12);
 }
 
+// A coarse level far from a bumpy original everywhere (every run of samples is "hot"): the
+// refined measure keeps the exhaustive maximum while querying only the samples that the strided
+// ones' distance bound cannot rule out.
+TEST(SurfaceDistance, RefinedMaximumIsTheExhaustiveOneWithFewerQueries) {
+    TriMesh bumpy;
+    const int n = 24;
+    for (int y = 0; y <= n; ++y)
+        for (int x = 0; x <= n; ++x)
+            bumpy.positions.push_back({double(x) / n, double(y) / n, 0.04 * std::sin(9.0 * x / n) * std::cos(7.0 * y / n)});
+    for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x) {
+            const uint32_t v = uint32_t(y * (n + 1) + x);
+            bumpy.triangles.push_back({v, v + 1, v + uint32_t(n) + 2});
+            bumpy.triangles.push_back({v, v + uint32_t(n) + 2, v + uint32_t(n) + 1});
+        }
+    const TriMesh coarse = square(0.3);
+    DistanceOptions exhaustive{40000}, refined{40000};
+    refined.refineStride = 16;
+    const GeometricDistance e = surfaceDistance(bumpy, coarse, exhaustive), r = surfaceDistance(bumpy, coarse, refined);
+    EXPECT_EQ(r.aToB.max, e.aToB.max);
+    EXPECT_EQ(r.bToA.max, e.bToA.max);
+    EXPECT_EQ(r.hausdorff, e.hausdorff);
+    EXPECT_LT(10 * (r.aToB.samples + r.bToA.samples), 6 * (e.aToB.samples + e.bToA.samples));
+}
+
 // --- rendering and image metrics ----------------------------------------------------------
 
 TEST(Render, SquareSeenFromAboveCoversTheCentre) {

@@ -139,9 +139,10 @@ PlacementResult placeLevelVertices(const TriMesh& original, const DistanceRefere
     double originalArea = 0;
     for (const Tri& f : original.triangles) originalArea += area(pos[f[0]], pos[f[1]], pos[f[2]]);
     // The samples resolve the original's detail (the level has fewer triangles than the original),
-    // so their count on either side follows the original's triangles.
-    const size_t sampleCount =
-        std::min(options.samplesPerSide, std::max(options.minSamples, options.samplesPerTriangle * original.triangles.size()));
+    // so their count on either side follows the original's triangles, capped by the level's free
+    // vertices (the unknowns to fit).
+    const size_t sampleCount = std::min({options.samplesPerSide, std::max(options.minSamples, options.samplesPerTriangle * original.triangles.size()),
+                                         std::max(options.minSamples, options.samplesPerVertex * (nv - res.fixed))});
     const std::vector<SurfaceSample> originalSamples = areaSamples(original.positions, original.triangles, sampleCount);
     std::vector<Vec3> originalPoints(originalSamples.size());
     for (size_t i = 0; i < originalSamples.size(); ++i)

@@ -44,6 +44,9 @@ struct PlacementOptions {
     size_t samplesPerTriangle = 16;
     size_t minSamples = 2000;
     size_t samplesPerSide = 20000;
+    // ... and at most samplesPerVertex per free level vertex (at least minSamples): few unknowns need
+    // few samples.
+    size_t samplesPerVertex = 128;
     double damping = 1e-2;        // weight of |x - x_round_start|^2 relative to the mean area per level vertex
     int threads = 0;              // closest-point queries; 0 = all cores (never changes the result)
 };

@@ -69,12 +69,40 @@ Vec3 toVec(const Point& p) { return {p.x(), p.y(), p.z()}; }
 struct Measured {
     Surface surface;
     Tree tree;
+    double triangleSize = 0;  // square root of the mean triangle area
     explicit Measured(const TriMesh& m) : surface(collectSurface(m)) {
         if (surface.triangles.empty()) return;
+        triangleSize = std::sqrt(surface.cumulativeArea.back() / double(surface.triangles.size()));
         tree.rebuild(surface.triangles.begin(), surface.triangles.end());
         tree.accelerate_distance_queries();
         tree.squared_distance(surface.triangles[0].vertex(0));
     }
+};
+
+// Nearest points of consecutive queries on `to`. The previous answer c0 (for q0) bounds the next
+// one's distance by |q - q0| + |q0 - c0|; the tree's own start (its nearest vertex) by about the
+// distance plus a triangle's size. The previous answer starts the search when q lies within half
+// its distance or a triangle's size of q0, the nearest vertex otherwise (consecutive samples spread
+// over one large triangle of a coarse level are far apart). The answer is the closest point either
+// way.
+class NearestWalk {
+public:
+    NearestWalk(const Tree& tree, double triangleSize) : tree_(tree), size2_(triangleSize * triangleSize) {}
+    Point operator()(const Point& q) {
+        const bool near = hinted_ && CGAL::squared_distance(q, q0_) <= std::max(0.25 * d0_, size2_);
+        c0_ = near ? tree_.closest_point(q, c0_) : tree_.closest_point(q);
+        q0_ = q;
+        d0_ = CGAL::squared_distance(q, c0_);
+        hinted_ = true;
+        return c0_;
+    }
+
+private:
+    const Tree& tree_;
+    double size2_;  // squared typical triangle size of the tree's surface
+    Point q0_, c0_;
+    double d0_ = 0;
+    bool hinted_ = false;
 };
 
 // The i-th of n stratified area samples.
@@ -95,7 +123,7 @@ Vec3 samplePoint(const Surface& s, size_t i, size_t n, double offset) {
     return a + (b - a) * u + (c - a) * v;
 }
 
-OneSidedDistance oneSided(const Surface& from, const Tree& to, const DistanceOptions& o) {
+OneSidedDistance oneSided(const Surface& from, const Measured& to, const DistanceOptions& o) {
     const size_t n = o.samplesPerSide;
     const size_t total = n + from.vertices.size();
     const double offset = std::fmod(0.5 + 0.6180339887498949 * static_cast<double>(o.seed % 1000003), 1.0);
@@ -107,15 +135,10 @@ OneSidedDistance oneSided(const Surface& from, const Tree& to, const DistanceOpt
     parallelFor(chunks, o.threads, [&](size_t c) {
         Partial p;
         size_t end = std::min(total, (c + 1) * kChunk);
-        // Consecutive samples lie close together: the previous one's closest point starts the
-        // search (the tree still returns the exact closest point).
-        Point hint;
-        bool hinted = false;
+        NearestWalk nearest(to.tree, to.triangleSize);
         for (size_t i = c * kChunk; i < end; ++i) {
             const Point q = toPoint(i < n ? samplePoint(from, i, n, offset) : from.vertices[i - n]);
-            hint = hinted ? to.closest_point(q, hint) : to.closest_point(q);
-            hinted = true;
-            double d = std::sqrt(CGAL::squared_distance(q, hint));
+            double d = std::sqrt(CGAL::squared_distance(q, nearest(q)));
             p.max = std::max(p.max, d);
             if (i < n) {
                 p.sum += d;
@@ -141,7 +164,7 @@ OneSidedDistance oneSided(const Surface& from, const Tree& to, const DistanceOpt
 
 // oneSided through a coarse pass then a dense pass over the worst runs of samples
 // (DistanceOptions::refineStride). Runs are fixed by the sample indices alone: deterministic.
-OneSidedDistance oneSidedRefined(const Surface& from, const Tree& to, const DistanceOptions& o) {
+OneSidedDistance oneSidedRefined(const Surface& from, const Measured& to, const DistanceOptions& o) {
     const size_t n = o.samplesPerSide, stride = o.refineStride, nv = from.vertices.size();
     const double offset = std::fmod(0.5 + 0.6180339887498949 * static_cast<double>(o.seed % 1000003), 1.0);
     const size_t blocks = (n + kRefineBlock - 1) / kRefineBlock;
@@ -154,38 +177,28 @@ OneSidedDistance oneSidedRefined(const Surface& from, const Tree& to, const Dist
     };
     std::vector<Partial> partial(sampleItems + vertexItems);
     std::vector<double> blockMax(blocks, 0.0);
-    // Queries samples [begin, end) with the given step; returns their maximum, adds to p.
-    auto query = [&](size_t begin, size_t end, size_t step, bool skipStrided, Partial* p) {
-        double m = 0;
-        Point hint;
-        bool hinted = false;
-        for (size_t i = begin; i < end; i += step) {
-            if (skipStrided && i % stride == 0) continue;
-            const Point q = toPoint(samplePoint(from, i, n, offset));
-            hint = hinted ? to.closest_point(q, hint) : to.closest_point(q);
-            hinted = true;
-            const double d = std::sqrt(CGAL::squared_distance(q, hint));
-            m = std::max(m, d);
-            if (p) {
-                p->sum += d;
-                p->sum2 += d * d;
-                ++p->count;
-            }
-        }
-        return m;
-    };
+    std::vector<double> coarse((n + stride - 1) / stride, 0.0);  // distance of every strided sample
     parallelFor(sampleItems + vertexItems, o.threads, [&](size_t c) {
         Partial p;
         if (c < sampleItems) {
             for (size_t b = c * blocksPerItem; b < std::min(blocks, (c + 1) * blocksPerItem); ++b) {
                 const size_t first = (b * kRefineBlock + stride - 1) / stride * stride;  // first strided index
-                blockMax[b] = query(first, std::min(n, (b + 1) * kRefineBlock), stride, false, &p);
+                NearestWalk nearest(to.tree, to.triangleSize);
+                for (size_t i = first; i < std::min(n, (b + 1) * kRefineBlock); i += stride) {
+                    const Point q = toPoint(samplePoint(from, i, n, offset));
+                    const double d = std::sqrt(CGAL::squared_distance(q, nearest(q)));
+                    coarse[i / stride] = d;
+                    blockMax[b] = std::max(blockMax[b], d);
+                    p.sum += d;
+                    p.sum2 += d * d;
+                    ++p.count;
+                }
                 p.max = std::max(p.max, blockMax[b]);
             }
         } else {
             const size_t v0 = (c - sampleItems) * kChunk, v1 = std::min(nv, v0 + kChunk);
             for (size_t v = v0; v < v1; ++v)
-                p.max = std::max(p.max, std::sqrt(CGAL::squared_distance(toPoint(from.vertices[v]), to.closest_point(toPoint(from.vertices[v])))));
+                p.max = std::max(p.max, std::sqrt(CGAL::squared_distance(toPoint(from.vertices[v]), to.tree.closest_point(toPoint(from.vertices[v])))));
         }
         partial[c] = p;
     });
@@ -202,10 +215,29 @@ OneSidedDistance oneSidedRefined(const Surface& from, const Tree& to, const Dist
     std::vector<size_t> hot;
     for (size_t b = 0; b < blocks; ++b)
         if (blockMax[b] >= threshold) hot.push_back(b);
+    // A sample of a run is queried only when it could exceed the coarse maximum: the distance is
+    // 1-Lipschitz, so a strided sample c of the run bounds it by d(c) + |p - c| (with a margin for
+    // rounding). The maximum is the dense one exactly, with far fewer queries where a coarse level
+    // lies far from the original everywhere.
+    const double known = r.max * (1 - 1e-9);
     std::vector<double> hotMax(hot.size(), 0.0);
+    std::vector<size_t> hotQueried(hot.size(), 0);
     parallelFor(hot.size(), o.threads, [&](size_t h) {
-        const size_t b = hot[h];
-        hotMax[h] = query(b * kRefineBlock, std::min(n, (b + 1) * kRefineBlock), 1, true, nullptr);
+        const size_t b = hot[h], begin = b * kRefineBlock, end = std::min(n, begin + kRefineBlock);
+        std::vector<std::pair<Vec3, double>> strided;  // the run's strided samples and their distances
+        for (size_t i = (begin + stride - 1) / stride * stride; i < end; i += stride)
+            strided.emplace_back(samplePoint(from, i, n, offset), coarse[i / stride]);
+        NearestWalk nearest(to.tree, to.triangleSize);
+        for (size_t i = begin; i < end; ++i) {
+            if (i % stride == 0) continue;
+            const Vec3 p = samplePoint(from, i, n, offset);
+            double bound = 1e300;
+            for (const auto& [c, d] : strided) bound = std::min(bound, d + length(p - c));
+            if (bound < known) continue;
+            const Point q = toPoint(p);
+            hotMax[h] = std::max(hotMax[h], std::sqrt(CGAL::squared_distance(q, nearest(q))));
+            ++hotQueried[h];
+        }
     });
     for (double m : hotMax) r.max = std::max(r.max, m);
     if (count > 0) {
@@ -213,11 +245,11 @@ OneSidedDistance oneSidedRefined(const Surface& from, const Tree& to, const Dist
         r.rms = std::sqrt(sum2 / static_cast<double>(count));
     }
     r.samples = count + nv;
-    for (size_t b : hot) r.samples += std::min(n, (b + 1) * kRefineBlock) - b * kRefineBlock;
+    for (size_t q : hotQueried) r.samples += q;
     return r;
 }
 
-OneSidedDistance measureSide(const Surface& from, const Tree& to, const DistanceOptions& o) {
+OneSidedDistance measureSide(const Surface& from, const Measured& to, const DistanceOptions& o) {
     return o.refineStride > 1 && o.samplesPerSide > 0 ? oneSidedRefined(from, to, o) : oneSided(from, to, o);
 }
 
@@ -244,10 +276,10 @@ GeometricDistance surfaceDistance(const DistanceReference& reference, const TriM
     if (mb.surface.triangles.empty()) throw Impossible("second mesh has no triangle with non-zero area");
 
     GeometricDistance r;
-    r.aToB = measureSide(ma.surface, mb.tree, options);
+    r.aToB = measureSide(ma.surface, mb, options);
     DistanceOptions second = options;
     second.refineFloor = std::max(options.refineFloor, r.aToB.max);
-    r.bToA = measureSide(mb.surface, ma.tree, second);
+    r.bToA = measureSide(mb.surface, ma, second);
     r.hausdorff = std::max(r.aToB.max, r.bToA.max);
     r.mean = 0.5 * (r.aToB.mean + r.bToA.mean);
     r.rms = std::sqrt(0.5 * (r.aToB.rms * r.aToB.rms + r.bToA.rms * r.bToA.rms));

@@ -25,8 +25,10 @@ struct DistanceOptions {
     // Coarse to fine, for a maximum wanted fast: when > 1, a first pass queries every vertex and
     // every refineStride-th area sample; then every sample is queried only in the runs of
     // kRefineBlock consecutive samples (neighbours on the surface) whose coarse maximum reaches
-    // refineFraction x max(the coarse maximum, refineFloor). The maximum is the dense one wherever
-    // the worst regions show in the coarse pass; mean and RMS come from the coarse samples.
+    // refineFraction x max(the coarse maximum, refineFloor), and there only where the run's strided
+    // samples do not already bound the distance below the coarse maximum. The maximum is the dense
+    // one wherever the worst regions show in the coarse pass; mean and RMS come from the coarse
+    // samples; `samples` counts the queries.
     // 1 = every sample queried (the exact figures of the sampling).
     size_t refineStride = 1;
     double refineFraction = 0.5;
