@@ -240,23 +240,12 @@ TEST(PackAtlas, TrianglesNestByShape) {
         }
 }
 
-// Few charts (the order search applies): nine right triangles of different sizes and turns. The
-// layout is the same for any thread count, and no two charts come closer than the gutter.
-TEST(PackAtlas, FewChartsSameLayoutForAnyThreadCountAndKeepTheGutter) {
-    std::vector<AtlasChart> charts;
-    for (int i = 0; i < 9; ++i) {
-        const double s = 0.1 + 0.05 * i, x = 0.7 * i;
-        charts.push_back(triangleChart({x, 0}, i % 2 ? Vec2{x + s, s} : Vec2{x + s, 0}, {x, s}));
-    }
-    AtlasOptions o;
-    o.maxTexelsPerUnit = 256;
-    o.gutter = 2;
-    const AtlasResult one = packedAlikeOnAnyThreads(charts, o, {2, 3});
-    EXPECT_DOUBLE_EQ(one.texelsPerUnit, 256);
-    EXPECT_GT(one.utilisation, 0.5);
-    // Every placed triangle inside the page, and every pair at least the gutter apart: the distance
-    // between two disjoint triangles is reached at a corner of one of them, and two triangles
-    // overlap only if an edge of one crosses an edge of the other or a corner lies inside.
+namespace {
+
+// Every placed one-triangle chart inside the page, and every pair at least `gutter` texels apart:
+// the distance between two disjoint triangles is reached at a corner of one of them, and two
+// triangles overlap only if an edge of one crosses an edge of the other or a corner lies inside.
+void expectInsideAndApart(const std::vector<AtlasChart>& charts, const AtlasResult& one, double gutter) {
     std::vector<std::array<Vec2, 3>> tri(charts.size());
     for (size_t i = 0; i < charts.size(); ++i)
         for (size_t k = 0; k < 3; ++k) {
@@ -281,25 +270,68 @@ TEST(PackAtlas, FewChartsSameLayoutForAnyThreadCountAndKeepTheGutter) {
                                      pointToSegment(tri[j][l], tri[i][k], tri[i][(k + 1) % 3])});
                 }
             }
-            EXPECT_GE(dist, 2.0 - 1e-6) << "charts " << i << " and " << j;
+            EXPECT_GE(dist, gutter - 1e-6) << "charts " << i << " and " << j;
         }
 }
 
-// Enough charts for every search stage (orders, rules, strip widths, the local search of swaps),
-// with sizes from a fixed seed. Trials that cannot beat the best finished one stop early, and the
-// trials running at once share that best: the layout must still be the same for any thread count.
-TEST(PackAtlas, TrialBoundsKeepTheLayoutForAnyThreadCount) {
+// `count` one-triangle charts, x apart, with sizes from a fixed seed.
+std::vector<AtlasChart> seededTriangles(int count, double x) {
     std::vector<AtlasChart> charts;
     uint64_t seed = 12345;
     auto next = [&] {
         seed = seed * 6364136223846793005ull + 1442695040888963407ull;
         return double(seed >> 11) / double(uint64_t(1) << 53);
     };
-    for (int i = 0; i < 24; ++i) {
-        const double s = 0.05 + 0.3 * next(), t = 0.05 + 0.3 * next(), x = 0.5 * i;
-        const double apex = x + 0.5 * s * next();
-        charts.push_back(triangleChart({x, 0}, {x + s, 0}, {apex, t}));
+    for (int i = 0; i < count; ++i) {
+        const double s = 0.05 + 0.3 * next(), t = 0.05 + 0.3 * next(), x0 = x * i;
+        const double apex = x0 + 0.5 * s * next();
+        charts.push_back(triangleChart({x0, 0}, {x0 + s, 0}, {apex, t}));
     }
+    return charts;
+}
+
+}  // namespace
+
+// Few charts (the order search applies): nine right triangles of different sizes and turns. The
+// layout is the same for any thread count, and no two charts come closer than the gutter.
+TEST(PackAtlas, FewChartsSameLayoutForAnyThreadCountAndKeepTheGutter) {
+    std::vector<AtlasChart> charts;
+    for (int i = 0; i < 9; ++i) {
+        const double s = 0.1 + 0.05 * i, x = 0.7 * i;
+        charts.push_back(triangleChart({x, 0}, i % 2 ? Vec2{x + s, s} : Vec2{x + s, 0}, {x, s}));
+    }
+    AtlasOptions o;
+    o.maxTexelsPerUnit = 256;
+    o.gutter = 2;
+    const AtlasResult one = packedAlikeOnAnyThreads(charts, o, {2, 3});
+    EXPECT_DOUBLE_EQ(one.texelsPerUnit, 256);
+    EXPECT_GT(one.utilisation, 0.5);
+    expectInsideAndApart(charts, one, 2);
+}
+
+// A page over 1024 texels across with hundreds of trials: trials and order swaps are ranked on a
+// coarser grid first and only the near-best are packed on the search grid. The layout is still
+// the same for any thread count, every chart keeps its gutter, and the page is no looser than the
+// small page's packing of the same charts scaled up (utilisation within a few points).
+TEST(PackAtlas, RankedSearchOnLargePagesKeepsTheLayoutAndTheGutter) {
+    const std::vector<AtlasChart> charts = seededTriangles(8, 0.5);
+    AtlasOptions o;
+    o.maxTexelsPerUnit = 3072;
+    o.gutter = 4;
+    const AtlasResult large = packedAlikeOnAnyThreads(charts, o, {2});
+    EXPECT_DOUBLE_EQ(large.texelsPerUnit, 3072);
+    EXPECT_GT(std::max(large.width, large.height), 1024);
+    expectInsideAndApart(charts, large, 4);
+    o.maxTexelsPerUnit = 512;
+    const AtlasResult small = packAtlas(charts, o);
+    EXPECT_GT(large.utilisation, small.utilisation - 0.05);
+}
+
+// Enough charts for every search stage (orders, rules, strip widths, the local search of swaps),
+// with sizes from a fixed seed. Trials that cannot beat the best finished one stop early, and the
+// trials running at once share that best: the layout must still be the same for any thread count.
+TEST(PackAtlas, TrialBoundsKeepTheLayoutForAnyThreadCount) {
+    const std::vector<AtlasChart> charts = seededTriangles(24, 0.5);
     AtlasOptions o;
     o.maxTexelsPerUnit = 256;
     o.gutter = 4;

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
+#include <vector>
 
 #include "lodbake/bake/texture_fetch.h"
 
@@ -30,6 +32,34 @@ TEST(TextureFetch, MipLevelsHalveDownToOneTexelAndKeepTheMean) {
     EXPECT_EQ(t.levels[3].width, 1);
     EXPECT_EQ(t.levels[3].height, 1);
     EXPECT_EQ(t.levels[0].rgba[3], 255);  // no alpha: opaque
+}
+
+// An 8-bit PNG decoded as bytes and decoded as floats gives the same MIP levels (the bake keeps
+// 8-bit sources as bytes), with or without alpha. Without alpha the bytes are the encoded ones and
+// the floats byte / 255 (OpenImageIO converts alpha images between straight and associated alpha
+// on the way, so those are not compared with the encoded bytes).
+TEST(TextureFetch, EightBitSourcesAsBytesGiveTheSameLevelsAsFloats) {
+    for (int channels : {1, 2, 3, 4}) {
+        std::vector<uint8_t> px;
+        for (int i = 0; i < 7 * 5 * channels; ++i) px.push_back(uint8_t((i * 37 + 11) % 256));
+        const Image png = encodePng(px, 7, 5, "test", channels);
+        DecodedImage asBytes, asFloats;
+        std::string error;
+        ASSERT_TRUE(decodeImage(png, asBytes, error, DecodeDepth::KeepEightBit)) << error;
+        ASSERT_TRUE(decodeImage(png, asFloats, error)) << error;
+        EXPECT_TRUE(asBytes.pixels.empty());
+        ASSERT_EQ(asBytes.bytes.size(), px.size());
+        ASSERT_EQ(asFloats.pixels.size(), px.size());
+        EXPECT_TRUE(asFloats.bytes.empty());
+        if (channels % 2 == 1) {
+            EXPECT_EQ(asBytes.bytes, px);
+            for (size_t i = 0; i < px.size(); ++i) EXPECT_FLOAT_EQ(asFloats.pixels[i], px[i] / 255.0f) << i;
+        }
+        for (size_t i = 0; i < px.size(); ++i) EXPECT_FLOAT_EQ(asFloats.pixels[i], asBytes.bytes[i] / 255.0f) << i;
+        const MipTexture a = buildMipTexture(asBytes), b = buildMipTexture(asFloats);
+        ASSERT_EQ(a.levels.size(), b.levels.size());
+        for (size_t k = 0; k < a.levels.size(); ++k) EXPECT_EQ(a.levels[k].rgba, b.levels[k].rgba) << channels << " channels, level " << k;
+    }
 }
 
 TEST(TextureFetch, GreyAndGreyAlphaFillRgb) {

@@ -393,6 +393,14 @@ constexpr size_t kManyChartsForRules = 256;
 constexpr size_t kManyChartsWidthStride = 4;
 constexpr int kShuffledOrders = 8;
 constexpr int kOrderSweeps = 8;
+// Trials on large pages (search grids of 2 x 2 texel blocks or coarser), when there are more than
+// kRankFromTrials of them, and the swaps of the order search there, are ranked on a grid twice as
+// coarse first: those within kRankSlack of the coarse minimum (at most kFineTrials of them, the
+// cheapest) are packed on the search grid. Fewer trials are all packed there: each one counts.
+constexpr int kRankFromScale = 2;
+constexpr size_t kRankFromTrials = 64;
+constexpr double kRankSlack = 1.03;
+constexpr size_t kFineTrials = 16;
 constexpr double kCoverageSlack = 4;  // mayFit: chart coverage may exceed the page this many times
 
 // Placement search on large pages runs on a grid of scale x scale texel blocks (charts and their
@@ -417,20 +425,30 @@ struct Footprints {
 
 using Orientations = std::vector<std::vector<Oriented>>;  // per chart: the orientations tried
 
-Footprints footprintsAt(const Orientations& charts, double t, int gutter, int scale, int threads) {
+// `twiceCoarser`, when given, receives the same at scale 2 * scale (from the same rasterisation).
+Footprints footprintsAt(const Orientations& charts, double t, int gutter, int scale, int threads, Footprints* twiceCoarser = nullptr) {
     const int radius = (gutter + 1) / 2;
     Footprints fp;
     fp.t = t;
     fp.scale = scale;
     fp.radius = radius;
     fp.charts.resize(charts.size());
+    if (twiceCoarser) *twiceCoarser = fp, twiceCoarser->scale = 2 * scale;
     parallelFor(charts.size(), threads, [&](size_t i) {  // each chart into its own slot
         for (const Oriented& o : charts[i]) {
             ChartFootprints c;
             std::vector<uint8_t> fine = chartMask(o, t, radius, c.gw, c.gh, &c.raster);
             c.footprint = size_t(std::count(fine.begin(), fine.end(), uint8_t(1)));
-            std::vector<uint8_t> mask = coarsen(fine, c.gw, c.gh, scale, c.cw, c.ch);
-            for (int rot = 0; rot < 4; ++rot) c.rot[size_t(rot)] = rotatedFootprint(mask, c.cw, c.ch, rot);
+            auto blocks = [&](ChartFootprints& into, int s) {
+                std::vector<uint8_t> mask = coarsen(fine, into.gw, into.gh, s, into.cw, into.ch);
+                for (int rot = 0; rot < 4; ++rot) into.rot[size_t(rot)] = rotatedFootprint(mask, into.cw, into.ch, rot);
+            };
+            if (twiceCoarser) {
+                ChartFootprints cc = c;
+                blocks(cc, 2 * scale);
+                twiceCoarser->charts[i].push_back(std::move(cc));
+            }
+            blocks(c, scale);
             fp.charts[i].push_back(std::move(c));
         }
     });
@@ -451,11 +469,16 @@ double pageCost(int width, int height, int maxSize) {
 // trial whose partial packing already costs more gives up: it could not have won, and every trial
 // that can win (cost at most the final minimum, which no finished trial undercuts) runs to the
 // end, so the winner does not depend on which trials finished first.
+//
+// With a slack s > 1 a trial gives up only above s times the smallest page: every trial whose page
+// costs at most s times the final minimum runs to the end (a ranking of the near-best trials).
 class CostBound {
 public:
-    CostBound(int maxSize, double best = 1e300) : maxSize_(maxSize), best_(best) {}
+    CostBound(int maxSize, double best = 1e300, double slack = 1) : maxSize_(maxSize), slack_(slack), best_(best) {}
     int maxSize() const { return maxSize_; }
     double best() const { return best_.load(std::memory_order_relaxed); }
+    // The cost above which a partial packing gives up.
+    double limit() const { return best() * slack_; }
     void offer(double cost) {
         double b = best_.load(std::memory_order_relaxed);
         while (cost < b && !best_.compare_exchange_weak(b, cost, std::memory_order_relaxed)) {}
@@ -463,6 +486,7 @@ public:
 
 private:
     int maxSize_;
+    double slack_;
     std::atomic<double> best_;
 };
 
@@ -501,7 +525,7 @@ std::optional<Packing> packBitmap(const Footprints& fp, const std::vector<size_t
         // than the bound are not searched (the lowest one that remains is the rule's choice).
         double firstLimit = 1e300;
         if (bound && placement == Placement::TopEdge) {
-            const double b = bound->best();
+            const double b = bound->limit();
             int lo = page.usedHeight(), hi = page.height();  // the highest top edge within the bound
             if (costOf(page.usedWidth(), lo) > b) return std::nullopt;
             while (lo < hi) {
@@ -529,7 +553,7 @@ std::optional<Packing> packBitmap(const Footprints& fp, const std::vector<size_t
         p.rasterTexels += c.raster;
         p.footprintTexels += c.footprint;
         page.place(c.rot[size_t(s.rotation)], s.x, s.y);
-        if (bound && costOf(page.usedWidth(), page.usedHeight()) > bound->best()) return std::nullopt;
+        if (bound && costOf(page.usedWidth(), page.usedHeight()) > bound->limit()) return std::nullopt;
         // Back to texels: the chart's grid turns inside its block-rounded footprint.
         int fw = c.cw * scale, fh = c.ch * scale;
         s.x *= scale;
@@ -551,30 +575,69 @@ std::optional<Packing> packBitmap(const Orientations& charts, const std::vector<
     return packBitmap(footprintsAt(charts, t, gutter, scale, threads), order, binW, binH);
 }
 
+// The trials worth packing on the search grid after a coarse ranking: those whose coarse cost is
+// within `limit` (a CostBound's with slack), at most kFineTrials of the cheapest (earlier trials
+// first on equal costs), in trial order. It depends on the costs alone, not on the thread count.
+std::vector<size_t> nearBest(const std::vector<double>& cost, double limit) {
+    std::vector<size_t> out;
+    for (size_t i = 0; i < cost.size(); ++i)
+        if (cost[i] <= limit) out.push_back(i);
+    std::stable_sort(out.begin(), out.end(), [&](size_t x, size_t y) { return cost[x] < cost[y]; });
+    if (out.size() > kFineTrials) out.resize(kFineTrials);
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+// `order` with charts a and b swapped, packed from `prefix` (the states of `order` before each
+// chart: both orders place the same charts before position a).
+std::optional<Packing> packSwapped(const Footprints& fp, const std::vector<size_t>& order, std::pair<size_t, size_t> swap,
+                                   const std::vector<PackState>& prefix, int width, int maxSize, Placement rule, CostBound& bound) {
+    std::vector<size_t> o = order;
+    std::swap(o[swap.first], o[swap.second]);
+    const size_t a = swap.first;
+    return a < prefix.size() ? packBitmap(fp, o, width, maxSize, rule, &bound, nullptr, &prefix[a], a)
+                             : packBitmap(fp, o, width, maxSize, rule, &bound);
+}
+
 // Local search on the winning chart order (few charts): every swap of two charts is packed at the
 // winner's strip width and rule (on `threads` threads); the swap giving the smallest page, if it
 // beats the best so far, is kept and the search goes on from it, for at most kOrderSweeps rounds.
+// With `coarse` footprints (large pages), each round ranks the swaps on that grid first and packs
+// only the near-best ones (nearBest) on the search grid.
 // `keep(packing)` takes a packing when it is the smallest page yet and says whether it did.
 // It finds tighter pages than many more random orders would.
 template <class Keep>
-void improveOrder(const Footprints& fp, std::vector<size_t> order, int width, int maxSize, Placement rule, int threads, double best,
-                  Keep&& keep) {
+void improveOrder(const Footprints& fp, const Footprints* coarse, std::vector<size_t> order, int width, int maxSize, Placement rule,
+                  int threads, double best, Keep&& keep) {
     std::vector<std::pair<size_t, size_t>> swaps;
     for (size_t a = 0; a < order.size(); ++a)
         for (size_t b = a + 1; b < order.size(); ++b) swaps.push_back({a, b});
+    auto prefixOf = [&](const Footprints& f) {
+        std::vector<PackState> prefix;
+        prefix.reserve(order.size());
+        packBitmap(f, order, width, maxSize, rule, nullptr, &prefix);
+        return prefix;
+    };
     for (int round = 0; round < kOrderSweeps; ++round) {
+        std::vector<size_t> tried(swaps.size());
+        std::iota(tried.begin(), tried.end(), size_t(0));
+        if (coarse) {
+            const std::vector<PackState> prefix = prefixOf(*coarse);
+            const std::optional<Packing> now = packBitmap(*coarse, order, width, maxSize, rule);
+            CostBound rank(maxSize, now ? pageCost(now->width, now->height, maxSize) : 1e300, kRankSlack);
+            std::vector<double> cost(swaps.size(), 1e300);
+            parallelFor(swaps.size(), threads, [&](size_t i) {
+                if (auto p = packSwapped(*coarse, order, swaps[i], prefix, width, maxSize, rule, rank))
+                    cost[i] = pageCost(p->width, p->height, maxSize);
+            });
+            tried = nearBest(cost, rank.limit());
+        }
         std::vector<std::optional<Packing>> packed(swaps.size());
         CostBound bound(maxSize, best);
         // A swap (a, b) places the same charts as the order before position a: it resumes there.
-        std::vector<PackState> prefix;
-        prefix.reserve(order.size());
-        packBitmap(fp, order, width, maxSize, rule, nullptr, &prefix);
-        parallelFor(swaps.size(), threads, [&](size_t i) {
-            std::vector<size_t> o = order;
-            std::swap(o[swaps[i].first], o[swaps[i].second]);
-            const size_t a = swaps[i].first;
-            packed[i] = a < prefix.size() ? packBitmap(fp, o, width, maxSize, rule, &bound, nullptr, &prefix[a], a)
-                                          : packBitmap(fp, o, width, maxSize, rule, &bound);
+        const std::vector<PackState> prefix = prefixOf(fp);
+        parallelFor(tried.size(), threads, [&](size_t k) {
+            packed[tried[k]] = packSwapped(fp, order, swaps[tried[k]], prefix, width, maxSize, rule, bound);
         });
         size_t kept = swaps.size();
         for (size_t i = 0; i < swaps.size(); ++i)
@@ -695,7 +758,12 @@ std::vector<std::vector<size_t>> chartOrders(const std::vector<Oriented>& charts
             orders.push_back(o);
         }
     }
-    return orders;
+    // An order equal to an earlier one packs the same pages and cannot win (the first tried wins
+    // ties): only the first is kept (few charts have few distinct orders).
+    std::vector<std::vector<size_t>> distinct;
+    for (std::vector<size_t>& o : orders)
+        if (std::find(distinct.begin(), distinct.end(), o) == distinct.end()) distinct.push_back(std::move(o));
+    return distinct;
 }
 
 // The chosen packing: density, packing and page size.
@@ -737,11 +805,26 @@ PagePick packFreeSize(const Orientations& turned, const std::vector<Oriented>& c
                     if (k == 0 || stripWidth(k) != stripWidth(k - widthStride)) trials.push_back({rule, o, stripWidth(k)});
     // Rasterised only for the trials: at a density whose padded area exceeds the page they would
     // take memory in proportion to tMax^2 for nothing.
-    const Footprints fp = trials.empty() ? Footprints{} : footprintsAt(turned, tMax, gutter, scale, threads);
+    // Large pages with many trials: ranked on a twice coarser grid first (see kRankFromScale).
+    const bool ranked = scale >= kRankFromScale && trials.size() > kRankFromTrials;
+    Footprints coarse;
+    const Footprints fp = trials.empty() ? Footprints{} : footprintsAt(turned, tMax, gutter, scale, threads, ranked ? &coarse : nullptr);
     std::vector<std::optional<Packing>> packed(trials.size());
+    std::vector<size_t> fine(trials.size());
+    std::iota(fine.begin(), fine.end(), size_t(0));
+    if (ranked) {
+        std::vector<double> cost(trials.size(), 1e300);
+        CostBound rank(maxSize, 1e300, kRankSlack);
+        parallelFor(trials.size(), threads, [&](size_t i) {
+            if (auto p = packBitmap(coarse, orders[trials[i].order], trials[i].width, maxSize, trials[i].rule, &rank))
+                cost[i] = pageCost(p->width, p->height, maxSize);
+        });
+        fine = nearBest(cost, rank.limit());
+    }
     CostBound bound(maxSize);
-    parallelFor(trials.size(), threads, [&](size_t i) {
-        packed[i] = packBitmap(fp, orders[trials[i].order], trials[i].width, maxSize, trials[i].rule, &bound);
+    parallelFor(fine.size(), threads, [&](size_t k) {
+        const Trial& tr = trials[fine[k]];
+        packed[fine[k]] = packBitmap(fp, orders[tr.order], tr.width, maxSize, tr.rule, &bound);
     });
     auto keepIfSmaller = [&](std::optional<Packing>& p) {
         if (!p) return false;
@@ -757,7 +840,7 @@ PagePick packFreeSize(const Orientations& turned, const std::vector<Oriented>& c
     for (size_t i = 0; i < packed.size(); ++i)
         if (keepIfSmaller(packed[i])) winner = i;
     if (winner < trials.size() && charts.size() > 2 && charts.size() <= kManyCharts)
-        improveOrder(fp, orders[trials[winner].order], trials[winner].width, maxSize, trials[winner].rule, threads, bestArea,
+        improveOrder(fp, ranked ? &coarse : nullptr, orders[trials[winner].order], trials[winner].width, maxSize, trials[winner].rule, threads, bestArea,
                      keepIfSmaller);
     if (!pick.best) {
         pick.best = densestFit(turned, orders[0], threads, tMax, gutter, maxSize, maxSize);

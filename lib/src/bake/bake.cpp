@@ -225,10 +225,30 @@ const MipTexture& decodedSource(const Asset& asset, SourceTexture& src, size_t i
     std::call_once(src.decoded, [&] {
         DecodedImage img;
         std::string error;
-        if (!decodeImage(asset.images[i], img, error)) throw IOError("cannot decode for baking: " + error);
+        if (!decodeImage(asset.images[i], img, error, DecodeDepth::KeepEightBit))
+            throw IOError("cannot decode for baking: " + error);
         src.mip = buildMipTexture(img);
     });
     return src.mip;
+}
+
+// Decodes, on `threads` threads, every image that baking `ch` reads (each once, in any order:
+// each is decoded on its own), so the shading threads do not wait on one another's decodes.
+void decodeSources(const Asset& asset, std::vector<SourceTexture>& sources, const BakeChannels& ch, int threads) {
+    std::vector<size_t> images;
+    for (const Material& m : asset.materials) {
+        const TextureRef* refs[] = {&m.baseColor, ch.orm ? &m.metallicRoughness : nullptr, ch.orm ? &m.occlusion : nullptr,
+                                    ch.orm ? &m.specularGlossiness : nullptr, ch.emissive ? &m.emissive : nullptr,
+                                    ch.normal ? &m.normal : nullptr};
+        for (const TextureRef* ref : refs) {
+            if (!ref || ref->texture < 0 || ref->texture >= int(asset.textures.size())) continue;
+            const int i = asset.textures[size_t(ref->texture)].image;
+            if (i >= 0 && size_t(i) < sources.size() && sources[size_t(i)].used) images.push_back(size_t(i));
+        }
+    }
+    std::sort(images.begin(), images.end());
+    images.erase(std::unique(images.begin(), images.end()), images.end());
+    parallelFor(images.size(), threads, [&](size_t k) { decodedSource(asset, sources[images[k]], images[k]); });
 }
 
 // The filtered texel of texture reference `ref` at hit h (bilinear / trilinear over the texel's
@@ -497,6 +517,7 @@ BakeResult bakeMaterial(const BakeSources& bs, const std::vector<std::array<Vec2
     std::vector<TargetHit> targetHits;
     if (ch.normal && target) targetHits = rasterizeTarget(*target, g);
 
+    decodeSources(asset, sources, ch, o.threads);
     // Shade: linear RGB + coverage, rows in parallel (each texel depends only on its hit).
     const size_t texels = size_t(g.w) * size_t(g.h);
     std::vector<float> px(texels * 3, 0.0f);

@@ -71,21 +71,32 @@ void addBilinear(const MipTexture::Level& L, const FetchOptions& o, double s, do
 }  // namespace
 
 MipTexture buildMipTexture(const DecodedImage& image) {
-    if (image.width < 1 || image.height < 1 || image.channels < 1 ||
-        image.pixels.size() != size_t(image.width) * size_t(image.height) * size_t(image.channels))
+    const size_t values = size_t(image.width) * size_t(image.height) * size_t(image.channels);
+    const bool bytes = !image.bytes.empty();
+    if (image.width < 1 || image.height < 1 || image.channels < 1 || (bytes ? image.bytes.size() : image.pixels.size()) != values ||
+        (bytes && !image.pixels.empty()))
         throw InvalidInput("texture fetch: decoded image has no or inconsistent pixels");
     MipTexture t;
     MipTexture::Level base = makeLevel(image.width, image.height);
     const int nc = image.channels, used = std::min(nc, 4);  // channels past RGBA are not read
+    // One texel as RGBA bytes from p[0..nc) (an 8-bit value as it is, a float rounded to 8 bits:
+    // the same bytes for an 8-bit image decoded either way).
+    auto store = [used](const auto* p, auto q, uint8_t* d) {
+        d[0] = q(p[0]);
+        d[1] = used >= 3 ? q(p[1]) : d[0];
+        d[2] = used >= 3 ? q(p[2]) : d[0];
+        d[3] = used == 2 ? q(p[1]) : (used == 4 ? q(p[3]) : uint8_t(255));
+    };
     auto q = [](float v) { return uint8_t(std::clamp(v, 0.0f, 1.0f) * 255.0f + 0.5f); };
+    auto same = [](uint8_t v) { return v; };
     for (int y = 0; y < image.height; ++y)
         for (int x = 0; x < image.width; ++x) {
-            const float* p = &image.pixels[(size_t(y) * size_t(image.width) + size_t(x)) * size_t(nc)];
+            const size_t i = (size_t(y) * size_t(image.width) + size_t(x)) * size_t(nc);
             uint8_t* d = &base.rgba[base.at(x, y)];
-            d[0] = q(p[0]);
-            d[1] = used >= 3 ? q(p[1]) : d[0];
-            d[2] = used >= 3 ? q(p[2]) : d[0];
-            d[3] = used == 2 ? q(p[1]) : (used == 4 ? q(p[3]) : uint8_t(255));
+            if (bytes)
+                store(&image.bytes[i], same, d);
+            else
+                store(&image.pixels[i], q, d);
         }
     t.levels.push_back(std::move(base));
     while (t.levels.back().width > 1 || t.levels.back().height > 1) {

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 
+#include "lodbake/core/parallel.h"
 #include "lodbake/core/tangents.h"
 #include "lodbake/texture/ktx2.h"
 
@@ -86,18 +87,27 @@ LodMaterial levelMaterial(const MaterialPlan& plan, const BakeResult& baked, int
                           const std::string& name) {
     LodMaterial m;
     const size_t texels = size_t(w) * size_t(h);
+    // The images to encode, each on its own (on o.threads threads), then stored in this order.
+    struct Encode {
+        const std::vector<float>* values;
+        EncodeOptions options;
+        std::string name;
+        Image* image;
+        Ktx2Codec codec;
+        bool normalMap;
+    };
+    std::vector<Encode> encodes;
+    std::vector<float> rgba;
     if (plan.baseColorTexture) {
         if (!baked.alpha.empty()) {
-            std::vector<float> rgba(texels * 4);
+            rgba.resize(texels * 4);
             for (size_t i = 0; i < texels; ++i) {
                 for (size_t c = 0; c < 3; ++c) rgba[i * 4 + c] = baked.pixels[i * 3 + c];
                 rgba[i * 4 + 3] = baked.alpha[i];
             }
-            m.baseColor = stored(encodeImage(rgba, w, h, EncodeOptions{ImageFormat::Png, o.jpegQuality, 4, true}, name), o,
-                                 Ktx2Codec::Etc1s, true);
+            encodes.push_back({&rgba, EncodeOptions{ImageFormat::Png, o.jpegQuality, 4, true}, name, &m.baseColor, Ktx2Codec::Etc1s, false});
         } else {
-            m.baseColor = stored(encodeImage(baked.pixels, w, h, EncodeOptions{o.format, o.jpegQuality, 3, true}, name), o,
-                                 Ktx2Codec::Etc1s, true);
+            encodes.push_back({&baked.pixels, EncodeOptions{o.format, o.jpegQuality, 3, true}, name, &m.baseColor, Ktx2Codec::Etc1s, false});
         }
         m.baseColorFactor = {1, 1, 1, plan.alphaTexture ? 1.0 : plan.baseColorFactor.w};
     } else {
@@ -106,15 +116,14 @@ LodMaterial levelMaterial(const MaterialPlan& plan, const BakeResult& baked, int
     m.metallicFactor = plan.metallicFactor;
     m.roughnessFactor = plan.roughnessFactor;
     if (!baked.orm.empty()) {
-        m.orm = stored(encodeImage(baked.orm, w, h, EncodeOptions{o.format, o.jpegQuality, 3, false}, name + "_orm"), o,
-                       Ktx2Codec::Uastc, false);
+        encodes.push_back({&baked.orm, EncodeOptions{o.format, o.jpegQuality, 3, false}, name + "_orm", &m.orm, Ktx2Codec::Uastc, false});
         m.occlusion = plan.occlusionTexture;
         m.metallicRoughness = plan.metallicRoughnessTexture;
         if (m.metallicRoughness) m.metallicFactor = m.roughnessFactor = 1;
     }
     if (!baked.emissive.empty()) {
-        m.emissive = stored(encodeImage(baked.emissive, w, h, EncodeOptions{o.format, o.jpegQuality, 3, true}, name + "_emissive"),
-                            o, Ktx2Codec::Etc1s, true);
+        encodes.push_back(
+            {&baked.emissive, EncodeOptions{o.format, o.jpegQuality, 3, true}, name + "_emissive", &m.emissive, Ktx2Codec::Etc1s, false});
         m.emissiveFactor = {1, 1, 1};
         m.emissiveStrength = baked.emissiveScale;
     } else {
@@ -126,8 +135,13 @@ LodMaterial levelMaterial(const MaterialPlan& plan, const BakeResult& baked, int
         }
     }
     if (!baked.normal.empty())
-        m.normal = stored(encodeImage(baked.normal, w, h, EncodeOptions{ImageFormat::Png, o.jpegQuality, 3, false}, name + "_normal"),
-                          o, Ktx2Codec::Uastc, false, true);
+        encodes.push_back(
+            {&baked.normal, EncodeOptions{ImageFormat::Png, o.jpegQuality, 3, false}, name + "_normal", &m.normal, Ktx2Codec::Uastc, true});
+    parallelFor(encodes.size(), o.threads, [&](size_t i) {
+        const Encode& e = encodes[i];
+        *e.image = encodeImage(*e.values, w, h, e.options, e.name);
+    });
+    for (const Encode& e : encodes) *e.image = stored(std::move(*e.image), o, e.codec, e.options.srgb, e.normalMap);
     m.alphaMode = plan.alphaMode;
     m.alphaCutoff = plan.alphaCutoff;
     m.doubleSided = plan.doubleSided;

@@ -29,6 +29,7 @@ struct LevelImageOptions {
     // ETC1S for the colour maps (base colour, emissive), UASTC for the normal map and ORM (data
     // whose channels are independent: ETC1S shares endpoints between channels and blurs them).
     std::string ktx2Encoder;
+    int threads = 1;  // the level's images are encoded on this many threads (the bytes do not depend on it)
 };
 
 // The channels a level's material carries as textures, for reports ("baseColor" or

@@ -803,6 +803,7 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
     io.format = options.ktx2Encoder.empty() ? options.imageFormat : ImageFormat::Png;
     io.jpegQuality = options.jpegQuality;
     io.ktx2Encoder = options.ktx2Encoder;
+    io.threads = options.threads;
     res.levels.resize(n);
     for (size_t k = 0; k < n; ++k) {
         PackLevelReport& r = res.reports[k];

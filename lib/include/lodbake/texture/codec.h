@@ -42,15 +42,22 @@ Image encodeImage(const std::vector<float>& values, int width, int height, const
 Image encodePng(const std::vector<uint8_t>& pixels, int width, int height, const std::string& name = "", int channels = 3);
 
 // Pixels of a decoded image: floats in [0,1] as stored (sRGB-encoded for colour), `channels`
-// interleaved per texel, top row first.
+// interleaved per texel, top row first; or, when decoded with DecodeDepth::KeepEightBit from an
+// image stored with 8 bits per channel, those bytes (value = byte / 255) with `pixels` empty.
 struct DecodedImage {
     int width = 0, height = 0, channels = 0;
     std::vector<float> pixels;  // width * height * channels
+    std::vector<uint8_t> bytes;  // width * height * channels, instead of `pixels` (see above)
+};
+
+enum class DecodeDepth {
+    Float,         // always `pixels`
+    KeepEightBit,  // `bytes` for 8-bit images (no float image of 4 bytes a value), `pixels` otherwise
 };
 
 // Decodes `image` into `out`; false, with a one-line `error` naming the image, when it has no data
 // or cannot be decoded.
-bool decodeImage(const Image& image, DecodedImage& out, std::string& error);
+bool decodeImage(const Image& image, DecodedImage& out, std::string& error, DecodeDepth depth = DecodeDepth::Float);
 
 enum class ImageCheck {
     Header,  // open each image and read its size (cheap)
