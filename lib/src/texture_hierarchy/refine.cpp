@@ -386,7 +386,8 @@ RefineResult refineTextures(const Asset& asset, const Multires& mr, const Refine
     checkRefineInput(asset, mr, o);
     const TriMesh& mesh = asset.mesh;
     const uint32_t n = uint32_t(mr.levels.size());
-    const uint32_t maxRank = std::min<uint32_t>(uint32_t(std::max(0, o.ranks)), n);
+    const bool overBudget = o.maxTriangles > 0 && mesh.triangleCount() > o.maxTriangles;
+    const uint32_t maxRank = overBudget ? 0 : std::min<uint32_t>(uint32_t(std::max(0, o.ranks)), n);
     const double steps = double(maxRank + 1) * double(o.sizes.size()) + 2.0 * maxRank + 1;
     double done = 0;
     auto step = [&] { if (o.progress) o.progress(++done / steps); };
@@ -397,6 +398,9 @@ RefineResult refineTextures(const Asset& asset, const Multires& mr, const Refine
     RefineResult res;
     BaseMeasures base(mesh, mr, eo);
     res.ranks.push_back(rankZero(mesh, mr, base));
+    if (overBudget && o.ranks > 0 && n > 0)
+        res.warnings.push_back(std::to_string(mesh.triangleCount()) + " triangles is over the budget of " +
+                               std::to_string(o.maxTriangles) + " (--max-refine-triangles): no refined ranks, T0 serves every level");
     step();
     // Rank j splits rank j-1's charts by the regions of the next finer level that splits them; a
     // candidate is kept only when it lowers both E and the area-ratio spread of T0 over the levels
