@@ -197,6 +197,15 @@ class TextureRefineCli(unittest.TestCase):
         check_file(self, name, tex, r)
         check_pack(self, name, source, tex, r, work)
 
+    def colors_uv(self, name):
+        """A work folder `name` and the colors sample simplified (3 levels) and parameterized in it."""
+        work = os.path.join(self.work, name)
+        os.makedirs(work, exist_ok=True)
+        mr, uv = os.path.join(work, "c.mr.glb"), os.path.join(work, "c.uv.glb")
+        lt.run([lt.tool("simplify"), "-i", os.path.join(self.samples, "colors.glb"), "-o", mr, "--ratio", "0.5,0.1,0.02", "--quiet"])
+        lt.run([lt.tool("parameterize"), "-i", mr, "-o", uv, "--quiet"])
+        return work, uv
+
     def test_samples(self):
         for name in SAMPLES:
             with self.subTest(sample=name):
@@ -207,12 +216,7 @@ class TextureRefineCli(unittest.TestCase):
         # lodbake does with an intermediate it does not keep) records the same hierarchy without
         # them, and pack writes the same bytes from either. Remembered chart solves and splits
         # leave the output the same for any thread count.
-        work = os.path.join(self.work, "no_images")
-        os.makedirs(work, exist_ok=True)
-        src = os.path.join(self.samples, "colors.glb")
-        mr, uv = os.path.join(work, "c.mr.glb"), os.path.join(work, "c.uv.glb")
-        lt.run([lt.tool("simplify"), "-i", src, "-o", mr, "--ratio", "0.5,0.1,0.02", "--quiet"])
-        lt.run([lt.tool("parameterize"), "-i", mr, "-o", uv, "--quiet"])
+        work, uv = self.colors_uv("no_images")
         runs = {}
         for label, extra in (("baked", ["--threads", "1"]), ("baked2", ["--threads", "2"]),
                              ("bare", ["--no-images", "--threads", "2"])):
@@ -245,12 +249,7 @@ class TextureRefineCli(unittest.TestCase):
     def test_triangle_budget(self):
         # Over --max-refine-triangles the hierarchy keeps T0 alone (no rank >= 1), says so in a
         # warning (stderr and report) and still packs; under it the budget changes nothing.
-        work = os.path.join(self.work, "budget")
-        os.makedirs(work, exist_ok=True)
-        src = os.path.join(self.samples, "colors.glb")
-        mr, uv = os.path.join(work, "c.mr.glb"), os.path.join(work, "c.uv.glb")
-        lt.run([lt.tool("simplify"), "-i", src, "-o", mr, "--ratio", "0.5,0.1,0.02", "--quiet"])
-        lt.run([lt.tool("parameterize"), "-i", mr, "-o", uv, "--quiet"])
+        work, uv = self.colors_uv("budget")
         runs = {}
         for label, extra in (("default", []), ("unlimited", ["--max-refine-triangles", "0"]),
                              ("over", ["--max-refine-triangles", "10"])):
