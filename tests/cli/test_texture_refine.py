@@ -197,6 +197,15 @@ class TextureRefineCli(unittest.TestCase):
         check_file(self, name, tex, r)
         check_pack(self, name, source, tex, r, work)
 
+    def colors_uv(self, name):
+        """A work folder `name` and the colors sample simplified (3 levels) and parameterized in it."""
+        work = os.path.join(self.work, name)
+        os.makedirs(work, exist_ok=True)
+        mr, uv = os.path.join(work, "c.mr.glb"), os.path.join(work, "c.uv.glb")
+        lt.run([lt.tool("simplify"), "-i", os.path.join(self.samples, "colors.glb"), "-o", mr, "--ratio", "0.5,0.1,0.02", "--quiet"])
+        lt.run([lt.tool("parameterize"), "-i", mr, "-o", uv, "--quiet"])
+        return work, uv
+
     def test_samples(self):
         for name in SAMPLES:
             with self.subTest(sample=name):
@@ -207,12 +216,7 @@ class TextureRefineCli(unittest.TestCase):
         # lodbake does with an intermediate it does not keep) records the same hierarchy without
         # them, and pack writes the same bytes from either. Remembered chart solves and splits
         # leave the output the same for any thread count.
-        work = os.path.join(self.work, "no_images")
-        os.makedirs(work, exist_ok=True)
-        src = os.path.join(self.samples, "colors.glb")
-        mr, uv = os.path.join(work, "c.mr.glb"), os.path.join(work, "c.uv.glb")
-        lt.run([lt.tool("simplify"), "-i", src, "-o", mr, "--ratio", "0.5,0.1,0.02", "--quiet"])
-        lt.run([lt.tool("parameterize"), "-i", mr, "-o", uv, "--quiet"])
+        work, uv = self.colors_uv("no_images")
         runs = {}
         for label, extra in (("baked", ["--threads", "1"]), ("baked2", ["--threads", "2"]),
                              ("bare", ["--no-images", "--threads", "2"])):
@@ -241,6 +245,31 @@ class TextureRefineCli(unittest.TestCase):
             lt.run([lt.tool("pack"), "-i", runs[label][0], "-o", out] + PACK)
             lods.append(out)
         self.assertTrue(filecmp.cmp(*lods, shallow=False), "pack output from the baked and the image-less hierarchy")
+
+    def test_triangle_budget(self):
+        # Over --max-refine-triangles the hierarchy keeps T0 alone (no rank >= 1), says so in a
+        # warning (stderr and report) and still packs; under it the budget changes nothing.
+        work, uv = self.colors_uv("budget")
+        runs = {}
+        for label, extra in (("default", []), ("unlimited", ["--max-refine-triangles", "0"]),
+                             ("over", ["--max-refine-triangles", "10"])):
+            tex = os.path.join(work, label + ".tex.glb")
+            p = lt.run([lt.tool("texture-refine"), "-i", uv, "-o", tex, "--no-images", "--report", tex + ".json"] + REFINE + extra)
+            with open(tex + ".json") as f:
+                runs[label] = (tex, json.load(f), p.stderr)
+        self.assertTrue(filecmp.cmp(runs["default"][0], runs["unlimited"][0], shallow=False))
+        self.assertGreaterEqual(len(runs["unlimited"][1]["ranks"]), 2)
+        self.assertEqual(runs["unlimited"][1]["warnings"], [])
+        tex, rep, err = runs["over"]
+        self.assertEqual([r["rank"] for r in rep["ranks"]], [0])
+        self.assertEqual(len(rep["warnings"]), 1)
+        self.assertIn("over the budget of 10", rep["warnings"][0])
+        self.assertIn("over the budget of 10", err)
+        self.assertEqual(lt.Gltf(tex).multires()["textureHierarchy"].get("ranks", []), [])
+        lod = os.path.join(work, "over.lod.glb")
+        lt.run([lt.tool("pack"), "-i", tex, "-o", lod, "--report", lod + ".json"] + PACK)
+        with open(lod + ".json") as f:
+            self.assertTrue(all(lv["textureRank"] == 0 for lv in json.load(f)["levels"]))
 
     def test_usage_and_input_errors(self):
         uv = os.path.join(self.work, "plain.uv.glb")

@@ -206,6 +206,50 @@ TEST(ParamCharts, ClosedSphereGivesAtLeastTwoDiskCharts) {
     EXPECT_TRUE(isDisk(h, hall));
 }
 
+TEST(ParamCharts, DiskTestRejectsPinchesRingsAndFins) {
+    // A 3x3 vertex grid (8 triangles) plus a fin vertex above the middle row.
+    TriMesh m;
+    for (int y = 0; y < 3; ++y)
+        for (int x = 0; x < 3; ++x) m.positions.push_back({double(x), double(y), 0});
+    m.positions.push_back({1, 1, 1});  // 9
+    auto v = [](int x, int y) { return uint32_t(y * 3 + x); };
+    for (int y = 0; y < 2; ++y)
+        for (int x = 0; x < 2; ++x) {
+            m.triangles.push_back({v(x, y), v(x + 1, y), v(x + 1, y + 1)});
+            m.triangles.push_back({v(x, y), v(x + 1, y + 1), v(x, y + 1)});
+        }
+    m.triangles.push_back({v(0, 1), v(1, 1), 9});  // 8: a third face on the edge (0,1)-(1,1)
+    m.triangles.push_back({v(1, 1), v(1, 1), 9});  // 9: index-degenerate
+    EXPECT_TRUE(isDisk(m, {0, 1, 2, 3, 4, 5, 6, 7}));
+    EXPECT_TRUE(isDisk(m, {0}));
+    EXPECT_TRUE(isDisk(m, {0, 1}));
+    EXPECT_FALSE(isDisk(m, {}));
+    EXPECT_FALSE(isDisk(m, {0, 7}));                 // two triangles touching at one vertex
+    EXPECT_FALSE(isDisk(m, {0, 5}));                 // two separate triangles
+    EXPECT_FALSE(isDisk(m, {0, 1, 2, 3, 5, 6, 7}));  // face 5 hangs on by two corners only
+    EXPECT_FALSE(isDisk(m, {0, 1, 2, 3, 4, 5, 6, 7, 8}));  // an edge of three faces
+    EXPECT_FALSE(isDisk(m, {0, 9}));
+    // A ring: an 8-segment annulus has no single boundary loop.
+    TriMesh ring;
+    for (int i = 0; i < 8; ++i) {
+        double a = 2 * 3.14159265358979 * i / 8;
+        ring.positions.push_back({std::cos(a), std::sin(a), 0});
+        ring.positions.push_back({2 * std::cos(a), 2 * std::sin(a), 0});
+    }
+    std::vector<uint32_t> all;
+    for (uint32_t i = 0; i < 8; ++i) {
+        uint32_t a = 2 * i, b = 2 * i + 1, c = 2 * ((i + 1) % 8), d = c + 1;
+        ring.triangles.push_back({a, b, d});
+        ring.triangles.push_back({a, d, c});
+        all.push_back(2 * i);
+        all.push_back(2 * i + 1);
+    }
+    EXPECT_FALSE(isDisk(ring, all));
+    all.pop_back();
+    all.pop_back();
+    EXPECT_TRUE(isDisk(ring, all));  // the annulus cut open along one segment
+}
+
 TEST(ParamCharts, NonDiskRegionIsSplit) {
     // One base region holding the whole closed sphere must be split into disks.
     TriMesh m = latLong(6, 8, true);

@@ -54,6 +54,10 @@ void addTextureRefineFlags(ArgParser& p, TextureRefineFlags& a, const std::strin
              "refine up to rank N (fewer when no finer level splits the charts; 0 = MIP-style only; default " +
                  std::to_string(o.ranks) + ")",
              [&o](const std::string& v) { o.ranks = parseInt("--ranks", v); });
+    p.option("--max-refine-triangles", "N",
+             "meshes with more triangles keep T0 for every level: no refined ranks, with a warning (0 = no limit; "
+             "default " + std::to_string(o.maxTriangles) + ")",
+             [&o](const std::string& v) { o.maxTriangles = size_t(std::max(0, parseInt("--max-refine-triangles", v))); });
     p.option(split, "N", "charts each chart is split into per rank (default " + std::to_string(o.splitPerChart) + ")",
              [&o, split](const std::string& v) { o.splitPerChart = uint32_t(std::max(0, parseInt(split, v))); });
     p.option(alpha, "A", "edge vs area weight in E_pixel, in [0,1] (default " + number(o.param.solve.energy.alpha) + ")",

@@ -8,6 +8,7 @@
 #include "lodbake/chart/charts.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <iterator>
 #include <map>
@@ -35,182 +36,227 @@ Vec3 faceNormalArea(const TriMesh& m, uint32_t f) {
     return cross(m.positions[t[1]] - m.positions[t[0]], m.positions[t[2]] - m.positions[t[0]]) * 0.5;
 }
 
-// The vertices and undirected edges of a face set, with how many of its faces use each edge.
-struct FaceSetEdges {
-    std::unordered_map<uint64_t, int> edgeCount;       // edgeKey -> faces of the set using the edge
-    std::unordered_map<uint32_t, uint32_t> vertexSlot;  // vertex -> local index, in first-use order
-};
+// Disk test and shape of face sets of one mesh. Tables indexed by vertex and by edge id, reset by
+// a stamp, replace per-call hash maps: buildCharts measures every candidate merge, and a merge
+// into a large chart re-measures all of its neighbours over the chart's full face list.
+class SetMeasurer {
+public:
+    explicit SetMeasurer(const TriMesh& mesh) : mesh_(mesh) {
+        const size_t nf = mesh.triangleCount();
+        // Edge ids: the half-edges sorted by undirected key, one id per distinct key.
+        std::vector<std::pair<uint64_t, uint32_t>> half(nf * 3);
+        for (uint32_t f = 0; f < nf; ++f) {
+            const Tri& t = mesh.triangles[f];
+            for (uint32_t k = 0; k < 3; ++k) half[f * 3 + k] = {edgeKey(t[k], t[(k + 1) % 3]), f * 3 + k};
+        }
+        std::sort(half.begin(), half.end());
+        faceEdge_.resize(nf * 3);
+        uint32_t id = 0;
+        for (size_t i = 0; i < half.size(); ++i) {
+            if (i > 0 && half[i].first != half[i - 1].first) ++id;
+            faceEdge_[half[i].second] = id;
+        }
+        const size_t edgeCount = half.empty() ? 0 : size_t(id) + 1;
+        edgeStamp_.assign(edgeCount, 0);
+        edgeUses_.assign(edgeCount, 0);
+        edgeFirst_.assign(edgeCount, 0);
+        vertexStamp_.assign(mesh.vertexCount(), 0);
+        vertexSlot_.assign(mesh.vertexCount(), 0);
+    }
 
-// \pre no face of `faces` is index-degenerate (checked by the caller).
-FaceSetEdges collectEdges(const TriMesh& mesh, const std::vector<uint32_t>& faces) {
-    FaceSetEdges e;
-    e.edgeCount.reserve(faces.size() * 2);
-    e.vertexSlot.reserve(faces.size());
-    for (uint32_t f : faces) {
-        const Tri& t = mesh.triangles[f];
-        for (int k = 0; k < 3; ++k) {
-            ++e.edgeCount[edgeKey(t[k], t[(k + 1) % 3])];
-            e.vertexSlot.emplace(t[k], uint32_t(e.vertexSlot.size()));
+    // Disk test of `faces` and, with wantShape, its normal cone and E_region (lengths relative to
+    // `diagonal`, area relative to `totalArea`). A set with an index-degenerate face is no disk.
+    Shape measure(const std::vector<uint32_t>& faces, double totalArea, double diagonal, bool wantShape) {
+        Shape s;
+        if (faces.empty()) return s;
+        for (uint32_t f : faces)
+            if (degenerateIndices(mesh_.triangles[f])) return s;
+        collect(faces);
+        s.disk = singleBoundaryLoop(faces) && connectedWithSingleFans(faces);
+        if (wantShape) regionShape(faces, totalArea, diagonal, s);
+        return s;
+    }
+
+private:
+    // The vertices (local slots in first-use order) and edges of the set, with how many of its
+    // faces use each edge and the first (face slot, corner) using it.
+    void collect(const std::vector<uint32_t>& faces) {
+        if (++stamp_ == 0) {  // wrapped: no table entry may look current
+            std::fill(edgeStamp_.begin(), edgeStamp_.end(), 0);
+            std::fill(vertexStamp_.begin(), vertexStamp_.end(), 0);
+            stamp_ = 1;
+        }
+        vertices_.clear();
+        edges_.clear();
+        for (uint32_t i = 0; i < faces.size(); ++i) {
+            const Tri& t = mesh_.triangles[faces[i]];
+            for (uint32_t k = 0; k < 3; ++k) {
+                uint32_t e = faceEdge_[size_t(faces[i]) * 3 + k];
+                if (edgeStamp_[e] != stamp_) {
+                    edgeStamp_[e] = stamp_;
+                    edgeUses_[e] = 0;
+                    edgeFirst_[e] = i * 3 + k;
+                    edges_.push_back(e);
+                }
+                ++edgeUses_[e];
+                if (vertexStamp_[t[k]] != stamp_) {
+                    vertexStamp_[t[k]] = stamp_;
+                    vertexSlot_[t[k]] = uint32_t(vertices_.size());
+                    vertices_.push_back(t[k]);
+                }
+            }
         }
     }
-    return e;
-}
 
-// Euler characteristic 1, no edge used by more than two faces, and the boundary edges form one
-// closed loop through vertices of exactly two boundary edges each. `boundaryNext` receives, per
-// local vertex, its neighbours along the boundary (empty for interior vertices).
-bool singleBoundaryLoop(const FaceSetEdges& e, size_t faceCount, std::vector<std::vector<uint32_t>>& boundaryNext) {
-    long V = long(e.vertexSlot.size()), E = long(e.edgeCount.size()), F = long(faceCount);
-    bool ok = (V - E + F == 1);
-    boundaryNext.assign(e.vertexSlot.size(), {});
-    size_t boundaryEdges = 0;
-    for (const auto& [key, c] : e.edgeCount) {
-        if (c > 2) ok = false;
-        if (c == 1) {
-            uint32_t a = e.vertexSlot.at(uint32_t(key >> 32)), b = e.vertexSlot.at(uint32_t(key & 0xffffffffu));
-            boundaryNext[a].push_back(b);
-            boundaryNext[b].push_back(a);
+    // Euler characteristic 1, no edge used by more than two faces, and the boundary edges form one
+    // closed loop through vertices of exactly two boundary edges each. Fills boundaryDegree_ and
+    // boundaryNext_ per local vertex (the first two neighbours along the boundary).
+    bool singleBoundaryLoop(const std::vector<uint32_t>& faces) {
+        const long V = long(vertices_.size()), E = long(edges_.size()), F = long(faces.size());
+        bool ok = (V - E + F == 1);
+        boundaryDegree_.assign(vertices_.size(), 0);
+        boundaryNext_.resize(vertices_.size());
+        size_t boundaryEdges = 0;
+        for (uint32_t e : edges_) {
+            if (edgeUses_[e] > 2) ok = false;
+            if (edgeUses_[e] != 1) continue;
+            const uint32_t first = edgeFirst_[e];
+            const Tri& t = mesh_.triangles[faces[first / 3]];
+            const uint32_t a = vertexSlot_[t[first % 3]], b = vertexSlot_[t[(first % 3 + 1) % 3]];
+            if (boundaryDegree_[a] < 2) boundaryNext_[a][boundaryDegree_[a]] = b;
+            if (boundaryDegree_[b] < 2) boundaryNext_[b][boundaryDegree_[b]] = a;
+            ++boundaryDegree_[a];
+            ++boundaryDegree_[b];
             ++boundaryEdges;
         }
-    }
-    uint32_t start = UINT32_MAX;
-    for (uint32_t v = 0; v < boundaryNext.size() && ok; ++v) {
-        if (!boundaryNext[v].empty() && boundaryNext[v].size() != 2) ok = false;
-        if (boundaryNext[v].size() == 2 && start == UINT32_MAX) start = v;
-    }
-    if (ok && start == UINT32_MAX) ok = false;  // closed
-    if (ok) {
-        size_t steps = 0;
-        uint32_t prev = start, cur = boundaryNext[start][0];
-        ++steps;
-        while (cur != start && steps <= boundaryEdges) {
-            uint32_t nxt = boundaryNext[cur][0] == prev ? boundaryNext[cur][1] : boundaryNext[cur][0];
-            prev = cur;
-            cur = nxt;
-            ++steps;
+        uint32_t start = UINT32_MAX;
+        for (uint32_t v = 0; v < vertices_.size() && ok; ++v) {
+            if (boundaryDegree_[v] != 0 && boundaryDegree_[v] != 2) ok = false;
+            if (boundaryDegree_[v] == 2 && start == UINT32_MAX) start = v;
         }
-        if (steps != boundaryEdges) ok = false;
-    }
-    return ok;
-}
-
-// Every vertex has a single fan of faces (its corners are joined through shared edges) and the
-// faces form one edge-connected piece: union-find on face corners, where corners (f, v) and
-// (g, v) are joined when f and g share an edge containing v.
-bool connectedWithSingleFans(const TriMesh& mesh, const std::vector<uint32_t>& faces, const FaceSetEdges& e) {
-    std::vector<uint32_t> parent(faces.size() * 3);
-    for (uint32_t i = 0; i < parent.size(); ++i) parent[i] = i;
-    auto find = [&](uint32_t x) {
-        while (parent[x] != x) x = parent[x] = parent[parent[x]];
-        return x;
-    };
-    auto unite = [&](uint32_t a, uint32_t b) {
-        a = find(a);
-        b = find(b);
-        if (a != b) parent[std::max(a, b)] = std::min(a, b);
-    };
-    std::unordered_map<uint64_t, std::pair<uint32_t, int>> firstEdge;  // edge -> (face slot, corner)
-    firstEdge.reserve(e.edgeCount.size());
-    for (uint32_t i = 0; i < faces.size(); ++i) {
-        const Tri& t = mesh.triangles[faces[i]];
-        for (int k = 0; k < 3; ++k) {
-            uint64_t key = edgeKey(t[k], t[(k + 1) % 3]);
-            auto it = firstEdge.find(key);
-            if (it == firstEdge.end()) {
-                firstEdge.emplace(key, std::make_pair(i, k));
-                continue;
+        if (ok && start == UINT32_MAX) ok = false;  // closed
+        if (ok) {
+            size_t steps = 1;
+            uint32_t prev = start, cur = boundaryNext_[start][0];
+            while (cur != start && steps <= boundaryEdges) {
+                uint32_t nxt = boundaryNext_[cur][0] == prev ? boundaryNext_[cur][1] : boundaryNext_[cur][0];
+                prev = cur;
+                cur = nxt;
+                ++steps;
             }
-            uint32_t j = it->second.first;
-            const Tri& u = mesh.triangles[faces[j]];
-            // corners of vertex t[k] and t[k+1] in face j
-            for (int a = 0; a < 2; ++a) {
-                uint32_t v = t[(k + a) % 3];
-                int cj = u[0] == v ? 0 : (u[1] == v ? 1 : 2);
-                unite(i * 3 + uint32_t((k + a) % 3), j * 3 + uint32_t(cj));
+            if (steps != boundaryEdges) ok = false;
+        }
+        return ok;
+    }
+
+    // Every vertex has a single fan of faces (its corners are joined through shared edges) and the
+    // faces form one edge-connected piece: union-find on face corners, where corners (f, v) and
+    // (g, v) are joined when f and g share an edge containing v.
+    // \pre every edge of the set is used by at most two of its faces.
+    bool connectedWithSingleFans(const std::vector<uint32_t>& faces) {
+        parent_.resize(faces.size() * 3);
+        for (uint32_t i = 0; i < parent_.size(); ++i) parent_[i] = i;
+        auto find = [&](uint32_t x) {
+            while (parent_[x] != x) x = parent_[x] = parent_[parent_[x]];
+            return x;
+        };
+        auto unite = [&](uint32_t a, uint32_t b) {
+            a = find(a);
+            b = find(b);
+            if (a != b) parent_[std::max(a, b)] = std::min(a, b);
+        };
+        for (uint32_t i = 0; i < faces.size(); ++i) {
+            const Tri& t = mesh_.triangles[faces[i]];
+            for (uint32_t k = 0; k < 3; ++k) {
+                const uint32_t e = faceEdge_[size_t(faces[i]) * 3 + k];
+                const uint32_t first = edgeFirst_[e];
+                if (first == i * 3 + k) continue;
+                const uint32_t j = first / 3;
+                const Tri& u = mesh_.triangles[faces[j]];
+                for (uint32_t a = 0; a < 2; ++a) {
+                    uint32_t v = t[(k + a) % 3];
+                    uint32_t cj = u[0] == v ? 0 : (u[1] == v ? 1 : 2);
+                    unite(i * 3 + (k + a) % 3, j * 3 + cj);
+                }
             }
         }
-    }
-    // Fans: corners of the same vertex must all be in one set.
-    std::unordered_map<uint32_t, uint32_t> vertexRoot;
-    vertexRoot.reserve(e.vertexSlot.size());
-    for (uint32_t i = 0; i < faces.size(); ++i) {
-        const Tri& t = mesh.triangles[faces[i]];
-        for (int k = 0; k < 3; ++k) {
-            uint32_t r = find(i * 3 + uint32_t(k));
-            auto [it, inserted] = vertexRoot.emplace(t[k], r);
-            if (!inserted && it->second != r) return false;
+        // Fans: corners of the same vertex must all be in one set.
+        vertexRoot_.assign(vertices_.size(), UINT32_MAX);
+        for (uint32_t i = 0; i < faces.size(); ++i) {
+            const Tri& t = mesh_.triangles[faces[i]];
+            for (uint32_t k = 0; k < 3; ++k) {
+                uint32_t r = find(i * 3 + k);
+                uint32_t& root = vertexRoot_[vertexSlot_[t[k]]];
+                if (root == UINT32_MAX) root = r;
+                else if (root != r) return false;
+            }
         }
+        // Face connectivity: corners of one face belong together.
+        std::vector<uint32_t>& fparent = vertexRoot_;  // reused: one slot per face now
+        fparent.resize(faces.size());
+        for (uint32_t i = 0; i < faces.size(); ++i) fparent[i] = i;
+        auto ffind = [&](uint32_t x) {
+            while (fparent[x] != x) x = fparent[x] = fparent[fparent[x]];
+            return x;
+        };
+        for (uint32_t i = 0; i < faces.size(); ++i)
+            for (uint32_t k = 0; k < 3; ++k) {
+                uint32_t r = find(i * 3 + k) / 3;
+                uint32_t a = ffind(i), b = ffind(r);
+                if (a != b) fparent[std::max(a, b)] = std::min(a, b);
+            }
+        for (uint32_t i = 0; i < faces.size(); ++i)
+            if (ffind(i) != 0) return false;
+        return true;
     }
-    // Face connectivity: corners of one face belong together.
-    std::vector<uint32_t> fparent(faces.size());
-    for (uint32_t i = 0; i < faces.size(); ++i) fparent[i] = i;
-    auto ffind = [&](uint32_t x) {
-        while (fparent[x] != x) x = fparent[x] = fparent[fparent[x]];
-        return x;
-    };
-    for (uint32_t i = 0; i < faces.size(); ++i)
-        for (int k = 0; k < 3; ++k) {
-            uint32_t r = find(i * 3 + uint32_t(k)) / 3;
-            uint32_t a = ffind(i), b = ffind(r);
-            if (a != b) fparent[std::max(a, b)] = std::min(a, b);
+
+    // Normal cone and E_region of a face set: the plane through the area-weighted centroid with the
+    // mean normal; E_region = (set area / total area) x (largest distance to that plane + spread of
+    // the boundary vertices' distances to the centroid) / diagonal.
+    void regionShape(const std::vector<uint32_t>& faces, double totalArea, double diagonal, Shape& s) const {
+        const TriMesh& mesh = mesh_;
+        Vec3 nsum{}, csum{};
+        double area = 0;
+        for (uint32_t f : faces) {
+            Vec3 na = faceNormalArea(mesh, f);
+            double a = length(na);
+            const Tri& t = mesh.triangles[f];
+            nsum += na;
+            csum += (mesh.positions[t[0]] + mesh.positions[t[1]] + mesh.positions[t[2]]) * (a / 3);
+            area += a;
         }
-    for (uint32_t i = 0; i < faces.size(); ++i)
-        if (ffind(i) != 0) return false;
-    return true;
-}
+        Vec3 n = normalize(nsum);
+        Vec3 c = area > 0 ? csum / area : mesh.positions[mesh.triangles[faces[0]][0]];
+        double minCos = 1;
+        for (uint32_t f : faces) {
+            Vec3 nf = normalize(faceNormalArea(mesh, f));
+            if (length2(nf) > 0) minCos = std::min(minCos, dot(nf, n));
+        }
+        if (length2(n) == 0) minCos = -1;
+        s.coneDegrees = std::acos(std::clamp(minCos, -1.0, 1.0)) * 180 / kPi;
+        double maxPlane = 0;
+        for (uint32_t v : vertices_) maxPlane = std::max(maxPlane, std::fabs(dot(mesh.positions[v] - c, n)));
+        double bmax = 0, bmin = 1e300;
+        for (uint32_t slot = 0; slot < vertices_.size(); ++slot) {
+            if (boundaryDegree_[slot] == 0) continue;
+            double d = length(mesh.positions[vertices_[slot]] - c);
+            bmax = std::max(bmax, d);
+            bmin = std::min(bmin, d);
+        }
+        if (bmin > bmax) bmin = bmax;
+        double diag = diagonal > 0 ? diagonal : 1;
+        s.energy = (totalArea > 0 ? area / totalArea : 0) * (maxPlane + bmax - bmin) / diag;
+    }
 
-// Normal cone and E_region of a face set: the plane through the area-weighted centroid with the
-// mean normal; E_region = (set area / total area) x (largest distance to that plane + spread of
-// the boundary vertices' distances to the centroid) / diagonal.
-void regionShape(const TriMesh& mesh, const std::vector<uint32_t>& faces, const FaceSetEdges& e,
-                 const std::vector<std::vector<uint32_t>>& boundaryNext, double totalArea, double diagonal, Shape& s) {
-    Vec3 nsum{}, csum{};
-    double area = 0;
-    for (uint32_t f : faces) {
-        Vec3 na = faceNormalArea(mesh, f);
-        double a = length(na);
-        const Tri& t = mesh.triangles[f];
-        nsum += na;
-        csum += (mesh.positions[t[0]] + mesh.positions[t[1]] + mesh.positions[t[2]]) * (a / 3);
-        area += a;
-    }
-    Vec3 n = normalize(nsum);
-    Vec3 c = area > 0 ? csum / area : mesh.positions[mesh.triangles[faces[0]][0]];
-    double minCos = 1;
-    for (uint32_t f : faces) {
-        Vec3 nf = normalize(faceNormalArea(mesh, f));
-        if (length2(nf) > 0) minCos = std::min(minCos, dot(nf, n));
-    }
-    if (length2(n) == 0) minCos = -1;
-    s.coneDegrees = std::acos(std::clamp(minCos, -1.0, 1.0)) * 180 / kPi;
-    double maxPlane = 0;
-    for (const auto& [v, slot] : e.vertexSlot) maxPlane = std::max(maxPlane, std::fabs(dot(mesh.positions[v] - c, n)));
-    double bmax = 0, bmin = 1e300;
-    for (const auto& [v, slot] : e.vertexSlot) {
-        if (boundaryNext[slot].empty()) continue;
-        double d = length(mesh.positions[v] - c);
-        bmax = std::max(bmax, d);
-        bmin = std::min(bmin, d);
-    }
-    if (bmin > bmax) bmin = bmax;
-    double diag = diagonal > 0 ? diagonal : 1;
-    s.energy = (totalArea > 0 ? area / totalArea : 0) * (maxPlane + bmax - bmin) / diag;
-}
-
-// Disk test of `faces` and, with wantShape, its normal cone and E_region (lengths relative to
-// `diagonal`, area relative to `totalArea`). A set with an index-degenerate face is no disk.
-Shape measure(const TriMesh& mesh, const std::vector<uint32_t>& faces, double totalArea, double diagonal,
-              bool wantShape) {
-    Shape s;
-    if (faces.empty()) return s;
-    for (uint32_t f : faces)
-        if (degenerateIndices(mesh.triangles[f])) return s;
-    const FaceSetEdges e = collectEdges(mesh, faces);
-    std::vector<std::vector<uint32_t>> boundaryNext;
-    s.disk = singleBoundaryLoop(e, faces.size(), boundaryNext) && connectedWithSingleFans(mesh, faces, e);
-    if (wantShape) regionShape(mesh, faces, e, boundaryNext, totalArea, diagonal, s);
-    return s;
-}
+    const TriMesh& mesh_;
+    std::vector<uint32_t> faceEdge_;                 // edge id of face f's edge (t[k], t[k+1]) at 3f+k
+    std::vector<uint32_t> edgeStamp_, edgeUses_, edgeFirst_;  // per edge id; first = 3 x face slot + corner
+    std::vector<uint32_t> vertexStamp_, vertexSlot_;  // per mesh vertex
+    uint32_t stamp_ = 0;
+    std::vector<uint32_t> vertices_, edges_;          // of the current set, in first-use order
+    std::vector<uint32_t> boundaryDegree_, parent_, vertexRoot_;
+    std::vector<std::array<uint32_t, 2>> boundaryNext_;
+};
 
 // Connected components of `faces` (edge adjacency restricted to the set), each sorted.
 std::vector<std::vector<uint32_t>> components(const CompressedRows& adj, const std::vector<uint32_t>& faces,
@@ -292,7 +338,7 @@ struct Candidate {
 }  // namespace
 
 bool isDisk(const TriMesh& mesh, const std::vector<uint32_t>& faces) {
-    return measure(mesh, faces, 0, 1, false).disk;
+    return SetMeasurer(mesh).measure(faces, 0, 1, false).disk;
 }
 
 ChartResult buildCharts(const TriMesh& mesh, const std::vector<uint32_t>& faceRegion, const ChartOptions& options) {
@@ -319,6 +365,7 @@ ChartResult buildCharts(const TriMesh& mesh, const std::vector<uint32_t>& faceRe
     }
     result.baseRegions = uint32_t(regions.size());
     std::vector<int32_t> mark(nf, -1);
+    SetMeasurer measurer(mesh);
     std::vector<Chart> charts;
     for (auto& [rep, faces] : regions) {
         std::vector<std::vector<uint32_t>> work = components(adj, faces, mark, 1);
@@ -328,7 +375,7 @@ ChartResult buildCharts(const TriMesh& mesh, const std::vector<uint32_t>& faceRe
             work.pop_back();
             // A piece is kept when it is a disk within the normal-cone limit (a base region may
             // cover most of a closed surface: a sphere minus one triangle is a disk but flattens badly).
-            Shape shape = measure(mesh, part, totalArea, diagonal, options.splitNormalConeDegrees > 0);
+            Shape shape = measurer.measure(part, totalArea, diagonal, options.splitNormalConeDegrees > 0);
             bool coneOk = options.splitNormalConeDegrees <= 0 || shape.coneDegrees <= options.splitNormalConeDegrees;
             if (part.size() == 1 || (shape.disk && coneOk)) {
                 charts.push_back({std::move(part), 0, true});
@@ -367,11 +414,15 @@ ChartResult buildCharts(const TriMesh& mesh, const std::vector<uint32_t>& faceRe
         return m;
     };
     size_t alive = charts.size();
+    std::vector<uint32_t> merged;  // scratch: the face list of the candidate merge being measured
     auto runPhase = [&](bool relaxed) {
         std::priority_queue<Candidate, std::vector<Candidate>, std::greater<Candidate>> heap;
         auto push = [&](uint32_t a, uint32_t b) {
             if (a > b) std::swap(a, b);
-            Shape s = measure(mesh, mergedFaces(a, b), totalArea, diagonal, true);
+            merged.clear();
+            std::merge(charts[a].faces.begin(), charts[a].faces.end(), charts[b].faces.begin(), charts[b].faces.end(),
+                       std::back_inserter(merged));
+            Shape s = measurer.measure(merged, totalArea, diagonal, true);
             if (!s.disk) return;
             if (!relaxed) {
                 if (options.maxNormalConeDegrees > 0 && s.coneDegrees > options.maxNormalConeDegrees) return;

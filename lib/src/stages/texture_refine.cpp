@@ -87,7 +87,7 @@ nlohmann::json makeReport(const TextureRefineSettings& s, const Asset& asset, co
     rep["options"] = {{"size", o.param.textureSize}, {"sizes", o.sizes}, {"imagesBaked", o.bakeImages}, {"ranks", o.ranks},
                       {"minRefinedSize", o.minRefinedSize}, {"keepLevelTrianglesWhole", o.keepLevelTrianglesWhole},
                       {"minStdDev", o.minAreaRatioStdDev}, {"maxExtraCuts", o.maxExtraCutFraction},
-                      {"split", o.splitPerChart}, {"alpha", o.param.solve.energy.alpha}, {"beta", o.param.solve.energy.beta}, {"iterations", o.param.solve.maxIterations}};
+                      {"split", o.splitPerChart}, {"maxTriangles", o.maxTriangles}, {"alpha", o.param.solve.energy.alpha}, {"beta", o.param.solve.energy.beta}, {"iterations", o.param.solve.maxIterations}};
     rep["levelNumbering"] = "0 = original mesh, k = multires level k (coarser as k grows); a texture is valid for levels validLevels[0]..validLevels[1]";
     rep["energyDefinition"] = "E = beta E_pixel + (1 - beta) E_poly over the layout's charts in model-unit UVs, pairs of the "
                               "levels served, r = 512^2 / texels; areaRatioStdDev over the triangles of the levels served";
@@ -130,6 +130,10 @@ StageResult runTextureRefine(const TextureRefineSettings& s) {
     opt.param.threads = s.common.threads;
     opt.progress = s.common.progress;
     RefineResult res = refineTextures(asset, *multires, opt);
+    for (const std::string& w : res.warnings) {  // printed now (stderr) and kept for the report
+        if (s.common.warning) s.common.warning(w);
+        asset.warnings.push_back(w);
+    }
 
     applyTextureHierarchy(asset, *multires, res);
     double writeSeconds = writeStageOutput(s.common, asset, &*multires, "texture-refine");

@@ -214,15 +214,32 @@ void checkRefineInput(const Asset& asset, const Multires& mr, const RefineOption
     if (o.sizes.empty()) throw InvalidInput("no texture sizes");
 }
 
+// T0's measure over levels 0..l, made once per l: every candidate and rank compares against it.
+class BaseMeasures {
+public:
+    BaseMeasures(const TriMesh& mesh, const Multires& mr, const ChartEnergyOptions& eo) : mesh_(mesh), mr_(mr), eo_(eo) {}
+    const LayoutMeasure& upTo(uint32_t lastLevel) {
+        auto it = byLevel_.find(lastLevel);
+        if (it == byLevel_.end()) it = byLevel_.emplace(lastLevel, measureLayout(mesh_, mr_, mr_.charts, lastLevel, eo_)).first;
+        return it->second;
+    }
+
+private:
+    const TriMesh& mesh_;
+    const Multires& mr_;
+    ChartEnergyOptions eo_;
+    std::map<uint32_t, LayoutMeasure> byLevel_;
+};
+
 // Rank 0: T0 as it is, valid for every level.
-RankResult rankZero(const TriMesh& mesh, const Multires& mr, const ChartEnergyOptions& eo) {
+RankResult rankZero(const TriMesh& mesh, const Multires& mr, BaseMeasures& base) {
     const uint32_t n = uint32_t(mr.levels.size());
     RankResult r0;
     r0.rank = 0;
     r0.lastLevel = n;
     r0.layout = mr.charts;
     r0.layout.material = -1;
-    r0.measure = measureLayout(mesh, mr, r0.layout, n, eo);
+    r0.measure = base.upTo(n);
     r0.base = r0.measure;
     r0.regions = n > 0 ? countRegions(mr.levels.back().faceRegion) : uint32_t(mesh.triangleCount());
     return r0;
@@ -283,10 +300,13 @@ void keepLevelTrianglesWhole(const TriMesh& mesh, const Multires& mr, const Char
 
 // Parameterises the candidate's charts; parents whose pieces came out worse than the parent are
 // split again, finer (twice as many pieces) for two rounds and then not at all.
-void solveRankLayout(const TriMesh& mesh, const Multires& mr, const ChartLayout& parent, const RefineOptions& o,
-                     const ChartEnergyOptions& eo, std::vector<uint32_t>& per, SplitCandidate& cand, RankResult& rr) {
+// `parentIsT0`: the parent is rank 0 (T0 itself), whose measure `base` has.
+void solveRankLayout(const TriMesh& mesh, const Multires& mr, const ChartLayout& parent, bool parentIsT0, const RefineOptions& o,
+                     const ChartEnergyOptions& eo, BaseMeasures& base, std::vector<uint32_t>& per, SplitCandidate& cand,
+                     RankResult& rr) {
     // The parent layout's own energy per chart over the levels this rank serves.
-    const std::vector<ChartEnergy> parentE = measureLayout(mesh, mr, parent, cand.level, eo).chartEnergies;
+    const std::vector<ChartEnergy> parentE =
+        parentIsT0 ? base.upTo(cand.level).chartEnergies : measureLayout(mesh, mr, parent, cand.level, eo).chartEnergies;
     std::vector<uint32_t> bad;
     for (int attempt = 0;; ++attempt) {
         rr.layout = rankLayout(mesh, mr, rr.lastLevel, cand.charts, o, parent.faceChart, parentE, rr, bad);
@@ -304,9 +324,10 @@ void solveRankLayout(const TriMesh& mesh, const Multires& mr, const ChartLayout&
 // outside its chart take projected UVs, which smear the texture; cut boundaries are not
 // p-boundaries there), and, over 0..v, it lowers both E and the area-ratio std-dev of T0.
 // Sets rr.lastLevel, rr.measure and rr.base; returns whether such a run exists.
-bool trimServedLevels(const TriMesh& mesh, const Multires& mr, const RefineOptions& o, const ChartEnergyOptions& eo, RankResult& rr) {
+bool trimServedLevels(const TriMesh& mesh, const Multires& mr, const RefineOptions& o, const ChartEnergyOptions& eo,
+                      BaseMeasures& base, RankResult& rr) {
     rr.measure = measureLayout(mesh, mr, rr.layout, rr.lastLevel, eo);
-    rr.base = measureLayout(mesh, mr, mr.charts, rr.lastLevel, eo);
+    rr.base = base.upTo(rr.lastLevel);
     auto serves = [&](uint32_t l) {
         const UVInjectivity& a = rr.measure.levels[l];
         const double extra = o.maxExtraCutFraction * double(a.triangles);
@@ -318,7 +339,7 @@ bool trimServedLevels(const TriMesh& mesh, const Multires& mr, const RefineOptio
         if (valid < rr.lastLevel) {
             rr.lastLevel = valid;
             rr.measure = measureLayout(mesh, mr, rr.layout, rr.lastLevel, eo);
-            rr.base = measureLayout(mesh, mr, mr.charts, rr.lastLevel, eo);
+            rr.base = base.upTo(rr.lastLevel);
         }
         const bool better = rr.measure.energy.E < rr.base.energy.E && rr.measure.areaRatioStdDev < rr.base.areaRatioStdDev;
         if (better) return true;
@@ -365,7 +386,8 @@ RefineResult refineTextures(const Asset& asset, const Multires& mr, const Refine
     checkRefineInput(asset, mr, o);
     const TriMesh& mesh = asset.mesh;
     const uint32_t n = uint32_t(mr.levels.size());
-    const uint32_t maxRank = std::min<uint32_t>(uint32_t(std::max(0, o.ranks)), n);
+    const bool overBudget = o.maxTriangles > 0 && mesh.triangleCount() > o.maxTriangles;
+    const uint32_t maxRank = overBudget ? 0 : std::min<uint32_t>(uint32_t(std::max(0, o.ranks)), n);
     const double steps = double(maxRank + 1) * double(o.sizes.size()) + 2.0 * maxRank + 1;
     double done = 0;
     auto step = [&] { if (o.progress) o.progress(++done / steps); };
@@ -374,7 +396,11 @@ RefineResult refineTextures(const Asset& asset, const Multires& mr, const Refine
     eo.alpha = o.param.solve.energy.alpha;
     eo.beta = o.param.solve.energy.beta;
     RefineResult res;
-    res.ranks.push_back(rankZero(mesh, mr, eo));
+    BaseMeasures base(mesh, mr, eo);
+    res.ranks.push_back(rankZero(mesh, mr, base));
+    if (overBudget && o.ranks > 0 && n > 0)
+        res.warnings.push_back(std::to_string(mesh.triangleCount()) + " triangles is over the budget of " +
+                               std::to_string(o.maxTriangles) + " (--max-refine-triangles): no refined ranks, T0 serves every level");
     step();
     // Rank j splits rank j-1's charts by the regions of the next finer level that splits them; a
     // candidate is kept only when it lowers both E and the area-ratio spread of T0 over the levels
@@ -385,7 +411,7 @@ RefineResult refineTextures(const Asset& asset, const Multires& mr, const Refine
         SplitCandidate cand = nextSplit(mesh, mr, parent, source, o.splitPerChart);
         if (cand.count <= parent.chartCount) break;
         source = cand.level;
-        if (measureLayout(mesh, mr, mr.charts, cand.level, eo).areaRatioStdDev < o.minAreaRatioStdDev) {
+        if (base.upTo(cand.level).areaRatioStdDev < o.minAreaRatioStdDev) {
             res.rejected.push_back({cand.level, cand.count, "T0 is already near-isometric on these levels (area-ratio std-dev below the limit)"});
             continue;
         }
@@ -405,7 +431,7 @@ RefineResult refineTextures(const Asset& asset, const Multires& mr, const Refine
         // (another candidate serves other levels, so its charts have other pairs: none would hit).
         o.param.solveCache = makeChartSolveCache();
         try {
-            solveRankLayout(mesh, mr, parent, o, eo, per, cand, rr);
+            solveRankLayout(mesh, mr, parent, res.ranks.size() == 1, o, eo, base, per, cand, rr);
         } catch (const Impossible& e) {
             res.rejected.push_back({cand.level, cand.count, std::string("its charts do not fit the texture (") + e.what() + ")"});
             break;
@@ -416,7 +442,7 @@ RefineResult refineTextures(const Asset& asset, const Multires& mr, const Refine
             continue;
         }
         step();
-        const bool better = trimServedLevels(mesh, mr, o, eo, rr);
+        const bool better = trimServedLevels(mesh, mr, o, eo, base, rr);
         step();
         if (!better) {
             res.rejected.push_back({cand.level, rr.layout.chartCount, "does not lower both E and the area-ratio std-dev of T0"});

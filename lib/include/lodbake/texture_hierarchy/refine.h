@@ -114,6 +114,10 @@ struct RefineOptions {
     double minAreaRatioStdDev = 0.05;
     int ranks = 2;                         // refine up to this rank (fewer when no finer level splits the charts)
     uint32_t splitPerChart = 4;            // charts per parent chart
+    // Budget: a mesh with more triangles than this keeps T0 for every level (no rank >= 1; a
+    // warning says so). Each rank re-solves every chart of the mesh several times, which takes
+    // minutes of CPU at a million triangles. 0 = no limit.
+    size_t maxTriangles = 500000;
     std::function<bool(double)> progress;  // fraction done; may be empty
 };
 
@@ -153,6 +157,7 @@ struct RefineResult {
     std::vector<RankResult> ranks;   // rank 0 first
     std::vector<RejectedRank> rejected;
     std::vector<RefinedImage> images;  // rank then size ascending
+    std::vector<std::string> warnings;  // fallbacks taken (e.g. the triangle budget)
     double seconds = 0;
 };
 
