@@ -199,7 +199,7 @@ void replaceJson(const json& root, bool isGlb, std::vector<unsigned char>& bytes
 void loadModel(ReadContext& c, tinygltf::Model& model) {
     const std::string& path = c.path;
     if (!c.bytes && std::filesystem::is_directory(path)) throw IOError(path + ": is a directory");
-    std::vector<unsigned char> bytes = c.bytes ? *c.bytes : readFileBytes(path);
+    std::vector<unsigned char> bytes = c.bytes ? std::move(*c.bytes) : readFileBytes(path);
     if (bytes.empty()) fail(c, "empty file");
 
     tinygltf::TinyGLTF loader;
@@ -739,7 +739,7 @@ Asset readGltf(const std::string& path, const ReadOptions& options, std::optiona
     return readWith(c, options, multires);
 }
 
-Asset readGltfBytes(const std::string& path, const std::vector<unsigned char>& bytes, const ReadOptions& options,
+Asset readGltfBytes(const std::string& path, std::vector<unsigned char> bytes, const ReadOptions& options,
                     std::optional<Multires>* multires) {
     ReadContext c;
     c.path = path;

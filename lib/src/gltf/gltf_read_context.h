@@ -19,8 +19,9 @@ namespace lodbake::gltf_detail {
 
 struct ReadContext {
     std::string path;
-    // The file's bytes when they are already in memory (readGltfBytes); null = read `path`.
-    const std::vector<unsigned char>* bytes = nullptr;
+    // The file's bytes when they are already in memory (readGltfBytes; loading moves them out, so
+    // no second copy lives beside tinygltf's buffers); null = read `path`.
+    std::vector<unsigned char>* bytes = nullptr;
     const tinygltf::Model* model = nullptr;
     nlohmann::json root;
 };

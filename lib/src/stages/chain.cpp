@@ -48,10 +48,10 @@ struct ChainRun {
         return (std::filesystem::path(settings.keepIntermediates) / name).string();
     }
 
-    // Runs one stage that reads `in` (null: the chain's input file) and writes `out` (null: the
-    // chain's output file).
+    // Runs one stage that reads `in` (null: the chain's input file; the stage takes its bytes) and
+    // writes `out` (null: the chain's output file).
     template <class Settings, class Stage>
-    void run(const std::string& stage, Settings s, const Intermediate* in, Intermediate* out, Stage runStage) {
+    void run(const std::string& stage, Settings s, Intermediate* in, Intermediate* out, Stage runStage) {
         s.common = common(stage, in ? in->path : settings.common.input, out ? out->path : settings.common.output);
         if (in) {
             s.common.inputBytes = &in->bytes;
@@ -84,8 +84,7 @@ StageResult runChain(const ChainSettings& s) {
     ParameterizeSettings parameterize = s.parameterize;
     parameterize.bakeImage = parameterize.bakeImage && !s.keepIntermediates.empty();
     chain.run("parameterize", parameterize, &multires, &parameterized, runParameterize);
-    multires.bytes = Bytes();
-    const Intermediate* packInput = &parameterized;
+    Intermediate* packInput = &parameterized;
     Intermediate refined{chain.intermediatePath(".tex.glb"), {}, true};
     if (s.runTextureRefine) {
         // pack reads the hierarchy's layouts and texture sizes, never its images: they are baked
@@ -93,7 +92,6 @@ StageResult runChain(const ChainSettings& s) {
         TextureRefineSettings refine = s.textureRefine;
         refine.refine.bakeImages = refine.refine.bakeImages && !s.keepIntermediates.empty();
         chain.run("texture-refine", refine, &parameterized, &refined, runTextureRefine);
-        parameterized.bytes = Bytes();
         packInput = &refined;
     }
     chain.run("pack", s.pack, packInput, nullptr, runPack);

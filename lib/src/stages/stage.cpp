@@ -12,7 +12,7 @@ namespace lodbake {
 Asset loadStageInput(const StageCommon& common, double& seconds, std::optional<Multires>* multires,
                      void (*check)(Asset&, ImageCheck)) {
     Clock::time_point t0 = Clock::now();
-    Asset asset = common.inputBytes ? readGltfBytes(common.input, *common.inputBytes, {}, multires)
+    Asset asset = common.inputBytes ? readGltfBytes(common.input, std::move(*common.inputBytes), {}, multires)
                                     : readGltf(common.input, {}, multires);
     if (check) check(asset, common.inputImagesDecoded ? ImageCheck::Header : ImageCheck::Decode);
     seconds = secondsSince(t0);

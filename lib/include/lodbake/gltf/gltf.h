@@ -43,9 +43,10 @@ Asset readGltf(const std::string& path, const ReadOptions& options = {},
                std::optional<Multires>* multires = nullptr);
 
 // readGltf of a file whose bytes are already in memory (the lodbake chain passes each stage's
-// output on this way). `path` names the data in messages and in Asset::sourcePath, and relative
-// URIs resolve against its folder. \throw as readGltf.
-Asset readGltfBytes(const std::string& path, const std::vector<unsigned char>& bytes, const ReadOptions& options = {},
+// output on this way; it moves them in, so they are freed once parsed). `path` names the data in
+// messages and in Asset::sourcePath, and relative URIs resolve against its folder.
+// \throw as readGltf.
+Asset readGltfBytes(const std::string& path, std::vector<unsigned char> bytes, const ReadOptions& options = {},
                     std::optional<Multires>* multires = nullptr);
 
 struct WriteOptions {

@@ -31,10 +31,10 @@ struct StageCommon {
     std::function<void(const std::string&)> warning;  // each warning of the input, as soon as it is read; may be empty
     // In memory instead of files (the lodbake chain, lodbake/stages/chain.h). When inputBytes is
     // set, the stage reads these bytes instead of the file `input` (messages and the report still
-    // name `input`). When outputBytes is set, a stage that writes a multiresolution glTF
+    // name `input`) and takes them: they are empty once it has loaded its input. When outputBytes is set, a stage that writes a multiresolution glTF
     // (writeStageOutput) encodes it there, as the .glb it would write to `output`, instead of
     // writing the file.
-    const std::vector<unsigned char>* inputBytes = nullptr;
+    std::vector<unsigned char>* inputBytes = nullptr;
     std::vector<unsigned char>* outputBytes = nullptr;
     // Every image of the input was decoded in full by an earlier stage of this process (the lodbake
     // chain hands its own intermediates on): loading checks image headers only.
