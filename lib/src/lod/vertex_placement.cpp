@@ -141,8 +141,9 @@ PlacementResult placeLevelVertices(const TriMesh& original, const DistanceRefere
     // The samples resolve the original's detail (the level has fewer triangles than the original),
     // so their count on either side follows the original's triangles, capped by the level's free
     // vertices (the unknowns to fit).
-    const size_t sideCap =
-        original.triangles.size() > options.largeOriginal ? options.samplesPerSideLarge : options.samplesPerSide;
+    const size_t sideCap = original.triangles.size() > options.largeOriginal
+                               ? options.samplesPerSideLarge
+                               : std::clamp(original.triangles.size(), options.samplesPerSide, options.samplesPerSideMax);
     const size_t sampleCount = std::min({sideCap, std::max(options.minSamples, options.samplesPerTriangle * original.triangles.size()),
                                          std::max(options.minSamples, options.samplesPerVertex * (nv - res.fixed))});
     const std::vector<SurfaceSample> originalSamples = areaSamples(original.positions, original.triangles, sampleCount);

@@ -40,13 +40,14 @@ struct PlacementOptions {
     // leans it towards the largest ones (the Hausdorff distance). 0 = plain least squares.
     double reweightPower = 2;
     // Area samples per side and round: samplesPerTriangle per triangle of the original, at least
-    // minSamples, at most samplesPerSide; at most samplesPerSideLarge for an original of more than
-    // largeOriginal triangles, where the rounds' closest-point queries would dominate the chain's
-    // time (fewer samples miss more of a dense original's narrow features, so the coarse levels'
-    // Hausdorff distance gains less).
+    // minSamples, at most one per original triangle between samplesPerSide and samplesPerSideMax
+    // (fewer samples than triangles miss a dense original's narrow features, which the Hausdorff
+    // distance finds); at most samplesPerSideLarge for an original of more than largeOriginal
+    // triangles, where the rounds' closest-point queries would dominate the chain's time.
     size_t samplesPerTriangle = 16;
     size_t minSamples = 2000;
-    size_t samplesPerSide = 60000;
+    size_t samplesPerSide = 20000;
+    size_t samplesPerSideMax = 60000;
     size_t largeOriginal = 250000;
     size_t samplesPerSideLarge = 20000;
     // ... and at most samplesPerVertex per free level vertex (at least minSamples): few unknowns need
