@@ -232,6 +232,13 @@ const MipTexture& decodedSource(const Asset& asset, SourceTexture& src, size_t i
     return src.mip;
 }
 
+// The image a texture reference samples; -1 when it names no texture or image of the asset.
+int imageOf(const Asset& asset, const TextureRef& ref) {
+    if (ref.texture < 0 || ref.texture >= int(asset.textures.size())) return -1;
+    const int i = asset.textures[size_t(ref.texture)].image;
+    return i >= 0 && i < int(asset.images.size()) ? i : -1;
+}
+
 // Decodes, on `threads` threads, every image that baking `ch` reads (each once, in any order:
 // each is decoded on its own), so the shading threads do not wait on one another's decodes.
 void decodeSources(const Asset& asset, std::vector<SourceTexture>& sources, const BakeChannels& ch, int threads) {
@@ -241,9 +248,8 @@ void decodeSources(const Asset& asset, std::vector<SourceTexture>& sources, cons
                                     ch.orm ? &m.specularGlossiness : nullptr, ch.emissive ? &m.emissive : nullptr,
                                     ch.normal ? &m.normal : nullptr};
         for (const TextureRef* ref : refs) {
-            if (!ref || ref->texture < 0 || ref->texture >= int(asset.textures.size())) continue;
-            const int i = asset.textures[size_t(ref->texture)].image;
-            if (i >= 0 && size_t(i) < sources.size() && sources[size_t(i)].used) images.push_back(size_t(i));
+            const int i = ref ? imageOf(asset, *ref) : -1;
+            if (i >= 0 && sources[size_t(i)].used) images.push_back(size_t(i));
         }
     }
     std::sort(images.begin(), images.end());
@@ -456,10 +462,8 @@ struct BakeSources::Impl {
     explicit Impl(const Asset& a) : asset(a), sources(a.images.size()) {
         for (const Material& m : asset.materials)
             for (const TextureRef* ref : {&m.baseColor, &m.metallicRoughness, &m.occlusion, &m.emissive, &m.normal, &m.specularGlossiness}) {
-                const int t = ref->texture;
-                if (t < 0 || t >= int(asset.textures.size())) continue;
-                const int i = asset.textures[size_t(t)].image;
-                if (i >= 0 && i < int(asset.images.size())) sources[size_t(i)].used = true;
+                const int i = imageOf(asset, *ref);
+                if (i >= 0) sources[size_t(i)].used = true;
             }
         if (asset.mesh.wedges.tangent.empty())
             for (const Material& m : asset.materials) {
