@@ -50,7 +50,8 @@ std::vector<Input> collect(const std::vector<std::string>& inputs) {
         std::error_code ec;
         if (fs::is_directory(in, ec)) {
             std::vector<Input> found;
-            for (auto it = fs::recursive_directory_iterator(in, ec); !ec && it != fs::recursive_directory_iterator(); it.increment(ec))
+            for (auto it = fs::recursive_directory_iterator(in, fs::directory_options::follow_directory_symlink, ec);
+                 !ec && it != fs::recursive_directory_iterator(); it.increment(ec))
                 if (it->is_regular_file(ec) && isGltf(it->path()))
                     found.push_back({it->path().string(), fs::relative(it->path(), in, ec).replace_extension()});
             std::sort(found.begin(), found.end(), [](const Input& a, const Input& b) { return a.path < b.path; });
