@@ -40,7 +40,8 @@ void addSimplifyFlags(ArgParser& p, SimplifyFlags& a) {
            [&o] { o.visualWeight = false; });
     p.option("--max-influence-change", "D",
              "skinned meshes: a vertex collapses only onto a neighbour whose joint weights differ by at most this "
-             "total variation (0 = identical influences, 1 = any; default " + number(o.maxInfluenceChange) + ")",
+             "total variation (0 = identical influences, 1 = any; default: 1 when poses are sampled, whose measure "
+             "then judges the collapse, " + number(SimplifyOptions::kBindPoseInfluenceChange) + " with --pose-samples 0)",
              [&o](const std::string& v) {
                  o.maxInfluenceChange = parseDouble("--max-influence-change", v);
                  if (!(o.maxInfluenceChange >= 0 && o.maxInfluenceChange <= 1))
