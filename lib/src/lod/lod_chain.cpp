@@ -66,9 +66,9 @@ struct LevelView {
     const std::vector<Vec3>& positionsOr(const TriMesh& original) const { return positions.empty() ? original.positions : positions; }
 };
 
-// The original, then every level that has triangles and differs from the one before it (a level
-// simplify could not make coarser would repeat the previous one, geometry and switch distance
-// alike: it is left out, with a warning).
+// The original, then every level that has triangles. A level simplify could not make coarser
+// repeats the one before it: it stays in the chain (the chain's level count and files do not
+// depend on how far simplify got), with a warning that says so.
 std::vector<LevelView> levelViews(const Asset& asset, const Multires& mr, std::vector<std::string>& warnings) {
     std::vector<LevelView> v;
     LevelView l0;
@@ -81,11 +81,10 @@ std::vector<LevelView> levelViews(const Asset& asset, const Multires& mr, std::v
     for (size_t k = 0; k < mr.levels.size(); ++k) {
         const Level& L = mr.levels[k];
         if (L.triangles.empty()) continue;
-        if (L.triangles == v.back().triangles) {
-            warnings.push_back("level " + std::to_string(k + 1) + " left out: the same " + std::to_string(L.triangles.size()) +
-                               " triangles as " + v.back().source);
-            continue;
-        }
+        if (L.triangles == v.back().triangles)
+            warnings.push_back("LOD" + std::to_string(v.size()) + " (level " + std::to_string(k + 1) + ") repeats LOD" +
+                               std::to_string(v.size() - 1) + ": the same " + std::to_string(L.triangles.size()) +
+                               " triangles (simplify could not make it coarser)");
         LevelView lv;
         lv.triangles = L.triangles;
         lv.cornerWedges = L.cornerWedges;

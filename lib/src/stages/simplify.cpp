@@ -8,7 +8,7 @@ namespace lodbake {
 namespace {
 
 // A level that could not get coarser than the previous one repeats it (its stop reason says
-// why): said in the report, and pack leaves it out of the chain.
+// why): said in the report and on the warning callback (pack's report says it again).
 std::vector<std::string> repeatedLevels(const Asset& asset, const SimplifyResult& r) {
     std::vector<std::string> out;
     for (size_t k = 0; k < r.multires.levels.size(); ++k) {
