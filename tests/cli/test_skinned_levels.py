@@ -94,6 +94,8 @@ def base_colour_png(path, node=None):
     g = lt.Gltf(path)
     j = g.json
     mesh = j["meshes"][j["nodes"][node]["mesh"] if node is not None else 0]
+    if "material" not in mesh["primitives"][0]:
+        return None
     material = j["materials"][mesh["primitives"][0]["material"]]
     tex = material.get("pbrMetallicRoughness", {}).get("baseColorTexture")
     if tex is None:
