@@ -12,6 +12,9 @@
 //                    one-second loop (3 joints, legs blended into the hips near the top); 3,104 triangles
 //   drum.glb         a large open, double-sided textured backdrop cylinder on a floor disk around 21
 //                    small detailed parts (spheres, capped cylinders, crossed-sheet trees); 8,640 triangles
+//   critter.glb      a low-poly rigged quadruped: body, head, thin ears, tail and four two-joint legs
+//                    (11 joints, weights blended at every joint, rest pose != bind pose) with a
+//                    one-second trot; one texture of four coloured cells; 452 triangles
 //
 // `--scale S` multiplies every grid's resolution by S (about S^2 times the triangles) for
 // benchmarks; S = 1 gives the samples above.
@@ -592,6 +595,197 @@ Asset makeWalker(double scale) {
     return asset;
 }
 
+// --- critter: a low-poly rigged quadruped (the shape of a game character's LOD0) ---------------
+
+// A tapered tube from `a` to `b` (radius ra at a, rb at b; 0 = a cone's tip): `seg` segments
+// around, `rings` along, a flat cap at each end of non-zero radius; part = a key prefix so parts
+// never weld. uv = (around, along) mapped into [uvMin, uvMax]. Returns the part's first vertex.
+size_t addTube(MeshBuilder& mb, int mat, int64_t part, Vec3 a, Vec3 b, double ra, double rb, int seg, int rings,
+               Vec2 uvMin, Vec2 uvMax) {
+    const size_t first = mb.vertexCount();
+    const Vec3 axis = normalize(b - a);
+    const Vec3 side = normalize(cross(std::fabs(axis.y) < 0.9 ? Vec3{0, 1, 0} : Vec3{1, 0, 0}, axis));
+    const Vec3 up = cross(axis, side);
+    // A ring of zero radius is one vertex (the tip), keyed by its ring alone.
+    auto radius = [&](int ring) { return ra + (rb - ra) * ring / rings; };
+    auto point = [&](int ring, int j) {
+        const double r = radius(ring), phi = 2 * kPi * (j % seg) / seg;
+        const Vec3 n = side * std::cos(phi) + up * std::sin(phi);
+        const Vec3 centre = a + (b - a) * (double(ring) / rings);
+        return std::make_pair(mb.vertex({part, ring, r > 0 ? j % seg : 0}, centre + n * r), n);
+    };
+    auto sideWedge = [&](int ring, int j) {
+        auto [v, n] = point(ring, j);
+        const Vec2 uv{uvMin.x + (uvMax.x - uvMin.x) * j / seg, uvMax.y - (uvMax.y - uvMin.y) * ring / rings};
+        return mb.wedge(v, mat, uv, n);
+    };
+    for (int ring = 0; ring < rings; ++ring)
+        for (int j = 0; j < seg; ++j) {
+            const uint32_t p = sideWedge(ring, j), q = sideWedge(ring, j + 1), r = sideWedge(ring + 1, j + 1), s = sideWedge(ring + 1, j);
+            mb.triangle(mat, {p, q, r});  // counter-clockwise seen from outside: (side, up, axis) is right-handed
+            mb.triangle(mat, {p, r, s});
+        }
+    for (int end = 0; end < 2; ++end) {
+        const int ring = end ? rings : 0;
+        if (!(radius(ring) > 0)) continue;
+        const Vec3 n = end ? axis : axis * -1.0;
+        const Vec2 mid{0.5 * (uvMin.x + uvMax.x), 0.5 * (uvMin.y + uvMax.y)};
+        const uint32_t c = mb.wedge(mb.vertex({part, end ? rings + 1 : -1, 0}, end ? b : a), mat, mid, n);
+        auto rim = [&](int j) {
+            const double phi = 2 * kPi * (j % seg) / seg;
+            const Vec2 uv{mid.x + 0.4 * std::cos(phi) * (uvMax.x - uvMin.x), mid.y + 0.4 * std::sin(phi) * (uvMax.y - uvMin.y)};
+            return mb.wedge(point(ring, j).first, mat, uv, n);
+        };
+        for (int j = 0; j < seg; ++j) {
+            if (end) mb.triangle(mat, {c, rim(j), rim(j + 1)});
+            else mb.triangle(mat, {c, rim(j + 1), rim(j)});
+        }
+    }
+    return first;
+}
+
+// A quaternion (x, y, z, w) turning by `angle` radians about the unit axis (x, y, z).
+Vec4 axisAngle(Vec3 axis, double angle) {
+    const double s = std::sin(angle / 2);
+    return {axis.x * s, axis.y * s, axis.z * s, std::cos(angle / 2)};
+}
+
+// The rotation b, then a (Hamilton product a b).
+Vec4 quatMul(Vec4 a, Vec4 b) {
+    return {a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y, a.w * b.y - a.x * b.z + a.y * b.w + a.z * b.x,
+            a.w * b.z + a.x * b.y - a.y * b.x + a.z * b.w, a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z};
+}
+
+Asset makeCritter(double scale) {
+    Asset asset = newAsset("critter");
+    // Four cells of distinct colours (body, head, legs, ears and tail): a level whose atlas lost
+    // the texture shows one flat colour instead.
+    const int C = 64, W = 2 * C, H = 2 * C;
+    std::vector<uint8_t> px(static_cast<size_t>(W) * H * 3);
+    const int colour[4] = {0, 3, 6, 4};  // palette: red, yellow, orange, purple
+    for (int cell = 0; cell < 4; ++cell) drawCell(px, W, (cell % 2) * C, (cell / 2) * C, C, C, colour[cell], cell + 1);
+    const int mat = addTexturedMaterial(asset, "critter", encodePng(px, W, H, "critter"));
+    const Vec2 cellMin[4] = {{0, 0}, {0.5, 0}, {0, 0.5}, {0.5, 0.5}};
+    auto cellMax = [&](int c) { return cellMin[c] + Vec2{0.5, 0.5}; };
+
+    // Joints (bind pose): 0 body, 1 head, 2 tail, 3 + 2k upper leg k, 4 + 2k lower leg k (k = front
+    // left, front right, hind left, hind right).
+    const Vec3 body{0, 0.55, 0}, neck{0, 0.62, 0.36}, tailBase{0, 0.6, -0.42};
+    const double legX = 0.12, hipY = 0.5, kneeY = 0.26, frontZ = 0.24, hindZ = -0.28;
+    const Vec3 hips[4] = {{-legX, hipY, frontZ}, {legX, hipY, frontZ}, {-legX, hipY, hindZ}, {legX, hipY, hindZ}};
+
+    MeshBuilder mb;
+    const int seg = scaled(8, scale, 2), thin = scaled(6, scale, 2), rings = scaled(4, scale, 1);
+    struct Part {
+        size_t first;    // first vertex
+        Vec3 a, b;       // axis: t = 0 at a, 1 at b
+        int joint;       // the joint at b's side (t = 1)
+        int base;        // the joint it blends into towards a (t = 0), -1 = none
+        double blend;    // t below which it blends into `base` (half and half at t = 0)
+        int knee = -1;   // a leg's lower joint, taking over around t = 0.5
+    };
+    std::vector<Part> parts;
+    auto add = [&](Part p, double ra, double rb, int s, int r, int cell) {
+        p.first = addTube(mb, mat, int64_t(parts.size()), p.a, p.b, ra, rb, s, r, cellMin[cell], cellMax(cell));
+        parts.push_back(p);
+    };
+    add({0, tailBase + Vec3{0, -0.04, 0.02}, neck + Vec3{0, -0.02, 0.06}, 0, -1, 0}, 0.17, 0.15, seg, rings, 0);
+    add({0, neck + Vec3{0, 0, -0.05}, neck + Vec3{0, 0.1, 0.34}, 1, 0, 0.35}, 0.13, 0.035, seg, rings - 1, 1);
+    for (int side = 0; side < 2; ++side) {  // ears: thin cones on the head
+        const double x = side ? 0.06 : -0.06;
+        add({0, neck + Vec3{x, 0.1, 0.1}, neck + Vec3{1.6 * x, 0.3, 0.06}, 1, -1, 0}, 0.035, 0, 4, 2, 3);
+    }
+    add({0, tailBase + Vec3{0, 0, 0.05}, tailBase + Vec3{0, 0.12, -0.4}, 2, 0, 0.3}, 0.06, 0, thin, rings - 1, 3);
+    for (int k = 0; k < 4; ++k) {
+        Part leg{0, hips[k] + Vec3{0, 0.05, 0}, Vec3{hips[k].x, 0.0, hips[k].z}, 3 + 2 * k, 0, 0.2};
+        leg.knee = 4 + 2 * k;
+        add(leg, 0.05, 0.03, thin, rings, 2);
+    }
+    asset.mesh = mb.take();
+
+    Rig& rig = asset.rig;
+    auto node = [](const std::string& name, int parent, Vec3 t) {
+        RigNode n;
+        n.name = name;
+        n.parent = parent;
+        n.translation = t;
+        return n;
+    };
+    rig.nodes = {node("body", -1, body), node("head", 0, neck - body), node("tail", 0, tailBase - body)};
+    const char* legName[4] = {"frontLeft", "frontRight", "hindLeft", "hindRight"};
+    for (int k = 0; k < 4; ++k) {
+        rig.nodes.push_back(node(std::string(legName[k]) + "Upper", 0, hips[k] - body));
+        rig.nodes.push_back(node(std::string(legName[k]) + "Lower", int(rig.nodes.size()) - 1, Vec3{0, kneeY - hipY, 0}));
+    }
+    const std::vector<Mat4> bind = poseNodes(rig, -1, 0);
+    for (size_t j = 0; j < rig.nodes.size(); ++j) {
+        Mat4 inv;
+        invertAffine(bind[j], inv);
+        rig.joints.push_back(int(j));
+        rig.inverseBind.push_back(inv);
+    }
+    // The rest pose is not the bind pose (as in many exported characters): the head looks down a
+    // little and the tail hangs lower.
+    rig.nodes[1].rotation = axisAngle({1, 0, 0}, 0.2);
+    rig.nodes[2].rotation = axisAngle({1, 0, 0}, -0.35);
+
+    // Influences blend smoothly, as a painted rig's do: each part's joint fades into its base
+    // joint towards the part's root, and a leg's upper joint into its lower one around the knee,
+    // so most vertices carry their own weights.
+    Wedges& Wd = asset.mesh.wedges;
+    std::vector<std::array<uint16_t, 4>> vJoints(asset.mesh.positions.size());
+    std::vector<Vec4> vWeights(asset.mesh.positions.size());
+    for (size_t i = 0; i < parts.size(); ++i) {
+        const Part& p = parts[i];
+        const size_t end = i + 1 < parts.size() ? parts[i + 1].first : asset.mesh.positions.size();
+        const Vec3 axis = p.b - p.a;
+        for (size_t v = p.first; v < end; ++v) {
+            const double t = std::clamp(dot(asset.mesh.positions[v] - p.a, axis) / dot(axis, axis), 0.0, 1.0);
+            double own = 1, base = 0;
+            if (p.base >= 0 && t < p.blend) base = 0.5 * (1 - t / p.blend), own = 1 - base;
+            std::array<uint16_t, 4> j{uint16_t(p.joint), uint16_t(p.base >= 0 ? p.base : 0), 0, 0};
+            Vec4 w{own, base, 0, 0};
+            if (p.knee >= 0) {  // upper over t < 0.35, lower over t > 0.65, linear between
+                const double lower = std::clamp((t - 0.35) / 0.3, 0.0, 1.0);
+                j = {uint16_t(p.joint), uint16_t(p.knee), uint16_t(p.base), 0};
+                w = {own * (1 - lower), own * lower, base, 0};
+            }
+            vJoints[v] = j;
+            vWeights[v] = w;
+        }
+    }
+    for (size_t w = 0; w < Wd.size(); ++w) {
+        Wd.joints.push_back(vJoints[Wd.vertex[w]]);
+        Wd.weights.push_back(vWeights[Wd.vertex[w]]);
+    }
+
+    // The trot: one second, 9 linear keys; diagonal legs swing together (+-25 degrees at the hip,
+    // the knee bending up to 40 degrees on the forward swing), the tail wags, the head nods.
+    Animation trot;
+    trot.name = "trot";
+    auto channel = [&](int nodeIndex, const std::function<Vec4(double)>& rotation) {
+        AnimationSampler s;
+        s.comps = 4;
+        for (int k = 0; k <= 8; ++k) {
+            const double t = k / 8.0;
+            const Vec4 q = rotation(t);
+            s.times.push_back(t);
+            s.values.insert(s.values.end(), {q.x, q.y, q.z, q.w});
+        }
+        trot.samplers.push_back(s);
+        trot.channels.push_back(AnimationChannel{int(trot.samplers.size()) - 1, nodeIndex, AnimationPath::Rotation});
+    };
+    for (int k = 0; k < 4; ++k) {
+        const double phase = (k == 0 || k == 3) ? 0 : kPi;
+        channel(3 + 2 * k, [&](double t) { return axisAngle({1, 0, 0}, 0.44 * std::sin(2 * kPi * t + phase)); });
+        channel(4 + 2 * k, [&](double t) { return axisAngle({1, 0, 0}, -0.35 * (1 + std::cos(2 * kPi * t + phase))); });
+    }
+    channel(2, [&](double t) { return quatMul(axisAngle({0, 1, 0}, 0.5 * std::sin(2 * kPi * t)), axisAngle({1, 0, 0}, -0.35)); });
+    channel(1, [&](double t) { return axisAngle({1, 0, 0}, 0.2 + 0.15 * std::sin(4 * kPi * t)); });
+    rig.animations.push_back(trot);
+    return asset;
+}
+
 // --- drum: a large open backdrop around many small detailed parts ---------------------------
 
 // A closed UV sphere of radius r at `centre`: nLat rings from pole to pole, nLon segments; part = a
@@ -719,7 +913,7 @@ int main(int argc, char** argv) {
         std::vector<std::string> dirs;
         bool verbose = false;
         double scale = 1;
-        cli::ArgParser p("make-samples", "OUTDIR\n\nWrites hemisphere9.glb, wall5.glb, colors.glb, seamball.glb, pbrscene.glb, walker.glb and drum.glb into OUTDIR\n"
+        cli::ArgParser p("make-samples", "OUTDIR\n\nWrites hemisphere9.glb, wall5.glb, colors.glb, seamball.glb, pbrscene.glb, walker.glb, drum.glb and critter.glb into OUTDIR\n"
                                          "(created if missing). Output is byte-identical on every run.");
         p.positionals("OUTDIR", [&](const std::string& v) { dirs.push_back(v); });
         p.flag("-v", "print one line per sample", [&] { verbose = true; });
@@ -743,7 +937,8 @@ int main(int argc, char** argv) {
                                   {"seamball.glb", makeSeamball},
                                   {"pbrscene.glb", makePbrScene},
                                   {"walker.glb", makeWalker},
-                                  {"drum.glb", makeDrum}};
+                                  {"drum.glb", makeDrum},
+                                  {"critter.glb", makeCritter}};
         for (const Sample& s : samples) {
             Asset a = s.make(scale);
             std::string path = (std::filesystem::path(dirs[0]) / s.file).string();

@@ -156,3 +156,41 @@ TEST(SimplifyPosed, LevelsStayWithinTheirDeviationWhenPosed) {
         EXPECT_EQ(reference.distance(lm, d).rms, posedSurfaceDistance(a.rig, a.morph, a.mesh, lm, poses, d).rms);
     }
 }
+
+// The influence rule's default: with sampled animation poses the posed measure judges a collapse
+// between differently bound vertices, so the tube's blend rings (each bound 0.125 apart in total
+// variation) collapse and a 2% level reaches its target; in the bind pose only, with the rest
+// pose alone, or with the limit set explicitly, the rule's 0.1 keeps those rings apart and the
+// level stops above its target.
+TEST(SimplifyPosed, InfluenceRuleOnlyWithoutPosesByDefault) {
+    const Asset a = bentTube();
+    const size_t target = size_t(0.02 * double(a.mesh.triangleCount()));
+    SimplifyOptions bindOnly;
+    bindOnly.levels = {{0.02, 0, 0}};
+    ASSERT_EQ(bindOnly.maxInfluenceChange, SimplifyOptions::kAutoInfluenceChange);
+    SimplifyOptions posed = bindOnly;
+    posed.posed = poseWedges(a.rig, a.morph, a.mesh, samplePoses(a.rig, {}));
+    SimplifyOptions posedLimited = posed;
+    posedLimited.maxInfluenceChange = SimplifyOptions::kBindPoseInfluenceChange;
+
+    const Level flat = simplify(a.mesh, bindOnly).multires.levels.at(0);
+    EXPECT_GT(flat.triangles.size(), target);
+    EXPECT_EQ(flat.stopReason, "skin: joint influences differ");
+    const Level limited = simplify(a.mesh, posedLimited).multires.levels.at(0);
+    EXPECT_GT(limited.triangles.size(), target);
+    EXPECT_EQ(limited.stopReason, "skin: joint influences differ");
+    const Level judged = simplify(a.mesh, posed).multires.levels.at(0);
+    EXPECT_LE(judged.triangles.size(), target);
+    EXPECT_EQ(judged.stopReason, "target");
+    // Judged by the posed surface it leaves: every original vertex within the level's deviation.
+    EXPECT_LE(posedVertexDeviation(a, judged, samplePoses(a.rig, {})), judged.maxDeviation * (1 + 1e-9) + 1e-12);
+    // A skin without animations has the rest pose alone: no motion to judge by, the rule stays.
+    Asset still = a;
+    still.rig.animations.clear();
+    SimplifyOptions restOnly = bindOnly;
+    restOnly.posed = poseWedges(still.rig, still.morph, still.mesh, samplePoses(still.rig, {}));
+    ASSERT_EQ(restOnly.posed.positions.size(), 1u);
+    const Level rest = simplify(still.mesh, restOnly).multires.levels.at(0);
+    EXPECT_GT(rest.triangles.size(), target);
+    EXPECT_EQ(rest.stopReason, "skin: joint influences differ");
+}

@@ -43,7 +43,9 @@ void addSimplifyFlags(ArgParser& p, SimplifyFlags& a) {
            [&o] { o.visualWeight = false; });
     p.option("--max-influence-change", "D",
              "skinned meshes: a vertex collapses only onto a neighbour whose joint weights differ by at most this "
-             "total variation (0 = identical influences, 1 = any; default " + number(o.maxInfluenceChange) + ")",
+             "total variation (0 = identical influences, 1 = any; default: 1 when animations are sampled, whose posed "
+             "measure then judges the collapse, " + number(SimplifyOptions::kBindPoseInfluenceChange) +
+             " with --pose-samples 0 or no animation)",
              [&o](const std::string& v) {
                  o.maxInfluenceChange = parseDouble("--max-influence-change", v);
                  if (!(o.maxInfluenceChange >= 0 && o.maxInfluenceChange <= 1))

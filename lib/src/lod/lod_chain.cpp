@@ -66,7 +66,10 @@ struct LevelView {
     const std::vector<Vec3>& positionsOr(const TriMesh& original) const { return positions.empty() ? original.positions : positions; }
 };
 
-std::vector<LevelView> levelViews(const Asset& asset, const Multires& mr) {
+// The original, then every level that has triangles. A level simplify could not make coarser
+// repeats the one before it: it stays in the chain (the chain's level count and files do not
+// depend on how far simplify got), with a warning that says so.
+std::vector<LevelView> levelViews(const Asset& asset, const Multires& mr, std::vector<std::string>& warnings) {
     std::vector<LevelView> v;
     LevelView l0;
     l0.triangles = asset.mesh.triangles;
@@ -78,6 +81,10 @@ std::vector<LevelView> levelViews(const Asset& asset, const Multires& mr) {
     for (size_t k = 0; k < mr.levels.size(); ++k) {
         const Level& L = mr.levels[k];
         if (L.triangles.empty()) continue;
+        if (L.triangles == v.back().triangles)
+            warnings.push_back("LOD" + std::to_string(v.size()) + " (level " + std::to_string(k + 1) + ") repeats LOD" +
+                               std::to_string(v.size() - 1) + ": the same " + std::to_string(L.triangles.size()) +
+                               " triangles (simplify could not make it coarser)");
         LevelView lv;
         lv.triangles = L.triangles;
         lv.cornerWedges = L.cornerWedges;
@@ -775,7 +782,8 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
     res.diagonal = bounds(mesh).diagonal();
     res.radius = 0.5 * res.diagonal;
     if (!(res.radius > 0)) throw Impossible(asset.sourcePath + ": the mesh has no extent");
-    std::vector<LevelView> views = levelViews(asset, mr);
+    std::vector<std::string> repeated;
+    std::vector<LevelView> views = levelViews(asset, mr, repeated);
     const BakeSources sources(asset);  // the original images, decoded once for every level's bake
     const size_t n = views.size();
     auto progress = [&](double f) { if (options.progress) options.progress(f); };
@@ -797,6 +805,7 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
     // 4. Per level: texture, page, mesh, bake.
     const MaterialPlan plan = options.baseColorOnly ? baseColorPlan(planMaterial(asset)) : planMaterial(asset);
     res.warnings = plan.warnings;
+    res.warnings.insert(res.warnings.end(), repeated.begin(), repeated.end());
     res.rig = asset.rig;
     res.morph = asset.morph;
     LevelImageOptions io;

@@ -71,7 +71,9 @@ RuleSettings resolveSettings(const SimplifyOptions& options, double diagonal, do
     r.epsilonBox = options.epsilonBoxFactor * longestSide;
     r.similarDeviation = options.similarDeviation;
     r.diagonal = diagonal;
-    r.maxInfluenceChange = options.maxInfluenceChange;
+    r.maxInfluenceChange = options.maxInfluenceChange >= 0         ? options.maxInfluenceChange
+                           : options.posed.positions.size() >= 2 ? 1
+                                                                 : SimplifyOptions::kBindPoseInfluenceChange;
     if (!options.posed.empty()) r.posed = &options.posed;
     r.twoSidedCost = options.twoSidedCost;
     return r;

@@ -7,8 +7,25 @@
 namespace lodbake {
 namespace {
 
+// A level that could not get coarser than the previous one repeats it (its stop reason says
+// why): said in the report and on the warning callback (pack's report says it again).
+std::vector<std::string> repeatedLevels(const Asset& asset, const SimplifyResult& r) {
+    std::vector<std::string> out;
+    for (size_t k = 0; k < r.multires.levels.size(); ++k) {
+        const Level& L = r.multires.levels[k];
+        const size_t previous = k > 0 ? r.multires.levels[k - 1].triangles.size() : asset.mesh.triangleCount();
+        if (!L.triangles.empty() && L.triangles.size() >= previous)
+            out.push_back("level " + std::to_string(k + 1) + " is no coarser than " +
+                          (k > 0 ? "level " + std::to_string(k) : std::string("the original")) + " (" +
+                          std::to_string(L.triangles.size()) + " triangles, target " + std::to_string(L.targetTriangles) +
+                          "): " + L.stopReason);
+    }
+    return out;
+}
+
 nlohmann::json makeReport(const SimplifySettings& s, const Asset& asset, const SimplifyResult& r, size_t poses,
-                          double loadSeconds, double simplifySeconds, double writeSeconds) {
+                          const std::vector<std::string>& warnings, double loadSeconds, double simplifySeconds,
+                          double writeSeconds) {
     nlohmann::json levels = nlohmann::json::array();
     for (size_t k = 0; k < r.multires.levels.size(); ++k) {
         const Level& L = r.multires.levels[k];
@@ -29,7 +46,7 @@ nlohmann::json makeReport(const SimplifySettings& s, const Asset& asset, const S
     rep["levels"] = levels;
     if (!s.levelsChosen.empty()) rep["levelsChosen"] = s.levelsChosen;
     rep["posedSamples"] = poses;
-    rep["warnings"] = asset.warnings;
+    rep["warnings"] = warnings;
     rep["time"] = {{"load", loadSeconds}, {"simplify", simplifySeconds}, {"write", writeSeconds}};
     return rep;
 }
@@ -61,7 +78,12 @@ StageResult runSimplify(const SimplifySettings& s) {
     double writeSeconds = writeStageOutput(s.common, asset, &result.multires, "simplify");
 
     StageResult out;
-    out.report = makeReport(s, asset, result, opt.posed.positions.size(), loadSeconds, simplifySeconds, writeSeconds);
+    std::vector<std::string> warnings = asset.warnings;  // the loader's, already passed to s.common.warning
+    for (const std::string& w : repeatedLevels(asset, result)) {
+        if (s.common.warning) s.common.warning(w);
+        warnings.push_back(w);
+    }
+    out.report = makeReport(s, asset, result, opt.posed.positions.size(), warnings, loadSeconds, simplifySeconds, writeSeconds);
     if (!s.common.report.empty()) writeReport(s.common.report, out.report);
     if (s.common.verbose) out.statistics = statistics(asset, out.report);
     return out;

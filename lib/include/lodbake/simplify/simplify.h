@@ -60,8 +60,16 @@ struct SimplifyOptions {
     // differ from its own by at most this total variation (half the sum of |weight differences|
     // over the joints; 0 = identical influences, 1 = any), so a level does not tear or bend
     // differently from the original when posed. A vertex where parts of different influences
-    // meet never moves.
-    double maxInfluenceChange = 0.1;
+    // meet never moves. kAutoInfluenceChange (the default): 1 when `posed` holds poses of the
+    // asset's motion (two or more: samplePoses gives the rest pose, then each animation's times),
+    // whose measure then judges every collapse by the posed surface it leaves (a hard limit on
+    // the weights forbids the collapses along painted limbs, where every ring binds its own way,
+    // that a coarse level needs: the budget then goes to collapses that spike the body), and
+    // kBindPoseInfluenceChange otherwise: in the bind pose only, or with the rest pose alone (a
+    // skin without animations, to be moved by motions this measure never sees).
+    static constexpr double kAutoInfluenceChange = -1;
+    static constexpr double kBindPoseInfluenceChange = 0.1;
+    double maxInfluenceChange = kAutoInfluenceChange;
     // Rigged meshes: the mesh's wedges at sampled poses (poseWedges in lodbake/core/pose_samples.h;
     // the simplify stage fills it from the asset's rig). Each collapse's cost is its vertex
     // deviation in the bind pose and in every sampled pose, the largest, and so is each level's
