@@ -239,6 +239,22 @@ int imageOf(const Asset& asset, const TextureRef& ref) {
     return i >= 0 && i < int(asset.images.size()) ? i : -1;
 }
 
+// The extension texture references that baking `ch` reads.
+std::vector<const TextureRef*> extensionRefs(const MaterialExtensions& e, const BakeChannels& ch) {
+    std::vector<const TextureRef*> refs;
+    auto add = [&](bool on, std::initializer_list<const TextureRef*> list) {
+        if (on) refs.insert(refs.end(), list);
+    };
+    add(ch.clearcoat, {&e.clearcoat.texture, &e.clearcoat.roughnessTexture});
+    add(ch.clearcoatNormal, {&e.clearcoat.normalTexture});
+    add(ch.sheen, {&e.sheen.colorTexture, &e.sheen.roughnessTexture});
+    add(ch.specular, {&e.specular.texture, &e.specular.colorTexture});
+    add(ch.transmission, {&e.transmission.texture, &e.volume.thicknessTexture});
+    add(ch.iridescence, {&e.iridescence.texture, &e.iridescence.thicknessTexture});
+    add(ch.diffuseTransmission, {&e.diffuseTransmission.texture, &e.diffuseTransmission.colorTexture});
+    return refs;
+}
+
 // Decodes, on `threads` threads, every image that baking `ch` reads (each once, in any order:
 // each is decoded on its own), so the shading threads do not wait on one another's decodes.
 void decodeSources(const Asset& asset, std::vector<SourceTexture>& sources, const BakeChannels& ch, int threads) {
@@ -249,6 +265,10 @@ void decodeSources(const Asset& asset, std::vector<SourceTexture>& sources, cons
                                     ch.normal ? &m.normal : nullptr};
         for (const TextureRef* ref : refs) {
             const int i = ref ? imageOf(asset, *ref) : -1;
+            if (i >= 0 && sources[size_t(i)].used) images.push_back(size_t(i));
+        }
+        for (const TextureRef* ref : extensionRefs(m.ext, ch)) {
+            const int i = imageOf(asset, *ref);
             if (i >= 0 && sources[size_t(i)].used) images.push_back(size_t(i));
         }
     }
@@ -368,9 +388,9 @@ void shadeEmissive(const ShadeContext& c, const TexelHit& h, double e[3]) {
         for (int i = 0; i < 3; ++i) e[i] *= srgbToLinear(std::clamp(double(r[i]), 0.0, 1.0));
 }
 
-// The original's shading normal at hit h, world space: interpolated normal (the face's when the
-// file has none) perturbed by the material's normal map in the original tangent frame.
-Vec3 shadingNormal(const ShadeContext& c, const TexelHit& h) {
+// The original's normal at hit h, world space: interpolated normal (the face's when the file has
+// none) perturbed by normal map `map` of its material in the original tangent frame.
+Vec3 perturbedNormal(const ShadeContext& c, const TexelHit& h, const TextureRef& map) {
     const TriMesh& mesh = c.asset.mesh;
     const uint32_t f = uint32_t(h.face);
     const Tri& t = mesh.triangles[f];
@@ -382,10 +402,9 @@ Vec3 shadingNormal(const ShadeContext& c, const TexelHit& h) {
         for (int k = 0; k < 3; ++k) n += mesh.wedges.normal[cw[size_t(k)]] * h.bary[size_t(k)];
         if (length(n) > 1e-12) N = normalize(n);
     }
-    const Material& m = materialOf(c, f);
     float r[4];
-    if (!lookup(c, m.normal, h, r)) return N;
-    const int set = m.normal.transform.texCoord >= 0 ? m.normal.transform.texCoord : m.normal.texCoord;
+    if (!lookup(c, map, h, r)) return N;
+    const int set = map.transform.texCoord >= 0 ? map.transform.texCoord : map.texCoord;
     const std::vector<Vec4>& tangents = mesh.wedges.tangent.empty() ? c.tangents[set == 1 ? 1 : 0] : mesh.wedges.tangent;
     if (tangents.empty()) return N;
     Vec3 T{};
@@ -396,11 +415,95 @@ Vec3 shadingNormal(const ShadeContext& c, const TexelHit& h) {
     T = normalize(T - N * dot(T, N));
     if (!(length(T) > 0.5)) return N;
     const Vec3 B = cross(N, T) * (tangents[cw[0]].w < 0 ? -1.0 : 1.0);
-    const double s = m.normal.scale;
+    const double s = map.scale;
     const Vec3 nt{(2.0 * r[0] - 1) * s, (2.0 * r[1] - 1) * s, 2.0 * r[2] - 1};
     const Vec3 out = normalize(T * nt.x + B * nt.y + N * nt.z);
     return length(out) > 0.5 ? out : N;
 }
+
+// The original's shading normal at hit h (its material's normal map).
+Vec3 shadingNormal(const ShadeContext& c, const TexelHit& h) { return perturbedNormal(c, h, materialOf(c, uint32_t(h.face)).normal); }
+
+// The original's clearcoat normal at hit h (the coat's own normal map; without one the
+// interpolated normal, as glTF defines it).
+Vec3 clearcoatNormal(const ShadeContext& c, const TexelHit& h) {
+    return perturbedNormal(c, h, materialOf(c, uint32_t(h.face)).ext.clearcoat.normalTexture);
+}
+
+// Extension channels: each fills v (3 or 4 values, BakeChannels' packing) with the original
+// material at hit h; colours linear here (bakeMaterial encodes them as sRGB after the fill).
+// An extension the material lacks reads as its neutral value (the struct's defaults).
+
+// Channel `k` of texture `ref` at h, clamped to [0,1]; 1 without a texture.
+double texel(const ShadeContext& c, const TextureRef& ref, const TexelHit& h, int k) {
+    float r[4];
+    return lookup(c, ref, h, r) ? std::clamp(double(r[k]), 0.0, 1.0) : 1.0;
+}
+
+// A colour factor x the linear RGB of an sRGB texture `ref` at h.
+void texelColor(const ShadeContext& c, const TextureRef& ref, const TexelHit& h, Vec3 factor, double* rgb) {
+    float r[4];
+    const bool t = lookup(c, ref, h, r);
+    const double f[3] = {factor.x, factor.y, factor.z};
+    for (int i = 0; i < 3; ++i) rgb[i] = f[i] * (t ? srgbToLinear(std::clamp(double(r[i]), 0.0, 1.0)) : 1.0);
+}
+
+void shadeClearcoat(const ShadeContext& c, const BakeChannels&, const TexelHit& h, double* v) {
+    const ClearcoatExtension& e = materialOf(c, uint32_t(h.face)).ext.clearcoat;
+    v[0] = e.factor * texel(c, e.texture, h, 0);
+    v[1] = e.roughnessFactor * texel(c, e.roughnessTexture, h, 1);
+    v[2] = 0;
+}
+
+void shadeSheen(const ShadeContext& c, const BakeChannels&, const TexelHit& h, double* v) {
+    const SheenExtension& e = materialOf(c, uint32_t(h.face)).ext.sheen;
+    texelColor(c, e.colorTexture, h, e.colorFactor, v);
+    v[3] = e.roughnessFactor * texel(c, e.roughnessTexture, h, 3);
+}
+
+void shadeSpecular(const ShadeContext& c, const BakeChannels& ch, const TexelHit& h, double* v) {
+    const SpecularExtension& e = materialOf(c, uint32_t(h.face)).ext.specular;
+    texelColor(c, e.colorTexture, h, e.colorFactor * (1 / ch.specularColorScale), v);
+    v[3] = e.factor * texel(c, e.texture, h, 3);
+}
+
+void shadeTransmission(const ShadeContext& c, const BakeChannels& ch, const TexelHit& h, double* v) {
+    const MaterialExtensions& e = materialOf(c, uint32_t(h.face)).ext;
+    v[0] = e.transmission.factor * texel(c, e.transmission.texture, h, 0);
+    v[1] = e.volume.thicknessFactor * texel(c, e.volume.thicknessTexture, h, 1) / ch.thicknessScale;
+    v[2] = 0;
+}
+
+void shadeIridescence(const ShadeContext& c, const BakeChannels& ch, const TexelHit& h, double* v) {
+    const IridescenceExtension& e = materialOf(c, uint32_t(h.face)).ext.iridescence;
+    v[0] = e.factor * texel(c, e.texture, h, 0);
+    float r[4];
+    // The thickness in nm (glTF: the maximum without a thickness texture), then its place in the
+    // chain's range. A part without iridescence takes the range's minimum.
+    const double nm = !e.present ? ch.iridescenceThicknessMin
+                      : lookup(c, e.thicknessTexture, h, r)
+                          ? e.thicknessMinimum + (e.thicknessMaximum - e.thicknessMinimum) * std::clamp(double(r[1]), 0.0, 1.0)
+                          : e.thicknessMaximum;
+    const double span = ch.iridescenceThicknessMax - ch.iridescenceThicknessMin;
+    v[1] = span > 0 ? (nm - ch.iridescenceThicknessMin) / span : 0;
+    v[2] = 0;
+}
+
+void shadeDiffuseTransmission(const ShadeContext& c, const BakeChannels&, const TexelHit& h, double* v) {
+    const DiffuseTransmissionExtension& e = materialOf(c, uint32_t(h.face)).ext.diffuseTransmission;
+    texelColor(c, e.colorTexture, h, e.colorFactor, v);
+    v[3] = e.factor * texel(c, e.texture, h, 3);
+}
+
+// One extension image of a bake: whether it is asked for, where it goes, its values per texel,
+// how a texel is shaded, and whether its RGB is a colour (stored sRGB).
+struct ExtensionImage {
+    bool on;
+    std::vector<float>* out;
+    size_t comps;
+    void (*shade)(const ShadeContext&, const BakeChannels&, const TexelHit&, double*);
+    bool srgb;
+};
 
 // A texel's place on the target surface: the target triangle and barycentrics (-1 = none).
 struct TargetHit {
@@ -460,17 +563,21 @@ struct BakeSources::Impl {
     std::vector<SourceTexture> sources;  // per image
     std::array<std::vector<Vec4>, 2> tangents;  // per UV set a normal map uses, when the file has no TANGENT
     explicit Impl(const Asset& a) : asset(a), sources(a.images.size()) {
-        for (const Material& m : asset.materials)
-            for (const TextureRef* ref : {&m.baseColor, &m.metallicRoughness, &m.occlusion, &m.emissive, &m.normal, &m.specularGlossiness}) {
+        for (const Material& m : asset.materials) {
+            std::vector<const TextureRef*> refs = textureRefs(m.ext);
+            refs.insert(refs.end(), {&m.baseColor, &m.metallicRoughness, &m.occlusion, &m.emissive, &m.normal, &m.specularGlossiness});
+            for (const TextureRef* ref : refs) {
                 const int i = imageOf(asset, *ref);
                 if (i >= 0) sources[size_t(i)].used = true;
             }
+        }
         if (asset.mesh.wedges.tangent.empty())
-            for (const Material& m : asset.materials) {
-                if (m.normal.texture < 0) continue;
-                const int set = (m.normal.transform.texCoord >= 0 ? m.normal.transform.texCoord : m.normal.texCoord) == 1 ? 1 : 0;
-                if (tangents[size_t(set)].empty()) tangents[size_t(set)] = computeWedgeTangents(asset.mesh, set);
-            }
+            for (const Material& m : asset.materials)
+                for (const TextureRef* map : {&m.normal, &m.ext.clearcoat.normalTexture}) {
+                    if (map->texture < 0) continue;
+                    const int set = (map->transform.texCoord >= 0 ? map->transform.texCoord : map->texCoord) == 1 ? 1 : 0;
+                    if (tangents[size_t(set)].empty()) tangents[size_t(set)] = computeWedgeTangents(asset.mesh, set);
+                }
     }
 };
 
@@ -519,7 +626,7 @@ BakeResult bakeMaterial(const BakeSources& bs, const std::vector<std::array<Vec2
     rasterizeTriangles(mesh, cornerUV, g, o.dilation, hits);
     rasterizeIslands(mesh, islands, g, o.dilation, o.threads, hits);
     std::vector<TargetHit> targetHits;
-    if (ch.normal && target) targetHits = rasterizeTarget(*target, g);
+    if ((ch.normal || ch.clearcoatNormal) && target) targetHits = rasterizeTarget(*target, g);
 
     decodeSources(asset, sources, ch, o.threads);
     // Shade: linear RGB + coverage, rows in parallel (each texel depends only on its hit).
@@ -529,6 +636,17 @@ BakeResult bakeMaterial(const BakeSources& bs, const std::vector<std::array<Vec2
     if (ch.orm) res.orm.assign(texels * 3, 0.0f);
     if (ch.emissive) res.emissive.assign(texels * 3, 0.0f);
     if (ch.normal) res.normal.assign(texels * 3, 0.0f);
+    const ExtensionImage extensionImages[] = {
+        {ch.clearcoat, &res.clearcoat, 3, shadeClearcoat, false},
+        {ch.sheen, &res.sheen, 4, shadeSheen, true},
+        {ch.specular, &res.specular, 4, shadeSpecular, true},
+        {ch.transmission, &res.transmission, 3, shadeTransmission, false},
+        {ch.iridescence, &res.iridescence, 3, shadeIridescence, false},
+        {ch.diffuseTransmission, &res.diffuseTransmission, 4, shadeDiffuseTransmission, true},
+    };
+    for (const ExtensionImage& e : extensionImages)
+        if (e.on) e.out->assign(texels * e.comps, 0.0f);
+    if (ch.clearcoatNormal) res.clearcoatNormal.assign(texels * 3, 0.0f);
     std::vector<uint8_t> covered(texels, 0);
     std::vector<size_t> rowCovered(size_t(g.h), 0), rowIsland(size_t(g.h), 0), rowLookups(size_t(g.h), 0);
     const ShadeContext ctx{asset, cornerUV, islands, sources, BakeSourcesAccess::tangents(bs), g.size};
@@ -558,6 +676,16 @@ BakeResult bakeMaterial(const BakeSources& bs, const std::vector<std::array<Vec2
                 encodeInTarget(target, target ? targetHits[i] : TargetHit{}, N, v);
                 for (size_t c = 0; c < 3; ++c) res.normal[i * 3 + c] = float(v[c]);
             }
+            for (const ExtensionImage& e : extensionImages) {
+                if (!e.on) continue;
+                double x[4];
+                e.shade(ctx, ch, h, x);
+                for (size_t c = 0; c < e.comps; ++c) (*e.out)[i * e.comps + c] = float(x[c]);
+            }
+            if (ch.clearcoatNormal) {
+                encodeInTarget(target, target ? targetHits[i] : TargetHit{}, clearcoatNormal(ctx, h), v);
+                for (size_t c = 0; c < 3; ++c) res.clearcoatNormal[i * 3 + c] = float(v[c]);
+            }
         }
     });
     for (size_t y = 0; y < size_t(g.h); ++y) {
@@ -570,8 +698,20 @@ BakeResult bakeMaterial(const BakeSources& bs, const std::vector<std::array<Vec2
         hits = {};  // shaded: freed before the fill allocates its pyramids
         targetHits = {};
         pullPushFill(px, 3, covered, g.w, g.h, o.threads);
-        for (std::vector<float>* c : {&res.alpha, &res.orm, &res.emissive, &res.normal})
+        for (std::vector<float>* c : {&res.alpha, &res.orm, &res.emissive, &res.normal, &res.clearcoatNormal})
             if (!c->empty()) pullPushFill(*c, c == &res.alpha ? 1 : 3, covered, g.w, g.h, o.threads);
+        for (const ExtensionImage& e : extensionImages)
+            if (e.on) pullPushFill(*e.out, int(e.comps), covered, g.w, g.h, o.threads);
+    }
+    for (const ExtensionImage& e : extensionImages) {
+        if (!e.on) continue;
+        if (e.srgb)
+            for (size_t i = 0; i < texels; ++i)
+                for (size_t c = 0; c < 3; ++c) {
+                    float& x = (*e.out)[i * e.comps + c];
+                    x = float(linearToSrgb(std::clamp(double(x), 0.0, 1.0)));
+                }
+        quantize(*e.out);
     }
     if (ch.alpha) quantize(res.alpha);
     if (ch.orm) quantize(res.orm);
@@ -582,16 +722,17 @@ BakeResult bakeMaterial(const BakeSources& bs, const std::vector<std::array<Vec2
         for (float& v : res.emissive) v = float(linearToSrgb(v / res.emissiveScale));
         quantize(res.emissive);
     }
-    if (ch.normal) {
+    for (std::vector<float>* normals : {&res.normal, &res.clearcoatNormal}) {
+        if (normals->empty()) continue;
         for (size_t i = 0; i < texels; ++i) {
-            float* n = &res.normal[i * 3];
+            float* n = &(*normals)[i * 3];
             Vec3 d = normalize(Vec3{2.0 * n[0] - 1, 2.0 * n[1] - 1, 2.0 * n[2] - 1});
             if (!(length(d) > 0.5)) d = {0, 0, 1};
             n[0] = float(d.x * 0.5 + 0.5);
             n[1] = float(d.y * 0.5 + 0.5);
             n[2] = float(d.z * 0.5 + 0.5);
         }
-        quantize(res.normal);
+        quantize(*normals);
     }
 
     // Encode: sRGB 8-bit RGB.
