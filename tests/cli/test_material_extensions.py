@@ -69,7 +69,11 @@ class MaterialExtensions(unittest.TestCase):
         # varying channel is a texture; the glass's properties are the only ones (no warning).
         mat = j["materials"][0]["extensions"]
         self.assertIn("sheenColorTexture", mat["KHR_materials_sheen"])
-        self.assertIn("sheenRoughnessTexture", mat["KHR_materials_sheen"], "0.5 on the cloth, the neutral 0 elsewhere")
+        # Roughness matters only under sheen / a coat: the cloth's and the paint's, as factors.
+        self.assertNotIn("sheenRoughnessTexture", mat["KHR_materials_sheen"])
+        self.assertAlmostEqual(mat["KHR_materials_sheen"]["sheenRoughnessFactor"], 0.5)
+        self.assertNotIn("clearcoatRoughnessTexture", mat["KHR_materials_clearcoat"])
+        self.assertAlmostEqual(mat["KHR_materials_clearcoat"]["clearcoatRoughnessFactor"], 0.05)
         self.assertIn("clearcoatTexture", mat["KHR_materials_clearcoat"])
         self.assertIn("transmissionTexture", mat["KHR_materials_transmission"])
         self.assertIn("thicknessTexture", mat["KHR_materials_volume"])
@@ -79,7 +83,7 @@ class MaterialExtensions(unittest.TestCase):
         self.assertIn("specularColorTexture", mat["KHR_materials_specular"])
         self.assertNotIn("specularTexture", mat["KHR_materials_specular"], "specular 1 everywhere: a factor")
         channels = pack_levels(report)[0]["channels"]
-        for c in ("clearcoat", "sheenColor", "sheenRoughness", "transmission", "thickness", "specularColor"):
+        for c in ("clearcoat", "sheenColor", "transmission", "thickness", "specularColor"):
             self.assertIn(c, channels)
         lt.assert_no_validator_errors(self, [out])
 

@@ -160,6 +160,19 @@ TEST(MaterialExtensions, IntermediateFilesRoundTripExactly) {
     EXPECT_EQ(x.diffuseTransmission.colorTexture.transform.scale.y, y.diffuseTransmission.colorTexture.transform.scale.y);
 }
 
+// RGBA PNGs hold straight alpha (glTF): colour is neither divided by alpha on encoding nor
+// multiplied by it on decoding (a sheen colour beside its roughness in A stays the colour).
+TEST(MaterialExtensions, RgbaPngKeepsStraightAlpha) {
+    const std::vector<float> px = {56 / 255.f, 107 / 255.f, 1, 54 / 255.f, 1, 0.5f, 0, 0};
+    const Image png = encodeImage(px, 2, 1, EncodeOptions{ImageFormat::Png, 90, 4, true});
+    DecodedImage d;
+    std::string error;
+    ASSERT_TRUE(decodeImage(png, d, error, DecodeDepth::KeepEightBit)) << error;
+    ASSERT_EQ(d.bytes.size(), 8u);
+    const std::vector<uint8_t> expected = {56, 107, 255, 54, 255, 128, 0, 0};
+    EXPECT_EQ(d.bytes, expected);
+}
+
 // Two triangles of areas 1/2 each (the unit square) on two materials.
 Asset twoMaterials(const Material& m0, const Material& m1) {
     Asset a;
@@ -256,6 +269,8 @@ TEST(BakeExtensions, ChannelsFollowFactorsTexturesAndNeutralValues) {
     BakeChannels& ch = o.channels;
     ch.clearcoat = ch.sheen = ch.specular = ch.transmission = ch.iridescence = true;
     ch.specularColorScale = plan.ext.specularColorScale;
+    ch.sheenRoughnessFill = plan.ext.sheenRoughnessFill;
+    EXPECT_FALSE(plan.ext.sheenRoughnessTexture);  // only m0 has sheen: its roughness is a factor
     ch.thicknessScale = plan.ext.factors.volume.thicknessFactor;
     ch.iridescenceThicknessMin = plan.ext.factors.iridescence.thicknessMinimum;
     ch.iridescenceThicknessMax = plan.ext.factors.iridescence.thicknessMaximum;
@@ -279,10 +294,11 @@ TEST(BakeExtensions, ChannelsFollowFactorsTexturesAndNeutralValues) {
     EXPECT_NEAR(texelOf(r.clearcoat, n, 3, 0)[1], 0.2, step);
     EXPECT_NEAR(texelOf(r.clearcoat, n, 3, 1)[0], 128 / 255.0, step);
     EXPECT_NEAR(texelOf(r.clearcoat, n, 3, 1)[1], 0, step);
-    // Sheen RGBA: red (sRGB 1, 0, 0), roughness 0.4 on m0; black, 0 on m1 (neutral).
+    // Sheen RGBA: red (sRGB 1, 0, 0), roughness 0.4 on m0; black on m1 (neutral).
     EXPECT_NEAR(texelOf(r.sheen, n, 4, 0)[0], 1, step);
     EXPECT_NEAR(texelOf(r.sheen, n, 4, 0)[3], 0.4, step);
     EXPECT_NEAR(texelOf(r.sheen, n, 4, 1)[0], 0, step);
+    EXPECT_NEAR(texelOf(r.sheen, n, 4, 1)[3], 0.4, step);  // no sheen: the sheen's roughness (sheenRoughnessFill)
     // Specular: colour / 2 in sRGB, strength in A; m1 neutral white / 2 and 1.
     EXPECT_NEAR(texelOf(r.specular, n, 4, 0)[0], 1, step);
     EXPECT_NEAR(texelOf(r.specular, n, 4, 0)[1], linearToSrgb(0.5), step);

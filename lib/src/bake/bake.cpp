@@ -448,17 +448,17 @@ void texelColor(const ShadeContext& c, const TextureRef& ref, const TexelHit& h,
     for (int i = 0; i < 3; ++i) rgb[i] = f[i] * (t ? srgbToLinear(std::clamp(double(r[i]), 0.0, 1.0)) : 1.0);
 }
 
-void shadeClearcoat(const ShadeContext& c, const BakeChannels&, const TexelHit& h, double* v) {
+void shadeClearcoat(const ShadeContext& c, const BakeChannels& ch, const TexelHit& h, double* v) {
     const ClearcoatExtension& e = materialOf(c, uint32_t(h.face)).ext.clearcoat;
     v[0] = e.factor * texel(c, e.texture, h, 0);
-    v[1] = e.roughnessFactor * texel(c, e.roughnessTexture, h, 1);
+    v[1] = e.present ? e.roughnessFactor * texel(c, e.roughnessTexture, h, 1) : ch.clearcoatRoughnessFill;
     v[2] = 0;
 }
 
-void shadeSheen(const ShadeContext& c, const BakeChannels&, const TexelHit& h, double* v) {
+void shadeSheen(const ShadeContext& c, const BakeChannels& ch, const TexelHit& h, double* v) {
     const SheenExtension& e = materialOf(c, uint32_t(h.face)).ext.sheen;
     texelColor(c, e.colorTexture, h, e.colorFactor, v);
-    v[3] = e.roughnessFactor * texel(c, e.roughnessTexture, h, 3);
+    v[3] = e.present ? e.roughnessFactor * texel(c, e.roughnessTexture, h, 3) : ch.sheenRoughnessFill;
 }
 
 void shadeSpecular(const ShadeContext& c, const BakeChannels& ch, const TexelHit& h, double* v) {

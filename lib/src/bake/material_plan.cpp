@@ -30,11 +30,21 @@ struct UsedMaterial {
 
 // Whether a channel of the used materials needs a texture: some material has a texture for it,
 // or its value (neutral where the material lacks the extension) differs between them. V is
-// double or Vec3; `value(m)` gives a material's value, `texture(m)` its texture (or null).
+// double or Vec3; `value(m)` gives a material's value, `texture(m)` its texture (or null);
+// `counts` (when given) keeps only the materials where the channel matters.
 template <class V, class ValueFn, class TextureFn>
-bool channelVaries(const std::vector<UsedMaterial>& mats, const Asset& asset, ValueFn value, TextureFn texture) {
-    const V first = value(*mats.front().m);
+bool channelVaries(const std::vector<UsedMaterial>& mats, const Asset& asset, ValueFn value, TextureFn texture,
+                   bool (*counts)(const Material&) = nullptr) {
+    const Material* firstMaterial = nullptr;
+    for (const UsedMaterial& u : mats)
+        if (!counts || counts(*u.m)) {
+            firstMaterial = u.m;
+            break;
+        }
+    if (!firstMaterial) return false;
+    const V first = value(*firstMaterial);
     for (const UsedMaterial& u : mats) {
+        if (counts && !counts(*u.m)) continue;
         const TextureRef* t = texture(*u.m);
         if (t && hasTexture(*t, asset)) return true;
         const V v = value(*u.m);
@@ -45,6 +55,14 @@ bool channelVaries(const std::vector<UsedMaterial>& mats, const Asset& asset, Va
         }
     }
     return false;
+}
+
+// The first used material for which `has` holds (the caller knows there is one).
+template <class HasFn>
+const Material& firstWith(const std::vector<UsedMaterial>& mats, HasFn has) {
+    for (const UsedMaterial& u : mats)
+        if (has(*u.m)) return *u.m;
+    return *mats.front().m;
 }
 
 // A property glTF cannot vary per texel: its mean over the triangles whose material has the
@@ -116,20 +134,30 @@ void planExtensions(const Asset& asset, const std::vector<UsedMaterial>& mats, M
     if (f.clearcoat.present) {
         x.clearcoatTexture = channelVaries<double>(mats, asset, [](const Material& m) { return m.ext.clearcoat.factor; },
                                                    [](const Material& m) { return &m.ext.clearcoat.texture; });
+        // Roughness matters only under a coat: parts without one take the first coat's, so they
+        // do not make it vary (and a renderer never sees a roughness of 0 it did not ask for).
+        const Material& coated = firstWith(mats, [](const Material& m) { return m.ext.clearcoat.present; });
+        x.clearcoatRoughnessFill = coated.ext.clearcoat.roughnessFactor;
         x.clearcoatRoughnessTexture = channelVaries<double>(
             mats, asset, [](const Material& m) { return m.ext.clearcoat.roughnessFactor; },
-            [](const Material& m) { return &m.ext.clearcoat.roughnessTexture; });
+            [](const Material& m) { return &m.ext.clearcoat.roughnessTexture; },
+            [](const Material& m) { return m.ext.clearcoat.present; });
         f.clearcoat.factor = x.clearcoatTexture ? 1 : e0.clearcoat.factor;
-        f.clearcoat.roughnessFactor = x.clearcoatRoughnessTexture ? 1 : e0.clearcoat.roughnessFactor;
+        f.clearcoat.roughnessFactor = x.clearcoatRoughnessTexture ? 1 : x.clearcoatRoughnessFill;
         for (const UsedMaterial& u : mats) x.clearcoatNormalTexture |= hasTexture(u.m->ext.clearcoat.normalTexture, asset);
     }
     if (f.sheen.present) {
         x.sheenColorTexture = channelVaries<Vec3>(mats, asset, [](const Material& m) { return m.ext.sheen.colorFactor; },
                                                   [](const Material& m) { return &m.ext.sheen.colorTexture; });
+        // As the clearcoat's roughness: it matters only where there is sheen (three.js divides by
+        // the sheen roughness even under a black sheen colour).
+        const Material& sheened = firstWith(mats, [](const Material& m) { return m.ext.sheen.present; });
+        x.sheenRoughnessFill = sheened.ext.sheen.roughnessFactor;
         x.sheenRoughnessTexture = channelVaries<double>(mats, asset, [](const Material& m) { return m.ext.sheen.roughnessFactor; },
-                                                        [](const Material& m) { return &m.ext.sheen.roughnessTexture; });
+                                                        [](const Material& m) { return &m.ext.sheen.roughnessTexture; },
+                                                        [](const Material& m) { return m.ext.sheen.present; });
         f.sheen.colorFactor = x.sheenColorTexture ? Vec3{1, 1, 1} : e0.sheen.colorFactor;
-        f.sheen.roughnessFactor = x.sheenRoughnessTexture ? 1 : e0.sheen.roughnessFactor;
+        f.sheen.roughnessFactor = x.sheenRoughnessTexture ? 1 : x.sheenRoughnessFill;
     }
     if (f.transmission.present) {
         x.transmissionTexture = channelVaries<double>(mats, asset, [](const Material& m) { return m.ext.transmission.factor; },

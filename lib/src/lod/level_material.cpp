@@ -24,6 +24,8 @@ BakeChannels levelChannels(const MaterialPlan& plan, bool normalMap) {
     c.transmission = x.transmissionTexture || x.thicknessTexture;
     c.iridescence = x.iridescenceTexture || x.iridescenceThicknessTexture;
     c.diffuseTransmission = x.diffuseTransmissionTexture || x.diffuseTransmissionColorTexture;
+    c.clearcoatRoughnessFill = x.clearcoatRoughnessFill;
+    c.sheenRoughnessFill = x.sheenRoughnessFill;
     c.specularColorScale = x.specularColorScale;
     c.thicknessScale = x.factors.volume.thicknessFactor > 0 ? x.factors.volume.thicknessFactor : 1;
     c.iridescenceThicknessMin = x.factors.iridescence.thicknessMinimum;

@@ -26,6 +26,8 @@ struct BakeChannels {
     bool transmission = false;         // R transmission, G volume thickness / thicknessScale
     bool iridescence = false;          // R iridescence, G thickness normalised into [iridescenceThicknessMin, Max]
     bool diffuseTransmission = false;  // RGB diffuse transmission colour (sRGB), A diffuse transmission
+    double clearcoatRoughnessFill = 0; // clearcoat roughness where the material has no clearcoat
+    double sheenRoughnessFill = 0;     // sheen roughness where the material has no sheen
     double specularColorScale = 1;     // > 0
     double thicknessScale = 1;         // mesh units; > 0
     double iridescenceThicknessMin = 100, iridescenceThicknessMax = 400;  // nanometres

@@ -27,6 +27,9 @@ namespace lodbake {
 struct ExtensionPlan {
     MaterialExtensions factors;  // `present` flags, factors and properties of the chain's material (no textures)
     bool clearcoatTexture = false, clearcoatRoughnessTexture = false;
+    // The roughness baked where a part lacks the clearcoat / sheen (it matters only under one):
+    // the first such material's factor, so these parts do not make the roughness vary.
+    double clearcoatRoughnessFill = 0, sheenRoughnessFill = 0;
     bool clearcoatNormalTexture = false;  // some used material has a clearcoat normal map
     bool sheenColorTexture = false, sheenRoughnessTexture = false;
     bool transmissionTexture = false, thicknessTexture = false;
