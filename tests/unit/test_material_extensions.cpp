@@ -25,6 +25,7 @@ using json = nlohmann::json;
 using namespace lodbake::testing;
 
 constexpr int kF32 = 5126;
+constexpr double kPi = 3.14159265358979323846;
 
 // Every field of every extension lodbake reads, with values unlike the defaults.
 json allExtensions() {
@@ -320,6 +321,48 @@ TEST(BakeExtensions, ChannelsFollowFactorsTexturesAndNeutralValues) {
     const BakeResult r2 = bakeMaterial(sources, uv, o);
     EXPECT_EQ(r.sheen, r2.sheen);
     EXPECT_EQ(r.iridescence, r2.iridescence);
+}
+
+// Anisotropy: the direction (the tangent rotated by anisotropyRotation) is re-expressed in the
+// target's tangent frame. The quad's own frame (T = +x, B = +y) and a target whose tangents
+// point along +y (so its bitangent is -x) see the same world direction differently.
+TEST(BakeExtensions, AnisotropyDirectionFollowsTheTargetFrame) {
+    Material m;
+    m.ext.anisotropy = {true, 0.6, kPi / 2, {}};  // world +y
+    Asset a = twoMaterials(m, m);
+    std::vector<std::array<Vec2, 3>> uv(2);
+    BakeTarget same, turned;
+    for (size_t f = 0; f < 2; ++f) {
+        std::array<Vec3, 3> n;
+        std::array<Vec4, 3> t0, t1;
+        for (size_t k = 0; k < 3; ++k) {
+            uv[f][k] = a.mesh.wedges.uv0[a.mesh.cornerWedges[f][k]];
+            n[k] = {0, 0, 1};
+            t0[k] = {1, 0, 0, 1};
+            t1[k] = {0, 1, 0, 1};
+        }
+        for (BakeTarget* t : {&same, &turned}) {
+            t->uv.push_back(uv[f]);
+            t->normal.push_back(n);
+        }
+        same.tangent.push_back(t0);
+        turned.tangent.push_back(t1);
+    }
+    const MaterialPlan plan = planMaterial(a);
+    EXPECT_TRUE(plan.ext.anisotropyTexture);
+    EXPECT_DOUBLE_EQ(plan.ext.factors.anisotropy.strength, 1);
+    BakeOptions o;
+    o.size = 16;
+    o.channels.anisotropy = true;
+    const BakeSources sources(a);
+    const float step = 1 / 255.0f + 1e-6f;
+    const BakeResult r0 = bakeMaterial(sources, uv, o, {}, &same);
+    EXPECT_NEAR(texelOf(r0.anisotropy, 16, 3, 0)[0], 0.5, step);  // direction (0, 1)
+    EXPECT_NEAR(texelOf(r0.anisotropy, 16, 3, 0)[1], 1, step);
+    EXPECT_NEAR(texelOf(r0.anisotropy, 16, 3, 0)[2], 0.6, step);
+    const BakeResult r1 = bakeMaterial(sources, uv, o, {}, &turned);
+    EXPECT_NEAR(texelOf(r1.anisotropy, 16, 3, 1)[0], 1, step);  // direction (1, 0): along the target's tangent
+    EXPECT_NEAR(texelOf(r1.anisotropy, 16, 3, 1)[1], 0.5, step);
 }
 
 }  // namespace

@@ -252,6 +252,7 @@ std::vector<const TextureRef*> extensionRefs(const MaterialExtensions& e, const 
     add(ch.transmission, {&e.transmission.texture, &e.volume.thicknessTexture});
     add(ch.iridescence, {&e.iridescence.texture, &e.iridescence.thicknessTexture});
     add(ch.diffuseTransmission, {&e.diffuseTransmission.texture, &e.diffuseTransmission.colorTexture});
+    add(ch.anisotropy, {&e.anisotropy.texture});
     return refs;
 }
 
@@ -390,7 +391,7 @@ void shadeEmissive(const ShadeContext& c, const TexelHit& h, double e[3]) {
 
 // The original's normal at hit h, world space: interpolated normal (the face's when the file has
 // none) perturbed by normal map `map` of its material in the original tangent frame.
-Vec3 perturbedNormal(const ShadeContext& c, const TexelHit& h, const TextureRef& map) {
+Vec3 interpolatedNormal(const ShadeContext& c, const TexelHit& h) {
     const TriMesh& mesh = c.asset.mesh;
     const uint32_t f = uint32_t(h.face);
     const Tri& t = mesh.triangles[f];
@@ -402,19 +403,34 @@ Vec3 perturbedNormal(const ShadeContext& c, const TexelHit& h, const TextureRef&
         for (int k = 0; k < 3; ++k) n += mesh.wedges.normal[cw[size_t(k)]] * h.bary[size_t(k)];
         if (length(n) > 1e-12) N = normalize(n);
     }
-    float r[4];
-    if (!lookup(c, map, h, r)) return N;
-    const int set = map.transform.texCoord >= 0 ? map.transform.texCoord : map.texCoord;
+    return N;
+}
+
+// The original's tangent T and bitangent B at hit h around normal N, for UV set `set` (the file's
+// TANGENT, else the frames BakeSources computed). False when there is none.
+bool originalTangentFrame(const ShadeContext& c, const TexelHit& h, int set, Vec3 N, Vec3& T, Vec3& B) {
+    const TriMesh& mesh = c.asset.mesh;
+    const Tri& cw = mesh.cornerWedges[uint32_t(h.face)];
     const std::vector<Vec4>& tangents = mesh.wedges.tangent.empty() ? c.tangents[set == 1 ? 1 : 0] : mesh.wedges.tangent;
-    if (tangents.empty()) return N;
-    Vec3 T{};
+    if (tangents.empty()) return false;
+    T = Vec3{};
     for (int k = 0; k < 3; ++k) {
         const Vec4& tk = tangents[cw[size_t(k)]];
         T += Vec3{tk.x, tk.y, tk.z} * h.bary[size_t(k)];
     }
     T = normalize(T - N * dot(T, N));
-    if (!(length(T) > 0.5)) return N;
-    const Vec3 B = cross(N, T) * (tangents[cw[0]].w < 0 ? -1.0 : 1.0);
+    if (!(length(T) > 0.5)) return false;
+    B = cross(N, T) * (tangents[cw[0]].w < 0 ? -1.0 : 1.0);
+    return true;
+}
+
+Vec3 perturbedNormal(const ShadeContext& c, const TexelHit& h, const TextureRef& map) {
+    const Vec3 N = interpolatedNormal(c, h);
+    float r[4];
+    if (!lookup(c, map, h, r)) return N;
+    const int set = map.transform.texCoord >= 0 ? map.transform.texCoord : map.texCoord;
+    Vec3 T, B;
+    if (!originalTangentFrame(c, h, set, N, T, B)) return N;
     const double s = map.scale;
     const Vec3 nt{(2.0 * r[0] - 1) * s, (2.0 * r[1] - 1) * s, 2.0 * r[2] - 1};
     const Vec3 out = normalize(T * nt.x + B * nt.y + N * nt.z);
@@ -428,6 +444,30 @@ Vec3 shadingNormal(const ShadeContext& c, const TexelHit& h) { return perturbedN
 // interpolated normal, as glTF defines it).
 Vec3 clearcoatNormal(const ShadeContext& c, const TexelHit& h) {
     return perturbedNormal(c, h, materialOf(c, uint32_t(h.face)).ext.clearcoat.normalTexture);
+}
+
+// The original's anisotropy at hit h: its strength (0 where the material has none) and its
+// direction in world space (the tangent rotated by anisotropyRotation, then by the texture's RG
+// direction, in the original tangent frame of the texture's UV set).
+double anisotropyAt(const ShadeContext& c, const TexelHit& h, Vec3& direction) {
+    const AnisotropyExtension& e = materialOf(c, uint32_t(h.face)).ext.anisotropy;
+    direction = {};
+    if (!e.present) return 0;
+    double strength = e.strength, dx = 1, dy = 0;
+    float r[4];
+    if (lookup(c, e.texture, h, r)) {
+        dx = 2.0 * r[0] - 1;
+        dy = 2.0 * r[1] - 1;
+        strength *= std::clamp(double(r[2]), 0.0, 1.0);
+    }
+    const double cr = std::cos(e.rotation), sr = std::sin(e.rotation);
+    const double x = cr * dx - sr * dy, y = sr * dx + cr * dy;
+    const int set = e.texture.transform.texCoord >= 0 ? e.texture.transform.texCoord : e.texture.texCoord;
+    const Vec3 N = interpolatedNormal(c, h);
+    Vec3 T, B;
+    if (!originalTangentFrame(c, h, set, N, T, B)) return 0;
+    direction = T * x + B * y;
+    return std::clamp(strength, 0.0, 1.0);
 }
 
 // Extension channels: each fills v (3 or 4 values, BakeChannels' packing) with the original
@@ -526,29 +566,52 @@ std::vector<TargetHit> rasterizeTarget(const BakeTarget& target, const Grid& g) 
     return hits;
 }
 
+// The target's tangent frame (normal, tangent, bitangent) at hit th; false without a target, a
+// hit or a usable frame.
+bool targetFrame(const BakeTarget* targetOrNull, const TargetHit& th, Vec3& Nl, Vec3& Tl, Vec3& Bl) {
+    if (!targetOrNull || th.tri < 0) return false;
+    const BakeTarget& target = *targetOrNull;
+    Nl = Tl = Vec3{};
+    for (size_t k = 0; k < 3; ++k) {
+        Nl += target.normal[size_t(th.tri)][k] * th.bary[k];
+        const Vec4& tk = target.tangent[size_t(th.tri)][k];
+        Tl += Vec3{tk.x, tk.y, tk.z} * th.bary[k];
+    }
+    Nl = normalize(Nl);
+    Tl = normalize(Tl - Nl * dot(Tl, Nl));
+    if (!(length(Nl) > 0.5 && length(Tl) > 0.5)) return false;
+    Bl = cross(Nl, Tl) * (target.tangent[size_t(th.tri)][0].w < 0 ? -1.0 : 1.0);
+    return true;
+}
+
 // World normal N expressed in the target's tangent frame at hit th, as an encoded colour; the
 // unperturbed (0, 0, 1) without a target or a hit.
 void encodeInTarget(const BakeTarget* targetOrNull, const TargetHit& th, Vec3 N, double rgb[3]) {
-    Vec3 n{0, 0, 1};
-    if (targetOrNull && th.tri >= 0) {
-        const BakeTarget& target = *targetOrNull;
-        Vec3 Nl{}, Tl{};
-        for (size_t k = 0; k < 3; ++k) {
-            Nl += target.normal[size_t(th.tri)][k] * th.bary[k];
-            const Vec4& tk = target.tangent[size_t(th.tri)][k];
-            Tl += Vec3{tk.x, tk.y, tk.z} * th.bary[k];
-        }
-        Nl = normalize(Nl);
-        Tl = normalize(Tl - Nl * dot(Tl, Nl));
-        if (length(Nl) > 0.5 && length(Tl) > 0.5) {
-            const Vec3 Bl = cross(Nl, Tl) * (target.tangent[size_t(th.tri)][0].w < 0 ? -1.0 : 1.0);
-            n = normalize(Vec3{dot(N, Tl), dot(N, Bl), dot(N, Nl)});
-            if (!(length(n) > 0.5)) n = {0, 0, 1};
-        }
+    Vec3 n{0, 0, 1}, Nl, Tl, Bl;
+    if (targetFrame(targetOrNull, th, Nl, Tl, Bl)) {
+        n = normalize(Vec3{dot(N, Tl), dot(N, Bl), dot(N, Nl)});
+        if (!(length(n) > 0.5)) n = {0, 0, 1};
     }
     rgb[0] = n.x * 0.5 + 0.5;
     rgb[1] = n.y * 0.5 + 0.5;
     rgb[2] = n.z * 0.5 + 0.5;
+}
+
+// An anisotropy texel for the target: RG = world direction D in the target's tangent plane at
+// th (unit, encoded x 0.5 + 0.5; the tangent without a target, a hit or a direction), B = strength.
+void encodeAnisotropyInTarget(const BakeTarget* targetOrNull, const TargetHit& th, Vec3 D, double strength, double rgb[3]) {
+    double x = 1, y = 0;
+    Vec3 Nl, Tl, Bl;
+    if (targetFrame(targetOrNull, th, Nl, Tl, Bl)) {
+        const double u = dot(D, Tl), v = dot(D, Bl), l = std::hypot(u, v);
+        if (l > 1e-12) {
+            x = u / l;
+            y = v / l;
+        }
+    }
+    rgb[0] = x * 0.5 + 0.5;
+    rgb[1] = y * 0.5 + 0.5;
+    rgb[2] = strength;
 }
 
 // Rounds values in [0,1] to 8-bit steps, as they will be stored.
@@ -573,8 +636,9 @@ struct BakeSources::Impl {
         }
         if (asset.mesh.wedges.tangent.empty())
             for (const Material& m : asset.materials)
-                for (const TextureRef* map : {&m.normal, &m.ext.clearcoat.normalTexture}) {
-                    if (map->texture < 0) continue;
+                for (const TextureRef* map : {&m.normal, &m.ext.clearcoat.normalTexture, &m.ext.anisotropy.texture}) {
+                    // Anisotropy needs the frame even without a texture (its rotation is relative to it).
+                    if (map->texture < 0 && !(map == &m.ext.anisotropy.texture && m.ext.anisotropy.present)) continue;
                     const int set = (map->transform.texCoord >= 0 ? map->transform.texCoord : map->texCoord) == 1 ? 1 : 0;
                     if (tangents[size_t(set)].empty()) tangents[size_t(set)] = computeWedgeTangents(asset.mesh, set);
                 }
@@ -626,7 +690,7 @@ BakeResult bakeMaterial(const BakeSources& bs, const std::vector<std::array<Vec2
     rasterizeTriangles(mesh, cornerUV, g, o.dilation, hits);
     rasterizeIslands(mesh, islands, g, o.dilation, o.threads, hits);
     std::vector<TargetHit> targetHits;
-    if ((ch.normal || ch.clearcoatNormal) && target) targetHits = rasterizeTarget(*target, g);
+    if ((ch.normal || ch.clearcoatNormal || ch.anisotropy) && target) targetHits = rasterizeTarget(*target, g);
 
     decodeSources(asset, sources, ch, o.threads);
     // Shade: linear RGB + coverage, rows in parallel (each texel depends only on its hit).
@@ -647,6 +711,7 @@ BakeResult bakeMaterial(const BakeSources& bs, const std::vector<std::array<Vec2
     for (const ExtensionImage& e : extensionImages)
         if (e.on) e.out->assign(texels * e.comps, 0.0f);
     if (ch.clearcoatNormal) res.clearcoatNormal.assign(texels * 3, 0.0f);
+    if (ch.anisotropy) res.anisotropy.assign(texels * 3, 0.0f);
     std::vector<uint8_t> covered(texels, 0);
     std::vector<size_t> rowCovered(size_t(g.h), 0), rowIsland(size_t(g.h), 0), rowLookups(size_t(g.h), 0);
     const ShadeContext ctx{asset, cornerUV, islands, sources, BakeSourcesAccess::tangents(bs), g.size};
@@ -686,6 +751,12 @@ BakeResult bakeMaterial(const BakeSources& bs, const std::vector<std::array<Vec2
                 encodeInTarget(target, target ? targetHits[i] : TargetHit{}, clearcoatNormal(ctx, h), v);
                 for (size_t c = 0; c < 3; ++c) res.clearcoatNormal[i * 3 + c] = float(v[c]);
             }
+            if (ch.anisotropy) {
+                Vec3 D;
+                const double strength = anisotropyAt(ctx, h, D);
+                encodeAnisotropyInTarget(target, target ? targetHits[i] : TargetHit{}, D, strength, v);
+                for (size_t c = 0; c < 3; ++c) res.anisotropy[i * 3 + c] = float(v[c]);
+            }
         }
     });
     for (size_t y = 0; y < size_t(g.h); ++y) {
@@ -698,7 +769,7 @@ BakeResult bakeMaterial(const BakeSources& bs, const std::vector<std::array<Vec2
         hits = {};  // shaded: freed before the fill allocates its pyramids
         targetHits = {};
         pullPushFill(px, 3, covered, g.w, g.h, o.threads);
-        for (std::vector<float>* c : {&res.alpha, &res.orm, &res.emissive, &res.normal, &res.clearcoatNormal})
+        for (std::vector<float>* c : {&res.alpha, &res.orm, &res.emissive, &res.normal, &res.clearcoatNormal, &res.anisotropy})
             if (!c->empty()) pullPushFill(*c, c == &res.alpha ? 1 : 3, covered, g.w, g.h, o.threads);
         for (const ExtensionImage& e : extensionImages)
             if (e.on) pullPushFill(*e.out, int(e.comps), covered, g.w, g.h, o.threads);
@@ -722,6 +793,7 @@ BakeResult bakeMaterial(const BakeSources& bs, const std::vector<std::array<Vec2
         for (float& v : res.emissive) v = float(linearToSrgb(v / res.emissiveScale));
         quantize(res.emissive);
     }
+    if (ch.anisotropy) quantize(res.anisotropy);
     for (std::vector<float>* normals : {&res.normal, &res.clearcoatNormal}) {
         if (normals->empty()) continue;
         for (size_t i = 0; i < texels; ++i) {

@@ -124,9 +124,9 @@ void planExtensions(const Asset& asset, const std::vector<UsedMaterial>& mats, M
         f.diffuseTransmission.present |= e.diffuseTransmission.present;
     }
     if (f.anisotropy.present) {
-        f.anisotropy.present = false;
-        p.warnings.push_back("KHR_materials_anisotropy is not carried: its direction is relative to the original's tangent "
-                             "frames, which the chain's levels do not share");
+        x.anisotropyTexture = true;
+        f.anisotropy.strength = 1;
+        f.anisotropy.rotation = 0;
     }
     const MaterialExtensions& e0 = mats.front().m->ext;
     // Values of an absent extension are its struct's defaults, which are the neutral values

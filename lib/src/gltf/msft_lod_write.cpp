@@ -55,7 +55,8 @@ void checkLevel(const std::string& path, const LodLevelData& L) {
     for (const std::vector<float>& d : L.targetPositions) ok = ok && !d.empty();
     for (uint32_t i : L.indices) ok = ok && i < n;
     if (!ok) throw InvalidInput(path + ": level '" + L.name + "' has inconsistent mesh data");
-    if ((!L.material.normal.encoded.empty() || L.material.ext.clearcoat.normalTexture.texture >= 0) && L.tangents.empty())
+    if ((!L.material.normal.encoded.empty() || L.material.ext.clearcoat.normalTexture.texture >= 0 ||
+         L.material.ext.anisotropy.texture.texture >= 0) && L.tangents.empty())
         throw InvalidInput(path + ": level '" + L.name + "' has a normal map but no tangents");
 }
 

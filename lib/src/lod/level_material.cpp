@@ -24,6 +24,7 @@ BakeChannels levelChannels(const MaterialPlan& plan, bool normalMap) {
     c.transmission = x.transmissionTexture || x.thicknessTexture;
     c.iridescence = x.iridescenceTexture || x.iridescenceThicknessTexture;
     c.diffuseTransmission = x.diffuseTransmissionTexture || x.diffuseTransmissionColorTexture;
+    c.anisotropy = x.anisotropyTexture;
     c.clearcoatRoughnessFill = x.clearcoatRoughnessFill;
     c.sheenRoughnessFill = x.sheenRoughnessFill;
     c.specularColorScale = x.specularColorScale;
@@ -199,6 +200,7 @@ LodMaterial levelMaterial(const MaterialPlan& plan, const BakeResult& baked, int
         {&baked.diffuseTransmission, "diffuseTransmission", 4, true, false,
          {pick(x.diffuseTransmissionColorTexture, e.diffuseTransmission.colorTexture),
           pick(x.diffuseTransmissionTexture, e.diffuseTransmission.texture)}},
+        {&baked.anisotropy, "anisotropy", 3, false, true, {&e.anisotropy.texture}},
     };
     size_t images = 0;
     for (const ExtensionImage& ei : extension) images += ei.values->empty() ? 0 : 1;

@@ -838,7 +838,7 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
         const bool normalMap = !options.baseColorOnly && (options.normalMaps == NormalMaps::Always ||
                                                           (options.normalMaps == NormalMaps::Auto && (plan.normalTexture || k > 0)));
         const BakeChannels channels = levelChannels(plan, normalMap);
-        const bool normalMaps = channels.normal || channels.clearcoatNormal;
+        const bool normalMaps = channels.normal || channels.clearcoatNormal || channels.anisotropy;
         if (normalMaps) L.tangents = levelTangents(L);
         // The normal maps' target frames; none without one.
         std::optional<BakeTarget> target;

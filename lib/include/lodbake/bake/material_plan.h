@@ -37,6 +37,9 @@ struct ExtensionPlan {
     double specularColorScale = 1;  // the largest specular colour factor component when above 1, else 1
     bool iridescenceTexture = false, iridescenceThicknessTexture = false;
     bool diffuseTransmissionTexture = false, diffuseTransmissionColorTexture = false;
+    // Anisotropy is always baked when present: its direction is relative to the tangent frames,
+    // which differ between the original and a level (factors: strength 1, rotation 0).
+    bool anisotropyTexture = false;
     bool any() const;  // some extension is present
 };
 
