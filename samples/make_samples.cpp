@@ -15,6 +15,8 @@
 //   critter.glb      a low-poly rigged quadruped: body, head, thin ears, tail and four two-joint legs
 //                    (11 joints, weights blended at every joint, rest pose != bind pose) with a
 //                    one-second trot; one texture of four coloured cells; 452 triangles
+//   materials.glb    four spheres on a floor, each on a KHR_materials_* extension: sheen (cloth),
+//                    clearcoat (paint), transmission + volume + ior (glass), specular colour
 //
 // `--scale S` multiplies every grid's resolution by S (about S^2 times the triangles) for
 // benchmarks; S = 1 gives the samples above.
@@ -904,6 +906,103 @@ Asset makeDrum(double scale) {
     return asset;
 }
 
+// --- materials: KHR_materials_* extensions with a known look ------------------------------
+
+// An RGB image S x S whose texel (x, y) is colour(u, v) with u, v in [0,1] at texel centres.
+Image imageOf(int S, const std::string& name, const std::function<Rgb(double, double)>& colour) {
+    std::vector<uint8_t> px(size_t(S) * S * 3);
+    for (int y = 0; y < S; ++y)
+        for (int x = 0; x < S; ++x) {
+            const Rgb c = colour((x + 0.5) / S, (y + 0.5) / S);
+            uint8_t* p = &px[(size_t(y) * S + x) * 3];
+            p[0] = c.r;
+            p[1] = c.g;
+            p[2] = c.b;
+        }
+    return encodePng(px, S, S, name);
+}
+
+// materials: four spheres in a row on a textured floor, each showing one extension whose look
+// is unmistakable: velvet cloth (dark base colour, sheen colour striped by a texture), car paint
+// (red base under a clearcoat whose strength is banded by a texture), glass (transmission 1, a
+// thickness and a green attenuation, ior 1.5) and a dielectric whose specular colour comes from a
+// rainbow texture. The floor has no extension: its neutral values are part of the bake.
+Asset makeMaterials(double scale) {
+    Asset asset = newAsset("materials");
+    const int S = 64;
+    Material cloth;
+    cloth.name = "cloth";
+    cloth.baseColorFactor = {0.04, 0.02, 0.12, 1};
+    cloth.metallicFactor = 0;
+    cloth.roughnessFactor = 1;
+    cloth.ext.sheen.present = true;
+    cloth.ext.sheen.colorFactor = {1, 0.6, 0.8};
+    cloth.ext.sheen.colorTexture.texture = addImage(asset, imageOf(S, "cloth_sheenColor", [](double u, double) {
+        return int(u * 8) % 2 ? Rgb{255, 255, 255} : Rgb{255, 140, 60};
+    }));
+    cloth.ext.sheen.roughnessFactor = 0.5;
+    Material paint;
+    paint.name = "paint";
+    paint.baseColorFactor = {0.55, 0.02, 0.03, 1};
+    paint.metallicFactor = 0.4;
+    paint.roughnessFactor = 0.6;
+    paint.ext.clearcoat.present = true;
+    paint.ext.clearcoat.factor = 1;
+    paint.ext.clearcoat.texture.texture = addImage(asset, imageOf(S, "paint_clearcoat", [](double, double v) {
+        const uint8_t c = int(v * 6) % 2 ? 255 : 64;
+        return Rgb{c, c, c};
+    }));
+    paint.ext.clearcoat.roughnessFactor = 0.05;
+    Material glass;
+    glass.name = "glass";
+    glass.baseColorFactor = {1, 1, 1, 1};
+    glass.metallicFactor = 0;
+    glass.roughnessFactor = 0.05;
+    glass.ext.transmission.present = true;
+    glass.ext.transmission.factor = 1;
+    glass.ext.volume.present = true;
+    glass.ext.volume.thicknessFactor = 0.8;
+    glass.ext.volume.attenuationDistance = 0.5;
+    glass.ext.volume.attenuationColor = {0.5, 0.9, 0.6};
+    glass.ext.ior.present = true;
+    glass.ext.ior.ior = 1.5;
+    Material specular;
+    specular.name = "specular";
+    specular.baseColorFactor = {0.08, 0.08, 0.08, 1};
+    specular.metallicFactor = 0;
+    specular.roughnessFactor = 0.25;
+    specular.ext.specular.present = true;
+    specular.ext.specular.factor = 1;
+    specular.ext.specular.colorTexture.texture = addImage(asset, imageOf(S, "specular_color", [](double u, double) {
+        const double h = 6 * u;  // hue around the sphere
+        auto ramp = [&](double c) { return uint8_t(std::lround(255 * std::clamp(std::fabs(std::fmod(h + c, 6.0) - 3) - 1, 0.0, 1.0))); };
+        return Rgb{ramp(0), ramp(4), ramp(2)};
+    }));
+    std::vector<uint8_t> ground(size_t(2 * S) * 2 * S * 3);
+    drawCell(ground, 2 * S, 0, 0, 2 * S, 2 * S, 7, 3);
+    const int floorMat = addTexturedMaterial(asset, "floor", encodePng(ground, 2 * S, 2 * S, "floor"));
+    const int mats[4] = {int(asset.materials.size()), int(asset.materials.size()) + 1, int(asset.materials.size()) + 2,
+                         int(asset.materials.size()) + 3};
+    for (Material* m : {&cloth, &paint, &glass, &specular}) asset.materials.push_back(*m);
+    MeshBuilder mb;
+    const int n = scaled(8, scale, 1);
+    auto floor = [&](int i, int j) {
+        const Vec3 p{-2.5 + 5.0 * i / n, 0, -1.5 + 3.0 * j / n};
+        return mb.wedge(mb.vertex({-1, i, j}, p), floorMat, Vec2{double(i) / n, double(j) / n}, Vec3{0, 1, 0});
+    };
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+            uint32_t a = floor(i, j), b = floor(i + 1, j), c = floor(i + 1, j + 1), d = floor(i, j + 1);
+            mb.triangle(floorMat, {a, c, b});
+            mb.triangle(floorMat, {a, d, c});
+        }
+    const int nLat = scaled(16, scale, 2), nLon = scaled(24, scale, 4);
+    for (int k = 0; k < 4; ++k)
+        addSphere(mb, mats[k], k, Vec3{-1.8 + 1.2 * k, 0.5, 0}, 0.5, nLat, nLon, Vec2{0, 0}, Vec2{1, 1});
+    asset.mesh = mb.take();
+    return asset;
+}
+
 }  // namespace
 }  // namespace lodbake
 
@@ -913,7 +1012,8 @@ int main(int argc, char** argv) {
         std::vector<std::string> dirs;
         bool verbose = false;
         double scale = 1;
-        cli::ArgParser p("make-samples", "OUTDIR\n\nWrites hemisphere9.glb, wall5.glb, colors.glb, seamball.glb, pbrscene.glb, walker.glb, drum.glb and critter.glb into OUTDIR\n"
+        cli::ArgParser p("make-samples", "OUTDIR\n\nWrites hemisphere9.glb, wall5.glb, colors.glb, seamball.glb, pbrscene.glb, walker.glb, drum.glb, critter.glb\n"
+                                         "and materials.glb into OUTDIR\n"
                                          "(created if missing). Output is byte-identical on every run.");
         p.positionals("OUTDIR", [&](const std::string& v) { dirs.push_back(v); });
         p.flag("-v", "print one line per sample", [&] { verbose = true; });
@@ -938,7 +1038,8 @@ int main(int argc, char** argv) {
                                   {"pbrscene.glb", makePbrScene},
                                   {"walker.glb", makeWalker},
                                   {"drum.glb", makeDrum},
-                                  {"critter.glb", makeCritter}};
+                                  {"critter.glb", makeCritter},
+                                  {"materials.glb", makeMaterials}};
         for (const Sample& s : samples) {
             Asset a = s.make(scale);
             std::string path = (std::filesystem::path(dirs[0]) / s.file).string();

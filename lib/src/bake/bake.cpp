@@ -239,6 +239,23 @@ int imageOf(const Asset& asset, const TextureRef& ref) {
     return i >= 0 && i < int(asset.images.size()) ? i : -1;
 }
 
+// The extension texture references that baking `ch` reads.
+std::vector<const TextureRef*> extensionRefs(const MaterialExtensions& e, const BakeChannels& ch) {
+    std::vector<const TextureRef*> refs;
+    auto add = [&](bool on, std::initializer_list<const TextureRef*> list) {
+        if (on) refs.insert(refs.end(), list);
+    };
+    add(ch.clearcoat, {&e.clearcoat.texture, &e.clearcoat.roughnessTexture});
+    add(ch.clearcoatNormal, {&e.clearcoat.normalTexture});
+    add(ch.sheen, {&e.sheen.colorTexture, &e.sheen.roughnessTexture});
+    add(ch.specular, {&e.specular.texture, &e.specular.colorTexture});
+    add(ch.transmission, {&e.transmission.texture, &e.volume.thicknessTexture});
+    add(ch.iridescence, {&e.iridescence.texture, &e.iridescence.thicknessTexture});
+    add(ch.diffuseTransmission, {&e.diffuseTransmission.texture, &e.diffuseTransmission.colorTexture});
+    add(ch.anisotropy, {&e.anisotropy.texture});
+    return refs;
+}
+
 // Decodes, on `threads` threads, every image that baking `ch` reads (each once, in any order:
 // each is decoded on its own), so the shading threads do not wait on one another's decodes.
 void decodeSources(const Asset& asset, std::vector<SourceTexture>& sources, const BakeChannels& ch, int threads) {
@@ -249,6 +266,10 @@ void decodeSources(const Asset& asset, std::vector<SourceTexture>& sources, cons
                                     ch.normal ? &m.normal : nullptr};
         for (const TextureRef* ref : refs) {
             const int i = ref ? imageOf(asset, *ref) : -1;
+            if (i >= 0 && sources[size_t(i)].used) images.push_back(size_t(i));
+        }
+        for (const TextureRef* ref : extensionRefs(m.ext, ch)) {
+            const int i = imageOf(asset, *ref);
             if (i >= 0 && sources[size_t(i)].used) images.push_back(size_t(i));
         }
     }
@@ -368,9 +389,9 @@ void shadeEmissive(const ShadeContext& c, const TexelHit& h, double e[3]) {
         for (int i = 0; i < 3; ++i) e[i] *= srgbToLinear(std::clamp(double(r[i]), 0.0, 1.0));
 }
 
-// The original's shading normal at hit h, world space: interpolated normal (the face's when the
-// file has none) perturbed by the material's normal map in the original tangent frame.
-Vec3 shadingNormal(const ShadeContext& c, const TexelHit& h) {
+// The original's normal at hit h, world space: interpolated normal (the face's when the file has
+// none) perturbed by normal map `map` of its material in the original tangent frame.
+Vec3 interpolatedNormal(const ShadeContext& c, const TexelHit& h) {
     const TriMesh& mesh = c.asset.mesh;
     const uint32_t f = uint32_t(h.face);
     const Tri& t = mesh.triangles[f];
@@ -382,25 +403,147 @@ Vec3 shadingNormal(const ShadeContext& c, const TexelHit& h) {
         for (int k = 0; k < 3; ++k) n += mesh.wedges.normal[cw[size_t(k)]] * h.bary[size_t(k)];
         if (length(n) > 1e-12) N = normalize(n);
     }
-    const Material& m = materialOf(c, f);
-    float r[4];
-    if (!lookup(c, m.normal, h, r)) return N;
-    const int set = m.normal.transform.texCoord >= 0 ? m.normal.transform.texCoord : m.normal.texCoord;
+    return N;
+}
+
+// The original's tangent T and bitangent B at hit h around normal N, for UV set `set` (the file's
+// TANGENT, else the frames BakeSources computed). False when there is none.
+bool originalTangentFrame(const ShadeContext& c, const TexelHit& h, int set, Vec3 N, Vec3& T, Vec3& B) {
+    const TriMesh& mesh = c.asset.mesh;
+    const Tri& cw = mesh.cornerWedges[uint32_t(h.face)];
     const std::vector<Vec4>& tangents = mesh.wedges.tangent.empty() ? c.tangents[set == 1 ? 1 : 0] : mesh.wedges.tangent;
-    if (tangents.empty()) return N;
-    Vec3 T{};
+    if (tangents.empty()) return false;
+    T = Vec3{};
     for (int k = 0; k < 3; ++k) {
         const Vec4& tk = tangents[cw[size_t(k)]];
         T += Vec3{tk.x, tk.y, tk.z} * h.bary[size_t(k)];
     }
     T = normalize(T - N * dot(T, N));
-    if (!(length(T) > 0.5)) return N;
-    const Vec3 B = cross(N, T) * (tangents[cw[0]].w < 0 ? -1.0 : 1.0);
-    const double s = m.normal.scale;
+    if (!(length(T) > 0.5)) return false;
+    B = cross(N, T) * (tangents[cw[0]].w < 0 ? -1.0 : 1.0);
+    return true;
+}
+
+Vec3 perturbedNormal(const ShadeContext& c, const TexelHit& h, const TextureRef& map) {
+    const Vec3 N = interpolatedNormal(c, h);
+    float r[4];
+    if (!lookup(c, map, h, r)) return N;
+    const int set = map.transform.texCoord >= 0 ? map.transform.texCoord : map.texCoord;
+    Vec3 T, B;
+    if (!originalTangentFrame(c, h, set, N, T, B)) return N;
+    const double s = map.scale;
     const Vec3 nt{(2.0 * r[0] - 1) * s, (2.0 * r[1] - 1) * s, 2.0 * r[2] - 1};
     const Vec3 out = normalize(T * nt.x + B * nt.y + N * nt.z);
     return length(out) > 0.5 ? out : N;
 }
+
+// The original's shading normal at hit h (its material's normal map).
+Vec3 shadingNormal(const ShadeContext& c, const TexelHit& h) { return perturbedNormal(c, h, materialOf(c, uint32_t(h.face)).normal); }
+
+// The original's clearcoat normal at hit h (the coat's own normal map; without one the
+// interpolated normal, as glTF defines it).
+Vec3 clearcoatNormal(const ShadeContext& c, const TexelHit& h) {
+    return perturbedNormal(c, h, materialOf(c, uint32_t(h.face)).ext.clearcoat.normalTexture);
+}
+
+// The original's anisotropy at hit h: its strength (0 where the material has none) and its
+// direction in world space (the tangent rotated by anisotropyRotation, then by the texture's RG
+// direction, in the original tangent frame of the texture's UV set).
+double anisotropyAt(const ShadeContext& c, const TexelHit& h, Vec3& direction) {
+    const AnisotropyExtension& e = materialOf(c, uint32_t(h.face)).ext.anisotropy;
+    direction = {};
+    if (!e.present) return 0;
+    double strength = e.strength, dx = 1, dy = 0;
+    float r[4];
+    if (lookup(c, e.texture, h, r)) {
+        dx = 2.0 * r[0] - 1;
+        dy = 2.0 * r[1] - 1;
+        strength *= std::clamp(double(r[2]), 0.0, 1.0);
+    }
+    const double cr = std::cos(e.rotation), sr = std::sin(e.rotation);
+    const double x = cr * dx - sr * dy, y = sr * dx + cr * dy;
+    const int set = e.texture.transform.texCoord >= 0 ? e.texture.transform.texCoord : e.texture.texCoord;
+    const Vec3 N = interpolatedNormal(c, h);
+    Vec3 T, B;
+    if (!originalTangentFrame(c, h, set, N, T, B)) return 0;
+    direction = T * x + B * y;
+    return std::clamp(strength, 0.0, 1.0);
+}
+
+// Extension channels: each fills v (3 or 4 values, BakeChannels' packing) with the original
+// material at hit h; colours linear here (bakeMaterial encodes them as sRGB after the fill).
+// An extension the material lacks reads as its neutral value (the struct's defaults).
+
+// Channel `k` of texture `ref` at h, clamped to [0,1]; 1 without a texture.
+double texel(const ShadeContext& c, const TextureRef& ref, const TexelHit& h, int k) {
+    float r[4];
+    return lookup(c, ref, h, r) ? std::clamp(double(r[k]), 0.0, 1.0) : 1.0;
+}
+
+// A colour factor x the linear RGB of an sRGB texture `ref` at h.
+void texelColor(const ShadeContext& c, const TextureRef& ref, const TexelHit& h, Vec3 factor, double* rgb) {
+    float r[4];
+    const bool t = lookup(c, ref, h, r);
+    const double f[3] = {factor.x, factor.y, factor.z};
+    for (int i = 0; i < 3; ++i) rgb[i] = f[i] * (t ? srgbToLinear(std::clamp(double(r[i]), 0.0, 1.0)) : 1.0);
+}
+
+void shadeClearcoat(const ShadeContext& c, const BakeChannels& ch, const TexelHit& h, double* v) {
+    const ClearcoatExtension& e = materialOf(c, uint32_t(h.face)).ext.clearcoat;
+    v[0] = e.factor * texel(c, e.texture, h, 0);
+    v[1] = e.present ? e.roughnessFactor * texel(c, e.roughnessTexture, h, 1) : ch.clearcoatRoughnessFill;
+    v[2] = 0;
+}
+
+void shadeSheen(const ShadeContext& c, const BakeChannels& ch, const TexelHit& h, double* v) {
+    const SheenExtension& e = materialOf(c, uint32_t(h.face)).ext.sheen;
+    texelColor(c, e.colorTexture, h, e.colorFactor, v);
+    v[3] = e.present ? e.roughnessFactor * texel(c, e.roughnessTexture, h, 3) : ch.sheenRoughnessFill;
+}
+
+void shadeSpecular(const ShadeContext& c, const BakeChannels& ch, const TexelHit& h, double* v) {
+    const SpecularExtension& e = materialOf(c, uint32_t(h.face)).ext.specular;
+    texelColor(c, e.colorTexture, h, e.colorFactor * (1 / ch.specularColorScale), v);
+    v[3] = e.factor * texel(c, e.texture, h, 3);
+}
+
+void shadeTransmission(const ShadeContext& c, const BakeChannels& ch, const TexelHit& h, double* v) {
+    const MaterialExtensions& e = materialOf(c, uint32_t(h.face)).ext;
+    v[0] = e.transmission.factor * texel(c, e.transmission.texture, h, 0);
+    v[1] = e.volume.thicknessFactor * texel(c, e.volume.thicknessTexture, h, 1) / ch.thicknessScale;
+    v[2] = 0;
+}
+
+void shadeIridescence(const ShadeContext& c, const BakeChannels& ch, const TexelHit& h, double* v) {
+    const IridescenceExtension& e = materialOf(c, uint32_t(h.face)).ext.iridescence;
+    v[0] = e.factor * texel(c, e.texture, h, 0);
+    float r[4];
+    // The thickness in nm (glTF: the maximum without a thickness texture), then its place in the
+    // chain's range. A part without iridescence takes the range's minimum.
+    const double nm = !e.present ? ch.iridescenceThicknessMin
+                      : lookup(c, e.thicknessTexture, h, r)
+                          ? e.thicknessMinimum + (e.thicknessMaximum - e.thicknessMinimum) * std::clamp(double(r[1]), 0.0, 1.0)
+                          : e.thicknessMaximum;
+    const double span = ch.iridescenceThicknessMax - ch.iridescenceThicknessMin;
+    v[1] = span > 0 ? (nm - ch.iridescenceThicknessMin) / span : 0;
+    v[2] = 0;
+}
+
+void shadeDiffuseTransmission(const ShadeContext& c, const BakeChannels&, const TexelHit& h, double* v) {
+    const DiffuseTransmissionExtension& e = materialOf(c, uint32_t(h.face)).ext.diffuseTransmission;
+    texelColor(c, e.colorTexture, h, e.colorFactor, v);
+    v[3] = e.factor * texel(c, e.texture, h, 3);
+}
+
+// One extension image of a bake: whether it is asked for, where it goes, its values per texel,
+// how a texel is shaded, and whether its RGB is a colour (stored sRGB).
+struct ExtensionImage {
+    bool on;
+    std::vector<float>* out;
+    size_t comps;
+    void (*shade)(const ShadeContext&, const BakeChannels&, const TexelHit&, double*);
+    bool srgb;
+};
 
 // A texel's place on the target surface: the target triangle and barycentrics (-1 = none).
 struct TargetHit {
@@ -423,29 +566,52 @@ std::vector<TargetHit> rasterizeTarget(const BakeTarget& target, const Grid& g) 
     return hits;
 }
 
+// The target's tangent frame (normal, tangent, bitangent) at hit th; false without a target, a
+// hit or a usable frame.
+bool targetFrame(const BakeTarget* targetOrNull, const TargetHit& th, Vec3& Nl, Vec3& Tl, Vec3& Bl) {
+    if (!targetOrNull || th.tri < 0) return false;
+    const BakeTarget& target = *targetOrNull;
+    Nl = Tl = Vec3{};
+    for (size_t k = 0; k < 3; ++k) {
+        Nl += target.normal[size_t(th.tri)][k] * th.bary[k];
+        const Vec4& tk = target.tangent[size_t(th.tri)][k];
+        Tl += Vec3{tk.x, tk.y, tk.z} * th.bary[k];
+    }
+    Nl = normalize(Nl);
+    Tl = normalize(Tl - Nl * dot(Tl, Nl));
+    if (!(length(Nl) > 0.5 && length(Tl) > 0.5)) return false;
+    Bl = cross(Nl, Tl) * (target.tangent[size_t(th.tri)][0].w < 0 ? -1.0 : 1.0);
+    return true;
+}
+
 // World normal N expressed in the target's tangent frame at hit th, as an encoded colour; the
 // unperturbed (0, 0, 1) without a target or a hit.
 void encodeInTarget(const BakeTarget* targetOrNull, const TargetHit& th, Vec3 N, double rgb[3]) {
-    Vec3 n{0, 0, 1};
-    if (targetOrNull && th.tri >= 0) {
-        const BakeTarget& target = *targetOrNull;
-        Vec3 Nl{}, Tl{};
-        for (size_t k = 0; k < 3; ++k) {
-            Nl += target.normal[size_t(th.tri)][k] * th.bary[k];
-            const Vec4& tk = target.tangent[size_t(th.tri)][k];
-            Tl += Vec3{tk.x, tk.y, tk.z} * th.bary[k];
-        }
-        Nl = normalize(Nl);
-        Tl = normalize(Tl - Nl * dot(Tl, Nl));
-        if (length(Nl) > 0.5 && length(Tl) > 0.5) {
-            const Vec3 Bl = cross(Nl, Tl) * (target.tangent[size_t(th.tri)][0].w < 0 ? -1.0 : 1.0);
-            n = normalize(Vec3{dot(N, Tl), dot(N, Bl), dot(N, Nl)});
-            if (!(length(n) > 0.5)) n = {0, 0, 1};
-        }
+    Vec3 n{0, 0, 1}, Nl, Tl, Bl;
+    if (targetFrame(targetOrNull, th, Nl, Tl, Bl)) {
+        n = normalize(Vec3{dot(N, Tl), dot(N, Bl), dot(N, Nl)});
+        if (!(length(n) > 0.5)) n = {0, 0, 1};
     }
     rgb[0] = n.x * 0.5 + 0.5;
     rgb[1] = n.y * 0.5 + 0.5;
     rgb[2] = n.z * 0.5 + 0.5;
+}
+
+// An anisotropy texel for the target: RG = world direction D in the target's tangent plane at
+// th (unit, encoded x 0.5 + 0.5; the tangent without a target, a hit or a direction), B = strength.
+void encodeAnisotropyInTarget(const BakeTarget* targetOrNull, const TargetHit& th, Vec3 D, double strength, double rgb[3]) {
+    double x = 1, y = 0;
+    Vec3 Nl, Tl, Bl;
+    if (targetFrame(targetOrNull, th, Nl, Tl, Bl)) {
+        const double u = dot(D, Tl), v = dot(D, Bl), l = std::hypot(u, v);
+        if (l > 1e-12) {
+            x = u / l;
+            y = v / l;
+        }
+    }
+    rgb[0] = x * 0.5 + 0.5;
+    rgb[1] = y * 0.5 + 0.5;
+    rgb[2] = strength;
 }
 
 // Rounds values in [0,1] to 8-bit steps, as they will be stored.
@@ -460,17 +626,22 @@ struct BakeSources::Impl {
     std::vector<SourceTexture> sources;  // per image
     std::array<std::vector<Vec4>, 2> tangents;  // per UV set a normal map uses, when the file has no TANGENT
     explicit Impl(const Asset& a) : asset(a), sources(a.images.size()) {
-        for (const Material& m : asset.materials)
-            for (const TextureRef* ref : {&m.baseColor, &m.metallicRoughness, &m.occlusion, &m.emissive, &m.normal, &m.specularGlossiness}) {
+        for (const Material& m : asset.materials) {
+            std::vector<const TextureRef*> refs = textureRefs(m.ext);
+            refs.insert(refs.end(), {&m.baseColor, &m.metallicRoughness, &m.occlusion, &m.emissive, &m.normal, &m.specularGlossiness});
+            for (const TextureRef* ref : refs) {
                 const int i = imageOf(asset, *ref);
                 if (i >= 0) sources[size_t(i)].used = true;
             }
+        }
         if (asset.mesh.wedges.tangent.empty())
-            for (const Material& m : asset.materials) {
-                if (m.normal.texture < 0) continue;
-                const int set = (m.normal.transform.texCoord >= 0 ? m.normal.transform.texCoord : m.normal.texCoord) == 1 ? 1 : 0;
-                if (tangents[size_t(set)].empty()) tangents[size_t(set)] = computeWedgeTangents(asset.mesh, set);
-            }
+            for (const Material& m : asset.materials)
+                for (const TextureRef* map : {&m.normal, &m.ext.clearcoat.normalTexture, &m.ext.anisotropy.texture}) {
+                    // Anisotropy needs the frame even without a texture (its rotation is relative to it).
+                    if (map->texture < 0 && !(map == &m.ext.anisotropy.texture && m.ext.anisotropy.present)) continue;
+                    const int set = (map->transform.texCoord >= 0 ? map->transform.texCoord : map->texCoord) == 1 ? 1 : 0;
+                    if (tangents[size_t(set)].empty()) tangents[size_t(set)] = computeWedgeTangents(asset.mesh, set);
+                }
     }
 };
 
@@ -519,7 +690,7 @@ BakeResult bakeMaterial(const BakeSources& bs, const std::vector<std::array<Vec2
     rasterizeTriangles(mesh, cornerUV, g, o.dilation, hits);
     rasterizeIslands(mesh, islands, g, o.dilation, o.threads, hits);
     std::vector<TargetHit> targetHits;
-    if (ch.normal && target) targetHits = rasterizeTarget(*target, g);
+    if ((ch.normal || ch.clearcoatNormal || ch.anisotropy) && target) targetHits = rasterizeTarget(*target, g);
 
     decodeSources(asset, sources, ch, o.threads);
     // Shade: linear RGB + coverage, rows in parallel (each texel depends only on its hit).
@@ -529,6 +700,18 @@ BakeResult bakeMaterial(const BakeSources& bs, const std::vector<std::array<Vec2
     if (ch.orm) res.orm.assign(texels * 3, 0.0f);
     if (ch.emissive) res.emissive.assign(texels * 3, 0.0f);
     if (ch.normal) res.normal.assign(texels * 3, 0.0f);
+    const ExtensionImage extensionImages[] = {
+        {ch.clearcoat, &res.clearcoat, 3, shadeClearcoat, false},
+        {ch.sheen, &res.sheen, 4, shadeSheen, true},
+        {ch.specular, &res.specular, 4, shadeSpecular, true},
+        {ch.transmission, &res.transmission, 3, shadeTransmission, false},
+        {ch.iridescence, &res.iridescence, 3, shadeIridescence, false},
+        {ch.diffuseTransmission, &res.diffuseTransmission, 4, shadeDiffuseTransmission, true},
+    };
+    for (const ExtensionImage& e : extensionImages)
+        if (e.on) e.out->assign(texels * e.comps, 0.0f);
+    if (ch.clearcoatNormal) res.clearcoatNormal.assign(texels * 3, 0.0f);
+    if (ch.anisotropy) res.anisotropy.assign(texels * 3, 0.0f);
     std::vector<uint8_t> covered(texels, 0);
     std::vector<size_t> rowCovered(size_t(g.h), 0), rowIsland(size_t(g.h), 0), rowLookups(size_t(g.h), 0);
     const ShadeContext ctx{asset, cornerUV, islands, sources, BakeSourcesAccess::tangents(bs), g.size};
@@ -558,6 +741,22 @@ BakeResult bakeMaterial(const BakeSources& bs, const std::vector<std::array<Vec2
                 encodeInTarget(target, target ? targetHits[i] : TargetHit{}, N, v);
                 for (size_t c = 0; c < 3; ++c) res.normal[i * 3 + c] = float(v[c]);
             }
+            for (const ExtensionImage& e : extensionImages) {
+                if (!e.on) continue;
+                double x[4];
+                e.shade(ctx, ch, h, x);
+                for (size_t c = 0; c < e.comps; ++c) (*e.out)[i * e.comps + c] = float(x[c]);
+            }
+            if (ch.clearcoatNormal) {
+                encodeInTarget(target, target ? targetHits[i] : TargetHit{}, clearcoatNormal(ctx, h), v);
+                for (size_t c = 0; c < 3; ++c) res.clearcoatNormal[i * 3 + c] = float(v[c]);
+            }
+            if (ch.anisotropy) {
+                Vec3 D;
+                const double strength = anisotropyAt(ctx, h, D);
+                encodeAnisotropyInTarget(target, target ? targetHits[i] : TargetHit{}, D, strength, v);
+                for (size_t c = 0; c < 3; ++c) res.anisotropy[i * 3 + c] = float(v[c]);
+            }
         }
     });
     for (size_t y = 0; y < size_t(g.h); ++y) {
@@ -570,8 +769,20 @@ BakeResult bakeMaterial(const BakeSources& bs, const std::vector<std::array<Vec2
         hits = {};  // shaded: freed before the fill allocates its pyramids
         targetHits = {};
         pullPushFill(px, 3, covered, g.w, g.h, o.threads);
-        for (std::vector<float>* c : {&res.alpha, &res.orm, &res.emissive, &res.normal})
+        for (std::vector<float>* c : {&res.alpha, &res.orm, &res.emissive, &res.normal, &res.clearcoatNormal, &res.anisotropy})
             if (!c->empty()) pullPushFill(*c, c == &res.alpha ? 1 : 3, covered, g.w, g.h, o.threads);
+        for (const ExtensionImage& e : extensionImages)
+            if (e.on) pullPushFill(*e.out, int(e.comps), covered, g.w, g.h, o.threads);
+    }
+    for (const ExtensionImage& e : extensionImages) {
+        if (!e.on) continue;
+        if (e.srgb)
+            for (size_t i = 0; i < texels; ++i)
+                for (size_t c = 0; c < 3; ++c) {
+                    float& x = (*e.out)[i * e.comps + c];
+                    x = float(linearToSrgb(std::clamp(double(x), 0.0, 1.0)));
+                }
+        quantize(*e.out);
     }
     if (ch.alpha) quantize(res.alpha);
     if (ch.orm) quantize(res.orm);
@@ -582,16 +793,18 @@ BakeResult bakeMaterial(const BakeSources& bs, const std::vector<std::array<Vec2
         for (float& v : res.emissive) v = float(linearToSrgb(v / res.emissiveScale));
         quantize(res.emissive);
     }
-    if (ch.normal) {
+    if (ch.anisotropy) quantize(res.anisotropy);
+    for (std::vector<float>* normals : {&res.normal, &res.clearcoatNormal}) {
+        if (normals->empty()) continue;
         for (size_t i = 0; i < texels; ++i) {
-            float* n = &res.normal[i * 3];
+            float* n = &(*normals)[i * 3];
             Vec3 d = normalize(Vec3{2.0 * n[0] - 1, 2.0 * n[1] - 1, 2.0 * n[2] - 1});
             if (!(length(d) > 0.5)) d = {0, 0, 1};
             n[0] = float(d.x * 0.5 + 0.5);
             n[1] = float(d.y * 0.5 + 0.5);
             n[2] = float(d.z * 0.5 + 0.5);
         }
-        quantize(res.normal);
+        quantize(*normals);
     }
 
     // Encode: sRGB 8-bit RGB.

@@ -2,7 +2,12 @@
 #include "lodbake/bake/material_plan.h"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
 #include <set>
+#include <sstream>
+#include <type_traits>
 
 namespace lodbake {
 namespace {
@@ -17,7 +22,234 @@ bool vertexAlpha(const TriMesh& m) {
     return std::any_of(m.wedges.color.begin(), m.wedges.color.end(), [](const Vec4& c) { return c.w < 1; });
 }
 
+// The used materials with the area of their triangles (m2 of the original surface).
+struct UsedMaterial {
+    const Material* m;
+    double area;
+};
+
+// Whether a channel of the used materials needs a texture: some material has a texture for it,
+// or its value (neutral where the material lacks the extension) differs between them. V is
+// double or Vec3; `value(m)` gives a material's value, `texture(m)` its texture (or null);
+// `counts` (when given) keeps only the materials where the channel matters.
+template <class V, class ValueFn, class TextureFn>
+bool channelVaries(const std::vector<UsedMaterial>& mats, const Asset& asset, ValueFn value, TextureFn texture,
+                   bool (*counts)(const Material&) = nullptr) {
+    const Material* firstMaterial = nullptr;
+    for (const UsedMaterial& u : mats)
+        if (!counts || counts(*u.m)) {
+            firstMaterial = u.m;
+            break;
+        }
+    if (!firstMaterial) return false;
+    const V first = value(*firstMaterial);
+    for (const UsedMaterial& u : mats) {
+        if (counts && !counts(*u.m)) continue;
+        const TextureRef* t = texture(*u.m);
+        if (t && hasTexture(*t, asset)) return true;
+        const V v = value(*u.m);
+        if constexpr (std::is_same_v<V, double>) {
+            if (v != first) return true;
+        } else if (!sameVec(v, first)) {
+            return true;
+        }
+    }
+    return false;
+}
+
+// The first used material for which `has` holds (the caller knows there is one).
+template <class HasFn>
+const Material& firstWith(const std::vector<UsedMaterial>& mats, HasFn has) {
+    for (const UsedMaterial& u : mats)
+        if (has(*u.m)) return *u.m;
+    return *mats.front().m;
+}
+
+// A property glTF cannot vary per texel: its mean over the triangles whose material has the
+// extension, weighted by area (`weight` = the material's area share), and a warning naming it
+// when the inputs disagree. V is double or Vec3 (spread: the largest component difference).
+template <class V, class HasFn, class ValueFn>
+V uniformProperty(const std::vector<UsedMaterial>& mats, const char* name, HasFn has, ValueFn value,
+                  std::vector<std::string>& warnings) {
+    V sum{}, lo{}, hi{};
+    double area = 0;
+    bool first = true;
+    size_t n = 0;
+    for (const UsedMaterial& u : mats) {
+        if (!has(*u.m)) continue;
+        const V v = value(*u.m);
+        // Materials of zero area still count, equally, so the mean is defined.
+        const double w = u.area > 0 ? u.area : 1e-300;
+        sum = sum + v * w;
+        area += w;
+        if constexpr (std::is_same_v<V, double>) {
+            lo = first ? v : std::min(lo, v);
+            hi = first ? v : std::max(hi, v);
+        } else {
+            lo = first ? v : Vec3{std::min(lo.x, v.x), std::min(lo.y, v.y), std::min(lo.z, v.z)};
+            hi = first ? v : Vec3{std::max(hi.x, v.x), std::max(hi.y, v.y), std::max(hi.z, v.z)};
+        }
+        first = false;
+        ++n;
+    }
+    if (n == 0) return V{};
+    double spread;
+    if constexpr (std::is_same_v<V, double>) spread = hi - lo;
+    else spread = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
+    if (!(spread > 0)) return lo;  // agreeing inputs: their value exactly
+    const V mean = sum * (1 / area);
+    std::ostringstream w;
+    w << "materials disagree on " << name << " (spread " << spread << "): the chain's material takes the area-weighted mean ";
+    if constexpr (std::is_same_v<V, double>) w << mean;
+    else w << "[" << mean.x << ", " << mean.y << ", " << mean.z << "]";
+    warnings.push_back(w.str());
+    return mean;
+}
+
+// The extensions' channels and properties of the chain's material (ExtensionPlan).
+void planExtensions(const Asset& asset, const std::vector<UsedMaterial>& mats, MaterialPlan& p) {
+    ExtensionPlan& x = p.ext;
+    MaterialExtensions& f = x.factors;
+    for (const UsedMaterial& u : mats) {
+        const MaterialExtensions& e = u.m->ext;
+        f.clearcoat.present |= e.clearcoat.present;
+        f.sheen.present |= e.sheen.present;
+        f.transmission.present |= e.transmission.present;
+        f.volume.present |= e.volume.present;
+        f.specular.present |= e.specular.present;
+        f.ior.present |= e.ior.present;
+        f.iridescence.present |= e.iridescence.present;
+        f.anisotropy.present |= e.anisotropy.present;
+        f.dispersion.present |= e.dispersion.present;
+        f.diffuseTransmission.present |= e.diffuseTransmission.present;
+    }
+    if (f.anisotropy.present) {
+        x.anisotropyTexture = true;
+        f.anisotropy.strength = 1;
+        f.anisotropy.rotation = 0;
+    }
+    const MaterialExtensions& e0 = mats.front().m->ext;
+    // Values of an absent extension are its struct's defaults, which are the neutral values
+    // except where noted below.
+    if (f.clearcoat.present) {
+        x.clearcoatTexture = channelVaries<double>(mats, asset, [](const Material& m) { return m.ext.clearcoat.factor; },
+                                                   [](const Material& m) { return &m.ext.clearcoat.texture; });
+        // Roughness matters only under a coat: parts without one take the first coat's, so they
+        // do not make it vary (and a renderer never sees a roughness of 0 it did not ask for).
+        const Material& coated = firstWith(mats, [](const Material& m) { return m.ext.clearcoat.present; });
+        x.clearcoatRoughnessFill = coated.ext.clearcoat.roughnessFactor;
+        x.clearcoatRoughnessTexture = channelVaries<double>(
+            mats, asset, [](const Material& m) { return m.ext.clearcoat.roughnessFactor; },
+            [](const Material& m) { return &m.ext.clearcoat.roughnessTexture; },
+            [](const Material& m) { return m.ext.clearcoat.present; });
+        f.clearcoat.factor = x.clearcoatTexture ? 1 : e0.clearcoat.factor;
+        f.clearcoat.roughnessFactor = x.clearcoatRoughnessTexture ? 1 : x.clearcoatRoughnessFill;
+        for (const UsedMaterial& u : mats) x.clearcoatNormalTexture |= hasTexture(u.m->ext.clearcoat.normalTexture, asset);
+    }
+    if (f.sheen.present) {
+        x.sheenColorTexture = channelVaries<Vec3>(mats, asset, [](const Material& m) { return m.ext.sheen.colorFactor; },
+                                                  [](const Material& m) { return &m.ext.sheen.colorTexture; });
+        // As the clearcoat's roughness: it matters only where there is sheen (three.js divides by
+        // the sheen roughness even under a black sheen colour).
+        const Material& sheened = firstWith(mats, [](const Material& m) { return m.ext.sheen.present; });
+        x.sheenRoughnessFill = sheened.ext.sheen.roughnessFactor;
+        x.sheenRoughnessTexture = channelVaries<double>(mats, asset, [](const Material& m) { return m.ext.sheen.roughnessFactor; },
+                                                        [](const Material& m) { return &m.ext.sheen.roughnessTexture; },
+                                                        [](const Material& m) { return m.ext.sheen.present; });
+        f.sheen.colorFactor = x.sheenColorTexture ? Vec3{1, 1, 1} : e0.sheen.colorFactor;
+        f.sheen.roughnessFactor = x.sheenRoughnessTexture ? 1 : x.sheenRoughnessFill;
+    }
+    if (f.transmission.present) {
+        x.transmissionTexture = channelVaries<double>(mats, asset, [](const Material& m) { return m.ext.transmission.factor; },
+                                                      [](const Material& m) { return &m.ext.transmission.texture; });
+        f.transmission.factor = x.transmissionTexture ? 1 : e0.transmission.factor;
+    }
+    if (f.volume.present) {
+        x.thicknessTexture = channelVaries<double>(mats, asset, [](const Material& m) { return m.ext.volume.thicknessFactor; },
+                                                   [](const Material& m) { return &m.ext.volume.thicknessTexture; });
+        double largest = 0;
+        for (const UsedMaterial& u : mats) largest = std::max(largest, u.m->ext.volume.thicknessFactor);
+        f.volume.thicknessFactor = x.thicknessTexture ? largest : e0.volume.thicknessFactor;
+        auto has = [](const Material& m) { return m.ext.volume.present; };
+        // Attenuation is exponential in distance / attenuationDistance: its coefficient
+        // 1 / distance is what averages (an infinite distance, no attenuation, is 0).
+        const double coefficient = uniformProperty<double>(
+            mats, "KHR_materials_volume attenuationDistance (as 1 / distance)", has,
+            [](const Material& m) { return std::isfinite(m.ext.volume.attenuationDistance) ? 1 / m.ext.volume.attenuationDistance : 0.0; },
+            p.warnings);
+        f.volume.attenuationDistance = coefficient > 0 ? 1 / coefficient : std::numeric_limits<double>::infinity();
+        f.volume.attenuationColor = uniformProperty<Vec3>(mats, "KHR_materials_volume attenuationColor", has,
+                                                          [](const Material& m) { return m.ext.volume.attenuationColor; }, p.warnings);
+    }
+    if (f.specular.present) {
+        x.specularTexture = channelVaries<double>(mats, asset, [](const Material& m) { return m.ext.specular.factor; },
+                                                  [](const Material& m) { return &m.ext.specular.texture; });
+        x.specularColorTexture = channelVaries<Vec3>(mats, asset, [](const Material& m) { return m.ext.specular.colorFactor; },
+                                                     [](const Material& m) { return &m.ext.specular.colorTexture; });
+        for (const UsedMaterial& u : mats) {
+            const Vec3 c = u.m->ext.specular.colorFactor;
+            x.specularColorScale = std::max({x.specularColorScale, c.x, c.y, c.z});
+        }
+        if (!x.specularColorTexture) x.specularColorScale = 1;
+        f.specular.factor = x.specularTexture ? 1 : e0.specular.factor;
+        f.specular.colorFactor = x.specularColorTexture ? Vec3{1, 1, 1} * x.specularColorScale : e0.specular.colorFactor;
+    }
+    if (f.ior.present)
+        f.ior.ior = uniformProperty<double>(mats, "KHR_materials_ior ior", [](const Material& m) { return m.ext.ior.present; },
+                                            [](const Material& m) { return m.ext.ior.ior; }, p.warnings);
+    if (f.dispersion.present)
+        f.dispersion.dispersion = uniformProperty<double>(
+            mats, "KHR_materials_dispersion dispersion", [](const Material& m) { return m.ext.dispersion.present; },
+            [](const Material& m) { return m.ext.dispersion.dispersion; }, p.warnings);
+    if (f.iridescence.present) {
+        auto has = [](const Material& m) { return m.ext.iridescence.present; };
+        x.iridescenceTexture = channelVaries<double>(mats, asset, [](const Material& m) { return m.ext.iridescence.factor; },
+                                                     [](const Material& m) { return &m.ext.iridescence.texture; });
+        f.iridescence.factor = x.iridescenceTexture ? 1 : e0.iridescence.factor;
+        f.iridescence.ior = uniformProperty<double>(mats, "KHR_materials_iridescence iridescenceIor", has,
+                                                    [](const Material& m) { return m.ext.iridescence.ior; }, p.warnings);
+        // The thickness a material shows: [minimum, maximum] with a thickness texture, else the
+        // maximum. Parts without iridescence (factor 0) do not count.
+        double lo = std::numeric_limits<double>::infinity(), hi = -lo, constant = 0;
+        bool varies = false, firstConstant = true;
+        for (const UsedMaterial& u : mats) {
+            if (!has(*u.m)) continue;
+            const IridescenceExtension& i = u.m->ext.iridescence;
+            if (hasTexture(i.thicknessTexture, asset)) {
+                lo = std::min({lo, i.thicknessMinimum, i.thicknessMaximum});
+                hi = std::max({hi, i.thicknessMinimum, i.thicknessMaximum});
+                varies = true;
+            } else {
+                lo = std::min(lo, i.thicknessMaximum);
+                hi = std::max(hi, i.thicknessMaximum);
+                varies |= !firstConstant && i.thicknessMaximum != constant;
+                constant = i.thicknessMaximum;
+                firstConstant = false;
+            }
+        }
+        x.iridescenceThicknessTexture = varies;
+        f.iridescence.thicknessMinimum = varies ? lo : hi;
+        f.iridescence.thicknessMaximum = hi;
+    }
+    if (f.diffuseTransmission.present) {
+        x.diffuseTransmissionTexture = channelVaries<double>(
+            mats, asset, [](const Material& m) { return m.ext.diffuseTransmission.factor; },
+            [](const Material& m) { return &m.ext.diffuseTransmission.texture; });
+        x.diffuseTransmissionColorTexture = channelVaries<Vec3>(
+            mats, asset, [](const Material& m) { return m.ext.diffuseTransmission.colorFactor; },
+            [](const Material& m) { return &m.ext.diffuseTransmission.colorTexture; });
+        f.diffuseTransmission.factor = x.diffuseTransmissionTexture ? 1 : e0.diffuseTransmission.factor;
+        f.diffuseTransmission.colorFactor = x.diffuseTransmissionColorTexture ? Vec3{1, 1, 1} : e0.diffuseTransmission.colorFactor;
+    }
+}
+
 }  // namespace
+
+bool ExtensionPlan::any() const {
+    const MaterialExtensions& f = factors;
+    return f.clearcoat.present || f.sheen.present || f.transmission.present || f.volume.present || f.specular.present ||
+           f.ior.present || f.iridescence.present || f.anisotropy.present || f.dispersion.present || f.diffuseTransmission.present;
+}
 
 MaterialPlan baseColorPlan(MaterialPlan p) {
     p.baseColorTexture = true;
@@ -25,6 +257,7 @@ MaterialPlan baseColorPlan(MaterialPlan p) {
     p.metallicFactor = 0;
     p.roughnessFactor = 1;
     p.emissiveFactor = {0, 0, 0};
+    p.ext = {};
     return p;
 }
 
@@ -84,6 +317,18 @@ MaterialPlan planMaterial(const Asset& asset) {
         p.warnings.push_back("materials mix single- and double-sided: the double-sided parts get back faces");
     }
     if (anyUnlit && !allUnlit) p.warnings.push_back("materials mix unlit and lit shading: the chain's material is lit");
+    if (!p.unlit) {
+        std::map<int32_t, double> area;
+        for (size_t t = 0; t < mesh.triangleCount(); ++t) {
+            const Tri& tri = mesh.triangles[t];
+            area[mesh.triangleMaterial[t]] +=
+                0.5 * length(cross(mesh.positions[tri[1]] - mesh.positions[tri[0]], mesh.positions[tri[2]] - mesh.positions[tri[0]]));
+        }
+        std::vector<UsedMaterial> withArea;
+        size_t k = 0;
+        for (int32_t i : used) withArea.push_back({mats[k++], area[i]});
+        planExtensions(asset, withArea, p);
+    }
     return p;
 }
 

@@ -26,6 +26,7 @@
 
 #include "gltf/gltf_internal.h"
 #include "gltf/gltf_read_context.h"
+#include "gltf/material_json.h"
 #include "gltf/meshopt_decode.h"
 #include "gltf/multires_codec.h"
 #include "gltf/morph_read.h"
@@ -104,9 +105,15 @@ bool keepImageBytes(tinygltf::Image* image, const int index, std::string* err, s
 // Texture extensions whose images (KTX2/Basis Universal, WebP, AVIF) lodbake does not decode.
 const std::vector<std::string> kImageExtensions = {"KHR_texture_basisu", "EXT_texture_webp", "EXT_texture_avif"};
 
-const std::vector<std::string> kSupportedRequired = {"KHR_draco_mesh_compression", "KHR_mesh_quantization",
-                                                     "KHR_texture_transform", "KHR_materials_unlit",
-                                                     "EXT_meshopt_compression"};
+// Required extensions the reader implements: geometry codecs, texture transforms and every
+// material extension it reads.
+const std::vector<std::string> kSupportedRequired = [] {
+    std::vector<std::string> v = {"KHR_draco_mesh_compression", "KHR_mesh_quantization", "KHR_texture_transform",
+                                  "KHR_materials_unlit", "KHR_materials_emissive_strength",
+                                  "KHR_materials_pbrSpecularGlossiness", "EXT_meshopt_compression"};
+    v.insert(v.end(), readMaterialExtensionNames().begin(), readMaterialExtensionNames().end());
+    return v;
+}();
 
 
 // The JSON text of a GLB (its first chunk) or of a .gltf (the whole file, after checking that it
@@ -553,24 +560,6 @@ void weldScene(const ReadContext& c, const std::vector<SceneNode>& nodes, RigRea
 // ---------------------------------------------------------------------------------------------
 // 4. Materials, textures, samplers, images
 
-TextureRef readTextureRef(const json& o, const char* scaleKey) {
-    TextureRef r;
-    if (!o.is_object()) return r;
-    r.texture = jint(o, "index", -1);
-    r.texCoord = jint(o, "texCoord", 0);
-    if (scaleKey && o.contains(scaleKey) && o[scaleKey].is_number()) r.scale = o[scaleKey].get<double>();
-    if (o.contains("extensions") && o["extensions"].is_object() && o["extensions"].contains("KHR_texture_transform")) {
-        const json& t = o["extensions"]["KHR_texture_transform"];
-        TextureTransform& x = r.transform;
-        x.present = true;
-        if (t.contains("offset") && t["offset"].is_array() && t["offset"].size() == 2) x.offset = {t["offset"][0].get<double>(), t["offset"][1].get<double>()};
-        if (t.contains("scale") && t["scale"].is_array() && t["scale"].size() == 2) x.scale = {t["scale"][0].get<double>(), t["scale"][1].get<double>()};
-        if (t.contains("rotation") && t["rotation"].is_number()) x.rotation = t["rotation"].get<double>();
-        x.texCoord = jint(t, "texCoord", -1);
-    }
-    return r;
-}
-
 // KHR_materials_pbrSpecularGlossiness as metallic-roughness: diffuse becomes base colour, metallic
 // 0, roughness 1 - glossiness (factor x the specular-glossiness texture's alpha, sampled by the
 // bake). The specular colour is not kept: a dielectric's F0 of 0.04 stands in for it.
@@ -620,12 +609,17 @@ Material readMaterial(const json& m) {
         mat.emissiveStrength = (*ext)["KHR_materials_emissive_strength"].value("emissiveStrength", 1.0);
     if (ext && ext->contains("KHR_materials_pbrSpecularGlossiness") && (*ext)["KHR_materials_pbrSpecularGlossiness"].is_object())
         convertSpecularGlossiness((*ext)["KHR_materials_pbrSpecularGlossiness"], mat);
+    if (ext) mat.ext = readMaterialExtensions(*ext);
     return mat;
 }
 
 // Extensions of a material that lodbake reads; any other is named in a warning (not carried).
-const std::vector<std::string> kReadMaterialExtensions = {"KHR_materials_unlit", "KHR_materials_emissive_strength",
-                                                          "KHR_materials_pbrSpecularGlossiness", "KHR_texture_transform"};
+const std::vector<std::string> kReadMaterialExtensions = [] {
+    std::vector<std::string> v = {"KHR_materials_unlit", "KHR_materials_emissive_strength",
+                                  "KHR_materials_pbrSpecularGlossiness", "KHR_texture_transform"};
+    v.insert(v.end(), readMaterialExtensionNames().begin(), readMaterialExtensionNames().end());
+    return v;
+}();
 
 // Step 4a: materials (from the JSON: tinygltf drops the extensions we read), samplers, textures.
 void readMaterials(const ReadContext& c, Asset& asset) {

@@ -24,6 +24,7 @@
 
 #include "gltf/gltf_buffer.h"
 #include "gltf/gltf_internal.h"
+#include "gltf/material_json.h"
 #include "gltf/multires_codec.h"
 #include "gltf/rig_write.h"
 #include "lodbake/core/errors.h"
@@ -175,41 +176,24 @@ int writeMesh(Writer& w, json& meshes, const TriMesh& src, const MorphTargets& m
     return int(meshes.size()) - 1;
 }
 
-json textureRefJson(const TextureRef& r, const char* scaleKey, double scaleDefault, size_t textureCount, bool& usedTransform) {
-    json o = {{"index", r.texture}};
-    if (r.texCoord != 0) o["texCoord"] = r.texCoord;
-    if (scaleKey && r.scale != scaleDefault) o[scaleKey] = r.scale;
-    if (r.transform.present) {
-        const TextureTransform& t = r.transform;
-        json x = json::object();
-        if (t.offset.x != 0 || t.offset.y != 0) x["offset"] = {t.offset.x, t.offset.y};
-        if (t.rotation != 0) x["rotation"] = t.rotation;
-        if (t.scale.x != 1 || t.scale.y != 1) x["scale"] = {t.scale.x, t.scale.y};
-        if (t.texCoord >= 0) x["texCoord"] = t.texCoord;
-        o["extensions"]["KHR_texture_transform"] = x;
-        usedTransform = true;
-    }
-    (void)textureCount;
-    return o;
-}
-
 // The material extensions a file uses, for extensionsUsed.
-struct MaterialExtensions {
+struct UsedMaterialExtensions {
     bool unlit = false, emissiveStrength = false, specularGlossiness = false;
+    std::vector<std::string> khr;  // KHR_materials_clearcoat, ... (writeMaterialExtensions)
 };
 
-json materialJson(const Material& m, size_t textureCount, bool& usedTransform, MaterialExtensions& used) {
+json materialJson(const Material& m, size_t textureCount, bool& usedTransform, UsedMaterialExtensions& used) {
     auto valid = [&](const TextureRef& r) { return r.texture >= 0 && size_t(r.texture) < textureCount; };
     json pbr = {{"baseColorFactor", {m.baseColorFactor.x, m.baseColorFactor.y, m.baseColorFactor.z, m.baseColorFactor.w}},
                 {"metallicFactor", m.metallicFactor},
                 {"roughnessFactor", m.roughnessFactor}};
-    if (valid(m.baseColor)) pbr["baseColorTexture"] = textureRefJson(m.baseColor, nullptr, 1, textureCount, usedTransform);
-    if (valid(m.metallicRoughness)) pbr["metallicRoughnessTexture"] = textureRefJson(m.metallicRoughness, nullptr, 1, textureCount, usedTransform);
+    if (valid(m.baseColor)) pbr["baseColorTexture"] = textureRefJson(m.baseColor, m.baseColor.texture, nullptr, usedTransform);
+    if (valid(m.metallicRoughness)) pbr["metallicRoughnessTexture"] = textureRefJson(m.metallicRoughness, m.metallicRoughness.texture, nullptr, usedTransform);
     json o = {{"pbrMetallicRoughness", pbr}};
     if (!m.name.empty()) o["name"] = m.name;
-    if (valid(m.normal)) o["normalTexture"] = textureRefJson(m.normal, "scale", 1, textureCount, usedTransform);
-    if (valid(m.occlusion)) o["occlusionTexture"] = textureRefJson(m.occlusion, "strength", 1, textureCount, usedTransform);
-    if (valid(m.emissive)) o["emissiveTexture"] = textureRefJson(m.emissive, nullptr, 1, textureCount, usedTransform);
+    if (valid(m.normal)) o["normalTexture"] = textureRefJson(m.normal, m.normal.texture, "scale", usedTransform);
+    if (valid(m.occlusion)) o["occlusionTexture"] = textureRefJson(m.occlusion, m.occlusion.texture, "strength", usedTransform);
+    if (valid(m.emissive)) o["emissiveTexture"] = textureRefJson(m.emissive, m.emissive.texture, nullptr, usedTransform);
     if (m.emissiveFactor.x != 0 || m.emissiveFactor.y != 0 || m.emissiveFactor.z != 0)
         o["emissiveFactor"] = {m.emissiveFactor.x, m.emissiveFactor.y, m.emissiveFactor.z};
     if (m.alphaMode == AlphaMode::Mask) { o["alphaMode"] = "MASK"; o["alphaCutoff"] = m.alphaCutoff; }
@@ -224,10 +208,13 @@ json materialJson(const Material& m, size_t textureCount, bool& usedTransform, M
         // Converted on reading (metallic 0, roughness 1 - glossiness); the texture's alpha still
         // carries the glossiness, so the extension travels with the intermediate files.
         json sg = {{"glossinessFactor", m.glossinessFactor},
-                   {"specularGlossinessTexture", textureRefJson(m.specularGlossiness, nullptr, 1, textureCount, usedTransform)}};
+                   {"specularGlossinessTexture", textureRefJson(m.specularGlossiness, m.specularGlossiness.texture, nullptr, usedTransform)}};
         o["extensions"]["KHR_materials_pbrSpecularGlossiness"] = sg;
         used.specularGlossiness = true;
     }
+    json ext = o.contains("extensions") ? o["extensions"] : json::object();
+    writeMaterialExtensions(m.ext, [&](const TextureRef& r) { return valid(r) ? r.texture : -1; }, ext, used.khr, usedTransform);
+    if (!ext.empty()) o["extensions"] = ext;
     return o;
 }
 
@@ -341,7 +328,7 @@ void writeGltfTo(const std::string& path, const Asset& asset, const Multires* mu
 
     // 2. Materials, textures, samplers, images.
     bool usedTransform = false;
-    MaterialExtensions usedMaterial;
+    UsedMaterialExtensions usedMaterial;
     if (!asset.materials.empty()) {
         json mats = json::array();
         for (const Material& m : asset.materials) mats.push_back(materialJson(m, asset.textures.size(), usedTransform, usedMaterial));
@@ -393,6 +380,9 @@ void writeGltfTo(const std::string& path, const Asset& asset, const Multires* mu
     if (usedMaterial.unlit) used.push_back("KHR_materials_unlit");
     if (usedMaterial.emissiveStrength) used.push_back("KHR_materials_emissive_strength");
     if (usedMaterial.specularGlossiness) used.push_back("KHR_materials_pbrSpecularGlossiness");
+    std::sort(usedMaterial.khr.begin(), usedMaterial.khr.end());
+    usedMaterial.khr.erase(std::unique(usedMaterial.khr.begin(), usedMaterial.khr.end()), usedMaterial.khr.end());
+    used.insert(used.end(), usedMaterial.khr.begin(), usedMaterial.khr.end());
 
     // 3. LODBAKE_multires.
     if (multires) {

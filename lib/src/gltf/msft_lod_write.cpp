@@ -4,7 +4,8 @@
 //   1. per level: buffers reordered for the GPU (gpu_streams.h), then one mesh with one primitive
 //      (plain, quantized and/or meshopt-compressed streams, or a Draco buffer with accessor stubs
 //      whose counts are the encoder's), one material and its textures (base colour, ORM,
-//      emissive, normal: those the level has); with quantized positions every node carries the
+//      emissive, normal, the KHR_materials_* extension images: those the level has); with
+//      quantized positions every node carries the
 //      grid's translation and scale;
 //   2. node 0 (LOD0) with MSFT_lod.ids and extras.MSFT_screencoverage; only node 0 in the scene;
 //   3. serialise (.glb container, or .gltf + .bin [+ images]) and rename into place.
@@ -22,6 +23,7 @@
 #include "gltf/gltf_buffer.h"
 #include "gltf/gltf_internal.h"
 #include "gltf/gpu_streams.h"
+#include "gltf/material_json.h"
 #include "gltf/rig_write.h"
 #include "lodbake/core/errors.h"
 #include "lodbake/gltf/gltf.h"
@@ -53,7 +55,8 @@ void checkLevel(const std::string& path, const LodLevelData& L) {
     for (const std::vector<float>& d : L.targetPositions) ok = ok && !d.empty();
     for (uint32_t i : L.indices) ok = ok && i < n;
     if (!ok) throw InvalidInput(path + ": level '" + L.name + "' has inconsistent mesh data");
-    if (!L.material.normal.encoded.empty() && L.tangents.empty())
+    if ((!L.material.normal.encoded.empty() || L.material.ext.clearcoat.normalTexture.texture >= 0 ||
+         L.material.ext.anisotropy.texture.texture >= 0) && L.tangents.empty())
         throw InvalidInput(path + ": level '" + L.name + "' has a normal map but no tangents");
 }
 
@@ -185,6 +188,7 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
     std::vector<std::pair<std::string, const Image*>> sideImages;
     std::string stem = std::filesystem::path(path).stem().string();
     bool usesEmissiveStrength = false, usesUnlit = false, usesQuantization = false, usesBasisu = false;
+    std::vector<std::string> materialExtensionsUsed;  // KHR_materials_clearcoat, ... (with repeats)
     for (size_t i = 0; i < levels.size(); ++i) {
         LodLevelData optimized;  // geometry only: the material stays the caller's
         if (options.optimize) {
@@ -273,6 +277,20 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
             mat["extensions"][kUnlit] = json::object();
             usesUnlit = true;
         }
+        // The extensions: each of the level's extension images becomes one texture, on first use.
+        std::vector<int> extensionTexture(M.extensionImages.size(), -1);
+        json ext = mat.contains("extensions") ? mat["extensions"] : json::object();
+        bool transform = false;
+        writeMaterialExtensions(
+            M.ext,
+            [&](const TextureRef& r) {
+                if (r.texture < 0 || size_t(r.texture) >= M.extensionImages.size()) return -1;
+                int& t = extensionTexture[size_t(r.texture)];
+                if (t < 0) t = int(addTexture(M.extensionImages[size_t(r.texture)], "_" + M.extensionImages[size_t(r.texture)].name));
+                return t;
+            },
+            ext, materialExtensionsUsed, transform);
+        if (!ext.empty()) mat["extensions"] = ext;
         if (M.alphaMode == AlphaMode::Mask) {
             mat["alphaMode"] = "MASK";
             mat["alphaCutoff"] = M.alphaCutoff;
@@ -311,6 +329,9 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
     }
     if (usesEmissiveStrength) used.push_back(kEmissiveStrength);
     if (usesUnlit) used.push_back(kUnlit);
+    std::sort(materialExtensionsUsed.begin(), materialExtensionsUsed.end());
+    materialExtensionsUsed.erase(std::unique(materialExtensionsUsed.begin(), materialExtensionsUsed.end()), materialExtensionsUsed.end());
+    used.insert(used.end(), materialExtensionsUsed.begin(), materialExtensionsUsed.end());
     std::vector<std::string> required;
     if (options.draco && !morphed) required.push_back(kDraco);
     if (options.meshopt) required.push_back(kMeshopt);

@@ -15,6 +15,22 @@ BakeChannels levelChannels(const MaterialPlan& plan, bool normalMap) {
     c.orm = plan.ormTexture();
     c.emissive = plan.emissiveTexture;
     c.normal = normalMap && !plan.unlit;
+    const ExtensionPlan& x = plan.ext;
+    c.clearcoat = x.clearcoatTexture || x.clearcoatRoughnessTexture;
+    // Like the normal map: a coarse level's clearcoat shows the original's finer surface.
+    c.clearcoatNormal = x.factors.clearcoat.present && (x.clearcoatNormalTexture || c.normal);
+    c.sheen = x.sheenColorTexture || x.sheenRoughnessTexture;
+    c.specular = x.specularTexture || x.specularColorTexture;
+    c.transmission = x.transmissionTexture || x.thicknessTexture;
+    c.iridescence = x.iridescenceTexture || x.iridescenceThicknessTexture;
+    c.diffuseTransmission = x.diffuseTransmissionTexture || x.diffuseTransmissionColorTexture;
+    c.anisotropy = x.anisotropyTexture;
+    c.clearcoatRoughnessFill = x.clearcoatRoughnessFill;
+    c.sheenRoughnessFill = x.sheenRoughnessFill;
+    c.specularColorScale = x.specularColorScale;
+    c.thicknessScale = x.factors.volume.thicknessFactor > 0 ? x.factors.volume.thicknessFactor : 1;
+    c.iridescenceThicknessMin = x.factors.iridescence.thicknessMinimum;
+    c.iridescenceThicknessMax = x.factors.iridescence.thicknessMaximum;
     return c;
 }
 
@@ -65,6 +81,26 @@ std::vector<std::string> channelNames(const LodMaterial& m) {
     if (m.metallicRoughness) out.push_back("metallicRoughness");
     if (!m.emissive.encoded.empty()) out.push_back("emissive");
     if (!m.normal.encoded.empty()) out.push_back("normal");
+    // Each extension channel with a texture, in MaterialExtensions order.
+    const MaterialExtensions& e = m.ext;
+    const std::pair<const char*, const TextureRef*> named[] = {
+        {"clearcoat", &e.clearcoat.texture},
+        {"clearcoatRoughness", &e.clearcoat.roughnessTexture},
+        {"clearcoatNormal", &e.clearcoat.normalTexture},
+        {"sheenColor", &e.sheen.colorTexture},
+        {"sheenRoughness", &e.sheen.roughnessTexture},
+        {"transmission", &e.transmission.texture},
+        {"thickness", &e.volume.thicknessTexture},
+        {"specular", &e.specular.texture},
+        {"specularColor", &e.specular.colorTexture},
+        {"iridescence", &e.iridescence.texture},
+        {"iridescenceThickness", &e.iridescence.thicknessTexture},
+        {"anisotropy", &e.anisotropy.texture},
+        {"diffuseTransmission", &e.diffuseTransmission.texture},
+        {"diffuseTransmissionColor", &e.diffuseTransmission.colorTexture},
+    };
+    for (const auto& [name, ref] : named)
+        if (ref->texture >= 0) out.push_back(name);
     return out;
 }
 
@@ -137,11 +173,58 @@ LodMaterial levelMaterial(const MaterialPlan& plan, const BakeResult& baked, int
     if (!baked.normal.empty())
         encodes.push_back(
             {&baked.normal, EncodeOptions{ImageFormat::Png, o.jpegQuality, 3, false}, name + "_normal", &m.normal, Ktx2Codec::Uastc, true});
+    // The extensions: the plan's factors, and the baked images with the channels they carry.
+    m.ext = plan.ext.factors;
+    const ExtensionPlan& x = plan.ext;
+    struct ExtensionImage {
+        const std::vector<float>* values;
+        const char* suffix;
+        int channels;
+        bool srgb, normalMap;
+        std::vector<TextureRef*> refs;  // the references that read it
+    };
+    MaterialExtensions& e = m.ext;
+    auto pick = [](bool textured, TextureRef& ref) { return textured ? &ref : nullptr; };
+    const ExtensionImage extension[] = {
+        {&baked.clearcoat, "clearcoat", 3, false, false,
+         {pick(x.clearcoatTexture, e.clearcoat.texture), pick(x.clearcoatRoughnessTexture, e.clearcoat.roughnessTexture)}},
+        {&baked.clearcoatNormal, "clearcoatNormal", 3, false, true, {&e.clearcoat.normalTexture}},
+        {&baked.sheen, "sheen", 4, true, false,
+         {pick(x.sheenColorTexture, e.sheen.colorTexture), pick(x.sheenRoughnessTexture, e.sheen.roughnessTexture)}},
+        {&baked.specular, "specular", 4, true, false,
+         {pick(x.specularColorTexture, e.specular.colorTexture), pick(x.specularTexture, e.specular.texture)}},
+        {&baked.transmission, "transmission", 3, false, false,
+         {pick(x.transmissionTexture, e.transmission.texture), pick(x.thicknessTexture, e.volume.thicknessTexture)}},
+        {&baked.iridescence, "iridescence", 3, false, false,
+         {pick(x.iridescenceTexture, e.iridescence.texture), pick(x.iridescenceThicknessTexture, e.iridescence.thicknessTexture)}},
+        {&baked.diffuseTransmission, "diffuseTransmission", 4, true, false,
+         {pick(x.diffuseTransmissionColorTexture, e.diffuseTransmission.colorTexture),
+          pick(x.diffuseTransmissionTexture, e.diffuseTransmission.texture)}},
+        {&baked.anisotropy, "anisotropy", 3, false, true, {&e.anisotropy.texture}},
+    };
+    size_t images = 0;
+    for (const ExtensionImage& ei : extension) images += ei.values->empty() ? 0 : 1;
+    m.extensionImages.resize(images);  // sized once: the encodes point into it
+    std::vector<std::string> suffixes;  // the images' names after encoding (which names them after the level)
+    size_t next = 0;
+    for (const ExtensionImage& ei : extension) {
+        if (ei.values->empty()) continue;
+        Image& image = m.extensionImages[next];
+        suffixes.push_back(ei.suffix);
+        for (TextureRef* ref : ei.refs)
+            if (ref) *ref = TextureRef{int(next), 0, ref->scale, {}};
+        // RGBA and normal maps are PNG (JPEG has no alpha and blurs directions).
+        const ImageFormat format = ei.channels == 4 || ei.normalMap ? ImageFormat::Png : o.format;
+        encodes.push_back({ei.values, EncodeOptions{format, o.jpegQuality, ei.channels, ei.srgb}, name + "_" + ei.suffix, &image,
+                           ei.srgb ? Ktx2Codec::Etc1s : Ktx2Codec::Uastc, ei.normalMap});
+        ++next;
+    }
     parallelFor(encodes.size(), o.threads, [&](size_t i) {
         const Encode& e = encodes[i];
         *e.image = encodeImage(*e.values, w, h, e.options, e.name);
     });
-    for (const Encode& e : encodes) *e.image = stored(std::move(*e.image), o, e.codec, e.options.srgb, e.normalMap);
+    for (const Encode& en : encodes) *en.image = stored(std::move(*en.image), o, en.codec, en.options.srgb, en.normalMap);
+    for (size_t i = 0; i < m.extensionImages.size(); ++i) m.extensionImages[i].name = suffixes[i];
     m.alphaMode = plan.alphaMode;
     m.alphaCutoff = plan.alphaCutoff;
     m.doubleSided = plan.doubleSided;

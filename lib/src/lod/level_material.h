@@ -26,14 +26,16 @@ struct LevelImageOptions {
     ImageFormat format = ImageFormat::Png;  // base colour, ORM and emissive; RGBA and normal maps are PNG
     int jpegQuality = 90;
     // KTX2 (KHR_texture_basisu) through this basisu executable instead of PNG/JPEG, empty = off:
-    // ETC1S for the colour maps (base colour, emissive), UASTC for the normal map and ORM (data
-    // whose channels are independent: ETC1S shares endpoints between channels and blurs them).
+    // ETC1S for the colour maps (base colour, emissive, sheen / specular / diffuse transmission
+    // colour), UASTC for the normal maps, ORM and the extensions' data textures (channels that
+    // are independent: ETC1S shares endpoints between channels and blurs them).
     std::string ktx2Encoder;
     int threads = 1;  // the level's images are encoded on this many threads (the bytes do not depend on it)
 };
 
 // The channels a level's material carries as textures, for reports ("baseColor" or
-// "baseColorAlpha", "occlusion", "metallicRoughness", "emissive", "normal").
+// "baseColorAlpha", "occlusion", "metallicRoughness", "emissive", "normal", then the extension
+// channels with a texture: "clearcoat", "clearcoatRoughness", "clearcoatNormal", "sheenColor", ...).
 std::vector<std::string> channelNames(const LodMaterial& material);
 
 // Encodes the baked channels and sets the factors of the plan's constant channels.

@@ -847,10 +847,11 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
         const bool normalMap = !options.baseColorOnly && (options.normalMaps == NormalMaps::Always ||
                                                           (options.normalMaps == NormalMaps::Auto && (plan.normalTexture || k > 0)));
         const BakeChannels channels = levelChannels(plan, normalMap);
-        if (channels.normal) L.tangents = levelTangents(L);
-        // The normal map's target frames; none without one.
+        const bool normalMaps = channels.normal || channels.clearcoatNormal || channels.anisotropy;
+        if (normalMaps) L.tangents = levelTangents(L);
+        // The normal maps' target frames; none without one.
         std::optional<BakeTarget> target;
-        if (channels.normal) target = levelBakeTarget(L, la.atlas.width, la.atlas.height);
+        if (normalMaps) target = levelBakeTarget(L, la.atlas.width, la.atlas.height);
         const BakeTarget* targetOrNull = target ? &*target : nullptr;
         lap(r.wall.mesh, r.cpu.mesh);
         const double reach = 1.5 * r.hausdorff + kProjectionSlack * res.diagonal;

@@ -117,7 +117,10 @@ std::vector<unsigned char> encode8(const unsigned char* px, int width, int heigh
     auto out = OIIO::ImageOutput::create(fname, proxy);
     if (!out) throw IOError("encodeImage: no " + std::string(jpeg ? "JPEG" : "PNG") + " encoder: " + OIIO::geterror());
     OIIO::ImageSpec spec(width, height, channels, OIIO::TypeDesc::UINT8);
-    if (channels == 4) spec.alpha_channel = 3;
+    if (channels == 4) {
+        spec.alpha_channel = 3;
+        spec.attribute("oiio:UnassociatedAlpha", 1);  // straight alpha, as given: OIIO would divide colour by it
+    }
     if (tagSrgb) spec.attribute("oiio:ColorSpace", "sRGB");
     if (jpeg) spec.attribute("Compression", "jpeg:" + std::to_string(std::clamp(jpegQuality, 1, 100)));
     if (!jpeg) {
@@ -164,8 +167,10 @@ bool decodeImage(const Image& image, DecodedImage& out, std::string& error, Deco
     OIIO::Filesystem::IOMemReader reader(const_cast<uint8_t*>(image.encoded.data()), image.encoded.size());
     // create + set_ioproxy: OIIO 2.4.7's ImageInput::open(name, config, proxy) fails on memory proxies.
     auto in = OIIO::ImageInput::create(image.mimeType == "image/jpeg" ? "jpeg" : "png");
-    OIIO::ImageSpec opened;
-    if (!in || !in->set_ioproxy(&reader) || !in->open(name, opened)) {
+    OIIO::ImageSpec opened, config;
+    // glTF images carry straight alpha: OIIO would premultiply colour by it.
+    config.attribute("oiio:UnassociatedAlpha", 1);
+    if (!in || !in->set_ioproxy(&reader) || !in->open(name, opened, config)) {
         error = "image '" + image.name + "' cannot be decoded: " + OIIO::geterror();
         return false;
     }

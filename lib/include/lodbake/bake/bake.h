@@ -17,6 +17,21 @@ struct BakeChannels {
     bool orm = false;       // occlusion (1 + strength (ao - 1)), roughness, metallic
     bool emissive = false;  // emissiveFactor x strength x emissive texture
     bool normal = false;    // the original shading normal in the target's tangent frames (needs a BakeTarget)
+    // KHR_materials_* extensions, packed as glTF reads them (each value factor x texture of the
+    // original material at the texel, the extension's neutral value where it lacks it):
+    bool clearcoat = false;            // R clearcoat, G clearcoat roughness
+    bool clearcoatNormal = false;      // the original's clearcoat normal in the target's tangent frames (needs a BakeTarget)
+    bool sheen = false;                // RGB sheen colour (sRGB), A sheen roughness
+    bool specular = false;             // RGB specular colour / specularColorScale (sRGB), A specular
+    bool transmission = false;         // R transmission, G volume thickness / thicknessScale
+    bool iridescence = false;          // R iridescence, G thickness normalised into [iridescenceThicknessMin, Max]
+    bool diffuseTransmission = false;  // RGB diffuse transmission colour (sRGB), A diffuse transmission
+    bool anisotropy = false;           // RG direction in the target's tangent frames (x 0.5 + 0.5), B strength (needs a BakeTarget)
+    double clearcoatRoughnessFill = 0; // clearcoat roughness where the material has no clearcoat
+    double sheenRoughnessFill = 0;     // sheen roughness where the material has no sheen
+    double specularColorScale = 1;     // > 0
+    double thicknessScale = 1;         // mesh units; > 0
+    double iridescenceThicknessMin = 100, iridescenceThicknessMax = 400;  // nanometres
 };
 
 struct BakeOptions {
@@ -65,6 +80,10 @@ struct BakeResult {
     // linear), emissive (RGB, sRGB-encoded, divided by emissiveScale), normal (RGB = tangent-space
     // xyz x 0.5 + 0.5).
     std::vector<float> alpha, orm, emissive, normal;
+    // The extension images (BakeChannels), as written: clearcoat, transmission and iridescence
+    // RGB (B = 0), clearcoatNormal RGB like normal, sheen, specular and diffuseTransmission RGBA,
+    // anisotropy RGB.
+    std::vector<float> clearcoat, clearcoatNormal, sheen, specular, transmission, iridescence, diffuseTransmission, anisotropy;
     double emissiveScale = 1;    // the largest linear emissive value when above 1 (KHR_materials_emissive_strength), else 1
     size_t coveredTexels = 0;    // texels hit by a triangle (incl. dilation)
     size_t texturedLookups = 0;  // texels shaded with a filtered base colour texture fetch
@@ -103,8 +122,10 @@ BakeResult bakeBaseColor(const BakeSources& sources, const std::vector<std::arra
 // The same with every channel of options.channels: each texel shows the original material at
 // the original surface point the layout maps it to. The normal channel is the original's shading
 // normal (interpolated normal perturbed by its normal map in its own tangent frame: the file's
-// TANGENT or computeWedgeTangents) expressed in the tangent frame of `target` at that texel.
-// \pre as bakeBaseColor; target (when channels.normal) has the same UV scale as cornerUV.
+// TANGENT or computeWedgeTangents) expressed in the tangent frame of `target` at that texel; the
+// clearcoat normal likewise with the clearcoat normal map (none: the interpolated normal), and the
+// anisotropy direction likewise in the target's tangent plane.
+// \pre as bakeBaseColor; target (when channels.normal, clearcoatNormal or anisotropy) has the same UV scale as cornerUV.
 BakeResult bakeMaterial(const BakeSources& sources, const std::vector<std::array<Vec2, 3>>& cornerUV,
                         const BakeOptions& options, const std::vector<BakeIsland>& islands = {},
                         const BakeTarget* target = nullptr);

@@ -10,6 +10,39 @@
 
 namespace lodbake {
 
+// The chain material's KHR_materials_* extensions. An extension is present when some used
+// material has it; the parts whose material lacks it take its neutral value (clearcoat 0, sheen
+// black, transmission 0, thickness 0, specular 1 and white, iridescence 0, diffuse transmission 0
+// and white). Per channel: baked into a texture when its value differs between the used materials
+// or one of them has a texture for it; else `factors` holds the constant value.
+// What glTF cannot vary per texel (ior, attenuation distance and colour, dispersion, iridescence
+// ior) is the area-weighted mean over the triangles whose material has the extension (a warning
+// names a property whose inputs disagree). Baked channels read as follows in `factors`:
+//   - scalar and colour channels: factor 1 (the texture holds factor x texture of the input),
+//     except specular colour: its factor is specularColorScale (the texture holds value / scale);
+//   - volume thickness: thicknessFactor = the largest input thickness factor (the texture holds
+//     thickness / that factor);
+//   - iridescence thickness: [thicknessMinimum, thicknessMaximum] = the union of the inputs'
+//     thickness ranges (the texture holds the thickness in nm normalised into it).
+struct ExtensionPlan {
+    MaterialExtensions factors;  // `present` flags, factors and properties of the chain's material (no textures)
+    bool clearcoatTexture = false, clearcoatRoughnessTexture = false;
+    // The roughness baked where a part lacks the clearcoat / sheen (it matters only under one):
+    // the first such material's factor, so these parts do not make the roughness vary.
+    double clearcoatRoughnessFill = 0, sheenRoughnessFill = 0;
+    bool clearcoatNormalTexture = false;  // some used material has a clearcoat normal map
+    bool sheenColorTexture = false, sheenRoughnessTexture = false;
+    bool transmissionTexture = false, thicknessTexture = false;
+    bool specularTexture = false, specularColorTexture = false;
+    double specularColorScale = 1;  // the largest specular colour factor component when above 1, else 1
+    bool iridescenceTexture = false, iridescenceThicknessTexture = false;
+    bool diffuseTransmissionTexture = false, diffuseTransmissionColorTexture = false;
+    // Anisotropy is always baked when present: its direction is relative to the tangent frames,
+    // which differ between the original and a level (factors: strength 1, rotation 0).
+    bool anisotropyTexture = false;
+    bool any() const;  // some extension is present
+};
+
 struct MaterialPlan {
     // Base colour: a texture when any used material has a base-colour texture, the mesh has vertex
     // colours or the used materials' factors differ; otherwise baseColorFactor.
@@ -34,12 +67,14 @@ struct MaterialPlan {
     bool doubleSided = false;  // every used material is double-sided
     bool backFaces = false;    // some, not all, are: their triangles get reversed copies instead
     bool unlit = false;        // every used material is KHR_materials_unlit
-    std::vector<std::string> warnings;  // mixed alpha modes, sidedness or shading models
+    // KHR_materials_* extensions: the union of those the used materials carry (ExtensionPlan).
+    ExtensionPlan ext;
+    std::vector<std::string> warnings;  // mixed alpha modes, sidedness or shading models, disagreeing per-material properties
     bool ormTexture() const { return occlusionTexture || metallicRoughnessTexture; }
 };
 
 // `plan` with only its base colour baked (with alpha): a diffuse material (metallic 0, roughness
-// 1, no emission), no normal map.
+// 1, no emission), no normal map, no extensions.
 MaterialPlan baseColorPlan(MaterialPlan plan);
 
 // Plans the chain's material from the materials asset.mesh's triangles use (-1 = the glTF

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "lodbake/core/material_extensions.h"
 #include "lodbake/core/math.h"
 #include "lodbake/core/morph.h"
 #include "lodbake/core/rig.h"
@@ -52,22 +53,6 @@ struct TriMesh {
     size_t triangleCount() const { return triangles.size(); }
 };
 
-// KHR_texture_transform on one texture reference; identity when !present.
-struct TextureTransform {
-    bool present = false;
-    Vec2 offset{0, 0};
-    double rotation = 0;  // radians
-    Vec2 scale{1, 1};
-    int texCoord = -1;    // overrides TextureRef::texCoord when >= 0
-};
-
-struct TextureRef {
-    int texture = -1;  // index into Asset::textures; -1 = none
-    int texCoord = 0;  // which TEXCOORD_n
-    double scale = 1;  // normalTexture.scale / occlusionTexture.strength
-    TextureTransform transform;
-};
-
 enum class AlphaMode { Opaque, Mask, Blend };
 
 struct Material {
@@ -90,6 +75,7 @@ struct Material {
     double alphaCutoff = 0.5;
     bool doubleSided = false;
     bool unlit = false;  // KHR_materials_unlit
+    MaterialExtensions ext;  // clearcoat, sheen, transmission, volume, specular, ior, ... (material_extensions.h)
 };
 
 struct Sampler {

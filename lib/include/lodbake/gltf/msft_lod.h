@@ -31,6 +31,10 @@ struct LodMaterial {
     double alphaCutoff = 0.5;
     bool doubleSided = false;
     bool unlit = false;           // KHR_materials_unlit
+    // KHR_materials_* extensions (present ones written, with their factors and properties); a
+    // texture reference's `texture` indexes extensionImages (-1 = none), several may share one.
+    MaterialExtensions ext;
+    std::vector<Image> extensionImages;  // encoded; Image::name = the suffix of its glTF name ("clearcoat", ...)
 };
 
 // One level of the chain, ready to write: an indexed triangle list (CCW) in world space.
