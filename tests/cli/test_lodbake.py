@@ -149,11 +149,15 @@ class Lodbake(unittest.TestCase):
         single-file run; a malformed file fails alone (its row names the error, exit 2) and the
         summary report matches docs/schemas/lodbake-batch.schema.json."""
         d = os.path.join(self.dir, "batch")
-        src = os.path.join(d, "in")
-        os.makedirs(os.path.join(src, "sub"), exist_ok=True)
+        src, elsewhere = os.path.join(d, "in"), os.path.join(d, "elsewhere")
+        os.makedirs(src, exist_ok=True)
+        os.makedirs(elsewhere, exist_ok=True)
+        # A symlinked subfolder is walked, and its chain still goes under -o, never beside the target.
+        if not os.path.islink(os.path.join(src, "sub")):
+            os.symlink(elsewhere, os.path.join(src, "sub"))
         samples = os.path.dirname(self.src)
-        for name, dst in (("colors.glb", "colors.glb"), ("wall5.glb", "sub/wall5.glb")):
-            with open(os.path.join(src, dst), "wb") as f:
+        for name, dst in (("colors.glb", os.path.join(src, "colors.glb")), ("wall5.glb", os.path.join(elsewhere, "wall5.glb"))):
+            with open(dst, "wb") as f:
                 f.write(read(os.path.join(samples, name)))
         with open(os.path.join(src, "broken.glb"), "wb") as f:
             f.write(b"glTF\x02\x00\x00\x00not a binary glTF")
@@ -177,6 +181,7 @@ class Lodbake(unittest.TestCase):
         self.assertEqual((wall["exit"], wall["levels"], wall["output"]), (0, 3, os.path.join(out, "sub", "wall5.lod.glb")))
         self.assertEqual(wall["bytes"], os.path.getsize(wall["output"]))
         self.assertEqual(len(wall["triangles"]), 3)
+        self.assertEqual(os.listdir(elsewhere), ["wall5.glb"])
         try:
             import jsonschema
         except ImportError:

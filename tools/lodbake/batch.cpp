@@ -53,7 +53,7 @@ std::vector<Input> collect(const std::vector<std::string>& inputs) {
             for (auto it = fs::recursive_directory_iterator(in, fs::directory_options::follow_directory_symlink, ec);
                  !ec && it != fs::recursive_directory_iterator(); it.increment(ec))
                 if (it->is_regular_file(ec) && isGltf(it->path()))
-                    found.push_back({it->path().string(), fs::relative(it->path(), in, ec).replace_extension()});
+                    found.push_back({it->path().string(), it->path().lexically_relative(in).replace_extension()});
             std::sort(found.begin(), found.end(), [](const Input& a, const Input& b) { return a.path < b.path; });
             out.insert(out.end(), found.begin(), found.end());
         } else if (fs::exists(in, ec)) {
