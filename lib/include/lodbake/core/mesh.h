@@ -16,6 +16,7 @@
 #include "lodbake/core/math.h"
 #include "lodbake/core/morph.h"
 #include "lodbake/core/rig.h"
+#include "lodbake/core/scene_extras.h"
 
 namespace lodbake {
 
@@ -129,6 +130,7 @@ struct Asset {
     std::vector<Image> images;
     Rig rig;  // skin and animations; empty for a static asset
     MorphTargets morph;  // names and default weights of mesh.wedges.targets; empty = no morph targets
+    SceneExtras scene;   // lights, cameras and their nodes, extras (lodbake/core/scene_extras.h)
     std::vector<std::string> warnings;
     LoadStats stats;
 };
