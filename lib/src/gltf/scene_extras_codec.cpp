@@ -194,7 +194,9 @@ void decomposeTrs(const Mat4& m, Vec3& translation, Vec4& rotation, Vec3& scale)
         scale = {length(c0), length(c1), length(c2)};
         return;
     }
-    scale = {sign * length(c0), dot(c1, r1), dot(c2, r2)};
+    // A scale within rounding of 1 (the frame's own, e.g. 0.9999999999999998) is written as 1.
+    auto unit = [](double v) { return std::abs(std::abs(v) - 1) < 1e-12 ? std::copysign(1.0, v) : v; };
+    scale = {unit(sign * length(c0)), unit(dot(c1, r1)), unit(dot(c2, r2))};
     // Quaternion of the rotation matrix [r0 r1 r2] (Shepperd: the largest diagonal term first).
     const double R[3][3] = {{r0.x, r1.x, r2.x}, {r0.y, r1.y, r2.y}, {r0.z, r1.z, r2.z}};
     const double tr = R[0][0] + R[1][1] + R[2][2];
