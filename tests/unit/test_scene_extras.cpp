@@ -131,6 +131,21 @@ TEST(SceneInstancing, EveryInstanceIsExpanded) {
     EXPECT_FALSE(hasWarning(a, "instances"));
 }
 
+// More than 1,000 copies of one mesh: all expanded, with a warning saying how many.
+TEST(SceneInstancing, ManyInstancesAreExpandedWithAWarning) {
+    auto dir = tempDir("instancing_many");
+    TestGltf g;
+    int pa = g.add(unitTrianglePositions(), kF32, "VEC3");
+    std::vector<float> t;
+    for (int i = 0; i < 1001; ++i) t.insert(t.end(), {float(2 * i), 0, 0});
+    int ta = g.add(t, kF32, "VEC3");
+    meshNode(g, {prim(json{{"POSITION", pa}})}, json{{"extensions", {{"EXT_mesh_gpu_instancing", {{"attributes", {{"TRANSLATION", ta}}}}}}}});
+    Asset a = readGltf(g.writeGltf(dir, "many"));
+    EXPECT_EQ(a.mesh.triangleCount(), 1001u);
+    EXPECT_TRUE(hasVertexNear(a.mesh, {2000, 1, 0}));
+    EXPECT_TRUE(hasWarning(a, "node 0 EXT_mesh_gpu_instancing: 1001 instances of mesh 0 (1 triangle each) expanded into 1001 triangles"));
+}
+
 TEST(SceneInstancing, MismatchedCountsAreInvalid) {
     auto dir = tempDir("instancing_bad");
     TestGltf g = instancedCubes(2);
@@ -187,11 +202,14 @@ TEST(SceneExtrasRead, WarnsAboutWhatIsNotCarried) {
     g.j["animations"] = {{{"samplers", {{{"input", in}, {"output", out}}}},
                           {"channels", {{{"sampler", 0}, {"target", {{"node", 3}, {"path", "translation"}}}}}}}};
     g.j["extensions"]["EXT_unknown_root"] = json::object();
+    g.j["nodes"][4]["extensions"]["EXT_unknown_node"] = json::object();
     Asset a = readGltf(g.writeGltf(dir, "lit"));
     EXPECT_TRUE(hasWarning(a, "node 1 'spot': the light below animated node 3 keeps its rest transform")) << a.warnings.size();
     EXPECT_TRUE(hasWarning(a, "node 2 'eye': the camera below animated node 3"));
     EXPECT_TRUE(hasWarning(a, "root extension EXT_unknown_root is not carried"));
+    EXPECT_TRUE(hasWarning(a, "node 4: extension EXT_unknown_node is not carried"));
     EXPECT_FALSE(hasWarning(a, "'sun'"));
+    EXPECT_FALSE(hasWarning(a, "KHR_lights_punctual is not carried"));
 }
 
 // The intermediates carry the scene: written, read back, the same lights, cameras, placements.

@@ -410,7 +410,7 @@ std::vector<SceneNode> expandInstances(const ReadContext& c, const std::vector<S
         const size_t tris = mesh >= 0 && c.root.contains("meshes") && size_t(mesh) < c.root["meshes"].size() ? declaredTriangles(c, mesh) : 0;
         if (count > kManyInstances || count * tris > kManyInstancedTriangles)
             asset.warnings.push_back(what + ": " + std::to_string(count) + " instances of mesh " + std::to_string(mesh) + " (" +
-                                     std::to_string(tris) + " triangles each) expanded into " + std::to_string(count * tris) +
+                                     std::to_string(tris) + (tris == 1 ? " triangle" : " triangles") + " each) expanded into " + std::to_string(count * tris) +
                                      " triangles; every copy is simplified and baked on its own");
     }
     return out;

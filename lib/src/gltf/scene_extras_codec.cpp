@@ -19,6 +19,9 @@ constexpr const char* kLights = "KHR_lights_punctual";
 
 // Root extensions whose content reaches the output: lights here, LODBAKE_multires by its codec.
 const std::vector<std::string> kCarriedRootExtensions = {kLights, "LODBAKE_multires"};
+// Node extensions the reader uses: lights here, instancing expanded by the reader, MSFT_lod (a
+// chain read as input: its levels are nodes of their own).
+const std::vector<std::string> kReadNodeExtensions = {kLights, "EXT_mesh_gpu_instancing", "MSFT_lod"};
 
 double number(const json& o, const char* key, double def) {
     return o.is_object() && o.contains(key) && o[key].is_number() ? o[key].get<double>() : def;
@@ -141,6 +144,10 @@ SceneExtras readSceneExtras(const ReadContext& c, const std::vector<std::pair<in
     for (const auto& [n, world] : nodes) {
         // Every node of `nodes` exists (flattening checked it), in the JSON as in the model.
         const json& node = root.at("nodes").at(size_t(n));
+        if (node.contains("extensions") && node["extensions"].is_object())
+            for (const auto& [name, value] : node["extensions"].items())
+                if (std::find(kReadNodeExtensions.begin(), kReadNodeExtensions.end(), name) == kReadNodeExtensions.end())
+                    warnings.push_back("node " + std::to_string(n) + ": extension " + name + " is not carried to the output");
         ScenePlacement p;
         p.camera = node.contains("camera") && node["camera"].is_number_integer() ? node["camera"].get<int>() : -1;
         if (node.contains("extensions") && node["extensions"].is_object() && node["extensions"].contains(kLights)) {

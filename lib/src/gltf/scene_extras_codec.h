@@ -18,7 +18,8 @@ namespace lodbake::gltf_detail {
 // of the flattened scene `nodes` (glTF node, world matrix) that names a light or a camera.
 // Warnings into `warnings`: a placement below an animated node (it keeps its rest transform), a
 // root extension that is not carried to the output (any but KHR_lights_punctual and
-// LODBAKE_multires). \throw InvalidInput on a light or camera index out of range, an unknown light
+// LODBAKE_multires), a node extension the reader does not use (any but KHR_lights_punctual,
+// EXT_mesh_gpu_instancing and MSFT_lod). \throw InvalidInput on a light or camera index out of range, an unknown light
 // or camera type.
 SceneExtras readSceneExtras(const ReadContext& c, const std::vector<std::pair<int, Mat4>>& nodes,
                             std::vector<std::string>& warnings);
