@@ -146,6 +146,28 @@ TEST(SceneInstancing, ManyInstancesAreExpandedWithAWarning) {
     EXPECT_TRUE(hasWarning(a, "node 0 EXT_mesh_gpu_instancing: 1001 instances of mesh 0 (1 triangle each) expanded into 1001 triangles"));
 }
 
+// An animated instanced node: every copy is bound rigidly to the node, so posing moves them all
+// with it. The node moves from (0,0,0) to (0,0,10) over one second; instances at x = 0 and x = 5.
+TEST(SceneInstancing, AnimatedNodeMovesEveryCopy) {
+    auto dir = tempDir("instancing_animated");
+    TestGltf g;
+    int pa = g.add(unitTrianglePositions(), kF32, "VEC3");
+    std::vector<float> t = {0, 0, 0, 5, 0, 0}, times = {0, 1}, moves = {0, 0, 0, 0, 0, 10};
+    int ta = g.add(t, kF32, "VEC3"), in = g.add(times, kF32, "SCALAR"), out = g.add(moves, kF32, "VEC3");
+    g.j["accessors"][size_t(in)]["min"] = {0};
+    g.j["accessors"][size_t(in)]["max"] = {1};
+    meshNode(g, {prim(json{{"POSITION", pa}})}, json{{"extensions", {{"EXT_mesh_gpu_instancing", {{"attributes", {{"TRANSLATION", ta}}}}}}}});
+    g.j["animations"] = {{{"samplers", {{{"input", in}, {"output", out}}}},
+                          {"channels", {{{"sampler", 0}, {"target", {{"node", 0}, {"path", "translation"}}}}}}}};
+    Asset a = readGltf(g.writeGltf(dir, "anim"));
+    ASSERT_EQ(a.mesh.triangleCount(), 2u);
+    ASSERT_FALSE(a.rig.empty());
+    TriMesh posed = poseMesh(a.rig, a.morph, a.mesh, 0, 1.0);
+    EXPECT_TRUE(hasVertexNear(posed, {1, 0, 10}));
+    EXPECT_TRUE(hasVertexNear(posed, {6, 0, 10}));
+    EXPECT_FALSE(hasVertexNear(posed, {6, 0, 0}));
+}
+
 TEST(SceneInstancing, MismatchedCountsAreInvalid) {
     auto dir = tempDir("instancing_bad");
     TestGltf g = instancedCubes(2);
