@@ -368,7 +368,7 @@ size_t declaredTriangles(const ReadContext& c, int mesh) {
 // type the accessor declares, normalized or not; an absent attribute is the identity); others stay
 // as they are. The rig and morph readers keep `nodes` (one entry per glTF node): an instance's
 // vertices are in world space like any mesh node's, so a rigid binding moves every copy with its
-// node. 	hrow InvalidInput on instance accessors of different counts.
+// node. \throw InvalidInput on instance accessors of different counts.
 std::vector<SceneNode> expandInstances(const ReadContext& c, const std::vector<SceneNode>& nodes, Asset& asset) {
     std::vector<SceneNode> out;
     out.reserve(nodes.size());
@@ -407,11 +407,12 @@ std::vector<SceneNode> expandInstances(const ReadContext& c, const std::vector<S
             out.emplace_back(n, mul(sn.second, trsMatrix(ti, ri, si)));
         }
         const int mesh = jint(node, "mesh", -1);
-        const size_t tris = mesh >= 0 && c.root.contains("meshes") && size_t(mesh) < c.root["meshes"].size() ? declaredTriangles(c, mesh) : 0;
+        const bool meshExists = mesh >= 0 && c.root.contains("meshes") && size_t(mesh) < c.root["meshes"].size();
+        const size_t tris = meshExists ? declaredTriangles(c, mesh) : 0;
         if (count > kManyInstances || count * tris > kManyInstancedTriangles)
             asset.warnings.push_back(what + ": " + std::to_string(count) + " instances of mesh " + std::to_string(mesh) + " (" +
-                                     std::to_string(tris) + (tris == 1 ? " triangle" : " triangles") + " each) expanded into " + std::to_string(count * tris) +
-                                     " triangles; every copy is simplified and baked on its own");
+                                     std::to_string(tris) + (tris == 1 ? " triangle" : " triangles") + " each) expanded into " +
+                                     std::to_string(count * tris) + " triangles; every copy is simplified and baked on its own");
     }
     return out;
 }
