@@ -233,7 +233,7 @@ class Usage(unittest.TestCase):
             (["--help"], 0, ""),
             (["--version"], 0, ""),
             (["--bogus"], 1, "simplify error: unrecognized option '--bogus'"),
-            (["-i", good, "-o", out], 1, "simplify error: give at least one level"),
+            (["-i", good, "-o", out, "--ratio", ""], 1, "simplify error: --ratio"),
             (["-i", good, "-o", out, "--ratio", "abc"], 1, "simplify error: --ratio: 'abc' is not a number"),
             (["-i", good, "-o", out, "--ratio", "1.5"], 1, "simplify error: --ratio values must be in (0, 1]"),
             (["-i", good, "-o", os.path.join(d, "o.obj"), "--ratio", "0.5"], 1, "simplify error: output"),

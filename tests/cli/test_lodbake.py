@@ -11,8 +11,8 @@ import sys
 import unittest
 
 sys.path.insert(0, os.path.dirname(__file__))
-from lodbake_test import (ASSETS, Gltf, assert_no_validator_errors, make_samples, run, skip, tool,  # noqa: E402
-                          work_dir)
+from lodbake_test import (ASSETS, SOURCE, Gltf, assert_no_validator_errors, make_samples, run, skip,  # noqa: E402
+                          tool, work_dir)
 
 SAMPLE = "colors"
 SIMPLIFY = ["--ratio", "0.5,0.1"]
@@ -107,9 +107,9 @@ class Lodbake(unittest.TestCase):
     def test_bad_flags_and_inputs(self):
         out = os.path.join(self.dir, "bad.lod.glb")
         cases = [
-            (["-i", self.src, "-o", out], 1, "give at least one level"),
+            (["-i", self.src, self.src, "-o", out], 1, "need -o DIR/"),
             (["-i", self.src, "-o", out, "--ratio", "0.5", "--refine-split", "1"], 1, "--refine-split must be >= 2"),
-            (["-i", self.src, "-o", out, "--ratio", "0.5", "--split", "3"], 1, "unrecognized option '3'"),
+            (["-i", self.src, "-o", out, "--ratio", "0.5", "--split", "3"], 2, "3: no such file"),  # 3: an input
             (["-i", self.src, "-o", out, "--ratio", "0.5", "--bogus"], 1, "unrecognized option '--bogus'"),
             (["-i", os.path.join(self.dir, "missing.glb"), "-o", out, "--ratio", "0.5"], 2, "no such file"),
             (["-i", self.src, "-o", out, "--ratio", "0.5", "--keep-intermediates", os.path.join(self.dir, "nope")], 2,
@@ -197,6 +197,66 @@ class Lodbake(unittest.TestCase):
                 if lights:
                     self.assertIn("KHR_lights_punctual", doc["extensionsUsed"])
                 assert_no_validator_errors(self, [out])
+
+    def test_defaults(self):
+        """`lodbake IN` writes IN's stem + .lod.glb beside it, `-o DIR/` into DIR, and without a level
+        flag the chain has the default levels 0.5, 0.1, 0.02 (the report says so)."""
+        d = os.path.join(self.dir, "defaults")
+        os.makedirs(os.path.join(d, "into"), exist_ok=True)
+        src = os.path.join(d, SAMPLE + ".glb")
+        with open(src, "wb") as f:
+            f.write(read(self.src))
+        small = ["--size", "128", "--refine-size", "128", "--sizes", "64,128", "--max-size", "128", "-q"]
+        report = os.path.join(d, "beside.json")
+        run([tool("lodbake"), src, "--report", report] + small)
+        beside = os.path.join(d, SAMPLE + ".lod.glb")
+        self.assertTrue(os.path.exists(beside))
+        self.assertEqual(len(Gltf(beside).json["meshes"]), 4)  # LOD0 + the three default levels
+        simplify = json.load(open(report))["stages"][0]
+        self.assertIn("default", simplify["levelsChosen"])
+        self.assertEqual([lv["target"]["ratio"] for lv in simplify["levels"]], [0.5, 0.1, 0.02])
+        run([tool("lodbake"), "-i", src, "-o", os.path.join(d, "into") + "/"] + small)
+        self.assertEqual(read(os.path.join(d, "into", SAMPLE + ".lod.glb")), read(beside))
+
+    def test_batch(self):
+        """Several inputs or a folder: a chain per file, -j 2 at a time, the same bytes as a
+        single-file run; a malformed file fails alone (its row names the error, exit 2) and the
+        summary report matches docs/schemas/lodbake-batch.schema.json."""
+        d = os.path.join(self.dir, "batch")
+        src = os.path.join(d, "in")
+        os.makedirs(os.path.join(src, "sub"), exist_ok=True)
+        samples = os.path.dirname(self.src)
+        for name, dst in (("colors.glb", "colors.glb"), ("wall5.glb", "sub/wall5.glb")):
+            with open(os.path.join(src, dst), "wb") as f:
+                f.write(read(os.path.join(samples, name)))
+        with open(os.path.join(src, "broken.glb"), "wb") as f:
+            f.write(b"glTF\x02\x00\x00\x00not a binary glTF")
+        out, summary = os.path.join(d, "out"), os.path.join(d, "summary.json")
+        p = run([tool("lodbake"), "-i", src, "-o", out + "/", "-j", "2", "--report", summary] + CHAIN, check=False)
+        self.assertEqual(p.returncode, 2, p.stderr)
+        errors = [l for l in p.stderr.splitlines() if " error: " in l]
+        self.assertEqual(len(errors), 1, p.stderr)
+        self.assertTrue(all(l.startswith("lodbake ") for l in p.stderr.splitlines()), p.stderr)
+        rep = json.load(open(summary))
+        rows = {os.path.relpath(r["input"], src): r for r in rep["files"]}
+        self.assertEqual(sorted(rows), ["broken.glb", "colors.glb", os.path.join("sub", "wall5.glb")])
+        self.assertEqual((rep["succeeded"], rep["failed"], rep["jobs"]), (2, 1, 2))
+        self.assertEqual(rows["broken.glb"]["exit"], 2)
+        self.assertIn("broken.glb", rows["broken.glb"]["error"])
+        self.assertFalse(os.path.exists(os.path.join(out, "broken.lod.glb")))
+        single = os.path.join(d, "colors.single.lod.glb")
+        run([tool("lodbake"), "-i", self.src, "-o", single, "-q"] + CHAIN)
+        self.assertEqual(read(os.path.join(out, "colors.lod.glb")), read(single))
+        wall = rows[os.path.join("sub", "wall5.glb")]
+        self.assertEqual((wall["exit"], wall["levels"], wall["output"]), (0, 3, os.path.join(out, "sub", "wall5.lod.glb")))
+        self.assertEqual(wall["bytes"], os.path.getsize(wall["output"]))
+        self.assertEqual(len(wall["triangles"]), 3)
+        try:
+            import jsonschema
+        except ImportError:
+            return
+        schema = json.load(open(os.path.join(SOURCE, "docs/schemas/lodbake-batch.schema.json")))
+        jsonschema.Draft202012Validator(schema).validate(rep)
 
     def test_help_lists_every_stage(self):
         h = run([tool("lodbake"), "--help"]).stdout

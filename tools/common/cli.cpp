@@ -107,6 +107,7 @@ bool ArgParser::parse(int argc, char** argv) {
         for (const Opt& o : opts_)
             for (const std::string& n : o.names)
                 if (n == a) found = &o;
+        if (found) parsed_.emplace_back(size_t(found - opts_.data()), std::string());
         if (!found) {
             if ((a.empty() || a[0] != '-' || a == "-") && positional_) {
                 positional_(a);
@@ -119,6 +120,7 @@ bool ArgParser::parse(int argc, char** argv) {
                 if (i + 1 >= argc) throw UsageError("option '" + a + "' needs a value (" + found->valueName + ")");
                 value = argv[++i];
             }
+            parsed_.back().second = value;
             found->handler(value);
         } else {
             if (hasInline) throw UsageError("option '" + a + "' takes no value");
@@ -126,6 +128,19 @@ bool ArgParser::parse(int argc, char** argv) {
         }
     }
     return true;
+}
+
+std::vector<std::string> ArgParser::argumentsExcept(const std::vector<std::string>& except) const {
+    std::vector<std::string> out;
+    for (const auto& [index, value] : parsed_) {
+        const Opt& o = opts_[index];
+        bool skip = false;
+        for (const std::string& n : o.names) skip = skip || std::find(except.begin(), except.end(), n) != except.end();
+        if (skip) continue;
+        out.push_back(o.names.back());
+        if (o.takesValue) out.push_back(value);
+    }
+    return out;
 }
 
 std::string ArgParser::help() const {

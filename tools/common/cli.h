@@ -47,6 +47,10 @@ public:
     void exitCodes(std::string text) { exitCodes_ = std::move(text); }
     // Parses argv. Returns false when --help or --version was handled (exit 0).
     bool parse(int argc, char** argv);
+    // The options parse() took, as arguments again (flag, then its value if it takes one), in the
+    // order given, leaving out every option one of whose names is in `except` (and positionals):
+    // what a tool passes on when it runs itself per input (lodbake's batch mode).
+    std::vector<std::string> argumentsExcept(const std::vector<std::string>& except) const;
     std::string help() const;
 
 private:
@@ -61,6 +65,7 @@ private:
     void add(Opt opt);
     std::string tool_, synopsis_;
     std::vector<Opt> opts_;
+    std::vector<std::pair<size_t, std::string>> parsed_;  // (index into opts_, value) of each option parsed
     std::function<void(const std::string&)> positional_;
     std::string positionalNames_;
     std::string exitCodes_ =

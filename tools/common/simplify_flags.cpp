@@ -4,10 +4,13 @@
 #include "common/stage_flags.h"
 
 namespace lodbake::cli {
+namespace {
+constexpr double kDefaultRatios[] = {0.5, 0.1, 0.02};
+}  // namespace
 
 void addSimplifyFlags(ArgParser& p, SimplifyFlags& a) {
     SimplifyOptions& o = a.settings.simplify;
-    p.option("--ratio", "R,...", "levels as fractions of the input triangle count, e.g. 0.5,0.1,0.02",
+    p.option("--ratio", "R,...", "levels as fractions of the input triangle count (default 0.5,0.1,0.02 when no level flag is given)",
              [&a](const std::string& v) { a.ratios = parseDoubleList("--ratio", v); });
     p.option("--triangles", "N,...", "levels as absolute triangle counts",
              [&a](const std::string& v) { a.triangles = parseDoubleList("--triangles", v); });
@@ -73,7 +76,14 @@ void validateSimplify(SimplifyFlags& a) {
         if (!(e > 0)) throw UsageError("--max-error values must be > 0");
         targets.push_back({0, 0, e});
     }
-    if (targets.empty()) throw UsageError("give at least one level: --ratio, --triangles or --max-error");
+    if (targets.empty()) {
+        // No level flag: the chain most users want, as gltfpack's -si and Blender's Decimate
+        // presets give: half, a tenth and a fiftieth of the triangles.
+        for (double r : kDefaultRatios) targets.push_back({r, 0, 0});
+        a.settings.levelsChosen = "default --ratio 0.5,0.1,0.02 (no --ratio, --triangles or --max-error given)";
+    } else {
+        a.settings.levelsChosen = "given by the level flags";
+    }
 }
 
 }  // namespace lodbake::cli

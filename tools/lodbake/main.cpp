@@ -2,9 +2,12 @@
 // in one process through the library (lodbake/stages/chain.h). Every stage's flags are the
 // separate tools' own (common/stage_flags.h); texture-refine's that another stage also has take a
 // "refine-" prefix (docs/lodbake.md).
+#include <unistd.h>
+
 #include <filesystem>
 #include <memory>
 
+#include "batch.h"
 #include "common/stage_flags.h"
 #include "lodbake/stages/chain.h"
 
@@ -19,12 +22,25 @@ struct Args {
     cli::TextureRefineFlags textureRefine;
     cli::PackFlags pack;
     bool quiet = false;
+    std::vector<std::string> inputs;  // -i and the positional inputs; several, or a folder: batch mode
+    int jobs = 1;                     // batch mode: files baked at a time
+    std::vector<std::string> passOn;  // batch mode: the flags each file's run gets
 };
 
 Args parseArgs(int argc, char** argv, bool& proceed) {
     Args a;
-    cli::ArgParser p("lodbake", "-i INPUT -o OUTPUT.lod.glb (--ratio R,... | --triangles N,... | --max-error E,...) [options]");
+    cli::ArgParser p("lodbake", "[-i] INPUT... [-o OUTPUT.lod.glb | -o DIR/] [--ratio R,... | --triangles N,... | --max-error E,...] [options]\n"
+                                "  Without -o the chain is written beside the input as STEM.lod.glb; without a level flag\n"
+                                "  the levels are 0.5, 0.1 and 0.02 of the input's triangles. Several inputs or a folder\n"
+                                "  (walked for .glb/.gltf) bake one chain each into -o DIR/ (or beside each input), -j at a time,\n"
+                                "  and --report writes one summary (docs/schemas/lodbake-batch.schema.json).");
     p.addCommon(a.chain.common, a.quiet);
+    p.positionals("INPUT", [&a](const std::string& v) { a.inputs.push_back(v); });
+    p.option("-j,--jobs", "N", "batch mode: files baked at a time (default 1); each gets cores / N threads unless --threads is given",
+             [&a](const std::string& v) {
+                 a.jobs = cli::parseInt("--jobs", v);
+                 if (a.jobs < 1) throw UsageError("--jobs must be >= 1");
+             });
     p.option("--keep-intermediates", "DIR",
              "also write the intermediates as the tools name them: DIR/STEM.mr.glb, .uv.glb, .tex.glb",
              [&a](const std::string& v) {
@@ -47,10 +63,24 @@ Args parseArgs(int argc, char** argv, bool& proceed) {
         "Fallbacks (a fold that survives parameterize, a chart the solver cannot flatten) are\n"
         "warnings in the report, never errors.\n");
     proceed = p.parse(argc, argv);
+    if (!a.chain.common.input.empty()) a.inputs.insert(a.inputs.begin(), a.chain.common.input);
+    a.passOn = p.argumentsExcept({"-i", "-o", "--report", "-j", "-q", "-v", "-vv"});
     return a;
 }
 
+// The output when -o is absent (STEM.lod.glb beside the input) or names a folder (-o DIR/, or an
+// existing folder): STEM is the input's file name without .glb/.gltf.
+std::string defaultOutput(const std::string& input, const std::string& output) {
+    namespace fs = std::filesystem;
+    const std::string name = fs::path(input).stem().string() + ".lod.glb";
+    std::error_code ec;
+    if (output.empty()) return (fs::path(input).parent_path() / name).string();
+    if (output.back() == '/' || fs::is_directory(output, ec)) return (fs::path(output) / name).string();
+    return output;
+}
+
 void validate(Args& a) {
+    if (!a.chain.common.input.empty()) a.chain.common.output = defaultOutput(a.chain.common.input, a.chain.common.output);
     cli::validateSimplify(a.simplify);
     cli::validateParameterize(a.parameterize);
     cli::validateTextureRefine(a.textureRefine);
@@ -66,7 +96,39 @@ void validate(Args& a) {
     a.chain.pack = a.pack.settings;
 }
 
+// Several inputs, or a folder.
+bool batchMode(const Args& a) {
+    std::error_code ec;
+    return a.inputs.size() > 1 || (a.inputs.size() == 1 && std::filesystem::is_directory(a.inputs[0], ec));
+}
+
+int runBatch(Args& a) {
+    // Every flag is checked here, once, rather than failing the same way in every child.
+    cli::validateSimplify(a.simplify);
+    cli::validateParameterize(a.parameterize);
+    cli::validateTextureRefine(a.textureRefine);
+    cli::validatePack(a.pack);
+    batch::collectInputs(a.inputs);  // every input exists and at least one is a glTF
+    const std::string& out = a.chain.common.output;
+    std::error_code ec;
+    const std::string ext = std::filesystem::path(out).extension().string();
+    if ((!out.empty() && std::filesystem::exists(out, ec) && !std::filesystem::is_directory(out, ec)) || ext == ".glb" || ext == ".gltf")
+        throw UsageError("several inputs or a folder need -o DIR/ (a folder), not the file '" + out + "'");
+    batch::BatchSettings b;
+    b.inputs = a.inputs;
+    b.outputDir = out;
+    b.report = a.chain.common.report;
+    b.passOn = a.passOn;
+    b.jobs = a.jobs;
+    b.progress = cli::progressEnabled(a.quiet);
+    b.self = std::filesystem::read_symlink("/proc/self/exe", ec).string();
+    if (b.self.empty()) throw IOError("cannot find the lodbake executable (/proc/self/exe) to run per file");
+    return batch::runBatch(b);
+}
+
 int run(Args& a) {
+    if (batchMode(a)) return runBatch(a);
+    if (!a.inputs.empty()) a.chain.common.input = a.inputs[0];
     validate(a);
     ChainSettings& s = a.chain;
     const bool draw = cli::progressEnabled(a.quiet);

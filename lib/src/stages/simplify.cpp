@@ -27,6 +27,7 @@ nlohmann::json makeReport(const SimplifySettings& s, const Asset& asset, const S
     rep["input"] = inputJson(s.common, asset, r.diagonal);
     rep["output"] = s.common.output;
     rep["levels"] = levels;
+    if (!s.levelsChosen.empty()) rep["levelsChosen"] = s.levelsChosen;
     rep["posedSamples"] = poses;
     rep["warnings"] = asset.warnings;
     rep["time"] = {{"load", loadSeconds}, {"simplify", simplifySeconds}, {"write", writeSeconds}};

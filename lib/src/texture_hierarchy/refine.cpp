@@ -435,6 +435,14 @@ RefineResult refineTextures(const Asset& asset, const Multires& mr, const Refine
         } catch (const Impossible& e) {
             res.rejected.push_back({cand.level, cand.count, std::string("its charts do not fit the texture (") + e.what() + ")"});
             break;
+        } catch (const SolverError& e) {
+            // A rank is a refinement: when its layout does not validate (folded or overlapping UV
+            // triangles the solver could not remove), T0 or the coarser ranks serve its levels.
+            o.param.solveCache.reset();
+            res.rejected.push_back({cand.level, cand.count, std::string("its layout does not validate (") + e.what() + ")"});
+            res.warnings.push_back("rank " + std::to_string(j) + " from level " + std::to_string(cand.level) +
+                                   " dropped: " + e.what() + "; the coarser ranks serve its levels");
+            continue;
         }
         o.param.solveCache.reset();
         if (rr.layout.chartCount <= parent.chartCount) {

@@ -2,6 +2,8 @@
 // hierarchy, lodbake/simplify/simplify.h).
 #pragma once
 
+#include <string>
+
 #include "lodbake/simplify/simplify.h"
 #include "lodbake/stages/stage.h"
 
@@ -15,6 +17,8 @@ struct SimplifySettings {
     // Rigged inputs: the poses sampled from the asset's rig into simplify.posed (the rest pose and
     // times of each animation); perAnimation = 0 measures in the bind pose only.
     PoseSampleOptions poses;
+    // Why these levels (the report's levelsChosen): given by flags, or the default.
+    std::string levelsChosen;
 };
 
 // Reads common.input, simplifies it, writes common.output with LODBAKE_multires and the report.
