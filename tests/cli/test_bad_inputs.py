@@ -84,6 +84,24 @@ class BadInputs(unittest.TestCase):
         mode_doc = json.loads(minimal_gltf(quad, [0, 1, 2, 0, 2, 3]))
         mode_doc["meshes"][0]["primitives"][0]["mode"] = 4000
         put("invalid-mode.gltf", json.dumps(mode_doc))
+        # EXT_mesh_gpu_instancing whose attributes disagree on the instance count, and a node
+        # naming a light that does not exist.
+        inst_doc = json.loads(minimal_gltf(quad, [0, 1, 2, 0, 2, 3]))
+        trs = array.array("f", [0, 0, 0, 2, 0, 0, 1, 1, 1]).tobytes()
+        inst_doc["buffers"].append({"byteLength": len(trs), "uri": "data:application/octet-stream;base64," +
+                                    base64.b64encode(trs).decode()})
+        inst_doc["bufferViews"].append({"buffer": 1, "byteLength": len(trs)})
+        inst_doc["accessors"] += [{"bufferView": 2, "componentType": 5126, "count": 2, "type": "VEC3"},
+                                  {"bufferView": 2, "byteOffset": 24, "componentType": 5126, "count": 1, "type": "VEC3"}]
+        inst_doc["nodes"][0]["extensions"] = {"EXT_mesh_gpu_instancing": {"attributes": {"TRANSLATION": 2, "SCALE": 3}}}
+        inst_doc["extensionsUsed"] = ["EXT_mesh_gpu_instancing"]
+        put("instancing-counts.gltf", json.dumps(inst_doc))
+        light_doc = json.loads(minimal_gltf(quad, [0, 1, 2, 0, 2, 3]))
+        light_doc["nodes"].append({"extensions": {"KHR_lights_punctual": {"light": 3}}})
+        light_doc["scenes"][0]["nodes"].append(1)
+        light_doc["extensions"] = {"KHR_lights_punctual": {"lights": [{"type": "point"}]}}
+        light_doc["extensionsUsed"] = ["KHR_lights_punctual"]
+        put("light-out-of-range.gltf", json.dumps(light_doc))
         # A valid GLB of our own, then truncated at several places.
         good = os.path.join(cls.dir, "good.gltf")
         with open(good, "w") as f:
@@ -130,6 +148,8 @@ class BadInputs(unittest.TestCase):
             "invalid-mode.gltf": "invalid mode 4000",
             "zero-length-buffer.glb": "malformed glTF",
             "buffer-uri-directory.gltf": "not a regular file",
+            "instancing-counts.gltf": "different counts",
+            "light-out-of-range.gltf": "light 3 does not exist",
         }
         for name, needle in cases.items():
             p = lt.run([lt.tool("simplify"), "-i", self.cases[name], "-o", os.path.join(self.dir, "x.glb"),

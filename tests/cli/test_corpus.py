@@ -1,8 +1,11 @@
 """The corpus: the whole chain (simplify -> parameterize -> texture-refine -> pack, default flags,
 levels 50/10/2 %, --threads 2) on every asset of ../shared/assets and on every glTF 2.0 file of
 Debian's assimp-testmodels (/usr/share/assimp/models/glTF2) that Khronos glTF-Validator accepts
-(0 errors): each exits 0 and its LOD chain passes the validator. Files the validator rejects must
-exit 2 with one line on stderr, except KNOWN_LENIENT (read anyway, for the reason given).
+(0 errors): each exits 0, its LOD chain passes the validator and carries what the input has
+(LOD0 = the input's triangles over every EXT_mesh_gpu_instancing instance; as many lights,
+cameras and nodes placing them), and every stderr line of the chain is a tool's own warning.
+Files the validator rejects must exit 2 with one line on stderr, except KNOWN_LENIENT (read
+anyway, for the reason given).
 Prints a table: asset, class, exit, levels, seconds (docs/corpus.md has the last one).
 
 By default SLOW is left out (StanfordBunny, the three copies of 2CylinderEngine, the four largest
@@ -13,6 +16,7 @@ exit 2, one with no triangles exit 3, each with one line.
 Skips cleanly when the folders, the tools or the validator are absent."""
 import json
 import os
+import re
 import struct
 import sys
 import time
@@ -71,6 +75,47 @@ def asset_class(doc):
     return "static"
 
 
+def scene_counts(doc):
+    """What the chain must carry from a glTF's JSON, over its default scene (or scene 0, or every
+    root node): {"triangles": triangles of its triangle primitives summed over the mesh nodes and
+    their EXT_mesh_gpu_instancing instances, "lights", "cameras": the root arrays' lengths,
+    "light nodes", "camera nodes": the scene's nodes that place one}."""
+    nodes = doc.get("nodes", [])
+    accessors = doc.get("accessors", [])
+    scenes = doc.get("scenes", [])
+    if scenes:
+        roots = scenes[doc.get("scene", 0)].get("nodes", [])
+    else:
+        children = {c for n in nodes for c in n.get("children", [])}
+        roots = [i for i in range(len(nodes)) if i not in children]
+
+    def mesh_triangles(mesh):
+        n = 0
+        for prim in doc["meshes"][mesh].get("primitives", []):
+            mode = prim.get("mode", 4)
+            acc = prim.get("indices", prim.get("attributes", {}).get("POSITION"))
+            if mode not in (4, 5, 6) or acc is None or "POSITION" not in prim.get("attributes", {}):
+                continue
+            count = accessors[acc]["count"]
+            n += count // 3 if mode == 4 else max(count - 2, 0)
+        return n
+
+    counts = {"triangles": 0, "light nodes": 0, "camera nodes": 0,
+              "lights": len(doc.get("extensions", {}).get("KHR_lights_punctual", {}).get("lights", [])),
+              "cameras": len(doc.get("cameras", []))}
+    stack = list(reversed(roots))
+    while stack:
+        node = nodes[stack.pop()]
+        if "mesh" in node:
+            attrs = node.get("extensions", {}).get("EXT_mesh_gpu_instancing", {}).get("attributes", {})
+            instances = accessors[next(iter(attrs.values()))]["count"] if attrs else 1
+            counts["triangles"] += instances * mesh_triangles(node["mesh"])
+        counts["light nodes"] += "KHR_lights_punctual" in node.get("extensions", {})
+        counts["camera nodes"] += "camera" in node
+        stack.extend(reversed(node.get("children", [])))
+    return counts
+
+
 def corpus_files():
     """[(name, path)] of ../shared/assets and the assimp glTF2 folder, sorted."""
     files = []
@@ -113,12 +158,30 @@ class Corpus(unittest.TestCase):
                  ("parameterize", stem + ".mr.glb", stem + ".uv.glb", []),
                  ("texture-refine", stem + ".uv.glb", stem + ".tex.glb", []),
                  ("pack", stem + ".tex.glb", stem + ".lod.glb", ["--report", stem + ".lod.json"])]
+        stderr = ""
         for tool, i, o, extra in steps:
             p = lt.run([lt.tool(tool), "-i", i, "-o", o, "--threads", THREADS, "--quiet"] + extra, check=False)
             if p.returncode != 0:
                 return p.returncode, "%s: %s" % (tool, p.stderr), 0, o
+            # Only the tool's own warnings: no glog, CHOLMOD or other library line.
+            for line in p.stderr.splitlines():
+                self.assertTrue(line.startswith(tool + " warning: "), "%s %s: foreign stderr line %r" % (name, tool, line))
+            stderr += p.stderr
         levels = len(gltf_json(stem + ".lod.glb").get("meshes", []))
-        return 0, "", levels, stem + ".lod.glb"
+        return 0, stderr, levels, stem + ".lod.glb"
+
+    def check_carried(self, src_doc, out, stderr):
+        """The chain's output has what the input has: LOD0 as many triangles as the input's
+        instances together (less the degenerate ones the reader drops, which it says), as many
+        lights, cameras and nodes placing them."""
+        want, doc = scene_counts(src_doc), gltf_json(out)
+        got = scene_counts(doc)
+        dropped = sum(int(m) for m in re.findall(r"simplify warning: (\d+) degenerate triangles dropped", stderr))
+        lod0 = scene_counts({"accessors": doc["accessors"], "meshes": doc["meshes"],
+                             "nodes": [{"mesh": doc["nodes"][0]["mesh"]}], "scenes": [{"nodes": [0]}]})
+        self.assertEqual(lod0["triangles"], want["triangles"] - dropped, "LOD0 triangles")
+        for key in ("lights", "cameras", "light nodes", "camera nodes"):
+            self.assertEqual(got[key], want[key], key)
 
     def test_corpus(self):
         for name, src in self.files:
@@ -151,6 +214,7 @@ class Corpus(unittest.TestCase):
                     self.assertGreaterEqual(levels, 2, name)
                     r = lt.validate(out)
                     self.assertEqual(r["errors"], 0, r["messages"])
+                    self.check_carried(gltf_json(src), out, err)
                 else:
                     dst = os.path.join(self.dir, "rejected.glb")
                     p = lt.run([lt.tool("simplify"), "-i", src, "-o", dst, "--ratio", "0.5", "--quiet"], check=False)

@@ -31,6 +31,7 @@
 #include "gltf/multires_codec.h"
 #include "gltf/morph_read.h"
 #include "gltf/rig_read.h"
+#include "gltf/scene_extras_codec.h"
 #include "lodbake/core/errors.h"
 #include "lodbake/core/pose.h"
 #include "lodbake/gltf/gltf.h"
@@ -105,12 +106,14 @@ bool keepImageBytes(tinygltf::Image* image, const int index, std::string* err, s
 // Texture extensions whose images (KTX2/Basis Universal, WebP, AVIF) lodbake does not decode.
 const std::vector<std::string> kImageExtensions = {"KHR_texture_basisu", "EXT_texture_webp", "EXT_texture_avif"};
 
-// Required extensions the reader implements: geometry codecs, texture transforms and every
-// material extension it reads.
+// Extensions the reader implements, so a file may require them: geometry (decoded), texture
+// transforms, instancing (expanded), lights (carried) and every material extension it reads
+// (pbrSpecularGlossiness converted on reading).
 const std::vector<std::string> kSupportedRequired = [] {
-    std::vector<std::string> v = {"KHR_draco_mesh_compression", "KHR_mesh_quantization", "KHR_texture_transform",
-                                  "KHR_materials_unlit", "KHR_materials_emissive_strength",
-                                  "KHR_materials_pbrSpecularGlossiness", "EXT_meshopt_compression"};
+    std::vector<std::string> v = {"EXT_mesh_gpu_instancing", "EXT_meshopt_compression", "KHR_draco_mesh_compression",
+                                  "KHR_lights_punctual", "KHR_materials_emissive_strength",
+                                  "KHR_materials_pbrSpecularGlossiness", "KHR_materials_unlit", "KHR_mesh_quantization",
+                                  "KHR_texture_transform"};
     v.insert(v.end(), readMaterialExtensionNames().begin(), readMaterialExtensionNames().end());
     return v;
 }();
@@ -340,6 +343,83 @@ std::vector<SceneNode> flattenScene(const ReadContext& c, const std::vector<int>
     std::vector<char> onStack(c.model->nodes.size(), 0);
     for (int r : roots) collectNodes(c, r, identity4(), onStack, nodes, visited);
     return nodes;
+}
+
+// EXT_mesh_gpu_instancing: above this many copies of one mesh, or this many triangles over all
+// copies of it, the expansion is still done but warned about (every copy is simplified and baked).
+constexpr size_t kManyInstances = 1000;
+constexpr size_t kManyInstancedTriangles = 4000000;
+
+// Triangles of mesh `mesh` as its JSON declares them (index or POSITION counts; for the warning
+// only, before anything is decoded).
+size_t declaredTriangles(const ReadContext& c, int mesh) {
+    const json& jm = c.root.at("meshes").at(size_t(mesh));
+    size_t tris = 0;
+    if (!jm.contains("primitives") || !jm["primitives"].is_array()) return 0;
+    for (const json& p : jm["primitives"]) {
+        const int mode = jint(p, "mode", 4);
+        if (mode < 4 || mode > 6) continue;
+        int acc = jint(p, "indices", -1);
+        if (acc < 0 && p.contains("attributes") && p["attributes"].is_object()) acc = jint(p["attributes"], "POSITION", -1);
+        if (acc < 0 || !c.root.contains("accessors") || size_t(acc) >= c.root["accessors"].size()) continue;
+        const size_t n = size_t(std::max(jint(c.root["accessors"][size_t(acc)], "count", 0), 0));
+        tris += mode == 4 ? n / 3 : (n >= 2 ? n - 2 : 0);
+    }
+    return tris;
+}
+
+// Step 2b: the mesh nodes to weld. A node with EXT_mesh_gpu_instancing becomes one entry per
+// instance, world x the instance's TRS (TRANSLATION / ROTATION / SCALE accessors, any component
+// type the accessor declares, normalized or not; an absent attribute is the identity); others stay
+// as they are. The rig and morph readers keep `nodes` (one entry per glTF node): an instance's
+// vertices are in world space like any mesh node's, so a rigid binding moves every copy with its
+// node. \throw InvalidInput on instance accessors of different counts.
+std::vector<SceneNode> expandInstances(const ReadContext& c, const std::vector<SceneNode>& nodes, Asset& asset) {
+    std::vector<SceneNode> out;
+    out.reserve(nodes.size());
+    for (const SceneNode& sn : nodes) {
+        const int n = sn.first;
+        const json& node = c.root.at("nodes").at(size_t(n));  // flattening checked that it exists
+        const json* inst = nullptr;
+        if (node.contains("mesh") && node.contains("extensions") && node["extensions"].is_object() &&
+            node["extensions"].contains("EXT_mesh_gpu_instancing") && node["extensions"]["EXT_mesh_gpu_instancing"].is_object())
+            inst = &node["extensions"]["EXT_mesh_gpu_instancing"];
+        if (!inst || !inst->contains("attributes") || !(*inst)["attributes"].is_object()) {
+            out.push_back(sn);
+            continue;
+        }
+        const json& attrs = (*inst)["attributes"];
+        const std::string what = "node " + std::to_string(n) + " EXT_mesh_gpu_instancing";
+        const std::vector<float> t = readF32(c, jint(attrs, "TRANSLATION", -1), 3, what + " TRANSLATION");
+        const std::vector<float> r = readF32(c, jint(attrs, "ROTATION", -1), 4, what + " ROTATION");
+        const std::vector<float> s = readF32(c, jint(attrs, "SCALE", -1), 3, what + " SCALE");
+        size_t count = 0;
+        bool any = false;
+        for (auto [size, comps] : {std::pair{t.size(), size_t(3)}, std::pair{r.size(), size_t(4)}, std::pair{s.size(), size_t(3)}}) {
+            if (size == 0) continue;
+            if (any && size / comps != count) fail(c, what + ": TRANSLATION, ROTATION and SCALE have different counts");
+            count = size / comps;
+            any = true;
+        }
+        if (!any) {  // no attribute the reader knows: the mesh is drawn once, as without the extension
+            out.push_back(sn);
+            continue;
+        }
+        for (size_t i = 0; i < count; ++i) {
+            Vec3 ti = t.empty() ? Vec3{0, 0, 0} : Vec3{t[3 * i], t[3 * i + 1], t[3 * i + 2]};
+            Vec4 ri = r.empty() ? Vec4{0, 0, 0, 1} : Vec4{r[4 * i], r[4 * i + 1], r[4 * i + 2], r[4 * i + 3]};
+            Vec3 si = s.empty() ? Vec3{1, 1, 1} : Vec3{s[3 * i], s[3 * i + 1], s[3 * i + 2]};
+            out.emplace_back(n, mul(sn.second, trsMatrix(ti, ri, si)));
+        }
+        const int mesh = jint(node, "mesh", -1);
+        const bool meshExists = mesh >= 0 && c.root.contains("meshes") && size_t(mesh) < c.root["meshes"].size();
+        const size_t tris = meshExists ? declaredTriangles(c, mesh) : 0;
+        if (count > kManyInstances || count * tris > kManyInstancedTriangles)
+            asset.warnings.push_back(what + ": " + std::to_string(count) + " instances of mesh " + std::to_string(mesh) + " (" +
+                                     std::to_string(tris) + (tris == 1 ? " triangle" : " triangles") + " each) expanded into " +
+                                     std::to_string(count * tris) + " triangles; every copy is simplified and baked on its own");
+    }
+    return out;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -711,9 +791,10 @@ Asset readWith(ReadContext& c, const ReadOptions& options, std::optional<Multire
             asset.mesh = readMultiresOriginal(c, *ext, nodes, rr, layout, asset);
             if (multires) *multires = readMultires(c, *ext, asset.mesh);
         } else {
-            weldScene(c, nodes, rr, layout, asset);
+            weldScene(c, expandInstances(c, nodes, asset), rr, layout, asset);
             if (multires) multires->reset();
         }
+        asset.scene = readSceneExtras(c, nodes, asset.warnings);
         asset.morph = layout.targets;
         asset.rig = std::move(rr.rig);
         for (std::string& w : influenceWarnings(rr)) asset.warnings.push_back(std::move(w));

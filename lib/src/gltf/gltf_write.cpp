@@ -27,6 +27,7 @@
 #include "gltf/material_json.h"
 #include "gltf/multires_codec.h"
 #include "gltf/rig_write.h"
+#include "gltf/scene_extras_codec.h"
 #include "lodbake/core/errors.h"
 #include "lodbake/gltf/gltf.h"
 
@@ -321,8 +322,11 @@ void writeGltfTo(const std::string& path, const Asset& asset, const Multires* mu
         for (int r : writeRig(w, root, nodes, asset.rig, morphNodes)) sceneNodes.push_back(r);
     else if (!morphNodes.empty())
         writeAnimations(w, root, asset.rig, -1, morphNodes);
+    // Lights, cameras and extras: their nodes after the meshes' and the rig's.
+    json scene = {{"nodes", sceneNodes}};
+    if (writeSceneExtras(asset.scene, root, nodes, scene)) used.push_back("KHR_lights_punctual");
     root["scene"] = 0;
-    root["scenes"] = json::array({json{{"nodes", sceneNodes}}});
+    root["scenes"] = json::array({scene});
     root["nodes"] = nodes;
     if (!meshes.empty()) root["meshes"] = meshes;
 

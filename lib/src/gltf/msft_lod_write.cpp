@@ -7,7 +7,8 @@
 //      emissive, normal, the KHR_materials_* extension images: those the level has); with
 //      quantized positions every node carries the
 //      grid's translation and scale;
-//   2. node 0 (LOD0) with MSFT_lod.ids and extras.MSFT_screencoverage; only node 0 in the scene;
+//   2. node 0 (LOD0) with MSFT_lod.ids and extras.MSFT_screencoverage; in the scene node 0, the
+//      rig's roots and the nodes of the asset's lights and cameras (scene_extras_codec.h);
 //   3. serialise (.glb container, or .gltf + .bin [+ images]) and rename into place.
 // JSON is built with nlohmann::json (sorted keys: byte-identical output for identical input).
 
@@ -25,6 +26,7 @@
 #include "gltf/gpu_streams.h"
 #include "gltf/material_json.h"
 #include "gltf/rig_write.h"
+#include "gltf/scene_extras_codec.h"
 #include "lodbake/core/errors.h"
 #include "lodbake/gltf/gltf.h"
 #include "lodbake/gltf/msft_lod.h"
@@ -42,6 +44,7 @@ constexpr const char* kBasisu = "KHR_texture_basisu";
 constexpr const char* kLod = "MSFT_lod";
 constexpr const char* kEmissiveStrength = "KHR_materials_emissive_strength";
 constexpr const char* kUnlit = "KHR_materials_unlit";
+constexpr const char* kLights = "KHR_lights_punctual";
 
 using Buffer = BufferBuilder;
 
@@ -150,7 +153,7 @@ std::string lowerExt(const std::string& path) {
 
 LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodLevelData>& levels,
                                  const std::vector<double>& screenCoverage, const LodChainWriteOptions& options, const Rig* rig,
-                                 const MorphTargets* morph) {
+                                 const MorphTargets* morph, const SceneExtras* scene) {
     std::string ext = lowerExt(path);
     bool glb = ext == ".glb";
     if (!glb && ext != ".gltf") throw IOError(path + ": output must end in .glb or .gltf");
@@ -320,6 +323,9 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
 
     root["asset"] = {{"version", "2.0"}, {"generator", options.generator}};
     std::vector<std::string> used;
+    // Lights, cameras and extras: their nodes after the levels' and the rig's, in the scene.
+    json sceneJson = {{"nodes", sceneNodes}};
+    if (scene && writeSceneExtras(*scene, root, nodes, sceneJson)) used.push_back(kLights);
     if (levels.size() > 1) {
         std::vector<size_t> ids;
         for (size_t i = 1; i < levels.size(); ++i) ids.push_back(i);
@@ -346,7 +352,7 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
         root["extensionsUsed"] = used;
     }
     root["scene"] = 0;
-    root["scenes"] = json::array({json{{"nodes", sceneNodes}}});
+    root["scenes"] = json::array({sceneJson});
     root["nodes"] = nodes;
     root["meshes"] = meshes;
     root["materials"] = materials;

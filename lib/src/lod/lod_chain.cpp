@@ -808,6 +808,7 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
     res.warnings.insert(res.warnings.end(), repeated.begin(), repeated.end());
     res.rig = asset.rig;
     res.morph = asset.morph;
+    res.scene = asset.scene;
     LevelImageOptions io;
     io.format = options.ktx2Encoder.empty() ? options.imageFormat : ImageFormat::Png;
     io.jpegQuality = options.jpegQuality;
@@ -890,7 +891,7 @@ void appendLevelStats(PackWriteStats& st, const LodChainWriteStats& w, size_t k)
 PackWriteStats writePackResult(const std::string& path, const PackResult& result, const PackWriteOptions& options) {
     PackWriteStats st;
     if (!options.split) {
-        LodChainWriteStats w = writeLodChain(path, result.levels, result.screenCoverage, options.chain, &result.rig, &result.morph);
+        LodChainWriteStats w = writeLodChain(path, result.levels, result.screenCoverage, options.chain, &result.rig, &result.morph, &result.scene);
         st.files.push_back(path);
         for (size_t k = 0; k < result.levels.size(); ++k) appendLevelStats(st, w, k);
         st.totalBytes = w.fileBytes;
@@ -903,7 +904,7 @@ PackWriteStats writePackResult(const std::string& path, const PackResult& result
     manifest["levels"] = nlohmann::json::array();
     for (size_t k = 0; k < result.levels.size(); ++k) {
         std::string file = stem + ".lod" + std::to_string(k) + ext;
-        LodChainWriteStats w = writeLodChain(file, {result.levels[k]}, {}, options.chain, &result.rig, &result.morph);
+        LodChainWriteStats w = writeLodChain(file, {result.levels[k]}, {}, options.chain, &result.rig, &result.morph, &result.scene);
         st.files.push_back(file);
         appendLevelStats(st, w, 0);
         st.totalBytes += w.fileBytes;

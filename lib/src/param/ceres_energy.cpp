@@ -7,12 +7,16 @@
 // Coordinates are scaled by 1/sqrt(3D area) for conditioning; every term is scale-free.
 #include <algorithm>
 #include <cmath>
+#include <mutex>
 
+#include <SuiteSparse_config.h>
 #include <ceres/ceres.h>
+#include <glog/logging.h>
 
 #include "lodbake/core/errors.h"
 #include "lodbake/param/chart_uv.h"
 #include "param/chart_energy_terms.h"
+#include "param/solver_output.h"
 #include "param/sparse_solver.h"
 
 namespace lodbake {
@@ -166,8 +170,19 @@ double levelDet(const ChartLevelTriangle& t, const std::vector<Vec2>& uv) {
 
 }  // namespace
 
+void silenceSolverOutput() {
+    static std::once_flag once;
+    std::call_once(once, [] {
+        // Below FATAL nothing is formatted or written; a FATAL (a Ceres CHECK) still reaches stderr
+        // as the process aborts. Not initialising glog also keeps it from opening log files.
+        if (!google::IsGoogleLoggingInitialized()) FLAGS_minloglevel = google::GLOG_FATAL;
+        SuiteSparse_config.printf_func = nullptr;
+    });
+}
+
 ChartSolveResult optimizeChartUV(const ChartMesh& chart, const std::vector<ChartPair>& pairs,
                                  const std::vector<Vec2>& initial, const ChartSolveOptions& options) {
+    silenceSolverOutput();
     ChartSolveResult res;
     res.uv = initial;
     res.before = chartEnergy(chart, pairs, initial, options.energy);

@@ -17,6 +17,7 @@
 
 #include "lodbake/core/errors.h"
 #include "lodbake/param/chart_uv.h"
+#include "param/solver_output.h"
 
 namespace lodbake {
 namespace {
@@ -134,6 +135,7 @@ std::vector<Vec2> lscmEmbedding(const ChartMesh& chart) {
             b = A.transpose() * rhs.head(row);
         }
         Eigen::VectorXd x;
+        silenceSolverOutput();  // CHOLMOD's warnings (a matrix not positive definite) are the result's
         const bool solved = 2 * long(m) >= kSupernodalFrom
                                 ? solveNormal<Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>>>(AtA, b, x)
                                 : solveNormal<Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>>(AtA, b, x);

@@ -17,6 +17,7 @@
 #include "lodbake/core/math.h"
 #include "lodbake/core/morph.h"
 #include "lodbake/core/rig.h"
+#include "lodbake/core/scene_extras.h"
 
 namespace lodbake {
 
@@ -115,6 +116,7 @@ struct Asset {
     std::vector<Image> images;
     Rig rig;  // skin and animations; empty for a static asset
     MorphTargets morph;  // names and default weights of mesh.wedges.targets; empty = no morph targets
+    SceneExtras scene;   // lights, cameras and their nodes, extras (lodbake/core/scene_extras.h)
     std::vector<std::string> warnings;
     LoadStats stats;
 };

@@ -31,7 +31,10 @@ struct ReadOptions {
 // in bind pose (the node transform of the mesh node); skins, the joint hierarchy and node
 // animations become asset.rig with per-wedge influences (lodbake/core/rig.h), and an unskinned
 // mesh node of an asset that moves becomes a joint of its own. Morph targets are dropped with a
-// warning.
+// warning. EXT_mesh_gpu_instancing is expanded (one copy of the mesh per instance, node world x
+// instance TRS); KHR_lights_punctual lights, cameras, the nodes placing them and the root / asset /
+// scene extras go to asset.scene (lodbake/core/scene_extras.h), which writeGltf and writeLodChain
+// write back. What is not carried (another root or node extension) is named in asset.warnings.
 //
 // When the file carries a LODBAKE_multires extension, `multires` (if non-null) receives it and
 // asset.mesh is the original (level-0) mesh it refers to.
@@ -64,7 +67,8 @@ struct WriteOptions {
 // primitive per material per mesh. readGltf of such a file returns node 0 only as asset.mesh.
 // With a rig (asset.rig), every mesh node uses its one skin (JOINTS_0 / WEIGHTS_0), the levels
 // are not translated, and the rig's nodes and animations follow the mesh nodes; reading the file
-// back gives the same rig and influences.
+// back gives the same rig and influences. asset.scene's light and camera nodes come last, each a
+// scene root at its world transform.
 //
 // \throw IOError when the file cannot be written.
 void writeGltf(const std::string& path, const Asset& asset, const Multires* multires = nullptr,

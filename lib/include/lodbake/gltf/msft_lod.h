@@ -97,7 +97,7 @@ struct LodChainWriteStats {
 // Writes `levels` as one glTF (.glb or .gltf by the extension of `path`), atomically.
 // With more than one level: node 0 = levels[0] with extensions.MSFT_lod.ids = [1 .. n-1] and
 // extras.MSFT_screencoverage = `screenCoverage` (one value per level, i.e. one more than the
-// ids, decreasing: LOD k is drawn at coverage >= value k, nothing below the last); only node 0 is in the scene; MSFT_lod is listed in extensionsUsed, never required.
+// ids, decreasing: LOD k is drawn at coverage >= value k, nothing below the last); only node 0 (with the rig's roots and the scene's light and camera nodes) is in the scene; MSFT_lod is listed in extensionsUsed, never required.
 // With one level and no coverage: a plain single-mesh file (pack --split).
 // With a non-empty `rig` (and joints on every level): the rig's nodes, its one skin and its
 // animations are written once; every level node uses the skin; the rig's roots join node 0 in
@@ -106,11 +106,15 @@ struct LodChainWriteStats {
 // its mesh the default weights, and the rig's weights animations drive every level node (one
 // shared sampler). Morphed levels are never Draco-compressed (Draco reorders vertices, which the
 // targets' accessors cannot follow) and keep FLOAT positions under --quantize; both with a warning.
+// With a non-empty `scene`: its lights (KHR_lights_punctual, then in extensionsUsed), cameras and
+// extras, each light / camera node a scene root at its world transform (after the levels' and the
+// rig's nodes).
 // \pre every level has >= 1 triangle and matching attribute sizes; a normal map comes with tangents.
 // \throw InvalidInput (inconsistent level data), IOError (cannot write), SolverError (Draco failed),
 //        Unsupported (draco with meshopt or quantize).
 LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodLevelData>& levels,
                                  const std::vector<double>& screenCoverage, const LodChainWriteOptions& options = {},
-                                 const Rig* rig = nullptr, const MorphTargets* morph = nullptr);
+                                 const Rig* rig = nullptr, const MorphTargets* morph = nullptr,
+                                 const SceneExtras* scene = nullptr);
 
 }  // namespace lodbake

@@ -120,6 +120,7 @@ struct PackResult {
     std::vector<std::string> warnings;      // the material plan's (mixed alpha modes, sidedness, shading)
     Rig rig;                                // the asset's skin and animations, written once for every level
     MorphTargets morph;                     // the asset's morph target names and default weights
+    SceneExtras scene;                      // the asset's lights, cameras and extras, written with the chain
     double seconds = 0;
     double measureSeconds = 0, measureCpuSeconds = 0;  // of seconds: the levels' measured deviation (wall, CPU)
 };
