@@ -497,6 +497,26 @@ Asset makePbrScene(double scale) {
     return asset;
 }
 
+// A rig node at translation t from its parent (-1 = a root).
+RigNode rigNode(const std::string& name, int parent, Vec3 t) {
+    RigNode n;
+    n.name = name;
+    n.parent = parent;
+    n.translation = t;
+    return n;
+}
+
+// Every node of the rig becomes a joint, bound in the nodes' current pose.
+void bindEveryNode(Rig& rig) {
+    const std::vector<Mat4> bind = poseNodes(rig, -1, 0);
+    for (size_t j = 0; j < rig.nodes.size(); ++j) {
+        Mat4 inv;
+        invertAffine(bind[j], inv);
+        rig.joints.push_back(int(j));
+        rig.inverseBind.push_back(inv);
+    }
+}
+
 // --- walker: a skinned sample with a walking-style animation -----------------------------------
 
 // A closed cylinder (side + two caps) of radius r around the vertical axis through (cx, cz), from
@@ -549,21 +569,8 @@ Asset makeWalker(double scale) {
 
     // Joints: 0 hips (at the hip height), 1 left leg, 2 right leg (at the hip joints).
     Rig& rig = asset.rig;
-    auto node = [](const std::string& name, int parent, Vec3 t) {
-        RigNode n;
-        n.name = name;
-        n.parent = parent;
-        n.translation = t;
-        return n;
-    };
-    rig.nodes = {node("hips", -1, {0, hipY, 0}), node("leftLeg", 0, {-legX, 0, 0}), node("rightLeg", 0, {legX, 0, 0})};
-    const std::vector<Mat4> rest = poseNodes(rig, -1, 0);
-    for (int j = 0; j < 3; ++j) {
-        Mat4 inv;
-        invertAffine(rest[size_t(j)], inv);
-        rig.joints.push_back(j);
-        rig.inverseBind.push_back(inv);
-    }
+    rig.nodes = {rigNode("hips", -1, {0, hipY, 0}), rigNode("leftLeg", 0, {-legX, 0, 0}), rigNode("rightLeg", 0, {legX, 0, 0})};
+    bindEveryNode(rig);
     // Each leg belongs to its joint, blended into the hips over its top `blend`.
     Wedges& Wd = asset.mesh.wedges;
     for (size_t w = 0; w < Wd.size(); ++w) {
@@ -706,26 +713,13 @@ Asset makeCritter(double scale) {
     asset.mesh = mb.take();
 
     Rig& rig = asset.rig;
-    auto node = [](const std::string& name, int parent, Vec3 t) {
-        RigNode n;
-        n.name = name;
-        n.parent = parent;
-        n.translation = t;
-        return n;
-    };
-    rig.nodes = {node("body", -1, body), node("head", 0, neck - body), node("tail", 0, tailBase - body)};
+    rig.nodes = {rigNode("body", -1, body), rigNode("head", 0, neck - body), rigNode("tail", 0, tailBase - body)};
     const char* legName[4] = {"frontLeft", "frontRight", "hindLeft", "hindRight"};
     for (int k = 0; k < 4; ++k) {
-        rig.nodes.push_back(node(std::string(legName[k]) + "Upper", 0, hips[k] - body));
-        rig.nodes.push_back(node(std::string(legName[k]) + "Lower", int(rig.nodes.size()) - 1, Vec3{0, kneeY - hipY, 0}));
+        rig.nodes.push_back(rigNode(std::string(legName[k]) + "Upper", 0, hips[k] - body));
+        rig.nodes.push_back(rigNode(std::string(legName[k]) + "Lower", int(rig.nodes.size()) - 1, Vec3{0, kneeY - hipY, 0}));
     }
-    const std::vector<Mat4> bind = poseNodes(rig, -1, 0);
-    for (size_t j = 0; j < rig.nodes.size(); ++j) {
-        Mat4 inv;
-        invertAffine(bind[j], inv);
-        rig.joints.push_back(int(j));
-        rig.inverseBind.push_back(inv);
-    }
+    bindEveryNode(rig);
     // The rest pose is not the bind pose (as in many exported characters): the head looks down a
     // little and the tail hangs lower.
     rig.nodes[1].rotation = axisAngle({1, 0, 0}, 0.2);

@@ -202,6 +202,13 @@ class Gltf:
 
 # UV fold checks on written glTF UVs (independent of the tools' own counts).
 
+def lod_levels(g):
+    """Levels of an MSFT_lod chain (a Gltf): node 0 and the nodes its MSFT_lod lists. Other nodes
+    (a rig's joints, lights, cameras) are not levels."""
+    node0 = g.json["nodes"][0]
+    return 1 + len(node0.get("extensions", {}).get("MSFT_lod", {}).get("ids", []))
+
+
 def level_uv_triangles(g, mesh_index):
     """UV triangles (glTF convention) of every primitive of a mesh."""
     out = []

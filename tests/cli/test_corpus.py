@@ -44,6 +44,8 @@ SLOW = {"assets/StanfordBunny/StanfordBunny.glb", "assets/2CylinderEngine/2Cylin
 KNOWN_LENIENT = {
     "BoxBadNormals-glTF-Binary/BoxBadNormals.glb": "zero-length normals: the bake recomputes normals",
     "ClearCoat-glTF/ClearCoatTest.gltf": "a normal-mapped material without tangents: tangents are generated",
+    "TextureTransformMultiTest/TextureTransformMultiTest.glb":
+        "clearcoat normal maps on primitives without tangents (MESH_PRIMITIVE_NO_TANGENT_SPACE): tangents are generated",
 }
 
 
@@ -177,9 +179,15 @@ class Corpus(unittest.TestCase):
         want, doc = scene_counts(src_doc), gltf_json(out)
         got = scene_counts(doc)
         dropped = sum(int(m) for m in re.findall(r"simplify warning: (\d+) degenerate triangles dropped", stderr))
+        with open(os.path.splitext(out)[0] + ".json") as f:
+            original = json.load(f)["input"]["triangles"]  # the original pack bakes LOD0 from
+        self.assertEqual(original, want["triangles"] - dropped, "original triangles")
         lod0 = scene_counts({"accessors": doc["accessors"], "meshes": doc["meshes"],
                              "nodes": [{"mesh": doc["nodes"][0]["mesh"]}], "scenes": [{"nodes": [0]}]})
-        self.assertEqual(lod0["triangles"], want["triangles"] - dropped, "LOD0 triangles")
+        # LOD0 is the original's triangles, plus reversed copies where single- and double-sided
+        # materials meet in one level material.
+        self.assertGreaterEqual(lod0["triangles"], original, "LOD0 triangles")
+        self.assertLessEqual(lod0["triangles"], 2 * original, "LOD0 triangles")
         for key in ("lights", "cameras", "light nodes", "camera nodes"):
             self.assertEqual(got[key], want[key], key)
 
@@ -217,6 +225,8 @@ class Corpus(unittest.TestCase):
                     self.check_carried(gltf_json(src), out, err)
                 else:
                     dst = os.path.join(self.dir, "rejected.glb")
+                    if os.path.exists(dst):
+                        os.remove(dst)
                     p = lt.run([lt.tool("simplify"), "-i", src, "-o", dst, "--ratio", "0.5", "--quiet"], check=False)
                     self.rows.append((name, "invalid (%d validator errors)" % errors, p.returncode, 0, time.time() - t0))
                     self.assertEqual(p.returncode, 2, "%s: %s" % (name, p.stderr))

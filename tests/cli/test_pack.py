@@ -41,9 +41,15 @@ def check_chain(tc, path, report=None):
     tc.assertEqual(ids, list(range(1, levels)))
     scene = j["scenes"][j.get("scene", 0)]["nodes"]
     tc.assertEqual(scene[0], 0)
+    # After the levels (and the rig) come the nodes that place the input's lights and cameras,
+    # each a root of the scene holding nothing else.
+    placed = [k for k, n in enumerate(j["nodes"]) if "camera" in n or "KHR_lights_punctual" in n.get("extensions", {})]
+    for k in placed:
+        tc.assertIn(k, scene)
+        tc.assertNotIn("mesh", j["nodes"][k])
     if not skinned:
-        tc.assertEqual(scene, [0])
-        tc.assertEqual(len(j["nodes"]), levels)
+        tc.assertEqual(scene, [0] + placed)
+        tc.assertEqual(len(j["nodes"]), levels + len(placed))
     nodes = j["nodes"][:levels]
     for n in nodes:
         tc.assertEqual(n.get("skin"), 0 if skinned else None)

@@ -79,12 +79,16 @@ std::string defaultOutput(const std::string& input, const std::string& output) {
     return output;
 }
 
-void validate(Args& a) {
-    if (!a.chain.common.input.empty()) a.chain.common.output = defaultOutput(a.chain.common.input, a.chain.common.output);
+void validateStageFlags(Args& a) {
     cli::validateSimplify(a.simplify);
     cli::validateParameterize(a.parameterize);
     cli::validateTextureRefine(a.textureRefine);
     cli::validatePack(a.pack);
+}
+
+void validate(Args& a) {
+    if (!a.chain.common.input.empty()) a.chain.common.output = defaultOutput(a.chain.common.input, a.chain.common.output);
+    validateStageFlags(a);
     cli::checkPaths(a.chain.common);
     const std::string& dir = a.chain.keepIntermediates;
     std::error_code ec;
@@ -103,11 +107,7 @@ bool batchMode(const Args& a) {
 }
 
 int runBatch(Args& a) {
-    // Every flag is checked here, once, rather than failing the same way in every child.
-    cli::validateSimplify(a.simplify);
-    cli::validateParameterize(a.parameterize);
-    cli::validateTextureRefine(a.textureRefine);
-    cli::validatePack(a.pack);
+    validateStageFlags(a);  // once here, rather than failing the same way in every child
     batch::collectInputs(a.inputs);  // every input exists and at least one is a glTF
     const std::string& out = a.chain.common.output;
     std::error_code ec;
