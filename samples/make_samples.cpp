@@ -916,6 +916,16 @@ Image imageOf(int S, const std::string& name, const std::function<Rgb(double, do
     return encodePng(px, S, S, name);
 }
 
+// A material with base colour, metallic and roughness factors only.
+Material plainMaterial(const char* name, Vec4 baseColor, double metallic, double roughness) {
+    Material m;
+    m.name = name;
+    m.baseColorFactor = baseColor;
+    m.metallicFactor = metallic;
+    m.roughnessFactor = roughness;
+    return m;
+}
+
 // materials: four spheres in a row on a textured floor, each showing one extension whose look
 // is unmistakable: velvet cloth (dark base colour, sheen colour striped by a texture), car paint
 // (red base under a clearcoat whose strength is banded by a texture), glass (transmission 1, a
@@ -924,22 +934,14 @@ Image imageOf(int S, const std::string& name, const std::function<Rgb(double, do
 Asset makeMaterials(double scale) {
     Asset asset = newAsset("materials");
     const int S = 64;
-    Material cloth;
-    cloth.name = "cloth";
-    cloth.baseColorFactor = {0.04, 0.02, 0.12, 1};
-    cloth.metallicFactor = 0;
-    cloth.roughnessFactor = 1;
+    Material cloth = plainMaterial("cloth", {0.04, 0.02, 0.12, 1}, 0, 1);
     cloth.ext.sheen.present = true;
     cloth.ext.sheen.colorFactor = {1, 0.6, 0.8};
     cloth.ext.sheen.colorTexture.texture = addImage(asset, imageOf(S, "cloth_sheenColor", [](double u, double) {
         return int(u * 8) % 2 ? Rgb{255, 255, 255} : Rgb{255, 140, 60};
     }));
     cloth.ext.sheen.roughnessFactor = 0.5;
-    Material paint;
-    paint.name = "paint";
-    paint.baseColorFactor = {0.55, 0.02, 0.03, 1};
-    paint.metallicFactor = 0.4;
-    paint.roughnessFactor = 0.6;
+    Material paint = plainMaterial("paint", {0.55, 0.02, 0.03, 1}, 0.4, 0.6);
     paint.ext.clearcoat.present = true;
     paint.ext.clearcoat.factor = 1;
     paint.ext.clearcoat.texture.texture = addImage(asset, imageOf(S, "paint_clearcoat", [](double, double v) {
@@ -947,11 +949,7 @@ Asset makeMaterials(double scale) {
         return Rgb{c, c, c};
     }));
     paint.ext.clearcoat.roughnessFactor = 0.05;
-    Material glass;
-    glass.name = "glass";
-    glass.baseColorFactor = {1, 1, 1, 1};
-    glass.metallicFactor = 0;
-    glass.roughnessFactor = 0.05;
+    Material glass = plainMaterial("glass", {1, 1, 1, 1}, 0, 0.05);
     glass.ext.transmission.present = true;
     glass.ext.transmission.factor = 1;
     glass.ext.volume.present = true;
@@ -960,11 +958,7 @@ Asset makeMaterials(double scale) {
     glass.ext.volume.attenuationColor = {0.5, 0.9, 0.6};
     glass.ext.ior.present = true;
     glass.ext.ior.ior = 1.5;
-    Material specular;
-    specular.name = "specular";
-    specular.baseColorFactor = {0.08, 0.08, 0.08, 1};
-    specular.metallicFactor = 0;
-    specular.roughnessFactor = 0.25;
+    Material specular = plainMaterial("specular", {0.08, 0.08, 0.08, 1}, 0, 0.25);
     specular.ext.specular.present = true;
     specular.ext.specular.factor = 1;
     specular.ext.specular.colorTexture.texture = addImage(asset, imageOf(S, "specular_color", [](double u, double) {
