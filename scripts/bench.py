@@ -49,6 +49,8 @@ def parse(argv):
                                    "<!-- /bench:SUITE -->) from them.")
     p.add_argument("results", nargs="+")
     p.add_argument("--update", metavar="FILE.md", help="rewrite the generated sections of FILE.md in place")
+    p.add_argument("--allow-contended", action="store_true",
+                   help="--update: also write speed and scale runs taken on a loaded machine (marked as such)")
     return ap.parse_args(argv)
 
 

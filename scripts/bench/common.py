@@ -176,11 +176,13 @@ def has_texcoords(path):
 
 class Inputs:
     """Resolves input names: a file path, a shared asset (Duck), a generated sample (walker, made by
-    --bin's make-samples) or a subdivided asset (Duck-x4, aliases in ALIASES), cached in work/inputs."""
+    --bin's make-samples once per run) or a subdivided asset (Duck-x4, aliases in ALIASES), made once
+    and cached in work/inputs."""
 
     def __init__(self, work, build):
         self.dir = os.path.join(work, "inputs")
         self.build = build
+        self.samples_made = False
         os.makedirs(self.dir, exist_ok=True)
 
     def resolve(self, name):
@@ -191,8 +193,9 @@ class Inputs:
             return name, shared_asset_file(name)
         if name in SAMPLES:
             samples = os.path.join(self.dir, "samples")
-            if not os.path.exists(os.path.join(samples, name + ".glb")):
+            if not self.samples_made:  # once per run, by this run's build
                 run_checked([self.build.tool("make-samples"), samples])
+                self.samples_made = True
             return name, os.path.join(samples, name + ".glb")
         base, _, n = ALIASES.get(name, name).rpartition("-x")
         if base and n.isdigit() and shared_asset_file(base):

@@ -17,6 +17,12 @@ def fmt(x, spec="%.2f"):
     return "–" if x is None else spec % x
 
 
+def contended(res):
+    """A timed suite run on a machine that was not quiet."""
+    m = res["machine"]
+    return res["suite"] in TIMED and max(m["loadAverageStart"][0], m.get("loadAverageEnd", [0])[0]) > QUIET_LOAD
+
+
 def header(res):
     m = res["machine"]
     load = "%.2f → %.2f" % (m["loadAverageStart"][0], m.get("loadAverageEnd", [float("nan")])[0])
@@ -25,7 +31,7 @@ def header(res):
         res["suite"], res["started"][:16].replace("T", " "), m.get("cpu", "?"), m["cores"], m.get("memoryGiB", "?"), load,
         builds, ", ".join("%s" % v for v in res.get("peers", {}).values()) or "none"),
         "", "`python3 %s`" % " ".join(res["command"])]
-    if res["suite"] in TIMED and max(m["loadAverageStart"][0], m.get("loadAverageEnd", [0])[0]) > QUIET_LOAD:
+    if contended(res):
         lines += ["", "**Contended machine (load average above %.1f): these timings are not publishable figures; "
                       "re-run on a quiet machine.**" % QUIET_LOAD]
     missing = res.get("settings", {}).get("peersMissing")
@@ -208,13 +214,18 @@ def render(res):
     return header(res) + "\n\n" + body + "\n"
 
 
-def update(path, results):
+def update(path, results, allow_contended=False):
     """Replaces each <!-- bench:SUITE --> ... <!-- /bench:SUITE --> section by the newest results of
-    that suite; sections without results are left as they are."""
+    that suite; sections without results are left as they are, and so are timed suites whose run
+    was on a loaded machine unless allow_contended."""
     with open(path) as f:
         text = f.read()
     newest = {}
     for r in sorted(results, key=lambda r: r["started"]):
+        if contended(r) and not allow_contended:
+            common.log("report: %s run of %s was on a loaded machine; not written (--allow-contended)"
+                       % (r["suite"], r["started"]))
+            continue
         newest[r["suite"]] = r
     for suite, res in newest.items():
         pattern = re.compile(r"(<!-- bench:%s -->\n).*?(<!-- /bench:%s -->)" % (suite, suite), re.S)
@@ -232,7 +243,7 @@ def main(args):
         if r.get("schema") != common.SCHEMA:
             raise SystemExit("report: %s is not a %s results file" % (r.get("suite", "?"), common.SCHEMA))
     if args.update:
-        update(args.update, results)
+        update(args.update, results, args.allow_contended)
     else:
         sys.stdout.write("\n".join("## %s\n\n%s" % (r["suite"], render(r)) for r in results))
     return 0
