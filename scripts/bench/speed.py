@@ -20,7 +20,7 @@ def add_arguments(p):
                    "outputs must be byte-identical across them")
     p.add_argument("--peers", help="comma-separated subset of gltfpack-debian, gltfpack-npm, blender-decimate, blender-bake "
                    "(default: every one installed; --quick: gltfpack only)")
-    p.add_argument("--chain-flags", default="", help="extra lodbake flags for both builds")
+    p.add_argument("--chain-flags", default="", help="extra lodbake flags for both builds (write --chain-flags=--flag)")
 
 
 def default_assets(args):
