@@ -1,4 +1,4 @@
-# Blender's Decimate modifier (collapse) run headless, for scripts/bench_peers.sh:
+# Blender's Decimate modifier (collapse) run headless, a peer in scripts/bench.py (speed, quality):
 #   blender -b --factory-startup --python scripts/blender_decimate.py -- IN.glb OUT.glb RATIO
 import sys
 

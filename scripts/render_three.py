@@ -13,9 +13,9 @@ sphere of the reference's scene. A candidate renders its default scene, or only 
 children) when written FILE#node=K, e.g. one level of a pack output (node 0 carries MSFT_lod, its
 ids are the coarser levels' nodes). The images are composited over black and written as PNGs to
 DIR. Per candidate it prints and writes (--json) whether it loaded without error, the fraction
-of non-background pixels, and over the views the mean PSNR (RGB, dB; identical images = 100 dB)
-and mean SSIM (grey, 8x8 sliding uniform window, K1 = 0.01, K2 = 0.03) against the reference,
-plus psnr_fg: the PSNR over the pixels covered in either image only.
+of non-background pixels, and over the views the mean PSNR (RGB, dB; identical images = 100 dB),
+mean SSIM (grey, 8x8 sliding uniform window, K1 = 0.01, K2 = 0.03) and mean silhouette IoU
+against the reference, plus psnr_fg: the PSNR over the pixels covered in either image only.
 
 Needs Debian's chromium, node and scripts/node/node_modules (three, playwright-core: `npm ci`).
 Uses numpy when importable (re-running itself with /usr/bin/python3 when only Debian's python3
@@ -169,6 +169,15 @@ def ssim(a, b):
     return total / count
 
 
+def iou(a, b):
+    """Silhouette IoU: covered pixels in both over covered pixels in either, 1 when both are empty."""
+    if np is not None:
+        union = int(np.count_nonzero(a.mask | b.mask))
+        return int(np.count_nonzero(a.mask & b.mask)) / union if union else 1.0
+    union = sum(1 for m, n in zip(a.mask, b.mask) if m or n)
+    return sum(1 for m, n in zip(a.mask, b.mask) if m and n) / union if union else 1.0
+
+
 # ---- serving and rendering ----------------------------------------------------------------------
 
 class Handler(http.server.SimpleHTTPRequestHandler):
@@ -262,8 +271,9 @@ def _compare(entries, reports, size, views):
             res["psnr"] = round(sum(res["psnr_views"]) / views, 4)
             res["psnr_fg"] = round(sum(psnr(a, b, True) for a, b in zip(ref_images, images)) / views, 4)
             res["ssim"] = round(sum(res["ssim_views"]) / views, 6)
+            res["iou"] = round(sum(iou(a, b) for a, b in zip(ref_images, images)) / views, 6)
         else:
-            res["psnr"] = res["psnr_fg"] = res["ssim"] = None
+            res["psnr"] = res["psnr_fg"] = res["ssim"] = res["iou"] = None
         results.append(res)
     return results
 
@@ -326,6 +336,7 @@ def render_batch(groups, views=8, size=256, elevation=25.0, node_modules=DEFAULT
                                    "psnr_fg": "as psnr, over the pixels covered in either image only",
                                    "ssim": "grey, %dx%d uniform window, K1 0.01, K2 0.03, mean over views"
                                            % (SSIM_WINDOW, SSIM_WINDOW),
+                                   "iou": "silhouette (alpha != 0) intersection over union, mean over views",
                                    "numpy": np is not None},
                         "reference": results[0], "candidates": results[1:]})
         return out
@@ -348,8 +359,8 @@ def print_result(result):
         if c["psnr"] is None:
             print("%s: FAILED %s" % (c["candidate"], c["errors"][:3]))
         else:
-            print("%s: loaded %s, coverage %.3f, PSNR %.2f dB (foreground %.2f dB), SSIM %.4f"
-                  % (c["candidate"], c["loaded"], c["coverage"], c["psnr"], c["psnr_fg"], c["ssim"]))
+            print("%s: loaded %s, coverage %.3f, PSNR %.2f dB (foreground %.2f dB), SSIM %.4f, IoU %.4f"
+                  % (c["candidate"], c["loaded"], c["coverage"], c["psnr"], c["psnr_fg"], c["ssim"], c["iou"]))
 
 
 def main():

@@ -19,6 +19,6 @@ fi
 # scripts/render_three.py: they drive Debian's chromium, never download a browser), pinned by
 # scripts/node/package-lock.json. python3-numpy: render_three.py's PSNR/SSIM.
 # python3-jsonschema: the report schema test; dpkg-dev: dpkg-shlibdeps for `cpack -G DEB`.
-# Blender (peer in scripts/bench_peers.sh) is optional: apt-get install blender.
+# Blender (a peer in scripts/bench.py's speed and quality suites) is optional: apt-get install blender.
 (cd scripts/node && npm ci --silent --no-audit --no-fund)
 echo "setup: dependencies installed"

@@ -166,7 +166,7 @@ class PackCli(unittest.TestCase):
 
     def test_lod0_density(self):
         # --lod0-density: every level is textured at LOD0's texel limit (for close-up comparisons
-        # such as scripts/bench_peers.sh), so coarse pages are larger than by default, never larger
+        # such as scripts/bench.py quality), so coarse pages are larger than by default, never larger
         # than the finer level's, and the chain stays valid.
         _, rep_default = self.pack("seamball", "ball.default.glb")
         out, rep = self.pack("seamball", "ball.dense.glb", "--lod0-density")

@@ -50,7 +50,7 @@ struct PackOptions {
     std::string ktx2Encoder;
     // Every level textured at LOD0's texel density (pages about as large as LOD0's) instead of the
     // density it can show at its largest coverage: for comparisons at equal texel density that
-    // render every level close up (scripts/bench_peers.sh).
+    // render every level close up (scripts/bench.py quality).
     bool lod0Density = false;
     NormalMaps normalMaps = NormalMaps::Auto;
     // Coarse levels' texels show the original surface at the closest point of their own surface
