@@ -15,7 +15,11 @@ ids are the coarser levels' nodes). The images are composited over black and wri
 DIR. Per candidate it prints and writes (--json) whether it loaded without error, the fraction
 of non-background pixels, and over the views the mean PSNR (RGB, dB; identical images = 100 dB),
 mean SSIM (grey, 8x8 sliding uniform window, K1 = 0.01, K2 = 0.03) and mean silhouette IoU
-against the reference, plus psnr_fg: the PSNR over the pixels covered in either image only.
+against the reference, plus psnr_fg: the PSNR over the pixels covered in either image only, and
+psnr_seam: the PSNR over the seam band, the pixels within --seam-band pixels of a texture seam the
+candidate shows (an interior edge whose two triangles give it different UVs, e.g. an atlas chart
+boundary; tests/browser/three_view.js), covered in either image (mean over the views that show a
+seam; None when none does, or with --seam-band 0; skinned meshes are not masked).
 
 Needs Debian's chromium, node and scripts/node/node_modules (three, playwright-core: `npm ci`).
 Uses numpy when importable (re-running itself with /usr/bin/python3 when only Debian's python3
@@ -169,6 +173,59 @@ def ssim(a, b):
     return total / count
 
 
+def seam_band(rgba, width, height, radius):
+    """The seam mask (R channel set) grown by `radius` pixels (a square neighbourhood)."""
+    if np is not None:
+        m = np.frombuffer(rgba, dtype=np.uint8).reshape(height, width, 4)[:, :, 0] > 127
+        grown = m.copy()
+        for dy in range(-radius, radius + 1):
+            for dx in range(-radius, radius + 1):
+                shifted = np.zeros_like(m)
+                shifted[max(dy, 0):height + min(dy, 0), max(dx, 0):width + min(dx, 0)] = \
+                    m[max(-dy, 0):height + min(-dy, 0), max(-dx, 0):width + min(-dx, 0)]
+                grown |= shifted
+        return grown
+    seam = [rgba[i] > 127 for i in range(0, len(rgba), 4)]
+    grown = [False] * (width * height)
+    for i, on in enumerate(seam):
+        if not on:
+            continue
+        y, x = divmod(i, width)
+        for yy in range(max(0, y - radius), min(height, y + radius + 1)):
+            for xx in range(max(0, x - radius), min(width, x + radius + 1)):
+                grown[yy * width + xx] = True
+    return grown
+
+
+def band_image(band, size):
+    """The band as a white-on-black Image (for looking at it)."""
+    if np is not None:
+        rgba = np.zeros((size, size, 4), dtype=np.uint8)
+        rgba[band] = 255
+        return Image(rgba.tobytes(), size, size)
+    return Image(bytes(255 if on else 0 for on in band for _ in range(4)), size, size)
+
+
+def psnr_in(a, b, band):
+    """PSNR of two RGB images over the pixels of `band` covered in either image; None when there
+    are none."""
+    if np is not None:
+        keep = band & (a.mask | b.mask)
+        if not keep.any():
+            return None
+        d = a.rgb.astype(np.float64)[keep] - b.rgb.astype(np.float64)[keep]
+        mse = float(np.mean(d * d))
+    else:
+        keep = [k and (m or n) for k, m, n in zip(band, a.mask, b.mask)]
+        idx = [i for i, k in enumerate(keep) if k]
+        if not idx:
+            return None
+        mse = sum((a.rgb[3 * i + c] - b.rgb[3 * i + c]) ** 2 for i in idx for c in range(3)) / (3.0 * len(idx))
+    if mse == 0:
+        return PSNR_IDENTICAL
+    return min(PSNR_IDENTICAL, 10 * math.log10(255.0 * 255.0 / mse))
+
+
 def iou(a, b):
     """Silhouette IoU: covered pixels in both over covered pixels in either, 1 when both are empty."""
     if np is not None:
@@ -242,7 +299,7 @@ def _serve(entries, node_modules):
     return server, url_of
 
 
-def _compare(entries, reports, size, views):
+def _compare(entries, reports, size, views, band=0):
     """Per entry of one group (reference first): PNGs and metrics against the reference."""
     results, ref_images = [], None
     for i, e in enumerate(entries):
@@ -272,14 +329,29 @@ def _compare(entries, reports, size, views):
             res["psnr_fg"] = round(sum(psnr(a, b, True) for a, b in zip(ref_images, images)) / views, 4)
             res["ssim"] = round(sum(res["ssim_views"]) / views, 6)
             res["iou"] = round(sum(iou(a, b) for a, b in zip(ref_images, images)) / views, 6)
+            res["psnr_seam"] = res["seam_pixels"] = None
+            if band > 0 and os.path.exists(e.get("seams") or ""):
+                with open(e["seams"], "rb") as f:
+                    masks = f.read()
+                step, found, pixels = size * size * 4, [], 0
+                for v, (a, b) in enumerate(zip(ref_images, images)):
+                    grown = seam_band(masks[v * step:(v + 1) * step], size, size, band)
+                    write_png(os.path.join(e["out"], "%s.v%d.seams.png" % (e["label"], v)), band_image(grown, size))
+                    value = psnr_in(a, b, grown)
+                    if value is not None:
+                        found.append(value)
+                        pixels += int(grown.sum()) if np is not None else sum(grown)
+                if found:
+                    res["psnr_seam"] = round(sum(found) / len(found), 4)
+                    res["seam_pixels"] = pixels
         else:
-            res["psnr"] = res["psnr_fg"] = res["ssim"] = res["iou"] = None
+            res["psnr"] = res["psnr_fg"] = res["ssim"] = res["iou"] = res["psnr_seam"] = None
         results.append(res)
     return results
 
 
 def render_batch(groups, views=8, size=256, elevation=25.0, node_modules=DEFAULT_NODE_MODULES, chromium=None,
-                 timeout=1800):
+                 timeout=1800, seam_band=2):
     """Renders groups [{"reference": FILE, "candidates": [FILE or FILE#node=K], "out": DIR}] in one
     browser session, each group from cameras framing its reference; returns one result per group."""
     chromium = chromium or os.environ.get("CHROMIUM", "/usr/bin/chromium")
@@ -301,7 +373,8 @@ def render_batch(groups, views=8, size=256, elevation=25.0, node_modules=DEFAULT
                 label += "_"
             labels.add(label)
             entries.append({"path": os.path.abspath(path), "node": node, "label": label, "out": g["out"],
-                            "index": index, "rgba": os.path.join(tmp, "%d.rgba" % index)})
+                            "index": index, "rgba": os.path.join(tmp, "%d.rgba" % index),
+                            "seams": os.path.join(tmp, "%d.seams.rgba" % index) if entries and seam_band > 0 else None})
             index += 1
         plan.append(entries)
     server, url_of = _serve([e["path"] for entries in plan for e in entries], node_modules)
@@ -312,6 +385,8 @@ def render_batch(groups, views=8, size=256, elevation=25.0, node_modules=DEFAULT
                 item = {"url": url_of(e["path"]), "node": e["node"], "out": e["rgba"]}
                 if j == 0:
                     item["frame"] = url_of(e["path"])
+                if e["seams"]:
+                    item["seams"] = e["seams"]
                 items.append(item)
         job_file = os.path.join(tmp, "job.json")
         with open(job_file, "w") as f:
@@ -330,13 +405,15 @@ def render_batch(groups, views=8, size=256, elevation=25.0, node_modules=DEFAULT
         revision = next((r.get("revision") for r in reports.values() if r.get("revision")), None)
         out = []
         for entries in plan:
-            results = _compare(entries, reports, size, views)
+            results = _compare(entries, reports, size, views, seam_band)
             out.append({"three": revision, "views": views, "size": size, "elevation": elevation,
                         "metric": {"psnr": "RGB over black, mean over views, dB (identical = %g)" % PSNR_IDENTICAL,
                                    "psnr_fg": "as psnr, over the pixels covered in either image only",
                                    "ssim": "grey, %dx%d uniform window, K1 0.01, K2 0.03, mean over views"
                                            % (SSIM_WINDOW, SSIM_WINDOW),
                                    "iou": "silhouette (alpha != 0) intersection over union, mean over views",
+                                   "psnr_seam": "as psnr_fg, over the pixels within %d of a visible texture seam of "
+                                                "the candidate, mean over the views that show one" % seam_band,
                                    "numpy": np is not None},
                         "reference": results[0], "candidates": results[1:]})
         return out
@@ -359,8 +436,9 @@ def print_result(result):
         if c["psnr"] is None:
             print("%s: FAILED %s" % (c["candidate"], c["errors"][:3]))
         else:
-            print("%s: loaded %s, coverage %.3f, PSNR %.2f dB (foreground %.2f dB), SSIM %.4f, IoU %.4f"
-                  % (c["candidate"], c["loaded"], c["coverage"], c["psnr"], c["psnr_fg"], c["ssim"], c["iou"]))
+            seam = " (seam band %.2f dB)" % c["psnr_seam"] if c.get("psnr_seam") is not None else ""
+            print("%s: loaded %s, coverage %.3f, PSNR %.2f dB (foreground %.2f dB%s), SSIM %.4f, IoU %.4f"
+                  % (c["candidate"], c["loaded"], c["coverage"], c["psnr"], c["psnr_fg"], seam, c["ssim"], c["iou"]))
 
 
 def main():
@@ -373,11 +451,13 @@ def main():
     ap.add_argument("--views", type=int, default=8)
     ap.add_argument("--size", type=int, default=256)
     ap.add_argument("--elevation", type=float, default=25.0, help="camera elevation, degrees")
+    ap.add_argument("--seam-band", type=int, default=2, metavar="PX",
+                    help="psnr_seam: pixels within PX of a visible texture seam of the candidate (0 = off; default 2)")
     ap.add_argument("--json", help="write the results to this file")
     ap.add_argument("--node-modules", default=DEFAULT_NODE_MODULES)
     a = ap.parse_args()
-    if a.views < 1 or a.size < SSIM_WINDOW:
-        ap.error("--views must be >= 1 and --size >= %d" % SSIM_WINDOW)
+    if a.views < 1 or a.size < SSIM_WINDOW or a.seam_band < 0:
+        ap.error("--views must be >= 1, --size >= %d and --seam-band >= 0" % SSIM_WINDOW)
     if bool(a.batch) == bool(a.reference) or (a.reference and not a.out) or (a.batch and a.candidates):
         ap.error("give either --reference REF --out DIR [CANDIDATE ...] or --batch FILE.json")
     if a.batch:
@@ -386,7 +466,7 @@ def main():
     else:
         groups = [{"reference": a.reference, "candidates": a.candidates, "out": a.out}]
     try:
-        results = render_batch(groups, a.views, a.size, a.elevation, a.node_modules)
+        results = render_batch(groups, a.views, a.size, a.elevation, a.node_modules, seam_band=a.seam_band)
     except (RuntimeError, ValueError, subprocess.TimeoutExpired) as e:
         print("render_three: %s" % e, file=sys.stderr)
         return 2

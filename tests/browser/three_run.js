@@ -4,10 +4,12 @@
 // the models on 127.0.0.1.
 //   node three_run.js PAGE_URL JOB.json
 // JOB.json: {"size": S, "views": V, "elevation": DEG,
-//            "items": [{"url": URL, "node": K or -1, "out": FILE.rgba, "frame": URL (optional)}, ...]}
+//            "items": [{"url": URL, "node": K or -1, "out": FILE.rgba, "frame": URL (optional),
+//                       "seams": FILE.rgba (optional)}, ...]}
 // Renders the items in order; an item with "frame" first frames the cameras on that file (the
 // first item must have one). Writes each item's V views to "out" as raw RGBA (V images of
-// S x S pixels, rows top-down, RGB premultiplied by alpha). Prints one JSON line per item:
+// S x S pixels, rows top-down, RGB premultiplied by alpha), and with "seams" the V seam masks
+// there (three_view.js). Prints one JSON line per item:
 // {"index", "ok", "errors", "console"}; a failed framing fails that item.
 // Exit codes: 0 every item was attempted, 2 the browser or the page failed.
 'use strict';
@@ -38,12 +40,13 @@ const { chromium } = require('playwright-core');
       const item = job.items[i];
       logs = [];
       if (item.frame) framed = await page.evaluate((u) => window.lodbakeFrame(u), item.frame);
-      const r = framed.ok ? await page.evaluate(([u, n, v, e]) => window.lodbakeRender(u, n, v, e),
-                                                [item.url, item.node, job.views, job.elevation])
+      const r = framed.ok ? await page.evaluate(([u, n, v, e, s]) => window.lodbakeRender(u, n, v, e, s),
+                                                [item.url, item.node, job.views, job.elevation, !!item.seams])
                           : { ok: false, errors: ['framing failed: '].concat(framed.errors) };
       if (r.ok) {
         const bytes = Buffer.concat(r.views.map((b) => Buffer.from(b, 'base64')));
         fs.writeFileSync(item.out, bytes);
+        if (item.seams) fs.writeFileSync(item.seams, Buffer.concat(r.seams.map((b) => Buffer.from(b, 'base64'))));
       }
       console.log(JSON.stringify({ index: i, ok: r.ok, errors: r.errors, console: logs.slice(0, 20), revision: setup.revision }));
     }

@@ -6,10 +6,15 @@
 // API for the driver (three_run.js), once window.lodbakeThreeReady is true:
 //   await lodbakeSetup({size})             renderer and lights (size: square image side, pixels)
 //   await lodbakeFrame(url)                frames the cameras on this file's scene
-//   await lodbakeRender(url, node, views, elevationDeg)
+//   await lodbakeRender(url, node, views, elevationDeg, seams)
 //       renders the file's default scene, or only node `node` (an index, with its children)
 //       when node >= 0; returns {ok, errors, width, height, views: [base64 RGBA, rows top-down,
-//       RGB premultiplied by alpha = composited over black]}.
+//       RGB premultiplied by alpha = composited over black]}; with `seams`, also seams: per view
+//       the visible texture seams as base64 RGBA (R = 255 on a seam pixel, same rows).
+//
+// A texture seam is an interior edge whose two triangles give it different TEXCOORD_0 values at
+// either end (a chart boundary of an atlas): drawn as lines over the depth of the object itself,
+// so only the seams a viewer can see are marked.
 import * as THREE from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 import { DRACOLoader } from 'three/addons/loaders/DRACOLoader.js';
@@ -110,6 +115,86 @@ async function frameOn(url) {
   return { ok: true, center: center.toArray(), radius };
 }
 
+// Interior edges of `geometry` whose two sides carry different UVs, as a line geometry in the
+// mesh's own space (null when it has none). Vertices are matched by position, so a seam shows
+// whether the file splits its vertices there or not.
+function seamGeometry(geometry) {
+  const position = geometry.attributes.position, uv = geometry.attributes.uv;
+  if (!position || !uv) return null;
+  const index = geometry.index;
+  const count = index ? index.count : position.count;
+  const corner = (i) => (index ? index.getX(i) : i);
+  const keyOf = new Map();
+  const key = (v) => {
+    let k = keyOf.get(v);
+    if (k === undefined) {
+      k = position.getX(v).toPrecision(6) + ',' + position.getY(v).toPrecision(6) + ',' + position.getZ(v).toPrecision(6);
+      keyOf.set(v, k);
+    }
+    return k;
+  };
+  const kUvTolerance = 1e-5;
+  const edges = new Map();  // position-key pair (sorted) -> {a, b: vertices, uvs: [[ua, ub]], split}
+  for (let t = 0; t + 2 < count; t += 3) {
+    for (let e = 0; e < 3; ++e) {
+      let a = corner(t + e), b = corner(t + (e + 1) % 3);
+      let ka = key(a), kb = key(b);
+      if (ka === kb) continue;
+      if (ka > kb) { [a, b] = [b, a]; [ka, kb] = [kb, ka]; }
+      const k = ka + '|' + kb;
+      const uvs = [uv.getX(a), uv.getY(a), uv.getX(b), uv.getY(b)];
+      const edge = edges.get(k);
+      if (!edge) { edges.set(k, { a, b, uvs, sides: 1, split: false }); continue; }
+      edge.sides += 1;
+      for (let c = 0; c < 4; ++c) if (Math.abs(edge.uvs[c] - uvs[c]) > kUvTolerance) edge.split = true;
+    }
+  }
+  const points = [];
+  for (const edge of edges.values()) {
+    if (!edge.split || edge.sides !== 2) continue;
+    for (const v of [edge.a, edge.b]) points.push(position.getX(v), position.getY(v), position.getZ(v));
+  }
+  if (!points.length) return null;
+  const lines = new THREE.BufferGeometry();
+  lines.setAttribute('position', new THREE.Float32BufferAttribute(points, 3));
+  return lines;
+}
+
+// Renders the seam mask of `object` from `camera`: the object's depth in black (cut-outs keep
+// their holes), pushed back a little, then its seam lines in white on top (depth-tested: hidden
+// seams stay black).
+function renderSeams(object, camera) {
+  const white = new THREE.LineBasicMaterial({ color: 0xffffff });
+  const seamScene = new THREE.Scene();
+  const owned = [white];
+  object.updateMatrixWorld(true);
+  object.traverse((o) => {
+    // Skinned meshes are drawn posed, their seam lines would not be: they get no mask.
+    if (!o.isMesh || o.isSkinnedMesh || !o.geometry) return;
+    const m = Array.isArray(o.material) ? o.material[0] : o.material;
+    const black = new THREE.MeshBasicMaterial({ color: 0x000000, map: (m && m.alphaTest > 0 && m.map) || null,
+                                                alphaTest: (m && m.alphaTest) || 0, side: THREE.DoubleSide,
+                                                polygonOffset: true, polygonOffsetFactor: 1, polygonOffsetUnits: 1 });
+    owned.push(black);
+    const mesh = new THREE.Mesh(o.geometry, black);
+    mesh.matrixAutoUpdate = false;
+    mesh.matrix.copy(o.matrixWorld);
+    seamScene.add(mesh);
+    const seams = seamGeometry(o.geometry);
+    if (!seams) return;
+    const lines = new THREE.LineSegments(seams, white);
+    lines.matrixAutoUpdate = false;
+    lines.matrix.copy(o.matrixWorld);
+    seamScene.add(lines);
+    owned.push(seams);
+  });
+  const toneMapping = renderer.toneMapping;
+  renderer.toneMapping = THREE.NoToneMapping;
+  renderer.render(seamScene, camera);
+  renderer.toneMapping = toneMapping;
+  for (const x of owned) x.dispose();
+}
+
 function toBase64(bytes) {
   let s = '';
   const chunk = 0x8000;
@@ -117,7 +202,7 @@ function toBase64(bytes) {
   return btoa(s);
 }
 
-async function renderViews(url, node, views, elevationDeg) {
+async function renderViews(url, node, views, elevationDeg, seams) {
   if (!frame) throw new Error('lodbakeFrame was not called');
   const object = await loadObject(url, node);
   scene.add(object);
@@ -131,7 +216,12 @@ async function renderViews(url, node, views, elevationDeg) {
   const gl = renderer.getContext();
   const pixels = new Uint8Array(w * h * 4);
   const flipped = new Uint8Array(w * h * 4);
-  const out = [];
+  const out = [], seamOut = [];
+  const read = () => {
+    gl.readPixels(0, 0, w, h, gl.RGBA, gl.UNSIGNED_BYTE, pixels);
+    for (let y = 0; y < h; ++y) flipped.set(pixels.subarray((h - 1 - y) * w * 4, (h - y) * w * 4), y * w * 4);
+    return toBase64(flipped);
+  };
   for (let v = 0; v < views; ++v) {
     const azimuth = 2 * Math.PI * v / views;
     camera.position.set(frame.center.x + distance * Math.cos(elevation) * Math.sin(azimuth),
@@ -140,13 +230,15 @@ async function renderViews(url, node, views, elevationDeg) {
     camera.lookAt(frame.center);
     camera.updateMatrixWorld(true);
     renderer.render(scene, camera);
-    gl.readPixels(0, 0, w, h, gl.RGBA, gl.UNSIGNED_BYTE, pixels);
-    for (let y = 0; y < h; ++y) flipped.set(pixels.subarray((h - 1 - y) * w * 4, (h - y) * w * 4), y * w * 4);
-    out.push(toBase64(flipped));
+    out.push(read());
+    if (seams) {
+      renderSeams(object, camera);
+      seamOut.push(read());
+    }
   }
   scene.remove(object);
   disposeObject(object);
-  return { ok: true, width: w, height: h, views: out };
+  return seams ? { ok: true, width: w, height: h, views: out, seams: seamOut } : { ok: true, width: w, height: h, views: out };
 }
 
 // Every entry point reports errors in its result instead of throwing across page.evaluate.

@@ -7,6 +7,10 @@ simplify -> parameterize -> pack on the seamball and hemisphere9 samples (and Du
 without error and renders non-empty; LOD0's PSNR against the original stays above a floor
 measured on this toolchain (pack bakes the base colour only, so PBR assets sit low); coarser
 levels' PSNR and SSIM are finite; the original rendered twice compares as identical (100 dB).
+Seams: on pbrscene (a normal-mapped dome cut into charts) every level's seam band (the pixels
+within 2 of a texture seam it shows, psnr_seam) stays within SEAM_BAND_MARGIN of the whole
+foreground's PSNR, seams looking no worse than the rest of the surface; at least one level shows
+seams.
 A pack --draco output checks three.js's DRACOLoader path.
 The PNGs and results.json stay in the test's work dir. Skips (77) when chromium, node or the node
 modules are missing.
@@ -34,7 +38,9 @@ LOD0_PSNR_MEASURED = {
     "hemisphere9": 30.13,
     "Duck": 45.03,
     "Avocado": 39.02,
+    "pbrscene": 31.18,
 }
+SEAM_BAND_MARGIN = 2.0  # dB: a level's seam band PSNR may sit this far below its foreground PSNR
 MIN_COVERAGE = 0.01  # fraction of non-background pixels a rendered level must reach
 
 
@@ -47,7 +53,7 @@ class ThreeChain(unittest.TestCase):
         lt.require_browser_chain(("three", "playwright-core"))
         cls.dir = lt.work_dir("threejs")
         samples = lt.make_samples(os.path.join(cls.dir, "samples"))
-        sources = {"seamball": os.path.join(samples, "seamball.glb"), "hemisphere9": os.path.join(samples, "hemisphere9.glb")}
+        sources = {name: os.path.join(samples, name + ".glb") for name in ("seamball", "hemisphere9", "pbrscene")}
         cls.absent = {}
         for name in ("Duck", "Avocado"):
             path = os.path.join(lt.ASSETS, lt.ASSET_FILES[name])
@@ -96,8 +102,10 @@ class ThreeChain(unittest.TestCase):
               % next(iter(cls.results.values()))["three"])
         for name, r in cls.results.items():
             for c in r["candidates"]:
+                seam = "" if c.get("psnr_seam") is None else "  seam band %6.2f" % c["psnr_seam"]
                 print("  %-12s %-11s %s" % (name, c["level"], "FAILED" if c["psnr"] is None else
-                                            "%6.2f / %6.2f  %.4f  %.3f" % (c["psnr"], c["psnr_fg"], c["ssim"], c["coverage"])))
+                                            "%6.2f / %6.2f  %.4f  %.3f%s" % (c["psnr"], c["psnr_fg"], c["ssim"],
+                                                                             c["coverage"], seam)))
         sys.stdout.flush()
 
     @classmethod
@@ -150,6 +158,16 @@ class ThreeChain(unittest.TestCase):
 
     def test_hemisphere9(self):
         self.check("hemisphere9")
+
+    def test_pbrscene_seams(self):
+        self.check("pbrscene")
+        seamed = [c for c in self.results["pbrscene"]["candidates"] if c["psnr_seam"] is not None]
+        self.assertTrue(seamed, "no level shows a texture seam: the seam band is not measured")
+        for c in seamed:
+            self.assertGreater(c["seam_pixels"], 100, c["level"])
+            self.assertGreaterEqual(c["psnr_seam"], c["psnr_fg"] - SEAM_BAND_MARGIN,
+                                    "%s's seam band renders %.2f dB, the whole foreground %.2f dB"
+                                    % (c["level"], c["psnr_seam"], c["psnr_fg"]))
 
     def test_duck(self):
         self.check("Duck")

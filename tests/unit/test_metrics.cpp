@@ -8,6 +8,7 @@
 #include "lodbake/metrics/distance.h"
 #include "lodbake/metrics/image_metrics.h"
 #include "lodbake/metrics/render.h"
+#include "synthetic_meshes.h"
 
 using namespace lodbake;
 
@@ -213,6 +214,54 @@ TEST(Render, SquareSeenFromAboveCoversTheCentre) {
     c.eye = {0.5, 0.5, -2};
     Rendering back = render(s, c, RenderOptions{64, 64, RenderMode::Shaded});
     EXPECT_EQ(back.coverage[32 * 64 + 32], 0);
+}
+
+TEST(Render, TextureSeamsAreTheEdgesWhoseUvsJump) {
+    const TriMesh m = test::seamGrid(8);
+    const std::vector<uint8_t> seams = textureSeamEdges(m);
+    ASSERT_EQ(seams.size(), m.triangles.size());
+    size_t marked = 0;
+    for (size_t f = 0; f < m.triangles.size(); ++f)
+        for (int k = 0; k < 3; ++k) {
+            if (!(seams[f] & (1u << k))) continue;
+            ++marked;
+            // A marked edge runs along the seam column x = 4.
+            EXPECT_EQ(m.positions[m.triangles[f][size_t(k)]].x, 4.0);
+            EXPECT_EQ(m.positions[m.triangles[f][size_t((k + 1) % 3)]].x, 4.0);
+        }
+    EXPECT_EQ(marked, 16u);  // 8 edges on the column, each from both sides
+    EXPECT_EQ(textureSeamEdges(square(0)), std::vector<uint8_t>(2, 0));
+}
+
+TEST(Render, SeamBandMarksThePixelsNearAVisibleSeamOnly) {
+    TriMesh split = square(0);
+    // The second triangle gets its own wedges with shifted UVs: the diagonal becomes a seam.
+    split.wedges.vertex = {0, 1, 2, 3, 0, 2};
+    split.wedges.uv0 = {{0, 1}, {1, 1}, {1, 0}, {0, 0}, {0.5, 1}, {1.5, 0}};
+    split.cornerWedges = {{0, 1, 2}, {4, 5, 3}};
+    Camera c;
+    c.eye = {0.5, 0.5, 2};
+    c.target = {0.5, 0.5, 0};
+    for (bool seamed : {false, true}) {
+        Asset a = texturedAsset(seamed ? split : square(0));
+        RenderScene s = sceneOf(a, true);
+        s.seamEdges = textureSeamEdges(a.mesh);
+        const Rendering r = render(s, c, RenderOptions{64, 64, RenderMode::BaseColor});
+        size_t near = 0, far = 0;
+        for (int y = 0; y < 64; ++y)
+            for (int x = 0; x < 64; ++x) {
+                if (!r.seam[size_t(y) * 64 + size_t(x)]) continue;
+                // The diagonal runs through the image corners (0, 0)-(1, 1) of the square: on
+                // screen from bottom-left to top-right, about where x + y = 63.
+                (std::abs(x + y - 63) <= 8 ? near : far) += 1;
+            }
+        EXPECT_EQ(far, 0u);
+        if (seamed) EXPECT_GT(near, 20u);
+        else EXPECT_EQ(near, 0u);
+        const ImageMetrics m = compareImages(r, r);
+        EXPECT_EQ(m.seamPixels, near);
+        EXPECT_EQ(m.seamPsnr, kMaxPsnr);
+    }
 }
 
 TEST(Render, SphereViewsAreDeterministicAndFrameTheSphere) {

@@ -22,6 +22,7 @@ void finish(ImageMetrics& m) {
     m.psnr = psnrOf(m.squaredErrorSum, m.unionPixels * 3);
     m.iou = m.unionPixels == 0 ? 1.0 : static_cast<double>(m.intersectionPixels) / m.unionPixels;
     m.ssim = m.ssimWindows == 0 ? 1.0 : m.ssimSum / static_cast<double>(m.ssimWindows);
+    m.seamPsnr = psnrOf(m.seamSquaredErrorSum, m.seamPixels * 3);
 }
 
 }  // namespace
@@ -40,9 +41,12 @@ ImageMetrics compareImages(const Rendering& a, const Rendering& b) {
         if (mask[i]) {
             ++m.unionPixels;
             if (ca && cb) ++m.intersectionPixels;
+            const bool seam = i < b.seam.size() && b.seam[i] != 0;
+            m.seamPixels += seam;
             for (int c = 0; c < 3; ++c) {
                 double d = static_cast<double>(a.rgb[i * 3 + c]) - b.rgb[i * 3 + c];
                 m.squaredErrorSum += d * d;
+                if (seam) m.seamSquaredErrorSum += d * d;
             }
         }
         ya[i] = 0.2126 * a.rgb[i * 3] + 0.7152 * a.rgb[i * 3 + 1] + 0.0722 * a.rgb[i * 3 + 2];
@@ -85,6 +89,8 @@ void accumulate(ImageMetrics& total, const ImageMetrics& v) {
     total.intersectionPixels += v.intersectionPixels;
     total.ssimSum += v.ssimSum;
     total.ssimWindows += v.ssimWindows;
+    total.seamSquaredErrorSum += v.seamSquaredErrorSum;
+    total.seamPixels += v.seamPixels;
     total.views += v.views;
     total.worstPsnr = first ? v.worstPsnr : std::min(total.worstPsnr, v.worstPsnr);
     total.worstSsim = first ? v.worstSsim : std::min(total.worstSsim, v.worstSsim);

@@ -103,7 +103,8 @@ nlohmann::json sideJson(const OneSidedDistance& d, double diag) {
 
 nlohmann::json imageJson(const ImageMetrics& m) {
     return {{"psnr", m.psnr}, {"worstPsnr", m.worstPsnr}, {"ssim", m.ssim},
-            {"worstSsim", m.worstSsim}, {"iou", m.iou}, {"worstIou", m.worstIou}};
+            {"worstSsim", m.worstSsim}, {"iou", m.iou}, {"worstIou", m.worstIou},
+            {"seamPsnr", m.seamPsnr}, {"seamPixels", m.seamPixels}};
 }
 
 std::string fmt(double v, int prec = 6) {
@@ -184,6 +185,7 @@ std::string table(const CompareSettings& s, const CompareResult& r, const Loaded
         row3("", "base colour", "shaded", "pbr");
         row3("psnr dB", fmt(r.baseColor.psnr, 5), fmt(r.shaded.psnr, 5), fmt(r.pbr.psnr, 5));
         row3("worst view psnr dB", fmt(r.baseColor.worstPsnr, 5), fmt(r.shaded.worstPsnr, 5), fmt(r.pbr.worstPsnr, 5));
+        row3("seam band psnr dB", fmt(r.baseColor.seamPsnr, 5), fmt(r.shaded.seamPsnr, 5), fmt(r.pbr.seamPsnr, 5));
         row3("ssim", fmt(r.baseColor.ssim, 5), fmt(r.shaded.ssim, 5), fmt(r.pbr.ssim, 5));
         row3("silhouette iou", fmt(r.baseColor.iou, 5), fmt(r.shaded.iou, 5), fmt(r.pbr.iou, 5));
         auto psnrSsim = [](const ImageMetrics& m) { return fmt(m.psnr, 4) + "/" + fmt(m.ssim, 3); };

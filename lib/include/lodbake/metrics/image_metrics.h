@@ -21,6 +21,11 @@ struct ImageMetrics {
     double worstSsim = 1;    // lowest single-view SSIM
     double iou = 1;          // silhouette intersection over union, pooled over views (1 if both empty)
     double worstIou = 1;
+    // PSNR over the seam band: the union pixels that b (the candidate) marks as near a visible
+    // texture seam (Rendering::seam), pooled over views; kMaxPsnr when no view shows a seam.
+    double seamPsnr = kMaxPsnr;
+    size_t seamPixels = 0;
+    double seamSquaredErrorSum = 0;
 
     // Pooling state (sums over views).
     double squaredErrorSum = 0;  // over union pixels x 3 channels

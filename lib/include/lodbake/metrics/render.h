@@ -22,6 +22,9 @@
 // Culling: back faces of single-sided materials are culled; double-sided ones are drawn (Pbr:
 // with their normals flipped).
 // Background: black (0,0,0); `coverage` tells which pixels a triangle covers.
+// Seams: `seam` marks the visible pixels within RenderOptions::seamBand pixels of a texture seam
+// (an edge whose two triangles give it different TEXCOORD_0 values, e.g. an atlas chart
+// boundary), measured on the triangles either side, so the band is about twice as wide.
 #pragma once
 
 #include <array>
@@ -69,6 +72,8 @@ struct RenderScene {
     // Per wedge, for normal maps on TEXCOORD_0 / TEXCOORD_1 when the mesh has no tangents (empty
     // otherwise): xyz unit tangent along +u, w = handedness (bitangent = cross(N, T) * w).
     std::array<std::vector<Vec4>, 2> tangents;
+    // Per triangle: bit k set when edge k (corner k -> k + 1) is a texture seam (see above).
+    std::vector<uint8_t> seamEdges;
     std::vector<std::string> warnings;  // images that could not be decoded (rendered as white)
 };
 
@@ -79,13 +84,19 @@ RenderScene prepareRenderScene(const Asset& asset, const TriMesh& mesh);
 struct RenderOptions {
     int width = 256, height = 256;  // pixels
     RenderMode mode = RenderMode::BaseColor;
+    double seamBand = 2;            // pixels either side of a visible texture seam marked in `seam`
 };
 
 struct Rendering {
     int width = 0, height = 0;
     std::vector<float> rgb;          // width * height * 3, sRGB-encoded values in [0,1], row 0 = top
     std::vector<uint8_t> coverage;   // width * height, 1 where the surface is visible
+    std::vector<uint8_t> seam;       // width * height, 1 where a visible texture seam is near
 };
+
+// Bit k of entry f set when triangle f's edge k (corner k -> k + 1) is a texture seam: another
+// triangle shares the edge's two positions with different TEXCOORD_0 values at either end.
+std::vector<uint8_t> textureSeamEdges(const TriMesh& mesh);
 
 Rendering render(const RenderScene& scene, const Camera& camera, const RenderOptions& options = {});
 
