@@ -408,20 +408,12 @@ Vec3 interpolatedNormal(const ShadeContext& c, const TexelHit& h) {
 
 // The original's tangent T and bitangent B at hit h around normal N, for UV set `set` (the file's
 // TANGENT, else the frames BakeSources computed). False when there is none.
-bool originalTangentFrame(const ShadeContext& c, const TexelHit& h, int set, Vec3 N, Vec3& T, Vec3& B) {
+bool originalTangentFrame(const ShadeContext& c, const TexelHit& h, int set, Vec3 N, TangentFrame& frame) {
     const TriMesh& mesh = c.asset.mesh;
     const Tri& cw = mesh.cornerWedges[uint32_t(h.face)];
     const std::vector<Vec4>& tangents = mesh.wedges.tangent.empty() ? c.tangents[set == 1 ? 1 : 0] : mesh.wedges.tangent;
     if (tangents.empty()) return false;
-    T = Vec3{};
-    for (int k = 0; k < 3; ++k) {
-        const Vec4& tk = tangents[cw[size_t(k)]];
-        T += Vec3{tk.x, tk.y, tk.z} * h.bary[size_t(k)];
-    }
-    T = normalize(T - N * dot(T, N));
-    if (!(length(T) > 0.5)) return false;
-    B = cross(N, T) * (tangents[cw[0]].w < 0 ? -1.0 : 1.0);
-    return true;
+    return tangentFrameAt(N, {tangents[cw[0]], tangents[cw[1]], tangents[cw[2]]}, {h.bary[0], h.bary[1], h.bary[2]}, frame);
 }
 
 Vec3 perturbedNormal(const ShadeContext& c, const TexelHit& h, const TextureRef& map) {
@@ -429,11 +421,10 @@ Vec3 perturbedNormal(const ShadeContext& c, const TexelHit& h, const TextureRef&
     float r[4];
     if (!lookup(c, map, h, r)) return N;
     const int set = map.transform.texCoord >= 0 ? map.transform.texCoord : map.texCoord;
-    Vec3 T, B;
-    if (!originalTangentFrame(c, h, set, N, T, B)) return N;
+    TangentFrame frame;
+    if (!originalTangentFrame(c, h, set, N, frame)) return N;
     const double s = map.scale;
-    const Vec3 nt{(2.0 * r[0] - 1) * s, (2.0 * r[1] - 1) * s, 2.0 * r[2] - 1};
-    const Vec3 out = normalize(T * nt.x + B * nt.y + N * nt.z);
+    const Vec3 out = normalize(frame.toWorld({(2.0 * r[0] - 1) * s, (2.0 * r[1] - 1) * s, 2.0 * r[2] - 1}));
     return length(out) > 0.5 ? out : N;
 }
 
@@ -464,9 +455,9 @@ double anisotropyAt(const ShadeContext& c, const TexelHit& h, Vec3& direction) {
     const double x = cr * dx - sr * dy, y = sr * dx + cr * dy;
     const int set = e.texture.transform.texCoord >= 0 ? e.texture.transform.texCoord : e.texture.texCoord;
     const Vec3 N = interpolatedNormal(c, h);
-    Vec3 T, B;
-    if (!originalTangentFrame(c, h, set, N, T, B)) return 0;
-    direction = T * x + B * y;
+    TangentFrame frame;
+    if (!originalTangentFrame(c, h, set, N, frame)) return 0;
+    direction = frame.toWorld({x, y, 0});
     return std::clamp(strength, 0.0, 1.0);
 }
 
@@ -566,30 +557,25 @@ std::vector<TargetHit> rasterizeTarget(const BakeTarget& target, const Grid& g) 
     return hits;
 }
 
-// The target's tangent frame (normal, tangent, bitangent) at hit th; false without a target, a
-// hit or a usable frame.
-bool targetFrame(const BakeTarget* targetOrNull, const TargetHit& th, Vec3& Nl, Vec3& Tl, Vec3& Bl) {
+// The target's tangent frame at hit th (tangents.h); false without a target, a hit or a usable
+// frame.
+bool targetFrame(const BakeTarget* targetOrNull, const TargetHit& th, TangentFrame& frame) {
     if (!targetOrNull || th.tri < 0) return false;
     const BakeTarget& target = *targetOrNull;
-    Nl = Tl = Vec3{};
-    for (size_t k = 0; k < 3; ++k) {
-        Nl += target.normal[size_t(th.tri)][k] * th.bary[k];
-        const Vec4& tk = target.tangent[size_t(th.tri)][k];
-        Tl += Vec3{tk.x, tk.y, tk.z} * th.bary[k];
-    }
-    Nl = normalize(Nl);
-    Tl = normalize(Tl - Nl * dot(Tl, Nl));
-    if (!(length(Nl) > 0.5 && length(Tl) > 0.5)) return false;
-    Bl = cross(Nl, Tl) * (target.tangent[size_t(th.tri)][0].w < 0 ? -1.0 : 1.0);
-    return true;
+    Vec3 N{};
+    for (size_t k = 0; k < 3; ++k) N += target.normal[size_t(th.tri)][k] * th.bary[k];
+    N = normalize(N);
+    if (!(length(N) > 0.5)) return false;
+    return tangentFrameAt(N, target.tangent[size_t(th.tri)], {th.bary[0], th.bary[1], th.bary[2]}, frame);
 }
 
 // World normal N expressed in the target's tangent frame at hit th, as an encoded colour; the
 // unperturbed (0, 0, 1) without a target or a hit.
 void encodeInTarget(const BakeTarget* targetOrNull, const TargetHit& th, Vec3 N, double rgb[3]) {
-    Vec3 n{0, 0, 1}, Nl, Tl, Bl;
-    if (targetFrame(targetOrNull, th, Nl, Tl, Bl)) {
-        n = normalize(Vec3{dot(N, Tl), dot(N, Bl), dot(N, Nl)});
+    Vec3 n{0, 0, 1};
+    TangentFrame frame;
+    if (targetFrame(targetOrNull, th, frame)) {
+        n = normalize(frame.toTangent(N));
         if (!(length(n) > 0.5)) n = {0, 0, 1};
     }
     rgb[0] = n.x * 0.5 + 0.5;
@@ -601,12 +587,13 @@ void encodeInTarget(const BakeTarget* targetOrNull, const TargetHit& th, Vec3 N,
 // th (unit, encoded x 0.5 + 0.5; the tangent without a target, a hit or a direction), B = strength.
 void encodeAnisotropyInTarget(const BakeTarget* targetOrNull, const TargetHit& th, Vec3 D, double strength, double rgb[3]) {
     double x = 1, y = 0;
-    Vec3 Nl, Tl, Bl;
-    if (targetFrame(targetOrNull, th, Nl, Tl, Bl)) {
-        const double u = dot(D, Tl), v = dot(D, Bl), l = std::hypot(u, v);
+    TangentFrame frame;
+    if (targetFrame(targetOrNull, th, frame)) {
+        const Vec3 d = frame.toTangent(D);
+        const double l = std::hypot(d.x, d.y);
         if (l > 1e-12) {
-            x = u / l;
-            y = v / l;
+            x = d.x / l;
+            y = d.y / l;
         }
     }
     rgb[0] = x * 0.5 + 0.5;

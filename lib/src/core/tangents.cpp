@@ -79,4 +79,17 @@ std::vector<Vec4> computeWedgeTangents(const TriMesh& mesh, int texCoord) {
     return computeTangents(positions, normals, uv, mesh.cornerWedges);
 }
 
+bool tangentFrameAt(Vec3 N, const std::array<Vec4, 3>& corners, const std::array<double, 3>& bary, TangentFrame& frame) {
+    Vec3 T{};
+    double w = 0;
+    for (size_t k = 0; k < 3; ++k) {
+        T += Vec3{corners[k].x, corners[k].y, corners[k].z} * bary[k];
+        w += corners[k].w * bary[k];
+    }
+    T = normalize(T - N * dot(T, N));
+    if (!(length(T) > 0.5)) return false;
+    frame = {T, cross(N, T) * (w < 0 ? -1.0 : 1.0), N};
+    return true;
+}
+
 }  // namespace lodbake

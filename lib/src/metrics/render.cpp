@@ -11,6 +11,7 @@
 #include <cmath>
 #include <limits>
 
+#include "lodbake/core/tangents.h"
 #include "lodbake/texture/color_space.h"
 #include "lodbake/texture/texture_transform.h"
 
@@ -434,16 +435,9 @@ Vec3 shadingNormal(const TriMaterial& mat, const CornerAttributes& at, const Pix
         float tex[4];
         sampleChannel(mat.tex[kNormal], at.uv[kNormal], p, tex);
         const Vec3 tn{(2.0 * tex[0] - 1) * mat.normalScale, (2.0 * tex[1] - 1) * mat.normalScale, 2.0 * tex[2] - 1};
-        Vec3 T{0, 0, 0};
-        double w = 0;
-        for (int k = 0; k < 3; ++k) {
-            T += Vec3{at.tangent[k].x, at.tangent[k].y, at.tangent[k].z} * b[k];
-            w += at.tangent[k].w * b[k];
-        }
-        T = normalize(T - N * dot(N, T));
-        if (length2(T) > 0) {
-            const Vec3 B = cross(N, T) * (w < 0 ? -1.0 : 1.0);
-            Vec3 m = normalize(T * tn.x + B * tn.y + N * tn.z);
+        TangentFrame frame;
+        if (tangentFrameAt(N, {at.tangent[0], at.tangent[1], at.tangent[2]}, {b[0], b[1], b[2]}, frame)) {
+            const Vec3 m = normalize(frame.toWorld(tn));
             if (length2(m) > 0) N = m;
         }
     }
@@ -513,10 +507,24 @@ bool shadePbr(const TriMaterial& mat, const CornerAttributes& at, const PixelBar
     return true;
 }
 
+// Whether the pixel lies within `band` pixels of one of the triangle's seam edges (bit k: the
+// edge opposite corner k + 2, where that barycentric is 0; its screen distance is the
+// barycentric over its screen gradient).
+bool nearSeam(uint8_t seamBits, const PixelBary& p, double band) {
+    for (int k = 0; k < 3; ++k) {
+        if (!(seamBits & (1u << k))) continue;
+        const int j = (k + 2) % 3;
+        const double grad = std::sqrt(p.dbx[j] * p.dbx[j] + p.dby[j] * p.dby[j]);
+        if (p.bar[j] <= band * grad) return true;
+    }
+    return false;
+}
+
 // Scans the pixels whose centres lie inside screen triangle (a, b, c) (either winding), depth-
-// tests them and writes the shaded colour, its depth and coverage.
+// tests them and writes the shaded colour, its depth, coverage and seam mark.
 void rasterizeTriangle(const Screen& a, const Screen& b, const Screen& c, const TriMaterial& mat, const CornerAttributes& at,
-                       RenderMode mode, const WorldLights& lights, Target& target, Rendering& img) {
+                       RenderMode mode, const WorldLights& lights, uint8_t seamBits, double seamBand, Target& target,
+                       Rendering& img) {
     double area = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
     if (std::fabs(area) < 1e-12) return;
     const Interpolants in = setupInterpolants(a, b, c, area);
@@ -552,6 +560,7 @@ void rasterizeTriangle(const Screen& a, const Screen& b, const Screen& c, const 
             }
             target.depth[pix] = z;
             img.coverage[pix] = 1;
+            img.seam[pix] = seamBits != 0 && nearSeam(seamBits, pixelBary(a, in, dx, dy, z), seamBand);
             for (int ch = 0; ch < 3; ++ch) target.linear[pix * 3 + ch] = out[ch];
         }
     }
@@ -567,6 +576,7 @@ Rendering render(const RenderScene& scene, const Camera& camera, const RenderOpt
     img.height = H;
     img.rgb.assign(static_cast<size_t>(W) * H * 3, 0.f);
     img.coverage.assign(static_cast<size_t>(W) * H, 0);
+    img.seam.assign(static_cast<size_t>(W) * H, 0);
     Target target;
     target.width = W;
     target.height = H;
@@ -602,8 +612,9 @@ Rendering render(const RenderScene& scene, const Camera& camera, const RenderOpt
         const CornerAttributes at = cornerAttributes(scene, t, mat, options.mode, n, P, facing <= 0, f);
         Screen s[4];
         const int np = toScreen(P, f, camera.zNear, s);
+        const uint8_t seamBits = t < scene.seamEdges.size() ? scene.seamEdges[t] : 0;
         for (int fan = 1; fan + 1 < np; ++fan)
-            rasterizeTriangle(s[0], s[fan], s[fan + 1], mat, at, options.mode, lights, target, img);
+            rasterizeTriangle(s[0], s[fan], s[fan + 1], mat, at, options.mode, lights, seamBits, options.seamBand, target, img);
     }
     // encodeSrgb
     for (size_t i = 0; i < target.linear.size(); ++i) img.rgb[i] = linearToSrgb(target.linear[i]);

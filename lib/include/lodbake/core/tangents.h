@@ -5,6 +5,7 @@
 // the same tangents, so the map decodes exactly as it was encoded.
 #pragma once
 
+#include <array>
 #include <vector>
 
 #include "lodbake/core/mesh.h"
@@ -25,5 +26,18 @@ std::vector<Vec4> computeTangents(const std::vector<Vec3>& positions, const std:
 // (0 or 1): the frames the original's normal maps were authored in when the file has no TANGENT.
 // Normals come from the wedges, or from the welded faces when the file has none.
 std::vector<Vec4> computeWedgeTangents(const TriMesh& mesh, int texCoord);
+
+// The tangent frame at a point of a triangle, the one convention the bake (decoding the
+// original's maps, encoding a level's), compare's renderer and the level files share: N is the
+// unit shading normal; T the corners' tangents interpolated by `bary`, made orthogonal to N; B =
+// cross(N, T) times the sign of the interpolated handedness w, as a renderer interpolating the
+// TANGENT attribute sees it. False (frame untouched) when T vanishes.
+struct TangentFrame {
+    Vec3 T, B, N;
+    // A tangent-space vector (x along T, y along B, z along N) in world space, and back.
+    Vec3 toWorld(Vec3 t) const { return T * t.x + B * t.y + N * t.z; }
+    Vec3 toTangent(Vec3 v) const { return {dot(v, T), dot(v, B), dot(v, N)}; }
+};
+bool tangentFrameAt(Vec3 N, const std::array<Vec4, 3>& corners, const std::array<double, 3>& bary, TangentFrame& frame);
 
 }  // namespace lodbake
