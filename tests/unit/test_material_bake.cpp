@@ -87,6 +87,28 @@ TEST(Tangents, MirroredUVsFlipTheHandedness) {
     }
 }
 
+TEST(Tangents, FrameFollowsTheInterpolatedHandednessAndRoundTrips) {
+    const Vec3 N{0, 0, 1};
+    TangentFrame f;
+    // Tangents tilted out of the plane are made orthogonal to N; w > 0: B = cross(N, T) = +y.
+    ASSERT_TRUE(tangentFrameAt(N, {Vec4{1, 0, 0.5, 1}, Vec4{1, 0, 0.5, 1}, Vec4{1, 0, 0.5, 1}}, {0.2, 0.3, 0.5}, f));
+    EXPECT_NEAR(f.T.x, 1, 1e-12);
+    EXPECT_NEAR(f.T.z, 0, 1e-12);
+    EXPECT_NEAR(f.B.y, 1, 1e-12);
+    // Mixed handedness: the sign of the interpolated w decides, whichever corner comes first.
+    ASSERT_TRUE(tangentFrameAt(N, {Vec4{1, 0, 0, 1}, Vec4{1, 0, 0, -1}, Vec4{1, 0, 0, -1}}, {0.6, 0.2, 0.2}, f));
+    EXPECT_NEAR(f.B.y, 1, 1e-12);
+    ASSERT_TRUE(tangentFrameAt(N, {Vec4{1, 0, 0, 1}, Vec4{1, 0, 0, -1}, Vec4{1, 0, 0, -1}}, {0.2, 0.4, 0.4}, f));
+    EXPECT_NEAR(f.B.y, -1, 1e-12);
+    const Vec3 v = normalize(Vec3{0.3, -0.2, 0.9});
+    const Vec3 back = f.toWorld(f.toTangent(v));
+    EXPECT_NEAR(back.x, v.x, 1e-12);
+    EXPECT_NEAR(back.y, v.y, 1e-12);
+    EXPECT_NEAR(back.z, v.z, 1e-12);
+    // A tangent along N leaves no frame.
+    EXPECT_FALSE(tangentFrameAt(N, {Vec4{0, 0, 1, 1}, Vec4{0, 0, 1, 1}, Vec4{0, 0, 1, 1}}, {0.2, 0.3, 0.5}, f));
+}
+
 TEST(MaterialPlan, ConstantChannelsAreFactors) {
     Asset a = unitQuad();
     a.materials[0].metallicFactor = 0.25;
