@@ -41,6 +41,13 @@ Args parseArgs(int argc, char** argv, bool& proceed) {
                  a.jobs = cli::parseInt("--jobs", v);
                  if (a.jobs < 1) throw UsageError("--jobs must be >= 1");
              });
+    p.option("--html", "FILE.html",
+             "write a self-contained HTML report: every level measured against the input by compare, its renders beside "
+             "the original's, the difference, its figures and atlas pages (docs/lodbake.md)",
+             [&a](const std::string& v) {
+                 if (v.empty()) throw UsageError("--html needs a file name");
+                 a.chain.html = v;
+             });
     p.option("--keep-intermediates", "DIR",
              "also write the intermediates as the tools name them: DIR/STEM.mr.glb, .uv.glb, .tex.glb",
              [&a](const std::string& v) {
@@ -86,10 +93,29 @@ void validateStageFlags(Args& a) {
     cli::validatePack(a.pack);
 }
 
+// --html: a single-file chain (compare reads its levels back), a file in an existing folder, none
+// of the other paths.
+void validateHtml(const Args& a) {
+    namespace fs = std::filesystem;
+    const std::string& html = a.chain.html;
+    if (html.empty()) return;
+    if (a.pack.settings.write.split) throw UsageError("--html needs the chain in one file, not --split");
+    std::error_code ec;
+    const fs::path parent = fs::path(html).parent_path();
+    if (!parent.empty() && !fs::is_directory(parent, ec))
+        throw IOError(html + ": --html folder '" + parent.string() + "' does not exist");
+    if (fs::is_directory(html, ec)) throw IOError(html + ": --html names a folder");
+    const StageCommon& c = a.chain.common;
+    for (const std::string& other : {c.input, c.output, c.report})
+        if (!other.empty() && fs::weakly_canonical(other, ec) == fs::weakly_canonical(html, ec))
+            throw UsageError("--html '" + html + "' is also the file '" + other + "'");
+}
+
 void validate(Args& a) {
     if (!a.chain.common.input.empty()) a.chain.common.output = defaultOutput(a.chain.common.input, a.chain.common.output);
     validateStageFlags(a);
     cli::checkPaths(a.chain.common);
+    validateHtml(a);
     const std::string& dir = a.chain.keepIntermediates;
     std::error_code ec;
     if (!dir.empty() && !std::filesystem::is_directory(dir, ec))
@@ -107,6 +133,7 @@ bool batchMode(const Args& a) {
 }
 
 int runBatch(Args& a) {
+    if (!a.chain.html.empty()) throw UsageError("--html takes one input (several inputs or a folder: run lodbake --html per file)");
     validateStageFlags(a);  // once here, rather than failing the same way in every child
     batch::collectInputs(a.inputs);  // every input exists and at least one is a glTF
     const std::string& out = a.chain.common.output;
