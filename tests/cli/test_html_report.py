@@ -3,8 +3,9 @@ Debian's headless Chromium by playwright-core (tests/browser/html_report.js; nev
 browser). A 4-level chain (LOD0 + the default three levels) of a generated sample: the page shows a
 section per level with one decoded image per view (4) and its atlas pages, no script and no request
 beyond the file itself; every figure on it equals the JSON report's value at its pointer, and shows
-it rounded to 4 significant digits; the table has every figure of every level; the report's compare
-figures of a level are those `compare IN OUT --lod K` gives. compare --html the same for one pair.
+it rounded to 4 significant digits; the table has every figure of every level; the report (with its
+compare section) matches its schema, and the compare figures of a level are those `compare IN OUT
+--lod K` gives. compare --html the same for one pair.
 Bad --html paths: a one-line error, the documented exit code, no file written. The full-page
 screenshots stay in the test's work folder as artefacts. Skips (77) without chromium or node."""
 import json
@@ -115,6 +116,13 @@ class HtmlReport(unittest.TestCase):
             for name in IMAGE_FIGURES:
                 self.assertIn("/compare/%d/%s" % (k, name), pointers)
         self.assertEqual(page["warnings"], report["warnings"])
+        try:
+            import jsonschema  # noqa: F401
+        except ImportError:
+            jsonschema = None
+        if jsonschema is not None:  # the report with its "compare" section matches docs/schemas/lodbake.schema.json
+            from test_report_schemas import errors, load_schemas
+            self.assertEqual(errors(load_schemas(), "lodbake", report), [])
         # The figures of a level are those compare itself reports for it.
         p = run([tool("compare"), self.src, self.chain, "--lod", "3", "--json"])
         own = json.loads(p.stdout)
