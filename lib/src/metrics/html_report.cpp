@@ -3,7 +3,6 @@
 // title and facts, warnings, the figures table (a row per level), a section per level.
 #include "lodbake/metrics/html_report.h"
 
-#include <cmath>
 #include <sstream>
 
 #include "lodbake/gltf/gltf.h"
@@ -171,8 +170,8 @@ void writeLevel(std::ostringstream& os, const HtmlPage& page, const HtmlLevel& l
     } else {
         os << "<p>" << escape(page.viewsCaption) << "</p>\n<div class=\"views\">\n";
         for (const Image& v : level.views) os << img(v, "view", level.title + " " + v.name);
+        os << "</div>\n";
     }
-    if (!level.views.empty()) os << "</div>\n";
     os << "<h3>Texture pages</h3>\n";
     if (level.pages.empty()) {
         os << "<p>None.</p>\n";
