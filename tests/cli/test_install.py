@@ -1,5 +1,5 @@
 """Install rules and the Debian package. `cmake --install` into a temporary prefix puts every tool
-in PREFIX/bin and the documentation in PREFIX/share/doc/lodbake, and the installed `lodbake` builds
+in PREFIX/bin, the documentation in PREFIX/share/doc/lodbake and the man page in PREFIX/share/man/man1, and the installed `lodbake` builds
 a valid MSFT_lod chain from a generated sample; `cpack -G DEB` makes a package whose contents list
 the same files, with Depends derived by dpkg-shlibdeps, and whose tools run after `dpkg -x` (the
 test never installs into the system)."""
@@ -30,6 +30,7 @@ def check_tree(tc, root, prefix):
         tc.assertTrue(os.path.isfile(os.path.join(root, prefix, "share/doc/lodbake", d)), d)
     for s in SCHEMAS:
         tc.assertTrue(os.path.isfile(os.path.join(root, prefix, "share/doc/lodbake/schemas", s + ".schema.json")), s)
+    tc.assertTrue(os.path.isfile(os.path.join(root, prefix, "share/man/man1/lodbake.1")), "lodbake.1")
 
 
 class Install(unittest.TestCase):

@@ -46,20 +46,46 @@ void ArgParser::add(Opt opt) {
             if (std::find(opt.names.begin(), opt.names.end(), n) != opt.names.end())
                 throw std::logic_error(tool_ + ": flag " + n + " is defined twice");
     opt.section = std::move(pendingSection_);
+    opt.sectionIntro = std::move(pendingIntro_);
     pendingSection_.clear();
+    pendingIntro_.clear();
     opts_.push_back(std::move(opt));
+}
+
+ArgParser::Opt* ArgParser::find(const std::string& name) {
+    for (Opt& o : opts_)
+        if (std::find(o.names.begin(), o.names.end(), name) != o.names.end()) return &o;
+    return nullptr;
+}
+
+const ArgParser::Opt* ArgParser::find(const std::string& name) const {
+    return const_cast<ArgParser*>(this)->find(name);
 }
 
 void ArgParser::option(const std::string& names, const std::string& valueName, const std::string& help,
                        std::function<void(const std::string&)> handler) {
-    add({splitNames(names), valueName, help, std::move(handler), true, {}});
+    add({splitNames(names), valueName, help, std::move(handler), true, {}, {}});
 }
 
 void ArgParser::flag(const std::string& names, const std::string& help, std::function<void()> handler) {
-    add({splitNames(names), "", help, [h = std::move(handler)](const std::string&) { h(); }, false, {}});
+    add({splitNames(names), "", help, [h = std::move(handler)](const std::string&) { h(); }, false, {}, {}});
 }
 
-void ArgParser::section(const std::string& title) { pendingSection_ = title; }
+void ArgParser::section(const std::string& title, const std::string& intro) {
+    pendingSection_ = title;
+    pendingIntro_ = intro;
+}
+
+void ArgParser::featured(const std::string& title, const std::vector<std::string>& names) {
+    featuredTitle_ = title;
+    featured_ = names;
+}
+
+void ArgParser::describe(const std::string& name, const std::string& help) {
+    Opt* o = find(name);
+    if (!o) throw std::logic_error(tool_ + ": describe: no flag " + name);
+    o->help = help;
+}
 
 void ArgParser::positionals(const std::string& names, std::function<void(const std::string&)> handler) {
     positionalNames_ = names;
@@ -74,7 +100,7 @@ void ArgParser::addCommon(StageCommon& s, bool& quiet, bool needsOutput) {
     option("--report", "FILE.json", "write the JSON report to FILE.json", [&s](const std::string& v) { s.report = v; });
     flag("-v", "print statistics on stdout", [&s] { s.verbose = std::max(s.verbose, 1); });
     flag("-vv", "print more statistics on stdout", [&s] { s.verbose = 2; });
-    option("--threads", "N", "worker threads (0 = all cores); output is identical for any N",
+    option("--threads", "N", "worker threads (default 0 = all cores); output is identical for any N",
            [&s](const std::string& v) {
                s.threads = parseInt("--threads", v);
                if (s.threads < 0) throw UsageError("--threads must be >= 0");
@@ -143,24 +169,68 @@ std::vector<std::string> ArgParser::argumentsExcept(const std::vector<std::strin
     return out;
 }
 
+namespace {
+
+constexpr size_t kHelpIndent = 30;  // column where the help texts start
+constexpr size_t kHelpWidth = 100;  // help texts are wrapped at this column
+
+// "  -o, --output FILE         text", the text wrapped at kHelpWidth with its lines indented.
+std::string helpLine(const std::vector<std::string>& names, const std::string& valueName, bool takesValue, const std::string& text) {
+    std::string left = "  ";
+    for (size_t k = 0; k < names.size(); ++k) left += (k ? ", " : "") + names[k];
+    if (takesValue) left += " " + valueName;
+    std::string out = left;
+    size_t column = left.size();
+    if (column + 2 > kHelpIndent) {
+        out += "\n";
+        column = 0;
+    }
+    std::istringstream words(text);
+    bool first = true;
+    for (std::string w; words >> w; first = false) {
+        if (!first && column + 1 + w.size() > kHelpWidth) {
+            out += "\n";
+            column = 0;
+        }
+        if (column < kHelpIndent) {
+            out += std::string(kHelpIndent - column, ' ');
+            column = kHelpIndent;
+        } else {
+            out += ' ';
+            ++column;
+        }
+        out += w;
+        column += w.size();
+    }
+    return out + "\n";
+}
+
+}  // namespace
+
 std::string ArgParser::help() const {
     std::ostringstream os;
-    os << "Usage: " << tool_ << " " << synopsis_ << "\n\nOptions:\n";
-    for (const Opt& o : opts_) {
-        if (!o.section.empty()) os << "\n" << o.section << ":\n";
-        std::string left;
-        for (size_t k = 0; k < o.names.size(); ++k) left += (k ? ", " : "") + o.names[k];
-        if (o.takesValue) left += " " + o.valueName;
-        os << "  " << left;
-        if (left.size() < 28)
-            os << std::string(28 - left.size(), ' ');
-        else
-            os << "\n  " << std::string(28, ' ');
-        os << o.help << "\n";
+    os << "Usage: " << tool_ << " " << synopsis_ << "\n";
+    auto line = [](const Opt& o) { return helpLine(o.names, o.valueName, o.takesValue, o.help); };
+    std::vector<const Opt*> first;
+    for (const std::string& name : featured_) {
+        const Opt* o = find(name);
+        if (!o) throw std::logic_error(tool_ + ": featured flag " + name + " is not defined");
+        first.push_back(o);
     }
-    os << "  -h, --help                  show this help\n"
-          "  --version                   print the version\n"
-          "\n"
+    if (!first.empty()) {
+        os << "\n" << featuredTitle_ << ":\n";
+        for (const Opt* o : first) os << line(*o);
+    }
+    os << "\n" << (first.empty() ? "Options" : "Other options") << ":\n";
+    for (const Opt& o : opts_) {
+        if (!o.section.empty()) {
+            if (!o.sectionIntro.empty()) os << "\n" << o.sectionIntro << "\n";
+            os << "\n" << o.section << ":\n";
+        }
+        if (std::find(first.begin(), first.end(), &o) == first.end()) os << line(o);
+    }
+    os << helpLine({"-h", "--help"}, "", false, "show this help") << helpLine({"--version"}, "", false, "print the version")
+       << "\n"
        << exitCodes_;
     return os.str();
 }

@@ -37,8 +37,16 @@ public:
                 std::function<void(const std::string&)> handler);
     // A flag without a value.
     void flag(const std::string& names, const std::string& help, std::function<void()> handler);
-    // A heading in --help before the flags added next (tools with several stages' flags).
-    void section(const std::string& title);
+    // A heading in --help before the flags added next (tools with several stages' flags); `intro`,
+    // when given, is a paragraph printed above the heading (a heading over several sections).
+    void section(const std::string& title, const std::string& intro = "");
+    // Lists these flags (any of their names) first in --help, in this order, under `title`; they
+    // are left out where they were defined, and the other flags without a section follow under
+    // "Other options". For tools with many flags, most of which few users need.
+    void featured(const std::string& title, const std::vector<std::string>& names);
+    // Replaces the help text of a flag already defined (by any of its names): a shared option group's
+    // flag whose meaning or default differs in one tool. \throw std::logic_error for an unknown name.
+    void describe(const std::string& name, const std::string& help);
     // Positional arguments (tools such as compare); if not set, positionals are usage errors.
     void positionals(const std::string& names, std::function<void(const std::string&)> handler);
     // Adds -i, -o, --report, -v/-vv, --threads bound to `s`, and -q/--quiet bound to `quiet`.
@@ -60,8 +68,13 @@ private:
         std::function<void(const std::string&)> handler;
         bool takesValue;
         std::string section;  // heading printed before this flag; empty = none
+        std::string sectionIntro;  // paragraph above that heading; empty = none
     };
-    std::string pendingSection_;
+    std::string pendingSection_, pendingIntro_;
+    std::string featuredTitle_;
+    std::vector<std::string> featured_;
+    Opt* find(const std::string& name);
+    const Opt* find(const std::string& name) const;
     void add(Opt opt);
     std::string tool_, synopsis_;
     std::vector<Opt> opts_;

@@ -113,6 +113,10 @@ int main(int argc, char** argv) {
                  [&](const std::string& v) { s.tolerances.minSsim = cli::parseDouble("--min-ssim", v); });
         p.option("--sheet", "FILE.png", "write a contact sheet (rows: views; A, B, |A-B|x4 per mode)",
                  [&](const std::string& v) { s.sheet = v; });
+        p.option("--html", "FILE.html",
+                 "write a self-contained HTML report: the figures of the JSON report, per view A | B | |A-B|x4 "
+                 "(lit renders, up to 4 views), B's texture pages",
+                 [&](const std::string& v) { s.html = v; });
         p.flag("--json", "print the JSON report on stdout instead of the table", [&] { s.json = true; });
         p.option("--report", "FILE.json", "write the JSON report to FILE.json", [&](const std::string& v) { s.report = v; });
         p.flag("-v", "more figures (per-view image metrics)", [&] { s.verbose = 1; });
@@ -128,11 +132,15 @@ int main(int argc, char** argv) {
         std::error_code ec;
         for (const std::string& f : files)
             if (!fs::is_regular_file(f, ec)) throw IOError(f + ": no such file");
-        for (const std::string& out : {s.report, s.sheet}) {
+        for (const std::string& out : {s.report, s.sheet, s.html}) {
             if (out.empty()) continue;
             fs::path parent = fs::path(out).parent_path();
             if (!parent.empty() && !fs::is_directory(parent, ec))
                 throw IOError(out + ": folder '" + parent.string() + "' does not exist");
+            if (fs::is_directory(out, ec)) throw IOError(out + ": is a folder");
+            for (const std::string& in : files)
+                if (fs::weakly_canonical(in, ec) == fs::weakly_canonical(out, ec))
+                    throw UsageError("'" + out + "' would overwrite the input " + in);
         }
         if (!s.sheet.empty() && s.compare.views == 0) throw UsageError("--sheet needs --views > 0");
         return run(s);

@@ -29,17 +29,25 @@ struct Args {
 
 Args parseArgs(int argc, char** argv, bool& proceed) {
     Args a;
-    cli::ArgParser p("lodbake", "[-i] INPUT... [-o OUTPUT.lod.glb | -o DIR/] [--ratio R,... | --triangles N,... | --max-error E,...] [options]\n"
-                                "  Without -o the chain is written beside the input as STEM.lod.glb; without a level flag\n"
-                                "  the levels are 0.5, 0.1 and 0.02 of the input's triangles. Several inputs or a folder\n"
-                                "  (walked for .glb/.gltf) bake one chain each into -o DIR/ (or beside each input), -j at a time,\n"
-                                "  and --report writes one summary (docs/schemas/lodbake-batch.schema.json).");
+    cli::ArgParser p("lodbake", "[-i] INPUT... [-o OUTPUT.lod.glb | -o DIR/] [options]\n"
+                                "  Bakes INPUT's LOD chain (simplify -> parameterize -> texture-refine -> pack). Without -o\n"
+                                "  it is written beside the input as STEM.lod.glb; without a level flag the levels are 0.5,\n"
+                                "  0.1 and 0.02 of the input's triangles. Several inputs or a folder (walked for .glb/.gltf)\n"
+                                "  bake one chain each into -o DIR/ (or beside each input), -j at a time, and --report\n"
+                                "  writes one summary (docs/schemas/lodbake-batch.schema.json). man lodbake; docs/lodbake.md.");
     p.addCommon(a.chain.common, a.quiet);
     p.positionals("INPUT", [&a](const std::string& v) { a.inputs.push_back(v); });
     p.option("-j,--jobs", "N", "batch mode: files baked at a time (default 1); each gets cores / N threads unless --threads is given",
              [&a](const std::string& v) {
                  a.jobs = cli::parseInt("--jobs", v);
                  if (a.jobs < 1) throw UsageError("--jobs must be >= 1");
+             });
+    p.option("--html", "FILE.html",
+             "write a self-contained HTML report: every level measured against the input by compare, its renders beside "
+             "the original's, the difference, its figures and atlas pages (docs/lodbake.md)",
+             [&a](const std::string& v) {
+                 if (v.empty()) throw UsageError("--html needs a file name");
+                 a.chain.html = v;
              });
     p.option("--keep-intermediates", "DIR",
              "also write the intermediates as the tools name them: DIR/STEM.mr.glb, .uv.glb, .tex.glb",
@@ -49,7 +57,8 @@ Args parseArgs(int argc, char** argv, bool& proceed) {
              });
     p.flag("--no-texture-refine", "skip texture-refine: pack textures every level from parameterize's atlas",
            [&a] { a.chain.runTextureRefine = false; });
-    p.section("simplify (docs/simplify.md)");
+    p.section("simplify (docs/simplify.md)",
+              "Stage flags: each stage's own, with the separate tool's name, default and checks (docs/lodbake.md).");
     cli::addSimplifyFlags(p, a.simplify);
     p.section("parameterize (docs/parameterize.md)");
     cli::addParameterizeFlags(p, a.parameterize);
@@ -57,6 +66,13 @@ Args parseArgs(int argc, char** argv, bool& proceed) {
     cli::addTextureRefineFlags(p, a.textureRefine, "refine-");
     p.section("pack (docs/pack.md)");
     cli::addPackFlags(p, a.pack);
+    p.describe("-i", "input glTF (.glb or .gltf), or a folder; -i may be left out; several inputs or a folder: batch mode");
+    p.describe("-o", "the LOD chain, .glb or .gltf (+ .bin) by its extension (default: STEM.lod.glb beside the input); "
+                     "DIR/ writes DIR/STEM.lod.glb");
+    p.describe("--report", "write the JSON report to FILE.json (batch mode: one summary of every file; default none)");
+    p.featured("Most used (the other flags follow)",
+               {"-i", "-o", "--ratio", "--triangles", "--max-error", "--report", "--html", "-j", "--threads", "--max-size",
+                "--normal-maps", "-q", "-v"});
     p.exitCodes(
         "Exit codes: 0 success, 1 usage error, 2 unreadable or invalid input,\n"
         "            3 valid input but the operation is impossible, 4 internal failure.\n"
@@ -86,10 +102,29 @@ void validateStageFlags(Args& a) {
     cli::validatePack(a.pack);
 }
 
+// --html: a single-file chain (compare reads its levels back), a file in an existing folder, none
+// of the other paths.
+void validateHtml(const Args& a) {
+    namespace fs = std::filesystem;
+    const std::string& html = a.chain.html;
+    if (html.empty()) return;
+    if (a.pack.settings.write.split) throw UsageError("--html needs the chain in one file, not --split");
+    std::error_code ec;
+    const fs::path parent = fs::path(html).parent_path();
+    if (!parent.empty() && !fs::is_directory(parent, ec))
+        throw IOError(html + ": --html folder '" + parent.string() + "' does not exist");
+    if (fs::is_directory(html, ec)) throw IOError(html + ": --html names a folder");
+    const StageCommon& c = a.chain.common;
+    for (const std::string& other : {c.input, c.output, c.report})
+        if (!other.empty() && fs::weakly_canonical(other, ec) == fs::weakly_canonical(html, ec))
+            throw UsageError("--html '" + html + "' is also the file '" + other + "'");
+}
+
 void validate(Args& a) {
     if (!a.chain.common.input.empty()) a.chain.common.output = defaultOutput(a.chain.common.input, a.chain.common.output);
     validateStageFlags(a);
     cli::checkPaths(a.chain.common);
+    validateHtml(a);
     const std::string& dir = a.chain.keepIntermediates;
     std::error_code ec;
     if (!dir.empty() && !std::filesystem::is_directory(dir, ec))
@@ -107,6 +142,7 @@ bool batchMode(const Args& a) {
 }
 
 int runBatch(Args& a) {
+    if (!a.chain.html.empty()) throw UsageError("--html takes one input (several inputs or a folder: run lodbake --html per file)");
     validateStageFlags(a);  // once here, rather than failing the same way in every child
     batch::collectInputs(a.inputs);  // every input exists and at least one is a glTF
     const std::string& out = a.chain.common.output;

@@ -2,6 +2,7 @@
 
 #include <filesystem>
 
+#include "chain_review.h"
 #include "lodbake/core/timing.h"
 #include "lodbake/gltf/gltf.h"
 
@@ -104,7 +105,17 @@ StageResult runChain(const ChainSettings& s) {
                   {"intermediates", chain.intermediates},
                   {"warnings", chain.warnings},
                   {"time", {{"total", secondsSince(t0)}}}};
+    HtmlPage page;
+    if (!s.html.empty()) {
+        const Clock::time_point review = Clock::now();
+        std::function<bool(double)> progress;
+        if (s.progress) progress = [&s](double f) { return s.progress("review", f); };
+        page = reviewChain(s, out.report, progress);
+        out.report["time"]["review"] = secondsSince(review);
+        out.report["time"]["total"] = secondsSince(t0);
+    }
     if (!s.common.report.empty()) writeReport(s.common.report, out.report);
+    if (!s.html.empty()) writeHtmlReport(s.html, page, out.report);
     out.statistics = std::move(chain.statistics);
     return out;
 }

@@ -9,6 +9,7 @@
 #include "lodbake/core/errors.h"
 #include "lodbake/core/pose.h"
 #include "lodbake/gltf/gltf.h"
+#include "lodbake/metrics/review_images.h"
 #include "lodbake/texture/codec.h"
 
 namespace lodbake {
@@ -239,7 +240,46 @@ double poseTime(const CompareSettings& s, const Loaded& A) {
     }
 }
 
+// What --html shows: B's figures in one row (A's counts as facts), B's pictures.
+HtmlPage htmlPage(const CompareSettings& s, const CompareStageResult& out) {
+    HtmlPage page;
+    page.title = "compare: " + std::filesystem::path(s.b).filename().string() + (s.lodB ? " LOD " + std::to_string(s.lodB) : "") +
+                 " against " + std::filesystem::path(s.a).filename().string();
+    page.facts = {{"A", "/a/path"},           {"A level", "/a/lod"},         {"B", "/b/path"},
+                  {"B level", "/b/lod"},       {"A triangles", "/counts/a/triangles"}, {"A texels", "/counts/a/texels"},
+                  {"A bytes", "/counts/a/fileBytes"}, {"views", "/images/views"}, {"pass", "/pass"}};
+    page.warningLists = {"/exceeded", "/warnings"};
+    page.viewsCaption = "Each view: A | B | |A - B| x 4, lit (pbr) renders.";
+    HtmlLevel b;
+    b.title = s.lodB ? "B LOD " + std::to_string(s.lodB) : "B";
+    const std::pair<HtmlColumn, std::string> counts[] = {
+        {{"", "triangles"}, "/counts/b/triangles"},     {{"", "draw calls"}, "/counts/b/drawCalls"},
+        {{"", "texels"}, "/counts/b/texels"},           {{"", "bytes"}, "/counts/b/fileBytes"},
+        {{"distance / diagonal", "Hausdorff"}, "/geometry/relHausdorff"}, {{"distance / diagonal", "RMS"}, "/geometry/relRms"}};
+    for (const auto& [column, pointer] : counts) {
+        page.columns.push_back(column);
+        b.pointers.push_back(pointer);
+    }
+    for (const auto& [column, pointer] : compareImageFigures("")) {
+        page.columns.push_back(column);
+        b.pointers.push_back(pointer);
+    }
+    b.views = out.views;
+    b.pages = out.pages;
+    page.levels.push_back(std::move(b));
+    return page;
+}
+
 }  // namespace
+
+std::vector<std::pair<HtmlColumn, std::string>> compareImageFigures(const std::string& base) {
+    std::vector<std::pair<HtmlColumn, std::string>> out;
+    const std::pair<const char*, const char*> modes[] = {{"colour", "baseColor"}, {"shape", "shaded"}, {"lit", "pbr"}};
+    for (const auto& [label, key] : modes) out.push_back({{"PSNR dB", label}, base + "/images/" + key + "/psnr"});
+    for (const auto& [label, key] : modes) out.push_back({{"SSIM", label}, base + "/images/" + key + "/ssim"});
+    out.push_back({{"IoU", "lit"}, base + "/images/pbr/iou"});
+    return out;
+}
 
 CompareStageResult runCompare(const CompareSettings& s) {
     Loaded A = load(s.a, s.lodA);
@@ -254,7 +294,8 @@ CompareStageResult runCompare(const CompareSettings& s) {
     }
     CompareOptions opt = s.compare;
     opt.threads = s.threads;
-    opt.keepRenders = !s.sheet.empty();
+    const bool pictures = s.pictures || !s.html.empty();
+    opt.keepRenders = !s.sheet.empty() || pictures;
     CompareResult r = compareAssets(A.asset, A.mesh, B.asset, B.mesh, opt);
     if (A.drawCalls) r.a.drawCalls = A.drawCalls;
     if (B.drawCalls) r.b.drawCalls = B.drawCalls;
@@ -264,7 +305,14 @@ CompareStageResult runCompare(const CompareSettings& s) {
     out.report = makeReport(s, r, A, B, out.exceeded);
     if (s.pose.animation >= 0) out.report["pose"] = {{"animation", s.pose.animation}, {"time", time}};
     if (!s.sheet.empty()) writeContactSheet(s.sheet, r);
+    if (pictures) {
+        out.views = viewStrips(r);
+        out.pages = pageThumbnails(B.asset, B.mesh);
+    }
+    r.rendersA.clear();
+    r.rendersB.clear();
     if (!s.report.empty()) writeReport(s.report, out.report);
+    if (!s.html.empty()) writeHtmlReport(s.html, htmlPage(s, out), out.report);
     out.statistics = s.json ? out.report.dump(2) + "\n" : table(s, r, A, B, out.exceeded);
     return out;
 }

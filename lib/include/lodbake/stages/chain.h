@@ -31,13 +31,18 @@ struct ChainSettings {
     // Folder for the intermediates as the tools name them: <stem>.mr.glb, .uv.glb, .tex.glb (stem =
     // the input's file name without extension). Empty: they stay in memory.
     std::string keepIntermediates;
+    // HTML report to write (lodbake --html): every level of the chain measured against the input by
+    // the compare stage, shown beside pack's figures with renders and atlas pages. Empty: none.
+    // \pre a single-file chain (pack's split off).
+    std::string html;
     // Progress of the running stage ("simplify", ...), fraction in [0, 1]; may be empty.
     std::function<bool(const std::string& stage, double fraction)> progress;
 };
 
 // The chain's report: {"tool": "lodbake", "input", "output", "stages": [each stage's own report,
-// in order], "intermediates", "warnings", "time": {"total"}}; statistics: each stage's -v text
-// under a "STAGE:" line.
+// in order], "intermediates", "warnings", "time": {"total"}}, and with `html` "compare": [the
+// compare stage's report of each level against the input] and time.review; statistics: each
+// stage's -v text under a "STAGE:" line.
 StageResult runChain(const ChainSettings& settings);
 
 }  // namespace lodbake
