@@ -31,6 +31,7 @@
 #include "lodbake/bake/material_plan.h"
 #include "lod/level_islands.h"
 #include "lod/level_material.h"
+#include "lod/source_texels.h"
 #include "lod/vertex_placement.h"
 #include "lodbake/core/errors.h"
 #include "lodbake/core/timing.h"
@@ -43,6 +44,7 @@
 #include "lodbake/metrics/posed_distance.h"
 #include "lodbake/atlas/atlas.h"
 #include "lodbake/param/parameterize.h"
+#include "lodbake/texture/codec.h"
 
 namespace lodbake {
 namespace {
@@ -716,8 +718,9 @@ void selectTexture(const Multires& mr, const std::vector<LayoutData>& layouts, s
 // the finer one (packing fewer, larger gutters can come out bigger at the same density): its
 // density is lowered until it does not (at most 8 tries). `reports` holds levels 0..k-1.
 LevelAtlas packLevelPage(const LayoutData& lay, const LevelUVs& luv, size_t k, const PackLevelReport& r,
-                         const std::vector<PackLevelReport>& reports, const PackOptions& options) {
-    const double tMax = r.texelLimit / lay.uvPerUnit;
+                         const std::vector<PackLevelReport>& reports, const PackOptions& options, bool sourceTexels = false) {
+    // Source texels (LOD0): one page texel per layout unit = per source texel, on whole texels.
+    const double tMax = sourceTexels ? 1.0 : r.texelLimit / lay.uvPerUnit;
     // At density d (layout units) the smallest coverage samples mip log2(d / (tMax x cov / maxCov)).
     const double minCoverageRatio = std::max(r.coverage, 1e-12) / r.maxCoverage;
     auto mipsAt = [&](double d) { return int(std::ceil(std::log2(std::max(1.0, d / (tMax * minCoverageRatio)) - 1e-9))); };
@@ -737,6 +740,7 @@ LevelAtlas packLevelPage(const LayoutData& lay, const LevelUVs& luv, size_t k, c
     ao.maxSize = options.maxSize;
     ao.powerOfTwo = options.powerOfTwo;
     ao.threads = options.threads;
+    ao.texelAligned = sourceTexels;
     LevelAtlas la = packLevelAtlas(lay, luv, k == 0, ao);
     for (int m = std::clamp(mipsAt(la.atlas.texelsPerUnit), 0, mips); m < mips; ++m) {
         AtlasOptions narrow = ao;
@@ -802,6 +806,10 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
     // original triangles' page (the largest bake) runs without it.
     std::optional<FaceGrid> grid;
 
+    // LOD0's layout on the original's texels (source_texels.h), made at LOD0.
+    std::optional<SourceTexelLayout> sourceLayout;
+    std::optional<LayoutData> sourceData;
+
     // 4. Per level: texture, page, mesh, bake.
     const MaterialPlan plan = options.baseColorOnly ? baseColorPlan(planMaterial(asset)) : planMaterial(asset);
     res.warnings = plan.warnings;
@@ -819,7 +827,13 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
         PackLevelReport& r = res.reports[k];
         levelCoverage(res, k, options, r);
         selectTexture(mr, layouts, views[k].level, hierarchy, area3D, options, r);
-        LayoutData& lay = layouts[r.rank];
+        if (k == 0 && options.sourceTexels) {
+            std::vector<std::pair<int, int>> sizes;
+            for (const Image& image : asset.images) sizes.push_back(imageSize(image));
+            sourceLayout = sourceTexelLayout(asset, sizes, *layouts[0].ch, r.texelLimit / layouts[0].uvPerUnit);
+            if (!sourceLayout->layout.empty()) sourceData.emplace(layoutData(asset, sourceLayout->layout, r.rank));
+            r.sourceTexelsNote = sourceLayout->reason;
+        }
         const bool projected = k > 0 && options.projectLevels;
         auto tStep = Clock::now();
         double cpuStep = processCpuSeconds();
@@ -833,13 +847,24 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
         LodLevelData& L = res.levels[k];
         L.name = "LOD" + std::to_string(k);
         LevelAtlas la;
+        // LOD0 on the source texels when they fit the page whole, else on the rank's layout.
+        bool sourceTexels = k == 0 && sourceData;
+        LayoutData* layout = sourceTexels ? &*sourceData : &layouts[r.rank];
         {  // the level's layout UVs end with its mesh, before the bake
-            const LevelUVs luv = projected ? ownCharts(mesh, lay, views[k], levelUVs(mesh, lay, views[k], views[k].data))
-                                           : levelUVs(mesh, lay, views[k], views[k].data);
+            LevelUVs luv = projected ? ownCharts(mesh, *layout, views[k], levelUVs(mesh, *layout, views[k], views[k].data))
+                                     : levelUVs(mesh, *layout, views[k], views[k].data);
             lap(r.wall.uvs, r.cpu.uvs);
-            la = packLevelPage(lay, luv, k, r, res.reports, options);
+            la = packLevelPage(*layout, luv, k, r, res.reports, options, sourceTexels);
+            if (sourceTexels && la.atlas.texelsPerUnit < 1) {
+                r.sourceTexelsNote = "the original's texture islands do not fit a " + std::to_string(options.maxSize) + " page";
+                sourceTexels = false;
+                layout = &layouts[r.rank];
+                luv = levelUVs(mesh, *layout, views[k], views[k].data);
+                la = packLevelPage(*layout, luv, k, r, res.reports, options);
+            }
+            r.sourceTexels = sourceTexels;
             lap(r.wall.page, r.cpu.page);
-            recordPage(la, lay, r);
+            recordPage(la, *layout, r);
             r.absorbedIslands = luv.absorbedIslands;
             buildLevelMesh(asset, views[k], luv, la, L);
         }
@@ -860,7 +885,7 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
         const BakeResult baked = projected
                                      ? bakeProjected(sources, *grid, L, front, la.atlas.width, la.atlas.height, reach, res.diagonal, channels,
                                                      targetOrNull, options.threads)
-                                     : bakePage(sources, lay, la, channels, targetOrNull, options.threads);
+                                     : bakePage(sources, *layout, la, channels, targetOrNull, options.threads);
         r.bakeSeconds = baked.seconds;
         lap(r.wall.bake, r.cpu.bake);
         L.material = levelMaterial(plan, baked, la.atlas.width, la.atlas.height, io, L.name);

@@ -53,6 +53,10 @@ nlohmann::json makeReport(const PackSettings& s, const Asset& asset, const Multi
                           {"textureRank", r.rank},
                           {"pageSideNeeded", r.sideNeeded},
                           {"hierarchyTextureSize", r.textureSize}});
+        if (k == 0)
+            levels.back()["sourceTexels"] = r.sourceTexelsNote.empty()
+                                                ? nlohmann::json{{"used", r.sourceTexels}}
+                                                : nlohmann::json{{"used", r.sourceTexels}, {"why", r.sourceTexelsNote}};
         if (r.placement.tried) {
             const PackLevelReport::Placement& pl = r.placement;
             levels.back()["placement"] = {{"applied", pl.applied},

@@ -65,6 +65,10 @@ struct PackOptions {
     // without its material channels, for comparisons.
     bool baseColorOnly = false;
     bool useTextureHierarchy = true;  // false: every level uses T0 even when the file has a texture hierarchy
+    // LOD0's page copies the original's texels one to one, its charts the original's texture
+    // islands (lod/source_texels.h), where the original allows it (else, and when false, LOD0
+    // resamples them at its layout's density like every level).
+    bool sourceTexels = true;
     std::function<bool(double)> progress;  // fraction done; may be empty
 };
 
@@ -107,6 +111,9 @@ struct PackLevelReport {
     Steps wall, cpu;
     std::vector<std::string> channels;  // the textures of the level's material (level_material.h channelNames)
     double sideNeeded = 0;        // page side estimate the level needs: sqrt(3D area) x texelLimit / 0.8, capped by maxSize
+    // LOD0: its page holds the original's texels one to one (PackOptions::sourceTexels), or why not.
+    bool sourceTexels = false;
+    std::string sourceTexelsNote;
     uint32_t rank = 0;            // texture hierarchy rank the level is textured with (0 = T0)
     int textureSize = 0;          // the hierarchy texture of that rank whose resolution the level needs
                                   // (smallest side >= its texel limit, else the largest); 0 = no hierarchy
