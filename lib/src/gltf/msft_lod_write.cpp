@@ -200,7 +200,7 @@ void startWithSource(const SourceScene& src, Buffer& b, Document& d) {
 // The baked levels' skin over the original's own nodes (the rig's joints are those nodes: the
 // original's animations move them), and the rig's morph weight animations added to the
 // original's animation each came from, one channel per level node. Returns the skin index (-1
-// without joints). 	hrow InvalidInput when the rig does not come from this source.
+// without joints). \throw InvalidInput when the rig does not come from this source.
 int addSourceRig(Buffer& b, Document& d, const Rig& rig, const SourceScene& src, const std::vector<int>& morphNodes,
                  const std::string& path) {
     if (src.rigNodes.size() != rig.nodes.size() || src.rigAnimations.size() != rig.animations.size())
