@@ -4,13 +4,15 @@
 five materials: a textured floor and four spheres on KHR_materials_* extensions), on the pbrscene
 sample Draco-compressed by npm gltf-transform (decoded into plain accessors on the way; three
 primitives, three materials, every channel), and on the skinned walker (its walk drives LOD0
-through its own nodes and the baked levels through a skin on the same nodes); the materials and
-walker chains also in the default mode beside them. Checks:
+through its own nodes and the baked levels through a skin on the same nodes); the materials chain
+also in the default mode beside it, and pack on its intermediate. Checks:
 
 - glTF-Validator reports 0 errors on every output;
 - node 0 is a group over the original's scene roots (its own meshes, materials and images), its
   MSFT_lod ids are the baked levels, each one mesh / one primitive, and byte for byte the default
   chain's LOD1 and LOD2 (geometry and images);
+- `pack --lod0 original --original ASSET` writes lodbake's bytes; its usage and input errors
+  (no --original, a bad mode, another asset, an intermediate, a missing file) exit 1, 2, 3;
 - the reports say so: pack's lod0.mode "original" with the original's draw calls and materials,
   LOD0's source "original asset", the Draco input's decoded compression;
 - three.js (scripts/render_three.py, 4 views, 256 px): LOD0 (FILE#node=0) renders as the input
@@ -92,8 +94,9 @@ class HeroLod0(unittest.TestCase):
                 shutil.copy(src, site)
             hero, baked = os.path.join(site, name + ".hero.glb"), os.path.join(cls.dir, name + ".baked.glb")
             report = os.path.join(cls.dir, name + ".hero.json")
-            lt.run([lt.tool("lodbake"), "-i", src, "-o", hero, "--ratio", RATIOS, "--lod0", "original", "--report", report, "-q"])
-            if name != "pbrscene.draco":
+            keep = ["--keep-intermediates", cls.dir] if name == "materials" else []
+            lt.run([lt.tool("lodbake"), "-i", src, "-o", hero, "--ratio", RATIOS, "--lod0", "original", "--report", report, "-q"] + keep)
+            if name == "materials":  # the default chain beside it: the same LOD1 and LOD2
                 lt.run([lt.tool("lodbake"), "-i", src, "-o", baked, "--ratio", RATIOS, "-q"])
                 cls.baked[name] = baked
             cls.hero[name] = hero
@@ -190,6 +193,27 @@ class HeroLod0(unittest.TestCase):
                     self.assertEqual(level_bytes(g, ids[k]), level_bytes(b, baked_ids[k]), "LOD%d differs from the baked chain's" % k)
                 self.assertEqual(g.json["nodes"][0]["extras"]["MSFT_screencoverage"],
                                  b.json["nodes"][0]["extras"]["MSFT_screencoverage"])
+
+    def test_pack_same_bytes_and_errors(self):
+        """pack --lod0 original --original ASSET writes lodbake's bytes; the usage and input errors."""
+        tex, src = os.path.join(self.dir, "materials.tex.glb"), self.sources["materials"]
+        out = os.path.join(self.dir, "materials.pack.glb")
+        lt.run([lt.tool("pack"), "-i", tex, "-o", out, "--lod0", "original", "--original", src, "-q"])
+        with open(out, "rb") as a, open(self.hero["materials"], "rb") as b:
+            self.assertEqual(a.read(), b.read())
+        cases = [
+            (["--lod0", "original"], 1, "--original"),
+            (["--lod0", "hero"], 1, "--lod0 must be baked or original"),
+            (["--lod0", "original", "--original", self.sources["walker"]], 2, "not the original"),
+            (["--lod0", "original", "--original", tex], 3, "LODBAKE_multires"),
+            (["--lod0", "original", "--original", os.path.join(self.dir, "missing.glb")], 2, "missing.glb"),
+        ]
+        for args, rc, message in cases:
+            with self.subTest(args=args):
+                p = lt.run([lt.tool("pack"), "-i", tex, "-o", os.path.join(self.dir, "bad.glb"), "-q"] + args, check=False)
+                self.assertEqual(p.returncode, rc, p.stderr)
+                self.assertIn(message, p.stderr)
+                self.assertEqual(len(p.stderr.strip().splitlines()), 1, p.stderr)
 
     def test_walker_levels_share_the_original_joints(self):
         g = lt.Gltf(self.hero["walker"])
