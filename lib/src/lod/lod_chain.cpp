@@ -13,7 +13,9 @@
 //      its own charts, ownCharts: islands unfolded onto neighbouring charts); packLevelPage (the charts its triangles
 //      use repacked at that density, gutters sized for the mips used down to its smallest
 //      coverage); bakePage (the ORIGINAL triangles baked at the repacked UVs); buildLevelMesh
-//      (one indexed primitive: position, normal, atlas UV).
+//      (one indexed primitive: position, normal, atlas UV);
+//   5. with Lod0::Original, LOD0 is the input asset itself (readSourceScene): its page is packed
+//      (LOD1's is held to its texels) but nothing is baked, and its report describes the original.
 #include "lodbake/lod/lod_chain.h"
 
 #include <algorithm>
@@ -776,6 +778,32 @@ void recordPage(const LevelAtlas& la, const LayoutData& lay, PackLevelReport& r)
     r.texelsPerUnit = la.atlas.texelsPerUnit * lay.uvPerUnit;
 }
 
+// 5. The original as LOD0: it must be the chain's input (same flattened triangles).
+SourceScene readOriginal(const Asset& asset, const PackOptions& options) {
+    if (options.original.empty()) throw InvalidInput(asset.sourcePath + ": LOD0 'original' needs the original asset's path");
+    SourceScene s = readSourceScene(options.original);
+    if (s.triangles != asset.mesh.triangleCount())
+        throw InvalidInput(options.original + ": not the original of " + asset.sourcePath + " (" + std::to_string(s.triangles) +
+                           " triangles; the chain's original has " + std::to_string(asset.mesh.triangleCount()) + ")");
+    return s;
+}
+
+// The report of LOD0 when it is the original: no page, bake or channels; deviation 0.
+void describeOriginal(const SourceScene& s, PackLevelReport& r) {
+    PackLevelReport o;
+    o.source = "original asset";
+    o.triangles = s.triangles;
+    o.vertices = s.vertices;
+    o.drawCalls = s.drawCalls;
+    o.materials = s.materials;
+    o.coverage = r.coverage;
+    o.maxCoverage = r.maxCoverage;
+    o.switchDistance = r.switchDistance;
+    o.texelLimit = r.texelLimit;
+    o.sideNeeded = r.sideNeeded;
+    r = o;
+}
+
 }  // namespace
 
 PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOptions& options) {
@@ -783,6 +811,8 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
     checkInput(asset, mr);
     const TriMesh& mesh = asset.mesh;
     PackResult res;
+    const bool original = options.lod0 == Lod0::Original;
+    if (original) res.original = readOriginal(asset, options);
     res.diagonal = bounds(mesh).diagonal();
     res.radius = 0.5 * res.diagonal;
     if (!(res.radius > 0)) throw Impossible(asset.sourcePath + ": the mesh has no extent");
@@ -822,7 +852,7 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
     io.jpegQuality = options.jpegQuality;
     io.ktx2Encoder = options.ktx2Encoder;
     io.threads = options.threads;
-    res.levels.resize(n);
+    res.levels.resize(original ? n - 1 : n);
     for (size_t k = 0; k < n; ++k) {
         PackLevelReport& r = res.reports[k];
         levelCoverage(res, k, options, r);
@@ -844,7 +874,8 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
             tStep = Clock::now();
             cpuStep = c;
         };
-        LodLevelData& L = res.levels[k];
+        LodLevelData scratch;  // LOD0's mesh when the original is LOD0: never built
+        LodLevelData& L = original ? (k > 0 ? res.levels[k - 1] : scratch) : res.levels[k];
         L.name = "LOD" + std::to_string(k);
         LevelAtlas la;
         // LOD0 on the source texels when they fit the page whole, else on the rank's layout.
@@ -866,6 +897,7 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
             lap(r.wall.page, r.cpu.page);
             recordPage(la, *layout, r);
             r.absorbedIslands = luv.absorbedIslands;
+            if (original && k == 0) continue;  // 5: the page only, for LOD1's texel cap
             buildLevelMesh(asset, views[k], luv, la, L);
         }
         const size_t front = L.indices.size() / 3;
@@ -895,6 +927,7 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
         r.vertices = L.positions.size() / 3;
         progress(0.3 + 0.7 * double(k + 1) / double(n));
     }
+    if (original) describeOriginal(*res.original, res.reports[0]);
     res.seconds = secondsSince(t0);
     return res;
 }
@@ -916,9 +949,10 @@ void appendLevelStats(PackWriteStats& st, const LodChainWriteStats& w, size_t k)
 PackWriteStats writePackResult(const std::string& path, const PackResult& result, const PackWriteOptions& options) {
     PackWriteStats st;
     if (!options.split) {
-        LodChainWriteStats w = writeLodChain(path, result.levels, result.screenCoverage, options.chain, &result.rig, &result.morph, &result.scene);
+        LodChainWriteStats w = writeLodChain(path, result.levels, result.screenCoverage, options.chain, &result.rig, &result.morph,
+                                             &result.scene, result.original ? &*result.original : nullptr);
         st.files.push_back(path);
-        for (size_t k = 0; k < result.levels.size(); ++k) appendLevelStats(st, w, k);
+        for (size_t k = 0; k < result.reports.size(); ++k) appendLevelStats(st, w, k);
         st.totalBytes = w.fileBytes;
         return st;
     }
@@ -927,15 +961,18 @@ PackWriteStats writePackResult(const std::string& path, const PackResult& result
     std::string stem = (p.parent_path() / p.stem()).string(), ext = p.extension().string();
     nlohmann::json manifest;
     manifest["levels"] = nlohmann::json::array();
-    for (size_t k = 0; k < result.levels.size(); ++k) {
+    const size_t first = result.original ? 1 : 0;  // index in result.levels of LOD0 - first
+    for (size_t k = 0; k < result.reports.size(); ++k) {
         std::string file = stem + ".lod" + std::to_string(k) + ext;
-        LodChainWriteStats w = writeLodChain(file, {result.levels[k]}, {}, options.chain, &result.rig, &result.morph, &result.scene);
+        const bool hero = result.original && k == 0;
+        LodChainWriteStats w = hero ? writeLodChain(file, {}, {}, options.chain, &result.rig, &result.morph, &result.scene, &*result.original)
+                                    : writeLodChain(file, {result.levels[k - first]}, {}, options.chain, &result.rig, &result.morph, &result.scene);
         st.files.push_back(file);
         appendLevelStats(st, w, 0);
         st.totalBytes += w.fileBytes;
         manifest["levels"].push_back({{"file", fs::path(file).filename().string()},
                                       {"screenCoverage", result.screenCoverage[k]},
-                                      {"triangles", result.levels[k].indices.size() / 3}});
+                                      {"triangles", hero ? result.original->triangles : result.levels[k - first].indices.size() / 3}});
     }
     manifest["cutoff"] = result.screenCoverage.back();
     manifest["screenCoverage"] = result.screenCoverage;
