@@ -45,6 +45,9 @@ void addPackFlags(ArgParser& p, PackFlags& a) {
            [&w] { w.split = true; });
     p.flag("--lod0-density", "texture every level at LOD0's texel density (pages about LOD0's size), for comparisons "
            "that render every level close up", [&o] { o.lod0Density = true; });
+    p.flag("--no-source-texels", "LOD0's page resamples the original's textures at its screen density like every level "
+           "(default: it holds the original's texels one to one where they fit --max-size; the report's sourceTexels says)",
+           [&o] { o.sourceTexels = false; });
     p.option("--normal-maps", "auto|always|never",
              "bake a normal map: auto = when the input has normal maps and on every coarser level (default auto)",
              [&o](const std::string& v) {

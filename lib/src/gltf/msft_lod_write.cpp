@@ -20,6 +20,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <map>
 
 #include <draco/compression/encode.h>
 #include <draco/mesh/mesh.h>
@@ -50,6 +51,7 @@ constexpr const char* kLod = "MSFT_lod";
 constexpr const char* kEmissiveStrength = "KHR_materials_emissive_strength";
 constexpr const char* kUnlit = "KHR_materials_unlit";
 constexpr const char* kLights = "KHR_lights_punctual";
+constexpr int kLinear = 9729, kLinearMipmapLinear = 9987, kClampToEdge = 33071;  // GL enums
 
 using Buffer = BufferBuilder;
 
@@ -282,8 +284,19 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
             stats.warnings.push_back(path + ": LOD0 (the original) is written uncompressed and unquantized");
     }
     json &meshes = doc.meshes, &nodes = doc.nodes, &materials = doc.materials, &textures = doc.textures, &images = doc.images;
-    // The baked levels' meshes, materials and sampler follow the original's (none without it).
-    const size_t meshBase = meshes.size(), materialBase = materials.size(), sampler = doc.samplers.size();
+    // The baked levels' meshes, materials and samplers follow the original's (none without it).
+    // Linear-mipmap-linear minification unless a level keeps other filters: the gutters are sized
+    // for the mip levels it uses.
+    const size_t meshBase = meshes.size(), materialBase = materials.size();
+    json samplers = doc.samplers;
+    std::map<std::pair<int, int>, size_t> samplerOf;  // (min, mag) filter -> sampler index
+    auto samplerFor = [&](int minFilter, int magFilter) {
+        const std::pair<int, int> key{minFilter ? minFilter : kLinearMipmapLinear, magFilter ? magFilter : kLinear};
+        auto it = samplerOf.find(key);
+        if (it != samplerOf.end()) return it->second;
+        samplers.push_back({{"magFilter", key.second}, {"minFilter", key.first}, {"wrapS", kClampToEdge}, {"wrapT", kClampToEdge}});
+        return samplerOf[key] = samplers.size() - 1;
+    };
     std::vector<int> levelNodes;
     std::vector<std::pair<std::string, const Image*>> sideImages;
     std::string stem = std::filesystem::path(path).stem().string();
@@ -327,6 +340,7 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
         meshes.push_back(mesh);
         // The caller's material: side images are written after the loop.
         const LodMaterial& M = levels[i].material;
+        const size_t sampler = samplerFor(M.minFilter, M.magFilter);
         size_t imageBytes = 0;
         // Adds one texture (and its image) of this level; returns the texture index.
         auto addTexture = [&](const Image& image, const std::string& suffix) {
@@ -473,8 +487,6 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
     root["textures"] = textures;
     root["images"] = images;
     // Linear-mipmap-linear minification: the gutters are sized for the mip levels this uses.
-    json samplers = doc.samplers;
-    if (!levels.empty()) samplers.push_back({{"magFilter", 9729}, {"minFilter", 9987}, {"wrapS", 33071}, {"wrapT", 33071}});
     if (!samplers.empty()) root["samplers"] = samplers;
     std::filesystem::path dir = std::filesystem::path(path).parent_path();
     for (const auto& [file, img] : sideImages) {

@@ -756,6 +756,8 @@ LevelAtlas packLevelPage(const LayoutData& lay, const LevelUVs& luv, size_t k, c
     }
     for (int tries = 0; k > 0 && tries < 8; ++tries) {
         double previous = double(reports[k - 1].width) * reports[k - 1].height;
+        // A LOD0 on the source texels holds the original's texel count, not its screen density's.
+        if (k == 1 && reports[0].sourceTexels) previous = std::max(previous, reports[0].sideNeeded * reports[0].sideNeeded);
         double now = double(la.atlas.width) * la.atlas.height;
         if (now <= previous) break;
         ao.maxTexelsPerUnit = std::min(ao.maxTexelsPerUnit, la.atlas.texelsPerUnit) * std::sqrt(previous / now) * 0.98;
@@ -921,6 +923,7 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
         r.bakeSeconds = baked.seconds;
         lap(r.wall.bake, r.cpu.bake);
         L.material = levelMaterial(plan, baked, la.atlas.width, la.atlas.height, io, L.name);
+        if (sourceTexels) std::tie(L.material.minFilter, L.material.magFilter) = sourceFilters(asset);
         lap(r.wall.material, r.cpu.material);
         r.channels = channelNames(L.material);
         r.triangles = L.indices.size() / 3;

@@ -11,6 +11,14 @@
 namespace lodbake::lod_detail {
 namespace {
 
+// Every texture reference of a material (core channels, then its extensions').
+std::vector<const TextureRef*> materialTextureRefs(const Material& m) {
+    std::vector<const TextureRef*> refs = {&m.baseColor, &m.metallicRoughness, &m.normal, &m.occlusion, &m.emissive,
+                                           &m.specularGlossiness};
+    for (const TextureRef* r : textureRefs(m.ext)) refs.push_back(r);
+    return refs;
+}
+
 // The texel grid of one material: the largest texture it reads through plain TEXCOORD_0 (0 x 0:
 // none; its faces keep T0 pieces). Textures on another UV set or transformed are resampled by
 // the bake as on any level.
@@ -20,10 +28,7 @@ struct MaterialGrid {
 
 MaterialGrid materialGrid(const Asset& asset, const Material& m, const std::vector<std::pair<int, int>>& imageSizes) {
     MaterialGrid g;
-    std::vector<const TextureRef*> refs = {&m.baseColor, &m.metallicRoughness, &m.normal, &m.occlusion, &m.emissive,
-                                           &m.specularGlossiness};
-    for (const TextureRef* r : textureRefs(m.ext)) refs.push_back(r);
-    for (const TextureRef* r : refs) {
+    for (const TextureRef* r : materialTextureRefs(m)) {
         if (r->texture < 0 || size_t(r->texture) >= asset.textures.size()) continue;
         const int image = asset.textures[size_t(r->texture)].image;
         if (image < 0 || size_t(image) >= imageSizes.size()) continue;
@@ -99,6 +104,44 @@ SourceTexelLayout sourceTexelLayout(const Asset& asset, const std::vector<std::p
                     parent[findRoot(parent, f0)] = findRoot(parent, f1);
             }
     }
+    // Islands of one material whose texel boxes (grown by a texel) overlap share texels or their
+    // filter footprints (shared texture regions: repeated parts, mirrored halves): they become one
+    // chart that keeps the source's arrangement, so shared texels are stored once and bilinear
+    // filtering at an island's border reads the neighbours the source has.
+    struct Box {
+        int32_t material;
+        double x0, y0, x1, y1;
+        uint32_t root;
+    };
+    std::map<uint32_t, Box> boxOf;  // island root -> its box
+    for (size_t f = 0; f < n; ++f) {
+        if (!textured[f]) continue;
+        const MaterialGrid& g = *gridOf(f);
+        const uint32_t root = findRoot(parent, uint32_t(f));
+        auto [it, fresh] = boxOf.emplace(root, Box{mesh.triangleMaterial[f], 1e300, 1e300, -1e300, -1e300, root});
+        for (size_t k = 0; k < 3; ++k) {
+            const Vec2 p = uv[mesh.cornerWedges[f][k]];
+            Box& b = it->second;
+            b.x0 = std::min(b.x0, p.x * g.width - 1);
+            b.y0 = std::min(b.y0, p.y * g.height - 1);
+            b.x1 = std::max(b.x1, p.x * g.width + 1);
+            b.y1 = std::max(b.y1, p.y * g.height + 1);
+        }
+    }
+    std::vector<Box> boxes;
+    for (const auto& [root, b] : boxOf) boxes.push_back(b);
+    std::sort(boxes.begin(), boxes.end(), [](const Box& a, const Box& b) {
+        return a.material != b.material ? a.material < b.material : (a.x0 != b.x0 ? a.x0 < b.x0 : a.root < b.root);
+    });
+    std::vector<size_t> active;  // sweep over x within one material
+    for (size_t i = 0; i < boxes.size(); ++i) {
+        if (i > 0 && boxes[i].material != boxes[i - 1].material) active.clear();
+        const Box& b = boxes[i];
+        active.erase(std::remove_if(active.begin(), active.end(), [&](size_t j) { return boxes[j].x1 < b.x0; }), active.end());
+        for (size_t j : active)
+            if (boxes[j].y0 <= b.y1 && b.y0 <= boxes[j].y1) parent[findRoot(parent, boxes[j].root)] = findRoot(parent, b.root);
+        active.push_back(i);
+    }
     // Chart ids: islands in the order of their first face, then T0's charts of the untextured faces.
     ChartLayout& L = out.layout;
     L.faceChart.assign(n, 0);
@@ -129,6 +172,23 @@ SourceTexelLayout sourceTexelLayout(const Asset& asset, const std::vector<std::p
     L.material = t0.material;
     L.image = t0.image;
     return out;
+}
+
+std::pair<int, int> sourceFilters(const Asset& asset) {
+    std::pair<int, int> filters{0, 0};
+    bool first = true;
+    for (const Material& m : asset.materials) {
+        for (const TextureRef* r : materialTextureRefs(m)) {
+            if (r->texture < 0 || size_t(r->texture) >= asset.textures.size()) continue;
+            const int s = asset.textures[size_t(r->texture)].sampler;
+            const Sampler smp = s >= 0 && size_t(s) < asset.samplers.size() ? asset.samplers[size_t(s)] : Sampler{};
+            const std::pair<int, int> f{smp.minFilter, smp.magFilter};
+            if (!first && f != filters) return {0, 0};
+            filters = f;
+            first = false;
+        }
+    }
+    return filters;
 }
 
 }  // namespace lodbake::lod_detail

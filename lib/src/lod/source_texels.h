@@ -35,4 +35,8 @@ struct SourceTexelLayout {
 SourceTexelLayout sourceTexelLayout(const Asset& asset, const std::vector<std::pair<int, int>>& imageSizes,
                                     const ChartLayout& t0, double t0Texels);
 
+// The GL min and mag filters every texture of the asset's materials samples with ({0, 0} when
+// they differ or none is set): a page of the original's texels keeps them.
+std::pair<int, int> sourceFilters(const Asset& asset);
+
 }  // namespace lodbake::lod_detail

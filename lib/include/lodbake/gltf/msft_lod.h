@@ -37,6 +37,9 @@ struct LodMaterial {
     // texture reference's `texture` indexes extensionImages (-1 = none), several may share one.
     MaterialExtensions ext;
     std::vector<Image> extensionImages;  // encoded; Image::name = the suffix of its glTF name ("clearcoat", ...)
+    // The textures' GL min / mag filters; 0 = the chain's (LINEAR_MIPMAP_LINEAR, LINEAR). A page
+    // holding the original's texels one to one keeps the original's filters.
+    int minFilter = 0, magFilter = 0;
 };
 
 // One level of the chain, ready to write: an indexed triangle list (CCW) in world space.
