@@ -261,6 +261,15 @@ TriMesh asTriMesh(const TriMesh& original, const LevelView& lv) {
     return m;
 }
 
+// The same surface: the same triangles of the same original faces at the same positions (a level
+// simplify could not make coarser, unmoved by vertex placement). Their corners may name other
+// wedges of the same vertices (simplify's own).
+bool sameSurface(const LevelView& a, const LevelView& b) {
+    auto same = [](Vec3 p, Vec3 q) { return p.x == q.x && p.y == q.y && p.z == q.z; };
+    return a.triangles == b.triangles && a.faces == b.faces &&
+           std::equal(a.positions.begin(), a.positions.end(), b.positions.begin(), b.positions.end(), same);
+}
+
 struct LevelAtlas {
     AtlasResult atlas;
     std::vector<int> chartSlot;  // original chart id -> index in atlas.charts, -1 if unused
@@ -630,12 +639,16 @@ void measureLevels(const Asset& asset, std::vector<LevelView>& views, const Pack
     // The original's trees, built once for every level and placement and freed before the bakes.
     PosedDistanceReference original(asset.rig, asset.morph, asset.mesh, poses);
     const bool posed = !poses.empty();
+    GeometricDistance previous;  // level k - 1's, before vertex placement
     for (size_t k = 0; k < n; ++k) {
         PackLevelReport& r = res.reports[k];
         r.source = views[k].source;
         r.maxDeviation = views[k].maxDeviation;
         if (k == 0) continue;
-        GeometricDistance d = measureLevel(asset, views[k], posed, original, dopt);
+        // A level that repeats the one before it (unmoved, through the same wedges) measures the same.
+        const bool repeated = k > 1 && sameSurface(views[k], views[k - 1]) && views[k].cornerWedges == views[k - 1].cornerWedges;
+        GeometricDistance d = repeated ? previous : measureLevel(asset, views[k], posed, original, dopt);
+        previous = d;
         if (options.vertexPlacement && options.projectLevels && views[k].data)
             placeVertices(asset, views[k], posed, original, dopt, d, r.placement);
         r.hausdorff = d.hausdorff;
@@ -772,6 +785,31 @@ void recordPage(const LevelAtlas& la, const LayoutData& lay, PackLevelReport& r)
     r.texelsPerUnit = la.atlas.texelsPerUnit * lay.uvPerUnit;
 }
 
+// Level k as a copy of level k - 1 (the same surface): its mesh and page, baked once; the report
+// keeps level k's own coverage and deviation and takes the page figures of the level it repeats.
+void reuseLevel(PackResult& res, size_t k) {
+    res.levels[k] = res.levels[k - 1];
+    res.levels[k].name = "LOD" + std::to_string(k);
+    const PackLevelReport& from = res.reports[k - 1];
+    PackLevelReport& r = res.reports[k];
+    r.triangles = from.triangles;
+    r.vertices = from.vertices;
+    r.width = from.width;
+    r.height = from.height;
+    r.gutter = from.gutter;
+    r.mips = from.mips;
+    r.charts = from.charts;
+    r.absorbedIslands = from.absorbedIslands;
+    r.utilisation = from.utilisation;
+    r.boxUtilisation = from.boxUtilisation;
+    r.rasterUtilisation = from.rasterUtilisation;
+    r.footprintUtilisation = from.footprintUtilisation;
+    r.texelsPerUnit = from.texelsPerUnit;
+    r.channels = from.channels;
+    r.rank = from.rank;
+    r.textureSize = from.textureSize;
+}
+
 }  // namespace
 
 PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOptions& options) {
@@ -831,6 +869,11 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
             cpuStep = c;
         };
         LodLevelData& L = res.levels[k];
+        if (k > 0 && sameSurface(views[k], views[k - 1])) {  // a repeated level: the one before it again
+            reuseLevel(res, k);
+            progress(0.3 + 0.7 * double(k + 1) / double(n));
+            continue;
+        }
         L.name = "LOD" + std::to_string(k);
         LevelAtlas la;
         {  // the level's layout UVs end with its mesh, before the bake
