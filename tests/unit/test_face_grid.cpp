@@ -1,5 +1,6 @@
-// closestFaceIn (lib/include/lodbake/core/face_grid.h): the closest face of a subset found through
-// the face grid is the one a scan of the subset in id order finds, ties included.
+// FaceGrid (lib/include/lodbake/core/face_grid.h): facesIn lists each face whose box meets the query
+// box once, ascending; closestFaceIn finds the closest face of a subset through the grid as a scan
+// of the subset in id order finds it, ties included.
 #include <gtest/gtest.h>
 
 #include <random>
@@ -63,4 +64,25 @@ TEST(FaceGrid, ClosestFaceInOfNoFacesIsFalse) {
     size_t index = 0;
     std::array<double, 3> bary{};
     EXPECT_FALSE(closestFaceIn(mesh, grid, {}, Vec3{1, 1, 0}, 1.0, index, bary));
+}
+
+// facesIn against a scan of every face's box: boxes small and large (a face listed in many cells
+// is listed once), inside, across and beyond the mesh; entriesIn counts at least the faces found.
+TEST(FaceGrid, FacesInListsEveryOverlappingFaceOnceAscending) {
+    const TriMesh mesh = test::grid(40, 40, [](int i, int j) { return 0.5 * std::sin(0.3 * i) * std::cos(0.2 * j); });
+    const FaceGrid grid(mesh, 4.0);  // many cells per face: most faces span several cells
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> u(-5, 45), half(0, 12), h(-1, 1);
+    for (int q = 0; q < 200; ++q) {
+        const Vec3 c{u(rng), u(rng), h(rng)};
+        const double r = q % 10 == 0 ? 30.0 : half(rng);
+        const Vec3 lo = c - Vec3{r, r, 0.2 * r}, hi = c + Vec3{r, r, 0.2 * r};
+        std::vector<uint32_t> expected;
+        for (uint32_t f = 0; f < mesh.triangleCount(); ++f) {
+            const auto b = faceBox(mesh, f);
+            if (b[0] <= hi.x && b[3] >= lo.x && b[1] <= hi.y && b[4] >= lo.y && b[2] <= hi.z && b[5] >= lo.z) expected.push_back(f);
+        }
+        EXPECT_EQ(grid.facesIn(lo, hi), expected) << "query " << q;
+        EXPECT_GE(grid.entriesIn(lo, hi), expected.size());
+    }
 }

@@ -56,6 +56,13 @@ std::vector<uint32_t> FaceGrid::facesIn(Vec3 lo, Vec3 hi) const {
     if (faces_.empty()) return out;
     int a[3], b[3];
     cellRange(lo, hi, a, b);
+    // A face listed in several cells of the range is taken in one of them only: the first cell of
+    // the range it is listed in (its own first cell on each axis, or the range's when that lies
+    // below), so the list needs no deduplication. The face's first cell is found as the build
+    // found it (cellRange of its box), and only off the range's first row, column or layer.
+    auto firstCell = [&](const std::array<double, 6>& bx, int axis) {
+        return std::clamp(int(std::floor((bx[size_t(axis)] - origin_[axis]) / cell_)), 0, n_[axis] - 1);
+    };
     for (int z = a[2]; z <= b[2]; ++z)
         for (int y = a[1]; y <= b[1]; ++y)
             for (int x = a[0]; x <= b[0]; ++x) {
@@ -63,13 +70,28 @@ std::vector<uint32_t> FaceGrid::facesIn(Vec3 lo, Vec3 hi) const {
                 for (uint32_t i = start_[c]; i < start_[c + 1]; ++i) {
                     const uint32_t f = faces_[i];
                     const auto& bx = boxes_[f];
-                    if (bx[0] <= hi.x && bx[3] >= lo.x && bx[1] <= hi.y && bx[4] >= lo.y && bx[2] <= hi.z && bx[5] >= lo.z)
-                        out.push_back(f);
+                    if (!(bx[0] <= hi.x && bx[3] >= lo.x && bx[1] <= hi.y && bx[4] >= lo.y && bx[2] <= hi.z && bx[5] >= lo.z)) continue;
+                    if ((x != a[0] && firstCell(bx, 0) != x) || (y != a[1] && firstCell(bx, 1) != y) ||
+                        (z != a[2] && firstCell(bx, 2) != z))
+                        continue;
+                    out.push_back(f);
                 }
             }
     std::sort(out.begin(), out.end());
-    out.erase(std::unique(out.begin(), out.end()), out.end());
     return out;
+}
+
+size_t FaceGrid::entriesIn(Vec3 lo, Vec3 hi) const {
+    if (faces_.empty()) return 0;
+    int a[3], b[3];
+    cellRange(lo, hi, a, b);
+    size_t n = 0;
+    for (int z = a[2]; z <= b[2]; ++z)
+        for (int y = a[1]; y <= b[1]; ++y) {
+            const size_t row = (size_t(z) * size_t(n_[1]) + size_t(y)) * size_t(n_[0]);
+            n += start_[row + size_t(b[0]) + 1] - start_[row + size_t(a[0])];
+        }
+    return n;
 }
 
 // Every face at least as close as the best one found has its box within that distance of p, so

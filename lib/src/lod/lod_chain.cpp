@@ -265,6 +265,15 @@ TriMesh asTriMesh(const TriMesh& original, const LevelView& lv) {
     return m;
 }
 
+// The same surface: the same triangles of the same original faces at the same positions (a level
+// simplify could not make coarser, unmoved by vertex placement). Their corners may name other
+// wedges of the same vertices (simplify's own).
+bool sameSurface(const LevelView& a, const LevelView& b) {
+    auto same = [](Vec3 p, Vec3 q) { return p.x == q.x && p.y == q.y && p.z == q.z; };
+    return a.triangles == b.triangles && a.faces == b.faces &&
+           std::equal(a.positions.begin(), a.positions.end(), b.positions.begin(), b.positions.end(), same);
+}
+
 struct LevelAtlas {
     AtlasResult atlas;
     std::vector<int> chartSlot;  // original chart id -> index in atlas.charts, -1 if unused
@@ -634,12 +643,16 @@ void measureLevels(const Asset& asset, std::vector<LevelView>& views, const Pack
     // The original's trees, built once for every level and placement and freed before the bakes.
     PosedDistanceReference original(asset.rig, asset.morph, asset.mesh, poses);
     const bool posed = !poses.empty();
+    GeometricDistance previous;  // level k - 1's, before vertex placement
     for (size_t k = 0; k < n; ++k) {
         PackLevelReport& r = res.reports[k];
         r.source = views[k].source;
         r.maxDeviation = views[k].maxDeviation;
         if (k == 0) continue;
-        GeometricDistance d = measureLevel(asset, views[k], posed, original, dopt);
+        // A level that repeats the one before it (unmoved, through the same wedges) measures the same.
+        const bool repeated = k > 1 && sameSurface(views[k], views[k - 1]) && views[k].cornerWedges == views[k - 1].cornerWedges;
+        GeometricDistance d = repeated ? previous : measureLevel(asset, views[k], posed, original, dopt);
+        previous = d;
         if (options.vertexPlacement && options.projectLevels && views[k].data)
             placeVertices(asset, views[k], posed, original, dopt, d, r.placement);
         r.hausdorff = d.hausdorff;
@@ -806,6 +819,32 @@ void describeOriginal(const SourceScene& s, PackLevelReport& r) {
     r = o;
 }
 
+// Level k as a copy of level k - 1 (the same surface): its mesh and page, baked once; the report
+// keeps level k's own coverage and deviation and takes the page figures of the level it repeats.
+// `shift`: 1 when LOD0 is the original (res.levels then starts at LOD1).
+void reuseLevel(PackResult& res, size_t k, size_t shift) {
+    res.levels[k - shift] = res.levels[k - 1 - shift];
+    res.levels[k - shift].name = "LOD" + std::to_string(k);
+    const PackLevelReport& from = res.reports[k - 1];
+    PackLevelReport& r = res.reports[k];
+    r.triangles = from.triangles;
+    r.vertices = from.vertices;
+    r.width = from.width;
+    r.height = from.height;
+    r.gutter = from.gutter;
+    r.mips = from.mips;
+    r.charts = from.charts;
+    r.absorbedIslands = from.absorbedIslands;
+    r.utilisation = from.utilisation;
+    r.boxUtilisation = from.boxUtilisation;
+    r.rasterUtilisation = from.rasterUtilisation;
+    r.footprintUtilisation = from.footprintUtilisation;
+    r.texelsPerUnit = from.texelsPerUnit;
+    r.channels = from.channels;
+    r.rank = from.rank;
+    r.textureSize = from.textureSize;
+}
+
 }  // namespace
 
 PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOptions& options) {
@@ -878,6 +917,12 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
         };
         LodLevelData scratch;  // LOD0's mesh when the original is LOD0: never built
         LodLevelData& L = original ? (k > 0 ? res.levels[k - 1] : scratch) : res.levels[k];
+        // A repeated level: the one before it again (not after an original LOD0, which has no mesh).
+        if (k > 0 && !(original && k == 1) && sameSurface(views[k], views[k - 1])) {
+            reuseLevel(res, k, original ? 1 : 0);
+            progress(0.3 + 0.7 * double(k + 1) / double(n));
+            continue;
+        }
         L.name = "LOD" + std::to_string(k);
         LevelAtlas la;
         // LOD0 on the source texels when they fit the page whole, else on the rank's layout.

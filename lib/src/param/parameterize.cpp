@@ -819,8 +819,22 @@ std::vector<uint32_t> islandFaces(const TriMesh& mesh, const std::vector<LocalCh
     // exact box-distance test keeps.
     const double pad = reach * (1 + 1e-6) + 1e-9 * (1 + std::abs(c.x) + std::abs(c.y) + std::abs(c.z));
     std::vector<uint32_t> near;
-    for (uint32_t f : grid.facesIn(c - Vec3{pad, pad, pad}, c + Vec3{pad, pad, pad}))
+    auto keep = [&](uint32_t f) {
         if (candidate(f) && boxDistance2(faceBox(mesh, f), c) <= reach * reach) near.push_back(f);
+    };
+    // A face within the reach has its box inside the padded box: the grid's faces there, or the
+    // charts' own faces when they are fewer than the grid cells' entries (a coarse level's large
+    // triangle over small charts), give the same faces.
+    const Vec3 lo = c - Vec3{pad, pad, pad}, hi = c + Vec3{pad, pad, pad};
+    size_t chartFaces = 0;
+    for (uint32_t k : cs) chartFaces += charts[k].faces.size();
+    if (chartFaces < grid.entriesIn(lo, hi)) {
+        for (uint32_t k : cs)
+            for (uint32_t f : charts[k].faces) keep(f);
+        std::sort(near.begin(), near.end());
+    } else {
+        for (uint32_t f : grid.facesIn(lo, hi)) keep(f);
+    }
     return facesNearTriangle(mesh, near, tri);
 }
 

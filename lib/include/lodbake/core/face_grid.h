@@ -17,6 +17,9 @@ public:
     explicit FaceGrid(const TriMesh& mesh, double cellsPerFace = 1.0);
     // Ids of every face whose bounding box overlaps box [lo, hi], ascending.
     std::vector<uint32_t> facesIn(Vec3 lo, Vec3 hi) const;
+    // The cell entries facesIn(lo, hi) scans (a face counts once per cell it is listed in): its
+    // cost, found in time proportional to the cells of the box.
+    size_t entriesIn(Vec3 lo, Vec3 hi) const;
 
 private:
     Vec3 origin_{};
