@@ -104,43 +104,39 @@ SourceTexelLayout sourceTexelLayout(const Asset& asset, const std::vector<std::p
                     parent[findRoot(parent, f0)] = findRoot(parent, f1);
             }
     }
-    // Islands of one material whose texel boxes (grown by a texel) overlap share texels or their
-    // filter footprints (shared texture regions: repeated parts, mirrored halves): they become one
-    // chart that keeps the source's arrangement, so shared texels are stored once and bilinear
-    // filtering at an island's border reads the neighbours the source has.
-    struct Box {
-        int32_t material;
-        double x0, y0, x1, y1;
-        uint32_t root;
-    };
-    std::map<uint32_t, Box> boxOf;  // island root -> its box
-    for (size_t f = 0; f < n; ++f) {
-        if (!textured[f]) continue;
+    // Islands of one material that cover the same texels (a texture region shared by repeated
+    // parts, mirrored halves) become one chart: the shared texels are stored once. A texel is
+    // covered when its centre lies in a face's UV triangle (wrapped into the texture).
+    std::vector<uint32_t> byMaterial;
+    for (size_t f = 0; f < n; ++f)
+        if (textured[f]) byMaterial.push_back(uint32_t(f));
+    std::stable_sort(byMaterial.begin(), byMaterial.end(),
+                     [&](uint32_t x, uint32_t y) { return mesh.triangleMaterial[x] < mesh.triangleMaterial[y]; });
+    std::vector<uint32_t> owner;  // per texel of the current material's grid: a face covering it
+    for (size_t i = 0; i < byMaterial.size(); ++i) {
+        const uint32_t f = byMaterial[i];
         const MaterialGrid& g = *gridOf(f);
-        const uint32_t root = findRoot(parent, uint32_t(f));
-        auto [it, fresh] = boxOf.emplace(root, Box{mesh.triangleMaterial[f], 1e300, 1e300, -1e300, -1e300, root});
+        if (i == 0 || mesh.triangleMaterial[f] != mesh.triangleMaterial[byMaterial[i - 1]])
+            owner.assign(size_t(g.width) * size_t(g.height), UINT32_MAX);
+        Vec2 P[3];
         for (size_t k = 0; k < 3; ++k) {
             const Vec2 p = uv[mesh.cornerWedges[f][k]];
-            Box& b = it->second;
-            b.x0 = std::min(b.x0, p.x * g.width - 1);
-            b.y0 = std::min(b.y0, p.y * g.height - 1);
-            b.x1 = std::max(b.x1, p.x * g.width + 1);
-            b.y1 = std::max(b.y1, p.y * g.height + 1);
+            P[k] = {p.x * g.width, p.y * g.height};
         }
-    }
-    std::vector<Box> boxes;
-    for (const auto& [root, b] : boxOf) boxes.push_back(b);
-    std::sort(boxes.begin(), boxes.end(), [](const Box& a, const Box& b) {
-        return a.material != b.material ? a.material < b.material : (a.x0 != b.x0 ? a.x0 < b.x0 : a.root < b.root);
-    });
-    std::vector<size_t> active;  // sweep over x within one material
-    for (size_t i = 0; i < boxes.size(); ++i) {
-        if (i > 0 && boxes[i].material != boxes[i - 1].material) active.clear();
-        const Box& b = boxes[i];
-        active.erase(std::remove_if(active.begin(), active.end(), [&](size_t j) { return boxes[j].x1 < b.x0; }), active.end());
-        for (size_t j : active)
-            if (boxes[j].y0 <= b.y1 && b.y0 <= boxes[j].y1) parent[findRoot(parent, boxes[j].root)] = findRoot(parent, b.root);
-        active.push_back(i);
+        const double x0 = std::min({P[0].x, P[1].x, P[2].x}), x1 = std::max({P[0].x, P[1].x, P[2].x});
+        const double y0 = std::min({P[0].y, P[1].y, P[2].y}), y1 = std::max({P[0].y, P[1].y, P[2].y});
+        if ((x1 - x0) * (y1 - y0) > 4.0 * double(owner.size())) continue;  // tiles the texture: no one region
+        const double area = cross(P[1] - P[0], P[2] - P[0]);
+        for (long long ty = (long long)std::ceil(y0 - 0.5); ty + 0.5 <= y1; ++ty)
+            for (long long tx = (long long)std::ceil(x0 - 0.5); tx + 0.5 <= x1; ++tx) {
+                const Vec2 c{double(tx) + 0.5, double(ty) + 0.5};
+                const double w0 = cross(P[1] - c, P[2] - c), w1 = cross(P[2] - c, P[0] - c), w2 = cross(P[0] - c, P[1] - c);
+                if (area > 0 ? (w0 < 0 || w1 < 0 || w2 < 0) : (w0 > 0 || w1 > 0 || w2 > 0)) continue;
+                const long long wx = ((tx % g.width) + g.width) % g.width, wy = ((ty % g.height) + g.height) % g.height;
+                uint32_t& o = owner[size_t(wy) * size_t(g.width) + size_t(wx)];
+                if (o == UINT32_MAX) o = f;
+                else parent[findRoot(parent, o)] = findRoot(parent, f);
+            }
     }
     // Chart ids: islands in the order of their first face, then T0's charts of the untextured faces.
     ChartLayout& L = out.layout;
