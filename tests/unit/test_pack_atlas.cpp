@@ -115,6 +115,46 @@ TEST(PackAtlas, SquaresFitWithGuttersAndNoOverlap) {
 // A long thin chart turned by 30 degrees is packed along its minimum-area rectangle.
 // The samplers clamp to the page edge, so a chart may touch the border: one 64 x 64 texel chart
 // fills a 64 x 64 page whatever the gutter.
+TEST(PackAtlas, TexelAlignedChartsKeepTheirOrientationAndLandOnWholeBlocks) {
+    // Charts in source texels at odd positions, one tilted (a free packing would turn it).
+    std::vector<AtlasChart> charts = {rectChart(3.25, 7.5, 40, 20), rectChart(100.5, 1, 20, 30),
+                                      triangleChart({0.5, 0.5}, {30.5, 10.5}, {5.5, 25.5})};
+    AtlasOptions o;
+    o.maxTexelsPerUnit = 1;
+    o.gutter = 4;
+    o.maxSize = 256;
+    o.texelAligned = true;
+    const AtlasResult r = packedAlikeOnAnyThreads(charts, o, {2});
+    EXPECT_EQ(r.texelsPerUnit, 1.0);
+    ASSERT_EQ(r.charts.size(), charts.size());
+    for (const ChartPlacement& p : r.charts) {
+        // Unturned, unit scale, and shifted by whole multiples of 16 texels: every source texel
+        // centre is a page texel centre, and 2x2 .. 16x16 blocks (mips 1-4) stay blocks.
+        EXPECT_EQ(p.m[0], 1.0);
+        EXPECT_EQ(p.m[1], 0.0);
+        EXPECT_EQ(p.m[3], 0.0);
+        EXPECT_EQ(p.m[4], 1.0);
+        EXPECT_EQ(std::fmod(p.m[2], 16.0), 0.0);
+        EXPECT_EQ(std::fmod(p.m[5], 16.0), 0.0);
+    }
+    for (size_t i = 0; i < charts.size(); ++i)
+        for (const Vec2& q : placed(charts[i], r.charts[i])) {
+            EXPECT_GE(q.x, 0);
+            EXPECT_GE(q.y, 0);
+            EXPECT_LE(q.x, r.width);
+            EXPECT_LE(q.y, r.height);
+        }
+}
+
+TEST(PackAtlas, TexelAlignedChartsThatDoNotFitLowerTheDensity) {
+    AtlasOptions o;
+    o.maxTexelsPerUnit = 1;
+    o.maxSize = 64;
+    o.texelAligned = true;
+    const AtlasResult r = packAtlas({rectChart(0, 0, 100, 100)}, o);
+    EXPECT_LT(r.texelsPerUnit, 1.0);  // the caller falls back (lod_chain: sourceTexels)
+}
+
 TEST(PackAtlas, NoGutterAlongThePageBorder) {
     std::vector<AtlasChart> charts{rectChart(0, 0, 0.25, 0.25)};
     AtlasOptions o;

@@ -769,8 +769,6 @@ LevelAtlas packLevelPage(const LayoutData& lay, const LevelUVs& luv, size_t k, c
     }
     for (int tries = 0; k > 0 && tries < 8; ++tries) {
         double previous = double(reports[k - 1].width) * reports[k - 1].height;
-        // A LOD0 on the source texels holds the original's texel count, not its screen density's.
-        if (k == 1 && reports[0].sourceTexels) previous = std::max(previous, reports[0].sideNeeded * reports[0].sideNeeded);
         double now = double(la.atlas.width) * la.atlas.height;
         if (now <= previous) break;
         ao.maxTexelsPerUnit = std::min(ao.maxTexelsPerUnit, la.atlas.texelsPerUnit) * std::sqrt(previous / now) * 0.98;
