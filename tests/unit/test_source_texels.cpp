@@ -1,0 +1,98 @@
+// sourceTexelLayout (lib/src/lod/source_texels.h): LOD0's charts are the original's texture
+// islands in source texels; faces without a texture area keep their T0 pieces.
+#include <gtest/gtest.h>
+
+#include "lod/source_texels.h"
+
+using namespace lodbake;
+using namespace lodbake::lod_detail;
+
+namespace {
+
+// Two unit squares side by side (x in [0, 2]), four triangles, one material with a 64 x 32
+// texture. The left square reads u in [0, 0.5]; the right one u in [right, right + 0.5] (0.5:
+// the same island; else an island of its own, or on the left square's texels again when 0).
+Asset twoSquares(double right) {
+    Asset a;
+    TriMesh& m = a.mesh;
+    m.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {2, 0, 0}, {2, 1, 0}};
+    m.triangles = {{0, 1, 2}, {0, 2, 3}, {1, 4, 5}, {1, 5, 2}};
+    m.wedges.vertex = {0, 1, 2, 3, 1, 4, 5, 2};
+    m.wedges.uv0 = {{0, 1}, {0.5, 1}, {0.5, 0}, {0, 0}, {right, 1}, {right + 0.5, 1}, {right + 0.5, 0}, {right, 0}};
+    m.cornerWedges = {{0, 1, 2}, {0, 2, 3}, {4, 5, 6}, {4, 6, 7}};
+    m.triangleMaterial = {0, 0, 0, 0};
+    Material mat;
+    mat.baseColor.texture = 0;
+    a.materials.push_back(mat);
+    a.textures.push_back(Texture{0, -1});
+    a.images.push_back(Image{});
+    return a;
+}
+
+// A one-chart T0 layout: position (x, y) -> (x / 2, y).
+ChartLayout t0For(const Asset& a) {
+    ChartLayout t0;
+    t0.chartCount = 1;
+    t0.faceChart.assign(a.mesh.triangles.size(), 0);
+    t0.cornerUV.resize(a.mesh.triangles.size());
+    for (size_t f = 0; f < a.mesh.triangles.size(); ++f)
+        for (size_t k = 0; k < 3; ++k) {
+            const Vec3 p = a.mesh.positions[a.mesh.triangles[f][k]];
+            t0.cornerUV[f][k] = {p.x / 2, p.y};
+        }
+    return t0;
+}
+
+}  // namespace
+
+TEST(SourceTexels, IslandsInSourceTexels) {
+    const Asset joined = twoSquares(0.5);
+    SourceTexelLayout s = sourceTexelLayout(joined, {{64, 32}}, t0For(joined), 10);
+    ASSERT_FALSE(s.layout.empty()) << s.reason;
+    EXPECT_EQ(s.islands, 1u);
+    EXPECT_EQ(s.layout.chartCount, 1u);
+    // UV (0.5, 1) -> texel (32, 32).
+    EXPECT_EQ(s.layout.cornerUV[0][1].x, 32.0);
+    EXPECT_EQ(s.layout.cornerUV[0][1].y, 32.0);
+
+    const Asset split = twoSquares(0.505);  // u in [0.505, 1.005]: no texel of the left square
+    s = sourceTexelLayout(split, {{64, 32}}, t0For(split), 10);
+    EXPECT_EQ(s.islands, 2u);
+    EXPECT_NE(s.layout.faceChart[0], s.layout.faceChart[2]);
+    EXPECT_EQ(s.layout.faceChart[2], s.layout.faceChart[3]);
+
+    // The right square on the left one's texels: one chart, the texels stored once.
+    const Asset shared = twoSquares(0);
+    s = sourceTexelLayout(shared, {{64, 32}}, t0For(shared), 10);
+    EXPECT_EQ(s.islands, 1u);
+}
+
+TEST(SourceTexels, UntexturedAndFlatFacesKeepT0Pieces) {
+    Asset a = twoSquares(0.505);
+    // The right square reads one texel (a palette): no area, so a T0 piece at 10 texels per unit.
+    for (uint32_t w : {4u, 5u, 6u, 7u}) a.mesh.wedges.uv0[w] = {0.9, 0.1};
+    SourceTexelLayout s = sourceTexelLayout(a, {{64, 32}}, t0For(a), 10);
+    ASSERT_FALSE(s.layout.empty()) << s.reason;
+    EXPECT_EQ(s.islands, 1u);
+    EXPECT_EQ(s.layout.chartCount, 2u);
+    EXPECT_EQ(s.layout.cornerUV[2][1].x, 10.0);  // position (2, 0) -> T0 (1, 0) x 10
+
+    // No texture at all: nothing to copy, and the reason says so.
+    a.materials[0].baseColor.texture = -1;
+    s = sourceTexelLayout(a, {{64, 32}}, t0For(a), 10);
+    EXPECT_TRUE(s.layout.empty());
+    EXPECT_FALSE(s.reason.empty());
+}
+
+TEST(SourceTexels, FiltersAreKeptOnlyWhenEveryTextureAgrees) {
+    Asset a = twoSquares(0.5);
+    EXPECT_EQ(sourceFilters(a), std::make_pair(0, 0));
+    a.samplers.push_back(Sampler{9729, 9986, 10497, 10497});
+    a.textures[0].sampler = 0;
+    EXPECT_EQ(sourceFilters(a), std::make_pair(9986, 9729));
+    Material other;
+    other.emissive.texture = 1;
+    a.textures.push_back(Texture{0, -1});  // the default sampler
+    a.materials.push_back(other);
+    EXPECT_EQ(sourceFilters(a), std::make_pair(0, 0));
+}
