@@ -1,6 +1,7 @@
 """quality: every level of the chain rendered by three.js (scripts/render_three.py: one fixed PBR
 setup, --views cameras around the original's bounding sphere) against the original: PSNR, SSIM
-and silhouette IoU, plus compare's relative Hausdorff distance (geometry). Beside each level
+and silhouette IoU, plus compare's relative Hausdorff distance (geometry) and, for our levels, compare's PBR PSNR
+and whether it orders the levels as three.js does (rankAgreement). Beside each level
 k >= 1: gltfpack -si (our triangles / input triangles) -sp -se 1 (npm gltfpack 1.3; permissive,
 no error limit, so it reaches the count) and, where Blender is installed, Blender's Decimate and
 the Blender bake recipe at the same ratio. With --against both builds' levels are rendered in the
@@ -121,6 +122,23 @@ def verdicts(rows):
     return out
 
 
+def rank_agreement(rows, tie=0.1):
+    """Whether compare's PBR mode and three.js order our levels (bin) alike: the pairs of levels
+    whose PSNRs both renderers separate by more than `tie` dB, and those they order oppositely."""
+    levels = [r for r in rows if r["tool"] == "lodbake" and r.get("build") == "bin"
+              and r.get("psnr") is not None and r.get("comparePbrPsnr") is not None]
+    pairs, opposite = 0, []
+    for i, a in enumerate(levels):
+        for b in levels[i + 1:]:
+            d3, dc = a["psnr"] - b["psnr"], a["comparePbrPsnr"] - b["comparePbrPsnr"]
+            if abs(d3) <= tie or abs(dc) <= tie:
+                continue
+            pairs += 1
+            if (d3 > 0) != (dc > 0):
+                opposite.append([a["lod"], b["lod"]])
+    return {"pairs": pairs, "opposite": opposite}
+
+
 def run(args, builds, results):
     if args.quick and "--views" not in sys.argv:
         args.views = 4
@@ -155,7 +173,7 @@ def run(args, builds, results):
     rendered = render(groups, work, args) if groups else []
     for (entry, drawn), result in zip(entries, rendered):
         for r, c in zip(drawn, result["candidates"]):
-            r.update({k: c.get(k) for k in ("psnr", "psnr_fg", "ssim", "iou", "coverage")})
+            r.update({k: c.get(k) for k in ("psnr", "psnr_fg", "psnr_seam", "ssim", "iou", "coverage")})
             if not c.get("loaded"):
                 r["renderErrors"] = c.get("errors", [])[:3]
         results["settings"]["three"] = result.get("three")
@@ -163,9 +181,13 @@ def run(args, builds, results):
         build_of = {b.label: b for b in builds}
         for r in drawn:
             if not args.no_geometry:
+                # compare's PBR render beside three.js's, for our levels (rank_agreement).
+                views = str(args.views) if r["tool"] == "lodbake" else "0"
                 j = compare(builds[0], src, r["file"], r["lod"] if r["tool"] == "lodbake" else 0,
-                            ["--views", "0", "--samples", "100000"])
+                            ["--views", views, "--samples", "100000"])
                 r["relHausdorff"] = j["geometry"]["relHausdorff"] if j else None
+                if j and r["tool"] == "lodbake":
+                    r["comparePbrPsnr"] = j["images"]["pbr"]["psnr"]
             if args.posed and r["tool"] == "lodbake" and common.Gltf(src).json.get("animations"):
                 r["posed"] = {}
                 for t in ("start", "middle", "end"):
@@ -176,4 +198,5 @@ def run(args, builds, results):
                 r.pop(k, None)
         flag_regressions(entry["rows"])
         entry["verdicts"] = verdicts(entry["rows"])
+        entry["rankAgreement"] = rank_agreement(entry["rows"])
         results["assets"].append(entry)

@@ -109,22 +109,23 @@ def last_line(error):
 
 def quality(res):
     against = any(b["label"] == "against" for b in res["builds"])
-    out = ["| asset | level | tool | triangles | PSNR dB | SSIM | IoU | rel. Hausdorff | bytes |"
+    out = ["| asset | level | tool | triangles | PSNR dB | seam band dB | SSIM | IoU | rel. Hausdorff | compare PBR dB | bytes |"
            + (" Δ PSNR vs against |" if against else ""),
-           "|---|---:|---|---:|---:|---:|---:|---:|---:|" + ("---:|" if against else "")]
+           "|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|" + ("---:|" if against else "")]
     for e in res["assets"]:
         for r in e["rows"]:
             tool = tool_name(r, against)
             if "error" in r:
-                out.append("| %s | %s | %s | failed: %s |||||%s" % (e["name"], r.get("lod", ""), tool, last_line(r["error"]),
+                out.append("| %s | %s | %s | failed: %s |||||||%s" % (e["name"], r.get("lod", ""), tool, last_line(r["error"]),
                                                                     "|" if against else ""))
                 continue
             delta = ""
             if against:
                 delta = " %s%s |" % (fmt(r.get("psnrDelta"), "%+.2f"), " **worse**" if r.get("worse") else "")
-            out.append("| %s | %d | %s | %d | %s | %s | %s | %s | %s |%s" % (
-                e["name"], r["lod"], tool, r["triangles"], fmt(r.get("psnr")), fmt(r.get("ssim"), "%.4f"),
-                fmt(r.get("iou"), "%.4f"), fmt(r.get("relHausdorff"), "%.4f"), fmt(r.get("bytes"), "%d"), delta))
+            out.append("| %s | %d | %s | %d | %s | %s | %s | %s | %s | %s | %s |%s" % (
+                e["name"], r["lod"], tool, r["triangles"], fmt(r.get("psnr")), fmt(r.get("psnr_seam")),
+                fmt(r.get("ssim"), "%.4f"), fmt(r.get("iou"), "%.4f"), fmt(r.get("relHausdorff"), "%.4f"),
+                fmt(r.get("comparePbrPsnr")), fmt(r.get("bytes"), "%d"), delta))
     lines = []
     for e in res["assets"]:
         for v in e.get("verdicts", []):
@@ -134,6 +135,12 @@ def quality(res):
     wins = sum(v["win"] for e in res["assets"] for v in e.get("verdicts", []))
     total = sum(len(e.get("verdicts", [])) for e in res["assets"])
     out += ["", "lodbake renders closer than every peer output with at least its triangles on %d of %d levels." % (wins, total)]
+    ranked = [e for e in res["assets"] if e.get("rankAgreement")]
+    if ranked:
+        pairs = sum(e["rankAgreement"]["pairs"] for e in ranked)
+        opposite = ["%s LOD%d/LOD%d" % (e["name"], a, b) for e in ranked for a, b in e["rankAgreement"]["opposite"]]
+        out += ["", "compare's PBR mode orders our levels as three.js does on %d of %d level pairs (ties within 0.1 dB "
+                    "left out)%s." % (pairs - len(opposite), pairs, "; opposite: " + ", ".join(opposite) if opposite else "")]
     posed = [(e, r) for e in res["assets"] for r in e["rows"] if r.get("posed")]
     if posed:
         out += ["", "| asset | level | build | posed Hausdorff start / middle / end | posed IoU start / middle / end |",

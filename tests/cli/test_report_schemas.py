@@ -66,7 +66,7 @@ class ReportSchemas(unittest.TestCase):
         run([tool("compare"), src, f["lod.glb"], "--views", "2", "--resolution", "64", "--samples", "2000", "--report",
              r["compare"]])
         run([tool("lodbake"), "-i", src, "-o", f["chain.glb"], "--ratio", "0.5", "--no-texture-refine", "--size", "128",
-             "--max-size", "128", "--samples", "16"] + q + [r["lodbake"]])
+             "--max-size", "128", "--samples", "16", "--lod0", "original"] + q + [r["lodbake"]])
         cls.reports = {t: json.load(open(r[t])) for t in TOOLS}
 
     def test_schemas_are_valid(self):
@@ -96,6 +96,12 @@ class ReportSchemas(unittest.TestCase):
         self.assertTrue(broken("compare", lambda r: r.update(pass_="x", **{"pass": "yes"})))
         self.assertTrue(broken("lodbake", lambda r: r["stages"][1]["levels"][0].pop("flips")))
         self.assertTrue(broken("lodbake", lambda r: r["stages"].reverse()))
+        # The chain's LOD0 is the original (--lod0 original): several draw calls, said in lod0.
+        pack = self.reports["lodbake"]["stages"][-1]
+        self.assertEqual(pack["lod0"]["mode"], "original")
+        self.assertEqual(pack["levels"][0]["drawCalls"], pack["lod0"]["drawCalls"])
+        self.assertTrue(broken("pack", lambda r: r["lod0"].update(mode="hero")))
+        self.assertTrue(broken("pack", lambda r: r["levels"][0].pop("materials")))
 
 
 if __name__ == "__main__":

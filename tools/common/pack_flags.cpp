@@ -45,6 +45,9 @@ void addPackFlags(ArgParser& p, PackFlags& a) {
            [&w] { w.split = true; });
     p.flag("--lod0-density", "texture every level at LOD0's texel density (pages about LOD0's size), for comparisons "
            "that render every level close up", [&o] { o.lod0Density = true; });
+    p.flag("--no-source-texels", "LOD0's page resamples the original's textures at its screen density like every level "
+           "(default: it holds the original's texels one to one where they fit --max-size; the report's sourceTexels says)",
+           [&o] { o.sourceTexels = false; });
     p.option("--normal-maps", "auto|always|never",
              "bake a normal map: auto = when the input has normal maps and on every coarser level (default auto)",
              [&o](const std::string& v) {
@@ -62,6 +65,21 @@ void addPackFlags(ArgParser& p, PackFlags& a) {
            [&o] { o.baseColorOnly = true; });
     p.flag("--no-texture-hierarchy", "texture every level with T0 even when the input has texture-refine's hierarchy",
            [&o] { o.useTextureHierarchy = false; });
+    p.option("--lod0", "baked|original",
+             "LOD0: baked = the original triangles in one mesh / one material / one draw call like every level "
+             "(default); original = the input asset itself (its own meshes, materials, textures and nodes: several "
+             "draw calls, exact up close), the baked levels from LOD1",
+             [&o](const std::string& v) {
+                 if (v == "baked") o.lod0 = Lod0::Baked;
+                 else if (v == "original") o.lod0 = Lod0::Original;
+                 else throw UsageError("--lod0 must be baked or original");
+             });
+    p.option("--original", "PATH",
+             "--lod0 original: the asset the chain was made from, the file simplify read (lodbake: its input)",
+             [&o](const std::string& v) {
+                 if (v.empty()) throw UsageError("--original needs a path");
+                 o.original = v;
+             });
     p.flag("--draco", "compress every level with KHR_draco_mesh_compression", [&w] { w.chain.draco = true; });
     p.option("--qp", "BITS", "Draco position quantisation bits (default " + std::to_string(w.chain.quantPosition) + ")",
              [&w](const std::string& v) { w.chain.quantPosition = parseInt("--qp", v); });

@@ -24,6 +24,9 @@ Args parseArgs(int argc, char** argv, bool& proceed) {
 
 int run(Args& a) {
     cli::validatePack(a.flags);
+    const PackOptions& o = a.flags.settings.pack;
+    if (o.lod0 == Lod0::Original && o.original.empty())
+        throw UsageError("--lod0 original needs --original PATH (the asset simplify read)");
     cli::checkPaths(a.flags.settings.common);
     return cli::runStage("pack", a.flags.settings, a.quiet, runPack);
 }

@@ -41,10 +41,16 @@
 namespace lodbake {
 namespace {
 
+// Texel-aligned charts start on blocks of this many texels and are not turned: the page's first
+// log2(kAlignedBlock) mip levels then average the same source texels as the original's mips.
+constexpr int kAlignedBlock = 16;
+
 // A chart turned to its minimum-area rectangle: rotate by -angle, then [minX, minX+w] x [minY, minY+h].
 struct Oriented {
     double c = 1, s = 0;  // cos, sin of the angle
     double minX = 0, minY = 0, w = 0, h = 0;
+    bool aligned = false; // texel-aligned (AtlasOptions::texelAligned)
+    int turns = 4;        // quarter turns tried in placement (texel-aligned: 1)
     double uvArea = 0;
     std::vector<std::array<Vec2, 3>> triangles;  // in the rotated frame, [0, w] x [0, h]
 };
@@ -67,8 +73,9 @@ std::vector<Vec2> convexHull(std::vector<Vec2> p) {
     return h;
 }
 
-// The chart in the frame rotated by the angle (c, s) = (cos, sin), moved to [0, w] x [0, h].
-Oriented frameAt(const AtlasChart& chart, const std::vector<Vec2>& hull, double c, double s) {
+// The chart in the frame rotated by the angle (c, s) = (cos, sin), moved to [0, w] x [0, h]
+// (aligned: by whole units, so that unit cell centres stay cell centres).
+Oriented frameAt(const AtlasChart& chart, const std::vector<Vec2>& hull, double c, double s, bool aligned = false) {
     Oriented o;
     o.uvArea = chart.uvArea;
     o.c = c;
@@ -80,6 +87,12 @@ Oriented frameAt(const AtlasChart& chart, const std::vector<Vec2>& hull, double 
         y0 = std::min(y0, y); y1 = std::max(y1, y);
     }
     if (hull.empty()) { x0 = x1 = y0 = y1 = 0; }
+    if (aligned) {
+        x0 = std::floor(x0 / kAlignedBlock) * kAlignedBlock;
+        y0 = std::floor(y0 / kAlignedBlock) * kAlignedBlock;
+        o.aligned = true;
+        o.turns = 1;
+    }
     o.minX = x0; o.minY = y0; o.w = x1 - x0; o.h = y1 - y0;
     auto turn = [&](Vec2 q) { return Vec2{c * q.x + s * q.y - x0, -s * q.x + c * q.y - y0}; };
     if (!chart.triangles.empty()) {
@@ -91,11 +104,12 @@ Oriented frameAt(const AtlasChart& chart, const std::vector<Vec2>& hull, double 
     return o;
 }
 
-// The orientations a chart is tried in (each with the placement's four quarter turns): its
-// minimum-area rectangle only (further angles cost time in proportion and pack no tighter; see
+// The orientations a chart is tried in (each with the placement's four quarter turns): as it is
+// when texel-aligned, else its minimum-area rectangle only (further angles cost time in proportion and pack no tighter; see
 // docs/benchmarks.md).
-std::vector<Oriented> chartOrientations(const AtlasChart& chart) {
+std::vector<Oriented> chartOrientations(const AtlasChart& chart, bool aligned) {
     std::vector<Vec2> hull = convexHull(chart.points);
+    if (aligned) return {frameAt(chart, hull, 1, 0, true)};
     double bestC = 1, bestS = 0, bestArea = 1e300;
     auto tryAngle = [&](double c, double s) {
         double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
@@ -410,6 +424,7 @@ int searchScale(double side) { return std::clamp(int(side / 512), 1, 8); }
 // Every chart's footprints at one density, gutter and search scale (the four quarter turns of its
 // block-rounded mask), computed once and shared by every page width and order tried.
 struct ChartFootprints {
+    int turns = 4;       // the quarter turns tried (Oriented::turns)
     int gw = 0, gh = 0;  // the unrotated texel grid
     int cw = 0, ch = 0;  // ... in blocks
     std::array<Footprint, 4> rot;
@@ -425,6 +440,14 @@ struct Footprints {
 
 using Orientations = std::vector<std::vector<Oriented>>;  // per chart: the orientations tried
 
+// The search grid for these charts: texel-aligned ones are placed on whole kAlignedBlock blocks
+// (a multiple of every searchScale, so their offsets stay multiples of it).
+int searchScale(double side, const Orientations& charts) {
+    for (const auto& c : charts)
+        if (!c.empty() && c.front().aligned) return kAlignedBlock;
+    return searchScale(side);
+}
+
 // `twiceCoarser`, when given, receives the same at scale 2 * scale (from the same rasterisation).
 Footprints footprintsAt(const Orientations& charts, double t, int gutter, int scale, int threads, Footprints* twiceCoarser = nullptr) {
     const int radius = (gutter + 1) / 2;
@@ -437,6 +460,7 @@ Footprints footprintsAt(const Orientations& charts, double t, int gutter, int sc
     parallelFor(charts.size(), threads, [&](size_t i) {  // each chart into its own slot
         for (const Oriented& o : charts[i]) {
             ChartFootprints c;
+            c.turns = o.turns;
             std::vector<uint8_t> fine = chartMask(o, t, radius, c.gw, c.gh, &c.raster);
             c.footprint = size_t(std::count(fine.begin(), fine.end(), uint8_t(1)));
             auto blocks = [&](ChartFootprints& into, int s) {
@@ -537,7 +561,7 @@ std::optional<Packing> packBitmap(const Footprints& fp, const std::vector<size_t
         }
         double bestKey = firstLimit;
         for (size_t v = 0; v < fp.charts[i].size(); ++v)
-            for (int rot = 0; rot < 4; ++rot) {
+            for (int rot = 0; rot < fp.charts[i][v].turns; ++rot) {
                 const Footprint& f = fp.charts[i][v].rot[size_t(rot)];
                 const double key = placement == Placement::Gravity ? f.centroidRow : f.h;
                 int x, y;
@@ -674,7 +698,7 @@ bool mayFit(const std::vector<Oriented>& charts, double t, int binW, int binH) {
 // density whose padded area fills 3/4 of the page (area grows as t^2), narrowed by bisection.
 std::optional<std::pair<double, Packing>> densestFit(const Orientations& charts, const std::vector<size_t>& order, int threads,
                                                      double hi, int gutter, int binW, int binH) {
-    const int scale = searchScale(std::max(binW, binH));
+    const int scale = searchScale(std::max(binW, binH), charts);
     auto fit = [&](double t) { return packBitmap(charts, order, t, gutter, binW, binH, scale, threads); };
     std::vector<Oriented> first;
     for (const auto& c : charts) first.push_back(c.front());
@@ -785,7 +809,7 @@ PagePick packFreeSize(const Orientations& turned, const std::vector<Oriented>& c
     PagePick pick;
     double a = 0;
     for (const Oriented& c : charts) a += std::pow(std::sqrt(c.uvArea) * tMax + gutter, 2);
-    const int scale = searchScale(std::sqrt(a));
+    const int scale = searchScale(std::sqrt(a), turned);
     double bestArea = 1e300;
     const bool manyCharts = charts.size() > kManyChartsForRules;
     const std::vector<Placement> rules = manyCharts ? std::vector<Placement>{Placement::TopEdge}
@@ -900,7 +924,7 @@ AtlasResult packAtlas(const std::vector<AtlasChart>& input, const AtlasOptions& 
     std::vector<Oriented> charts;  // each chart's first orientation (sizes and orders)
     turned.reserve(input.size());
     for (const AtlasChart& c : input) {
-        turned.push_back(chartOrientations(c));
+        turned.push_back(chartOrientations(c, options.texelAligned));
         charts.push_back(turned.back()[0]);
     }
     const std::vector<std::vector<size_t>> orders = chartOrders(charts);
@@ -912,12 +936,13 @@ AtlasResult packAtlas(const std::vector<AtlasChart>& input, const AtlasOptions& 
     // they protect: narrow them until they take at most half of the padded area.
     while (gutter > 2 && paddedArea(charts, tMax, gutter) > 2 * paddedArea(charts, tMax, 0)) gutter /= 2;
 
-    // 2-3. Page and density; narrower gutters while the charts do not fit even at minimal size.
+    // 2-3. Page and density; narrower gutters while the charts do not fit even at minimal size
+    // (texel-aligned: while they do not fit at the density limit, which they must keep).
     PagePick pick;
     for (;;) {
         pick = options.powerOfTwo ? packPowerOfTwo(turned, charts, orders[0], tMax, gutter, maxSize, options.threads)
                                   : packFreeSize(turned, charts, orders, tMax, gutter, maxSize, options.threads);
-        if (pick.best || gutter == 0) break;
+        if ((pick.best && (!options.texelAligned || pick.best->first >= tMax)) || gutter == 0) break;
         gutter /= 2;
     }
 

@@ -767,11 +767,11 @@ void readImages(const ReadContext& c, tinygltf::Model& model, const ReadOptions&
 
 namespace {
 
-Asset readWith(ReadContext& c, const ReadOptions& options, std::optional<Multires>* multires) {
+// Steps 2-4 on a loaded model; `rigSources`, when given, receives the glTF node of each rig node
+// and the glTF animation of each rig animation.
+Asset readLoaded(const ReadContext& c, tinygltf::Model& model, const ReadOptions& options, std::optional<Multires>* multires,
+                 RigSources* rigSources) {
     const std::string& path = c.path;
-    tinygltf::Model model;
-    loadModel(c, model);
-
     Asset asset;
     asset.sourcePath = path;
     try {
@@ -796,6 +796,10 @@ Asset readWith(ReadContext& c, const ReadOptions& options, std::optional<Multire
         }
         asset.scene = readSceneExtras(c, nodes, asset.warnings);
         asset.morph = layout.targets;
+        if (rigSources) {
+            rigSources->nodes = rr.nodeSource;
+            rigSources->animations = rr.animationSource;
+        }
         asset.rig = std::move(rr.rig);
         for (std::string& w : influenceWarnings(rr)) asset.warnings.push_back(std::move(w));
         readMaterials(c, asset);
@@ -806,7 +810,18 @@ Asset readWith(ReadContext& c, const ReadOptions& options, std::optional<Multire
     return asset;
 }
 
+Asset readWith(ReadContext& c, const ReadOptions& options, std::optional<Multires>* multires) {
+    tinygltf::Model model;
+    loadModel(c, model);
+    return readLoaded(c, model, options, multires, nullptr);
+}
+
 }  // namespace
+
+Asset gltf_detail::readKeepingModel(ReadContext& c, tinygltf::Model& model, RigSources& rigSources) {
+    loadModel(c, model);
+    return readLoaded(c, model, {}, nullptr, &rigSources);
+}
 
 Asset readGltf(const std::string& path, const ReadOptions& options, std::optional<Multires>* multires) {
     ReadContext c;

@@ -77,4 +77,16 @@ void checkFinitePositions(const ReadContext& c, const PrimData& p, const std::st
 // POSITION).
 bool decodePrimitive(const ReadContext& c, int meshIndex, int primIndex, Asset& asset, PrimData& p);
 
+// Where the flattened asset's rig came from: the glTF node of each Rig::nodes entry and the glTF
+// animation of each Rig::animations entry.
+struct RigSources {
+    std::vector<int> nodes;
+    std::vector<int> animations;
+};
+
+// readGltf (default options, no LODBAKE_multires) that keeps the loaded file: `model` with its
+// buffers (EXT_meshopt_compression views decoded; the images' bytes move to the asset) and c.root
+// the file's JSON, for source_scene.cpp. \throw as readGltf.
+Asset readKeepingModel(ReadContext& c, tinygltf::Model& model, RigSources& rigSources);
+
 }  // namespace lodbake::gltf_detail

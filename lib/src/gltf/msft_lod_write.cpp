@@ -9,6 +9,10 @@
 //      grid's translation and scale;
 //   2. node 0 (LOD0) with MSFT_lod.ids and extras.MSFT_screencoverage; in the scene node 0, the
 //      rig's roots and the nodes of the asset's lights and cameras (scene_extras_codec.h);
+//   With the original as LOD0 (a SourceScene), its document comes first (startWithSource): node 0
+//   is a group over its scene roots, its nodes follow at +1, every other array (meshes, materials,
+//   accessors, views, skins, animations, ...) keeps its indices and the baked levels are appended;
+//   their skin's joints are the original's nodes and its animations drive both (addSourceRig);
 //   3. serialise (.glb container, or .gltf + .bin [+ images]) and rename into place.
 // JSON is built with nlohmann::json (sorted keys: byte-identical output for identical input).
 
@@ -16,6 +20,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <map>
 
 #include <draco/compression/encode.h>
 #include <draco/mesh/mesh.h>
@@ -30,6 +35,7 @@
 #include "lodbake/core/errors.h"
 #include "lodbake/gltf/gltf.h"
 #include "lodbake/gltf/msft_lod.h"
+#include "lodbake/gltf/source_scene.h"
 
 namespace lodbake {
 namespace {
@@ -45,6 +51,7 @@ constexpr const char* kLod = "MSFT_lod";
 constexpr const char* kEmissiveStrength = "KHR_materials_emissive_strength";
 constexpr const char* kUnlit = "KHR_materials_unlit";
 constexpr const char* kLights = "KHR_lights_punctual";
+constexpr int kLinear = 9729, kLinearMipmapLinear = 9987, kClampToEdge = 33071;  // GL enums
 
 using Buffer = BufferBuilder;
 
@@ -143,6 +150,84 @@ json dracoPrimitive(Buffer& b, const LodLevelData& L, const LodChainWriteOptions
     return {{"attributes", attrs}, {"indices", ia}, {"mode", 4}, {"extensions", {{kDraco, ext}}}};
 }
 
+// The arrays of the file being written.
+struct Document {
+    json meshes = json::array(), nodes = json::array(), materials = json::array(), textures = json::array(),
+         images = json::array(), samplers = json::array(), skins = json::array(), animations = json::array();
+    json top = json::object();  // the source's root extensions, cameras, extras and asset extras
+    std::vector<std::string> used, required;  // the source's extensionsUsed / extensionsRequired
+};
+
+json arrayOf(const json& o, const char* key) { return o.contains(key) && o[key].is_array() ? o[key] : json::array(); }
+
+// The original's document first: buffer, views, accessors and every array at their own indices,
+// except nodes, which move up by one behind node 0, the LOD0 group over the original's roots.
+void startWithSource(const SourceScene& src, Buffer& b, Document& d) {
+    json in = json::parse(src.json);
+    b.chunks.emplace_back(src.bin.begin(), src.bin.end());
+    b.size = src.bin.size();
+    b.views = arrayOf(in, "bufferViews");
+    b.accessors = arrayOf(in, "accessors");
+    d.meshes = arrayOf(in, "meshes");
+    d.materials = arrayOf(in, "materials");
+    d.textures = arrayOf(in, "textures");
+    d.images = arrayOf(in, "images");
+    d.samplers = arrayOf(in, "samplers");
+    d.skins = arrayOf(in, "skins");
+    d.animations = arrayOf(in, "animations");
+    json group = {{"name", "LOD0"}};
+    for (int r : src.roots) group["children"].push_back(r + 1);
+    d.nodes.push_back(group);
+    for (json n : arrayOf(in, "nodes")) {
+        if (n.contains("children"))
+            for (json& ch : n["children"]) ch = ch.get<int>() + 1;
+        d.nodes.push_back(std::move(n));
+    }
+    for (json& skin : d.skins) {
+        for (json& j : skin["joints"]) j = j.get<int>() + 1;
+        if (skin.contains("skeleton")) skin["skeleton"] = skin["skeleton"].get<int>() + 1;
+    }
+    for (json& a : d.animations)
+        for (json& ch : a["channels"])
+            if (ch["target"].contains("node")) ch["target"]["node"] = ch["target"]["node"].get<int>() + 1;
+    for (const char* key : {"extensions", "cameras", "extras"})
+        if (in.contains(key)) d.top[key] = in[key];
+    if (in.contains("asset"))
+        for (const char* key : {"copyright", "extras"})
+            if (in["asset"].contains(key)) d.top["asset"][key] = in["asset"][key];
+    for (const json& e : arrayOf(in, "extensionsUsed")) d.used.push_back(e.get<std::string>());
+    for (const json& e : arrayOf(in, "extensionsRequired")) d.required.push_back(e.get<std::string>());
+}
+
+// The baked levels' skin over the original's own nodes (the rig's joints are those nodes: the
+// original's animations move them), and the rig's morph weight animations added to the
+// original's animation each came from, one channel per level node. Returns the skin index (-1
+// without joints). \throw InvalidInput when the rig does not come from this source.
+int addSourceRig(Buffer& b, Document& d, const Rig& rig, const SourceScene& src, const std::vector<int>& morphNodes,
+                 const std::string& path) {
+    if (src.rigNodes.size() != rig.nodes.size() || src.rigAnimations.size() != rig.animations.size())
+        throw InvalidInput(path + ": the original's skin and animations (" + src.path + ") are not those of the chain");
+    int skin = -1;
+    if (!rig.empty()) {
+        std::vector<float> ibm;
+        ibm.reserve(16 * rig.inverseBind.size());
+        for (const Mat4& m : rig.inverseBind)
+            for (double e : m) ibm.push_back(float(e));
+        const int view = b.addView(ibm.data(), ibm.size() * 4, 0);
+        const int accessor = b.addAccessor({{"bufferView", view}, {"componentType", kFloat}, {"count", rig.inverseBind.size()}, {"type", "MAT4"}});
+        json joints = json::array();
+        for (int j : rig.joints) joints.push_back(src.rigNodes[size_t(j)] + 1);
+        skin = int(d.skins.size());
+        d.skins.push_back({{"name", "LOD1+"}, {"joints", joints}, {"inverseBindMatrices", accessor}});
+    }
+    for (size_t ai = 0; ai < rig.animations.size() && !morphNodes.empty(); ++ai) {
+        const size_t target = size_t(src.rigAnimations[ai]);
+        if (target >= d.animations.size()) throw InvalidInput(path + ": animation " + std::to_string(target) + " of the original is missing");
+        appendWeightChannels(b, d.animations[target], rig.animations[ai], morphNodes);
+    }
+    return skin;
+}
+
 std::string lowerExt(const std::string& path) {
     std::string e = std::filesystem::path(path).extension().string();
     std::transform(e.begin(), e.end(), e.begin(), [](unsigned char ch) { return char(std::tolower(ch)); });
@@ -153,18 +238,19 @@ std::string lowerExt(const std::string& path) {
 
 LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodLevelData>& levels,
                                  const std::vector<double>& screenCoverage, const LodChainWriteOptions& options, const Rig* rig,
-                                 const MorphTargets* morph, const SceneExtras* scene) {
+                                 const MorphTargets* morph, const SceneExtras* scene, const SourceScene* lod0) {
     std::string ext = lowerExt(path);
     bool glb = ext == ".glb";
     if (!glb && ext != ".gltf") throw IOError(path + ": output must end in .glb or .gltf");
-    if (levels.empty()) throw InvalidInput(path + ": no level to write");
-    if (!screenCoverage.empty() && screenCoverage.size() != levels.size())
+    const size_t levelCount = levels.size() + (lod0 ? 1 : 0);
+    if (levelCount == 0) throw InvalidInput(path + ": no level to write");
+    if (!screenCoverage.empty() && screenCoverage.size() != levelCount)
         throw InvalidInput(path + ": " + std::to_string(screenCoverage.size()) + " screen coverage values for " +
-                           std::to_string(levels.size()) + " levels");
+                           std::to_string(levelCount) + " levels");
     for (const LodLevelData& L : levels) checkLevel(path, L);
-    const bool skinned = rig && !rig->empty() &&
+    const bool skinned = rig && !rig->empty() && !levels.empty() &&
                          std::all_of(levels.begin(), levels.end(), [](const LodLevelData& L) { return !L.joints.empty(); });
-    const bool morphed = morph && !morph->empty() && std::all_of(levels.begin(), levels.end(), [&](const LodLevelData& L) {
+    const bool morphed = morph && !morph->empty() && !levels.empty() && std::all_of(levels.begin(), levels.end(), [&](const LodLevelData& L) {
         return L.targetPositions.size() == morph->size();
     });
     if (options.draco && (options.meshopt || options.quantize))
@@ -186,8 +272,32 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
         stats.warnings.push_back(path + ": morphed levels are not Draco-compressed (Draco reorders vertices; the morph targets could not follow)");
     Buffer b;
     json root;
-    json meshes = json::array(), nodes = json::array(), materials = json::array(), textures = json::array(),
-         images = json::array();
+    Document doc;
+    if (lod0) {
+        startWithSource(*lod0, b, doc);
+        // The original's own figures come first: the levels' stats are LOD1 onwards.
+        stats.levelGeometryBytes.push_back(lod0->geometryBytes);
+        stats.levelImageBytes.push_back(lod0->imageBytes);
+        stats.levelCacheBefore.push_back({});
+        stats.levelCacheAfter.push_back({});
+        if (!levels.empty() && (options.draco || options.meshopt || options.quantize))
+            stats.warnings.push_back(path + ": LOD0 (the original) is written uncompressed and unquantized");
+    }
+    json &meshes = doc.meshes, &nodes = doc.nodes, &materials = doc.materials, &textures = doc.textures, &images = doc.images;
+    // The baked levels' meshes, materials and samplers follow the original's (none without it).
+    // Linear-mipmap-linear minification unless a level keeps other filters: the gutters are sized
+    // for the mip levels it uses.
+    const size_t meshBase = meshes.size(), materialBase = materials.size();
+    json samplers = doc.samplers;
+    std::map<std::pair<int, int>, size_t> samplerOf;  // (min, mag) filter -> sampler index
+    auto samplerFor = [&](int minFilter, int magFilter) {
+        const std::pair<int, int> key{minFilter ? minFilter : kLinearMipmapLinear, magFilter ? magFilter : kLinear};
+        auto it = samplerOf.find(key);
+        if (it != samplerOf.end()) return it->second;
+        samplers.push_back({{"magFilter", key.second}, {"minFilter", key.first}, {"wrapS", kClampToEdge}, {"wrapT", kClampToEdge}});
+        return samplerOf[key] = samplers.size() - 1;
+    };
+    std::vector<int> levelNodes;
     std::vector<std::pair<std::string, const Image*>> sideImages;
     std::string stem = std::filesystem::path(path).stem().string();
     bool usesEmissiveStrength = false, usesUnlit = false, usesQuantization = false, usesBasisu = false;
@@ -224,12 +334,13 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
                 stats.warnings.push_back(path + ": level '" + L.name + "' has UVs outside [0,1]: kept FLOAT texture coordinates");
         }
         stats.levelGeometryBytes.push_back(b.size - before);
-        prim["material"] = i;
+        prim["material"] = materialBase + i;
         json mesh = {{"name", L.name}, {"primitives", json::array({prim})}};
         if (morphed) addMorphDefaults(mesh, *morph);
         meshes.push_back(mesh);
         // The caller's material: side images are written after the loop.
         const LodMaterial& M = levels[i].material;
+        const size_t sampler = samplerFor(M.minFilter, M.magFilter);
         size_t imageBytes = 0;
         // Adds one texture (and its image) of this level; returns the texture index.
         auto addTexture = [&](const Image& image, const std::string& suffix) {
@@ -238,10 +349,10 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
             if (mime.empty()) mime = "image/png";
             // A KTX2 image only through KHR_texture_basisu (required: there is no PNG fallback).
             if (mime == "image/ktx2") {
-                textures.push_back({{"sampler", 0}, {"extensions", {{kBasisu, {{"source", images.size()}}}}}});
+                textures.push_back({{"sampler", sampler}, {"extensions", {{kBasisu, {{"source", images.size()}}}}}});
                 usesBasisu = true;
             } else {
-                textures.push_back({{"source", images.size()}, {"sampler", 0}});
+                textures.push_back({{"source", images.size()}, {"sampler", sampler}});
             }
             const std::string name = L.name + suffix;
             json img = {{"name", name}};
@@ -303,32 +414,44 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
         if (M.doubleSided) mat["doubleSided"] = true;
         materials.push_back(mat);
         stats.levelImageBytes.push_back(imageBytes);
-        json node = {{"name", L.name}, {"mesh", i}};
+        json node = {{"name", L.name}, {"mesh", meshBase + i}};
         if (options.quantize && !skinned && !morphed) {
             const PositionGrid& g = streams.grid;
             node["translation"] = {g.origin[0], g.origin[1], g.origin[2]};
             node["scale"] = {g.step, g.step, g.step};
         }
-        if (skinned) node["skin"] = 0;
+        levelNodes.push_back(int(nodes.size()));
         nodes.push_back(node);
     }
     json sceneNodes = json::array({0});
     std::vector<int> morphNodes;  // every level node carries the targets
-    if (morphed)
-        for (size_t i = 0; i < levels.size(); ++i) morphNodes.push_back(int(i));
-    if (skinned)
+    if (morphed) morphNodes = levelNodes;
+    if (lod0) {
+        const int skin = rig && (skinned || morphed) ? addSourceRig(b, doc, *rig, *lod0, morphNodes, path) : -1;
+        if (skinned)
+            for (int n : levelNodes) nodes[size_t(n)]["skin"] = skin;
+    } else if (skinned) {
+        for (int n : levelNodes) nodes[size_t(n)]["skin"] = 0;
         for (int r : writeRig(b, root, nodes, *rig, morphNodes)) sceneNodes.push_back(r);
-    else if (morphed && rig)
+    } else if (morphed && rig) {
         writeAnimations(b, root, *rig, -1, morphNodes);
+    }
+    if (lod0) {
+        if (!doc.skins.empty()) root["skins"] = doc.skins;
+        if (!doc.animations.empty()) root["animations"] = doc.animations;
+        for (const auto& [key, value] : doc.top.items()) root[key] = value;
+    }
 
-    root["asset"] = {{"version", "2.0"}, {"generator", options.generator}};
-    std::vector<std::string> used;
-    // Lights, cameras and extras: their nodes after the levels' and the rig's, in the scene.
+    json asset = {{"version", "2.0"}, {"generator", options.generator}};
+    if (doc.top.contains("asset")) asset.update(doc.top["asset"]);
+    root["asset"] = asset;
+    std::vector<std::string> used = doc.used;
+    // Lights, cameras and extras: their nodes after the levels' and the rig's, in the scene (the
+    // original as LOD0 carries its own, in its hierarchy).
     json sceneJson = {{"nodes", sceneNodes}};
-    if (scene && writeSceneExtras(*scene, root, nodes, sceneJson)) used.push_back(kLights);
-    if (levels.size() > 1) {
-        std::vector<size_t> ids;
-        for (size_t i = 1; i < levels.size(); ++i) ids.push_back(i);
+    if (scene && !lod0 && writeSceneExtras(*scene, root, nodes, sceneJson)) used.push_back(kLights);
+    if (levelCount > 1) {
+        std::vector<int> ids(levelNodes.begin() + (lod0 ? 0 : 1), levelNodes.end());
         nodes[0]["extensions"][kLod] = {{"ids", ids}};
         if (!screenCoverage.empty()) nodes[0]["extras"]["MSFT_screencoverage"] = screenCoverage;
         used.push_back(kLod);
@@ -338,17 +461,22 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
     std::sort(materialExtensionsUsed.begin(), materialExtensionsUsed.end());
     materialExtensionsUsed.erase(std::unique(materialExtensionsUsed.begin(), materialExtensionsUsed.end()), materialExtensionsUsed.end());
     used.insert(used.end(), materialExtensionsUsed.begin(), materialExtensionsUsed.end());
-    std::vector<std::string> required;
-    if (options.draco && !morphed) required.push_back(kDraco);
-    if (options.meshopt) required.push_back(kMeshopt);
+    std::vector<std::string> required = doc.required;
+    if (options.draco && !morphed && !levels.empty()) required.push_back(kDraco);
+    if (options.meshopt && !levels.empty()) required.push_back(kMeshopt);
     if (usesQuantization) required.push_back(kQuantization);
     if (usesBasisu) required.push_back(kBasisu);
+    if (lod0) {  // the original's lists joined with the levels'
+        std::sort(required.begin(), required.end());
+        required.erase(std::unique(required.begin(), required.end()), required.end());
+    }
     if (!required.empty()) {
         used.insert(used.end(), required.begin(), required.end());
         root["extensionsRequired"] = required;
     }
     if (!used.empty()) {
         std::sort(used.begin(), used.end());
+        used.erase(std::unique(used.begin(), used.end()), used.end());
         root["extensionsUsed"] = used;
     }
     root["scene"] = 0;
@@ -359,7 +487,7 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
     root["textures"] = textures;
     root["images"] = images;
     // Linear-mipmap-linear minification: the gutters are sized for the mip levels this uses.
-    root["samplers"] = json::array({json{{"magFilter", 9729}, {"minFilter", 9987}, {"wrapS", 33071}, {"wrapT", 33071}}});
+    if (!samplers.empty()) root["samplers"] = samplers;
     std::filesystem::path dir = std::filesystem::path(path).parent_path();
     for (const auto& [file, img] : sideImages) {
         writeFileAtomic((dir / file).string(), std::string(img->encoded.begin(), img->encoded.end()));

@@ -53,7 +53,8 @@ namespace {
 
 // The translation / rotation / scale animations of the rig nodes (glTF node -> rig node in
 // `rigIndex`) and the morph weights of the union of `layout`, into rig.animations.
-void readAnimations(const ReadContext& c, std::map<int, int>& rigIndex, const MorphLayout& layout, Rig& rig, Asset& asset) {
+void readAnimations(const ReadContext& c, std::map<int, int>& rigIndex, const MorphLayout& layout, RigRead& rr, Asset& asset) {
+    Rig& rig = rr.rig;
     const tinygltf::Model& m = *c.model;
     for (size_t ai = 0; ai < m.animations.size(); ++ai) {
         const tinygltf::Animation& a = m.animations[ai];
@@ -81,7 +82,9 @@ void readAnimations(const ReadContext& c, std::map<int, int>& rigIndex, const Mo
             out.channels.push_back(oc);
         }
         mergeWeightChannels(c, layout, ai, a, weights, out, asset);
-        if (!out.channels.empty()) rig.animations.push_back(std::move(out));
+        if (out.channels.empty()) continue;
+        rig.animations.push_back(std::move(out));
+        rr.animationSource.push_back(int(ai));
     }
 }
 
@@ -117,7 +120,7 @@ RigRead readRig(const ReadContext& c, const std::vector<std::pair<int, Mat4>>& n
     if (!moving) {
         if (!m.animations.empty() && !animated.empty()) asset.warnings.push_back("animations dropped: they move no mesh");
         std::map<int, int> noNodes;
-        readAnimations(c, noNodes, layout, rr.rig, asset);  // morph weights only
+        readAnimations(c, noNodes, layout, rr, asset);  // morph weights only
         return rr;
     }
 
@@ -148,6 +151,7 @@ RigRead readRig(const ReadContext& c, const std::vector<std::pair<int, Mat4>>& n
     for (const auto& [d, n] : order) {
         rigIndex[n] = int(rig.nodes.size());
         rig.nodes.push_back(rigNodeOf(m.nodes[size_t(n)]));
+        rr.nodeSource.push_back(n);
     }
     for (const auto& [d, n] : order) {
         const int p = parent[size_t(n)];
@@ -191,7 +195,7 @@ RigRead readRig(const ReadContext& c, const std::vector<std::pair<int, Mat4>>& n
     }
     if (singular) asset.warnings.push_back(std::to_string(singular) + " mesh nodes with a singular transform bound with identity inverse bind matrices");
 
-    readAnimations(c, rigIndex, layout, rig, asset);
+    readAnimations(c, rigIndex, layout, rr, asset);
     return rr;
 }
 

@@ -29,6 +29,8 @@ struct RigRead {
     std::map<int, NodeInfluence> meshNodes;  // glTF node -> its binding (every mesh node when the rig is not empty)
     size_t truncated = 0;                   // vertices that had more than 4 influences
     size_t unweighted = 0;                  // vertices of skinned nodes without JOINTS_0 (Draco primitives)
+    std::vector<int> nodeSource;            // glTF node of each rig node (rig.nodes order)
+    std::vector<int> animationSource;       // glTF animation of each rig animation (rig.animations order)
 };
 
 // The rig of the flattened scene `nodes` (glTF node, world matrix): every skin used by a mesh

@@ -78,6 +78,23 @@ void writeAnimations(BufferBuilder& b, json& root, const Rig& rig, int first, co
     if (!animations.empty()) root["animations"] = animations;
 }
 
+void appendWeightChannels(BufferBuilder& b, json& animation, const Animation& a, const std::vector<int>& morphNodes) {
+    std::vector<int> written(a.samplers.size(), -1);  // rig sampler -> index in `animation`
+    for (const AnimationChannel& ch : a.channels) {
+        if (ch.path != AnimationPath::Weights || ch.sampler < 0 || size_t(ch.sampler) >= a.samplers.size()) continue;
+        int& index = written[size_t(ch.sampler)];
+        if (index < 0) {
+            const AnimationSampler& s = a.samplers[size_t(ch.sampler)];
+            std::vector<float> times(s.times.begin(), s.times.end()), values(s.values.begin(), s.values.end());
+            const char* interpolation = s.interpolation == Interpolation::Step ? "STEP" : s.interpolation == Interpolation::CubicSpline ? "CUBICSPLINE" : "LINEAR";
+            index = int(animation["samplers"].size());
+            animation["samplers"].push_back({{"input", b.addFloat(times, 1, 0, true)}, {"output", b.addFloat(values, 1, 0, false)},
+                                             {"interpolation", interpolation}});
+        }
+        for (int n : morphNodes) animation["channels"].push_back({{"sampler", index}, {"target", {{"node", n}, {"path", "weights"}}}});
+    }
+}
+
 void addMorphTargets(BufferBuilder& b, json& primitive, const std::vector<std::vector<float>>& position,
                      const std::vector<std::vector<float>>& normal, const std::vector<std::vector<float>>& tangent) {
     if (position.empty()) return;

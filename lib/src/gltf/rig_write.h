@@ -24,6 +24,11 @@ std::vector<int> writeRig(BufferBuilder& b, nlohmann::json& root, nlohmann::json
 // channels only); animations left without a channel are not written.
 void writeAnimations(BufferBuilder& b, nlohmann::json& root, const Rig& rig, int first, const std::vector<int>& morphNodes);
 
+// The weights channels of `a`, its samplers written again, appended to the glTF animation object
+// `animation`: one channel per node of `morphNodes` (its samplers and channels indices follow
+// those already there). Nothing when `a` has no weights channel.
+void appendWeightChannels(BufferBuilder& b, nlohmann::json& animation, const Animation& a, const std::vector<int>& morphNodes);
+
 // primitive["targets"]: per target, POSITION (with min/max) and, when given, NORMAL / TANGENT
 // deltas (3 floats per vertex each). Nothing without targets.
 void addMorphTargets(BufferBuilder& b, nlohmann::json& primitive, const std::vector<std::vector<float>>& position,

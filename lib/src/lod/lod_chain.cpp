@@ -13,7 +13,9 @@
 //      its own charts, ownCharts: islands unfolded onto neighbouring charts); packLevelPage (the charts its triangles
 //      use repacked at that density, gutters sized for the mips used down to its smallest
 //      coverage); bakePage (the ORIGINAL triangles baked at the repacked UVs); buildLevelMesh
-//      (one indexed primitive: position, normal, atlas UV).
+//      (one indexed primitive: position, normal, atlas UV);
+//   5. with Lod0::Original, LOD0 is the input asset itself (readSourceScene): its page is packed
+//      (LOD1's is held to its texels) but nothing is baked, and its report describes the original.
 #include "lodbake/lod/lod_chain.h"
 
 #include <algorithm>
@@ -31,6 +33,7 @@
 #include "lodbake/bake/material_plan.h"
 #include "lod/level_islands.h"
 #include "lod/level_material.h"
+#include "lod/source_texels.h"
 #include "lod/vertex_placement.h"
 #include "lodbake/core/errors.h"
 #include "lodbake/core/timing.h"
@@ -43,6 +46,7 @@
 #include "lodbake/metrics/posed_distance.h"
 #include "lodbake/atlas/atlas.h"
 #include "lodbake/param/parameterize.h"
+#include "lodbake/texture/codec.h"
 
 namespace lodbake {
 namespace {
@@ -734,8 +738,9 @@ void selectTexture(const Multires& mr, const std::vector<LayoutData>& layouts, s
 // the finer one (packing fewer, larger gutters can come out bigger at the same density): its
 // density is lowered until it does not (at most 8 tries). `reports` holds levels 0..k-1.
 LevelAtlas packLevelPage(const LayoutData& lay, const LevelUVs& luv, size_t k, const PackLevelReport& r,
-                         const std::vector<PackLevelReport>& reports, const PackOptions& options) {
-    const double tMax = r.texelLimit / lay.uvPerUnit;
+                         const std::vector<PackLevelReport>& reports, const PackOptions& options, bool sourceTexels = false) {
+    // Source texels (LOD0): one page texel per layout unit = per source texel, on whole texels.
+    const double tMax = sourceTexels ? 1.0 : r.texelLimit / lay.uvPerUnit;
     // At density d (layout units) the smallest coverage samples mip log2(d / (tMax x cov / maxCov)).
     const double minCoverageRatio = std::max(r.coverage, 1e-12) / r.maxCoverage;
     auto mipsAt = [&](double d) { return int(std::ceil(std::log2(std::max(1.0, d / (tMax * minCoverageRatio)) - 1e-9))); };
@@ -755,6 +760,7 @@ LevelAtlas packLevelPage(const LayoutData& lay, const LevelUVs& luv, size_t k, c
     ao.maxSize = options.maxSize;
     ao.powerOfTwo = options.powerOfTwo;
     ao.threads = options.threads;
+    ao.texelAligned = sourceTexels;
     LevelAtlas la = packLevelAtlas(lay, luv, k == 0, ao);
     for (int m = std::clamp(mipsAt(la.atlas.texelsPerUnit), 0, mips); m < mips; ++m) {
         AtlasOptions narrow = ao;
@@ -768,6 +774,8 @@ LevelAtlas packLevelPage(const LayoutData& lay, const LevelUVs& luv, size_t k, c
     }
     for (int tries = 0; k > 0 && tries < 8; ++tries) {
         double previous = double(reports[k - 1].width) * reports[k - 1].height;
+        // A LOD0 on the source texels holds the original's texel count, not its screen density's.
+        if (k == 1 && reports[0].sourceTexels) previous = std::max(previous, reports[0].sideNeeded * reports[0].sideNeeded);
         double now = double(la.atlas.width) * la.atlas.height;
         if (now <= previous) break;
         ao.maxTexelsPerUnit = std::min(ao.maxTexelsPerUnit, la.atlas.texelsPerUnit) * std::sqrt(previous / now) * 0.98;
@@ -790,6 +798,32 @@ void recordPage(const LevelAtlas& la, const LayoutData& lay, PackLevelReport& r)
     r.texelsPerUnit = la.atlas.texelsPerUnit * lay.uvPerUnit;
 }
 
+// 5. The original as LOD0: it must be the chain's input (same flattened triangles).
+SourceScene readOriginal(const Asset& asset, const PackOptions& options) {
+    if (options.original.empty()) throw InvalidInput(asset.sourcePath + ": LOD0 'original' needs the original asset's path");
+    SourceScene s = readSourceScene(options.original);
+    if (s.triangles != asset.mesh.triangleCount())
+        throw InvalidInput(options.original + ": not the original of " + asset.sourcePath + " (" + std::to_string(s.triangles) +
+                           " triangles; the chain's original has " + std::to_string(asset.mesh.triangleCount()) + ")");
+    return s;
+}
+
+// The report of LOD0 when it is the original: no page, bake or channels; deviation 0.
+void describeOriginal(const SourceScene& s, PackLevelReport& r) {
+    PackLevelReport o;
+    o.source = "original asset";
+    o.triangles = s.triangles;
+    o.vertices = s.vertices;
+    o.drawCalls = s.drawCalls;
+    o.materials = s.materials;
+    o.coverage = r.coverage;
+    o.maxCoverage = r.maxCoverage;
+    o.switchDistance = r.switchDistance;
+    o.texelLimit = r.texelLimit;
+    o.sideNeeded = r.sideNeeded;
+    r = o;
+}
+
 }  // namespace
 
 PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOptions& options) {
@@ -797,6 +831,8 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
     checkInput(asset, mr);
     const TriMesh& mesh = asset.mesh;
     PackResult res;
+    const bool original = options.lod0 == Lod0::Original;
+    if (original) res.original = readOriginal(asset, options);
     res.diagonal = bounds(mesh).diagonal();
     res.radius = 0.5 * res.diagonal;
     if (!(res.radius > 0)) throw Impossible(asset.sourcePath + ": the mesh has no extent");
@@ -821,6 +857,10 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
     std::optional<FaceGrid> grid;
     double previousReach = -1;  // the previous level's projection reach (-1: not projected)
 
+    // LOD0's layout on the original's texels (source_texels.h), made at LOD0.
+    std::optional<SourceTexelLayout> sourceLayout;
+    std::optional<LayoutData> sourceData;
+
     // 4. Per level: texture, page, mesh, bake.
     const MaterialPlan plan = options.baseColorOnly ? baseColorPlan(planMaterial(asset)) : planMaterial(asset);
     res.warnings = plan.warnings;
@@ -833,12 +873,18 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
     io.jpegQuality = options.jpegQuality;
     io.ktx2Encoder = options.ktx2Encoder;
     io.threads = options.threads;
-    res.levels.resize(n);
+    res.levels.resize(original ? n - 1 : n);
     for (size_t k = 0; k < n; ++k) {
         PackLevelReport& r = res.reports[k];
         levelCoverage(res, k, options, r);
         selectTexture(mr, layouts, views[k].level, hierarchy, area3D, options, r);
-        LayoutData& lay = layouts[r.rank];
+        if (k == 0 && options.sourceTexels) {
+            std::vector<std::pair<int, int>> sizes;
+            for (const Image& image : asset.images) sizes.push_back(imageSize(image));
+            sourceLayout = sourceTexelLayout(asset, sizes, *layouts[0].ch, r.texelLimit / layouts[0].uvPerUnit);
+            if (!sourceLayout->layout.empty()) sourceData.emplace(layoutData(asset, sourceLayout->layout, r.rank));
+            r.sourceTexelsNote = sourceLayout->reason;
+        }
         const bool projected = k > 0 && options.projectLevels;
         auto tStep = Clock::now();
         double cpuStep = processCpuSeconds();
@@ -849,17 +895,30 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
             tStep = Clock::now();
             cpuStep = c;
         };
-        LodLevelData& L = res.levels[k];
+        LodLevelData scratch;  // LOD0's mesh when the original is LOD0: never built
+        LodLevelData& L = original ? (k > 0 ? res.levels[k - 1] : scratch) : res.levels[k];
         L.name = "LOD" + std::to_string(k);
         LevelAtlas la;
+        // LOD0 on the source texels when they fit the page whole, else on the rank's layout.
+        bool sourceTexels = k == 0 && sourceData;
+        LayoutData* layout = sourceTexels ? &*sourceData : &layouts[r.rank];
         {  // the level's layout UVs end with its mesh, before the bake
-            const LevelUVs luv = projected ? ownCharts(mesh, lay, views[k], levelUVs(mesh, lay, views[k], views[k].data))
-                                           : levelUVs(mesh, lay, views[k], views[k].data);
+            LevelUVs luv = projected ? ownCharts(mesh, *layout, views[k], levelUVs(mesh, *layout, views[k], views[k].data))
+                                     : levelUVs(mesh, *layout, views[k], views[k].data);
             lap(r.wall.uvs, r.cpu.uvs);
-            la = packLevelPage(lay, luv, k, r, res.reports, options);
+            la = packLevelPage(*layout, luv, k, r, res.reports, options, sourceTexels);
+            if (sourceTexels && la.atlas.texelsPerUnit < 1) {
+                r.sourceTexelsNote = "the original's texture islands do not fit a " + std::to_string(options.maxSize) + " page";
+                sourceTexels = false;
+                layout = &layouts[r.rank];
+                luv = levelUVs(mesh, *layout, views[k], views[k].data);
+                la = packLevelPage(*layout, luv, k, r, res.reports, options);
+            }
+            r.sourceTexels = sourceTexels;
             lap(r.wall.page, r.cpu.page);
-            recordPage(la, lay, r);
+            recordPage(la, *layout, r);
             r.absorbedIslands = luv.absorbedIslands;
+            if (original && k == 0) continue;  // 5: the page only, for LOD1's texel cap
             buildLevelMesh(asset, views[k], luv, la, L);
         }
         const size_t front = L.indices.size() / 3;
@@ -877,24 +936,27 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
         const double reach = 1.5 * r.hausdorff + kProjectionSlack * res.diagonal;
         // A projected level with the previous projected level's mesh, page and reach (and so its
         // channels: every coarser level has the same) bakes the same: its material is copied.
-        const bool repeat = projected && k > 1 && reach == previousReach && la.atlas.width == res.reports[k - 1].width &&
-                            la.atlas.height == res.reports[k - 1].height && sameLevelMesh(L, res.levels[k - 1]);
+        const LodLevelData* previous = k > 1 ? &res.levels[k - 1 - (original ? 1 : 0)] : nullptr;
+        const bool repeat = projected && previous && reach == previousReach && la.atlas.width == res.reports[k - 1].width &&
+                            la.atlas.height == res.reports[k - 1].height && sameLevelMesh(L, *previous);
         if (projected && !grid && !repeat) grid.emplace(mesh);
         BakeResult baked;
         if (!repeat)
             baked = projected ? bakeProjected(sources, *grid, L, front, la.atlas.width, la.atlas.height, reach, res.diagonal, channels,
                                               targetOrNull, options.threads)
-                              : bakePage(sources, lay, la, channels, targetOrNull, options.threads);
+                              : bakePage(sources, *layout, la, channels, targetOrNull, options.threads);
         previousReach = projected ? reach : -1;
         r.bakeSeconds = baked.seconds;
         lap(r.wall.bake, r.cpu.bake);
-        L.material = repeat ? res.levels[k - 1].material : levelMaterial(plan, baked, la.atlas.width, la.atlas.height, io, L.name);
+        L.material = repeat ? previous->material : levelMaterial(plan, baked, la.atlas.width, la.atlas.height, io, L.name);
+        if (sourceTexels) std::tie(L.material.minFilter, L.material.magFilter) = sourceFilters(asset);
         lap(r.wall.material, r.cpu.material);
         r.channels = channelNames(L.material);
         r.triangles = L.indices.size() / 3;
         r.vertices = L.positions.size() / 3;
         progress(0.3 + 0.7 * double(k + 1) / double(n));
     }
+    if (original) describeOriginal(*res.original, res.reports[0]);
     res.seconds = secondsSince(t0);
     return res;
 }
@@ -916,9 +978,10 @@ void appendLevelStats(PackWriteStats& st, const LodChainWriteStats& w, size_t k)
 PackWriteStats writePackResult(const std::string& path, const PackResult& result, const PackWriteOptions& options) {
     PackWriteStats st;
     if (!options.split) {
-        LodChainWriteStats w = writeLodChain(path, result.levels, result.screenCoverage, options.chain, &result.rig, &result.morph, &result.scene);
+        LodChainWriteStats w = writeLodChain(path, result.levels, result.screenCoverage, options.chain, &result.rig, &result.morph,
+                                             &result.scene, result.original ? &*result.original : nullptr);
         st.files.push_back(path);
-        for (size_t k = 0; k < result.levels.size(); ++k) appendLevelStats(st, w, k);
+        for (size_t k = 0; k < result.reports.size(); ++k) appendLevelStats(st, w, k);
         st.totalBytes = w.fileBytes;
         return st;
     }
@@ -927,15 +990,18 @@ PackWriteStats writePackResult(const std::string& path, const PackResult& result
     std::string stem = (p.parent_path() / p.stem()).string(), ext = p.extension().string();
     nlohmann::json manifest;
     manifest["levels"] = nlohmann::json::array();
-    for (size_t k = 0; k < result.levels.size(); ++k) {
+    const size_t first = result.original ? 1 : 0;  // index in result.levels of LOD0 - first
+    for (size_t k = 0; k < result.reports.size(); ++k) {
         std::string file = stem + ".lod" + std::to_string(k) + ext;
-        LodChainWriteStats w = writeLodChain(file, {result.levels[k]}, {}, options.chain, &result.rig, &result.morph, &result.scene);
+        const bool hero = result.original && k == 0;
+        LodChainWriteStats w = hero ? writeLodChain(file, {}, {}, options.chain, &result.rig, &result.morph, &result.scene, &*result.original)
+                                    : writeLodChain(file, {result.levels[k - first]}, {}, options.chain, &result.rig, &result.morph, &result.scene);
         st.files.push_back(file);
         appendLevelStats(st, w, 0);
         st.totalBytes += w.fileBytes;
         manifest["levels"].push_back({{"file", fs::path(file).filename().string()},
                                       {"screenCoverage", result.screenCoverage[k]},
-                                      {"triangles", result.levels[k].indices.size() / 3}});
+                                      {"triangles", hero ? result.original->triangles : result.levels[k - first].indices.size() / 3}});
     }
     manifest["cutoff"] = result.screenCoverage.back();
     manifest["screenCoverage"] = result.screenCoverage;

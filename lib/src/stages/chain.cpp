@@ -95,7 +95,9 @@ StageResult runChain(const ChainSettings& s) {
         chain.run("texture-refine", refine, &parameterized, &refined, runTextureRefine);
         packInput = &refined;
     }
-    chain.run("pack", s.pack, packInput, nullptr, runPack);
+    PackSettings pack = s.pack;
+    if (pack.pack.lod0 == Lod0::Original && pack.pack.original.empty()) pack.pack.original = s.common.input;  // the chain's own input
+    chain.run("pack", pack, packInput, nullptr, runPack);
 
     StageResult out;
     out.report = {{"tool", "lodbake"},

@@ -23,7 +23,8 @@ nlohmann::json makeReport(const PackSettings& s, const Asset& asset, const Multi
                           {"source", r.source},
                           {"triangles", r.triangles},
                           {"vertices", r.vertices},
-                          {"drawCalls", 1},
+                          {"drawCalls", r.drawCalls},
+                          {"materials", r.materials},
                           {"texels", uint64_t(r.width) * uint64_t(r.height)},
                           {"width", r.width},
                           {"height", r.height},
@@ -53,6 +54,10 @@ nlohmann::json makeReport(const PackSettings& s, const Asset& asset, const Multi
                           {"textureRank", r.rank},
                           {"pageSideNeeded", r.sideNeeded},
                           {"hierarchyTextureSize", r.textureSize}});
+        if (k == 0)
+            levels.back()["sourceTexels"] = r.sourceTexelsNote.empty()
+                                                ? nlohmann::json{{"used", r.sourceTexels}}
+                                                : nlohmann::json{{"used", r.sourceTexels}, {"why", r.sourceTexelsNote}};
         if (r.placement.tried) {
             const PackLevelReport::Placement& pl = r.placement;
             levels.back()["placement"] = {{"applied", pl.applied},
@@ -77,7 +82,15 @@ nlohmann::json makeReport(const PackSettings& s, const Asset& asset, const Multi
                       {"optimize", c.optimize}, {"meshopt", c.meshopt}, {"quantize", c.quantize}, {"normalMaps", normalMapsName(o.normalMaps)},
                       {"baseColorOnly", o.baseColorOnly}, {"projectLevels", o.projectLevels},
                       {"vertexPlacement", o.vertexPlacement},
-                      {"qp", c.quantPosition}, {"qt", c.quantTexcoord}, {"qn", c.quantNormal}};
+                      {"qp", c.quantPosition}, {"qt", c.quantTexcoord}, {"qn", c.quantNormal}, {"lod0", lod0Name(o.lod0)}};
+    nlohmann::json lod0 = {{"mode", lod0Name(o.lod0)}};
+    if (res.original) {
+        const SourceScene& src = *res.original;
+        lod0.update({{"path", src.path}, {"drawCalls", src.drawCalls}, {"materials", src.materials}, {"meshes", src.meshes},
+                     {"nodes", src.nodes}, {"textures", src.textures}, {"images", src.images}, {"skins", src.skins},
+                     {"animations", src.animations}, {"triangles", src.triangles}, {"decoded", src.decoded}});
+    }
+    rep["lod0"] = lod0;
     rep["utilisationDefinition"] = "chart texels / page texels; chart texels = the charts' triangle coverage (UV area); "
                                    "boxUtilisation uses the charts' rotated bounding rectangles (above 1 when charts nest), "
                                    "rasterUtilisation the texels their triangles touch, footprintUtilisation adds each "
@@ -110,6 +123,8 @@ std::string statistics(const PackSettings& s, const PackResult& res, const PackW
 }  // namespace
 
 const char* imageFormatName(ImageFormat format) { return format == ImageFormat::Png ? "png" : "jpeg"; }
+
+const char* lod0Name(Lod0 mode) { return mode == Lod0::Original ? "original" : "baked"; }
 
 const char* normalMapsName(NormalMaps mode) {
     return mode == NormalMaps::Auto ? "auto" : mode == NormalMaps::Always ? "always" : "never";

@@ -200,6 +200,21 @@ bool decodeImage(const Image& image, DecodedImage& out, std::string& error, Deco
     return true;
 }
 
+std::pair<int, int> imageSize(const Image& image) {
+    if (image.width > 0 && image.height > 0) return {image.width, image.height};
+    if (image.encoded.empty()) return {0, 0};
+    OIIO::Filesystem::IOMemReader reader(const_cast<uint8_t*>(image.encoded.data()), image.encoded.size());
+    auto in = OIIO::ImageInput::create(image.mimeType == "image/jpeg" ? "jpeg" : "png");
+    OIIO::ImageSpec opened;
+    if (!in || !in->set_ioproxy(&reader) || !in->open(image.mimeType == "image/jpeg" ? "image.jpg" : "image.png", opened)) {
+        OIIO::geterror();  // clears the message
+        return {0, 0};
+    }
+    const std::pair<int, int> size{in->spec().width, in->spec().height};
+    in->close();
+    return size;
+}
+
 void checkImages(Asset& asset, ImageCheck check) {
     for (size_t i = 0; i < asset.images.size(); ++i) checkImage(asset.sourcePath, asset.images[i], i, check);
 }

@@ -69,6 +69,10 @@ struct AtlasOptions {
     int maxSize = 2048;             // page width and height cap, texels
     bool powerOfTwo = false;        // page sides powers of two (then texel density may drop below the limit)
     int threads = 1;                // threads of the page search (0 = all cores); the result is the same for any count
+    // Charts keep their orientation (quarter turns only) and land on whole texels: with UVs in
+    // source texels and maxTexelsPerUnit 1, every page texel centre maps to a source texel centre
+    // (check AtlasResult::texelsPerUnit: the density is lowered when the charts do not fit).
+    bool texelAligned = false;
 };
 
 // Maps T0 UV to page texel coordinates: x = m[0] u + m[1] v + m[2], y = m[3] u + m[4] v + m[5].

@@ -13,6 +13,8 @@
 
 namespace lodbake {
 
+struct SourceScene;  // lodbake/gltf/source_scene.h
+
 // The one material of a level: baked textures where a channel varies, factors where it does not
 // (lodbake/bake/material_plan.h). Texture images are encoded; an empty `encoded` = no texture.
 struct LodMaterial {
@@ -35,6 +37,9 @@ struct LodMaterial {
     // texture reference's `texture` indexes extensionImages (-1 = none), several may share one.
     MaterialExtensions ext;
     std::vector<Image> extensionImages;  // encoded; Image::name = the suffix of its glTF name ("clearcoat", ...)
+    // The textures' GL min / mag filters; 0 = the chain's (LINEAR_MIPMAP_LINEAR, LINEAR). A page
+    // holding the original's texels one to one keeps the original's filters.
+    int minFilter = 0, magFilter = 0;
 };
 
 // One level of the chain, ready to write: an indexed triangle list (CCW) in world space.
@@ -109,12 +114,24 @@ struct LodChainWriteStats {
 // With a non-empty `scene`: its lights (KHR_lights_punctual, then in extensionsUsed), cameras and
 // extras, each light / camera node a scene root at its world transform (after the levels' and the
 // rig's nodes).
+// With a non-null `lod0` (the input's own document: pack --lod0 original), LOD0 is that scene
+// and `levels` are LOD1 onwards (`screenCoverage` has one value more than `levels`; `levels` may be
+// empty: the original alone, for pack --split). Node 0 is a group named "LOD0" whose children are
+// the original's scene roots (its nodes follow at index + 1, with their transforms, skins, morph
+// targets, lights and cameras); every other array of the original keeps its indices and the
+// levels' meshes, materials, textures, images and sampler come after. The original's animations
+// drive it; the levels' skin (`rig`, when the levels are skinned) takes the original's nodes as
+// joints (lod0->rigNodes), so the same animations move the levels, and the rig's morph weight
+// channels join the original's animations for the level nodes. `scene` is not written (the
+// original carries its own lights, cameras and extras). LOD0 is never compressed or quantized
+// (a warning when options ask for it); its stats are those of the original's buffer (no vertex
+// cache figures: zeros).
 // \pre every level has >= 1 triangle and matching attribute sizes; a normal map comes with tangents.
-// \throw InvalidInput (inconsistent level data), IOError (cannot write), SolverError (Draco failed),
-//        Unsupported (draco with meshopt or quantize).
+// \throw InvalidInput (inconsistent level data; a rig that is not lod0's), IOError (cannot write),
+//        SolverError (Draco failed), Unsupported (draco with meshopt or quantize).
 LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodLevelData>& levels,
                                  const std::vector<double>& screenCoverage, const LodChainWriteOptions& options = {},
                                  const Rig* rig = nullptr, const MorphTargets* morph = nullptr,
-                                 const SceneExtras* scene = nullptr);
+                                 const SceneExtras* scene = nullptr, const SourceScene* lod0 = nullptr);
 
 }  // namespace lodbake

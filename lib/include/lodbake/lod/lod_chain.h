@@ -11,6 +11,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,7 @@
 #include "lodbake/core/pose_samples.h"
 #include "lodbake/texture/codec.h"
 #include "lodbake/gltf/msft_lod.h"
+#include "lodbake/gltf/source_scene.h"
 
 namespace lodbake {
 
@@ -27,6 +29,13 @@ enum class NormalMaps {
     Auto,    // when the input has normal maps, and on every level coarser than the original
     Always,  // on every level, LOD0 included
     Never,
+};
+
+// What LOD0 is.
+enum class Lod0 {
+    Baked,     // the original triangles, one mesh / one material / one draw call like every level
+    Original,  // the input asset itself: its own meshes, materials and nodes (several draw calls,
+               // exact appearance up close); the baked one-draw levels are LOD1 onwards
 };
 
 struct PackOptions {
@@ -65,12 +74,21 @@ struct PackOptions {
     // without its material channels, for comparisons.
     bool baseColorOnly = false;
     bool useTextureHierarchy = true;  // false: every level uses T0 even when the file has a texture hierarchy
+    // LOD0's page copies the original's texels one to one, its charts the original's texture
+    // islands (lod/source_texels.h), where the original allows it (else, and when false, LOD0
+    // resamples them at its layout's density like every level).
+    bool sourceTexels = true;
+    Lod0 lod0 = Lod0::Baked;
+    // Lod0::Original: the input asset the chain was made from (the file simplify read). Its
+    // flattened triangles must be the multires original's. Empty with Lod0::Original = an error.
+    std::string original;
     std::function<bool(double)> progress;  // fraction done; may be empty
 };
 
 struct PackLevelReport {
     std::string source;           // "original" or "level K" of the multires input
     size_t triangles = 0, vertices = 0;
+    size_t drawCalls = 1, materials = 1;  // the original as LOD0: its primitives and distinct materials
     int width = 0, height = 0;    // atlas page, texels
     int gutter = 0, mips = 0;     // gutter (texels) and the mip levels it was sized for
     size_t charts = 0;            // charts on the page
@@ -107,13 +125,17 @@ struct PackLevelReport {
     Steps wall, cpu;
     std::vector<std::string> channels;  // the textures of the level's material (level_material.h channelNames)
     double sideNeeded = 0;        // page side estimate the level needs: sqrt(3D area) x texelLimit / 0.8, capped by maxSize
+    // LOD0: its page holds the original's texels one to one (PackOptions::sourceTexels), or why not.
+    bool sourceTexels = false;
+    std::string sourceTexelsNote;
     uint32_t rank = 0;            // texture hierarchy rank the level is textured with (0 = T0)
     int textureSize = 0;          // the hierarchy texture of that rank whose resolution the level needs
                                   // (smallest side >= its texel limit, else the largest); 0 = no hierarchy
 };
 
 struct PackResult {
-    std::vector<LodLevelData> levels;       // LOD0 first
+    std::vector<LodLevelData> levels;       // LOD0 first; with `original`, the baked levels LOD1 onwards
+    std::optional<SourceScene> original;    // Lod0::Original: the input asset, written as LOD0
     std::vector<double> screenCoverage;     // one per level (= ids + 1), decreasing; the last culls the coarsest
     std::vector<PackLevelReport> reports;   // per level
     double radius = 0, diagonal = 0;        // bounding sphere radius (half the bbox diagonal) and the diagonal
@@ -125,9 +147,13 @@ struct PackResult {
     double measureSeconds = 0, measureCpuSeconds = 0;  // of seconds: the levels' measured deviation (wall, CPU)
 };
 
+// With Lod0::Original, LOD0's page is still packed (the next level's page is held to its texel
+// count, as in a baked chain, so LOD1 onwards are the same as there) but not baked, and the
+// report's LOD0 describes the original (no page, its draw calls and materials, deviation 0).
 // \pre `multires.charts` is set (the asset went through parameterize) and matches asset.mesh.
-// \throw Impossible (no chart layout, no triangles), InvalidInput (inconsistent multires),
-//        IOError (bake temp files / image encoding).
+// \throw Impossible (no chart layout, no triangles), InvalidInput (inconsistent multires; an
+//        `original` whose triangles are not the chain's), IOError (bake temp files / image
+//        encoding), and readSourceScene's errors for `original`.
 PackResult packLodChain(const Asset& asset, const Multires& multires, const PackOptions& options = {});
 
 struct PackWriteOptions {

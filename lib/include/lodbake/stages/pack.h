@@ -24,6 +24,8 @@ struct PackSettings {
 
 // "png" or "jpeg".
 const char* imageFormatName(ImageFormat format);
+// "baked" or "original".
+const char* lod0Name(Lod0 mode);
 // "auto", "always" or "never".
 const char* normalMapsName(NormalMaps mode);
 

@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "lodbake/core/mesh.h"
@@ -58,6 +59,10 @@ enum class DecodeDepth {
 // Decodes `image` into `out`; false, with a one-line `error` naming the image, when it has no data
 // or cannot be decoded.
 bool decodeImage(const Image& image, DecodedImage& out, std::string& error, DecodeDepth depth = DecodeDepth::Float);
+
+// Width and height of an encoded image (its own fields when set, else read from its header);
+// {0, 0} when it cannot be read.
+std::pair<int, int> imageSize(const Image& image);
 
 enum class ImageCheck {
     Header,  // open each image and read its size (cheap)
