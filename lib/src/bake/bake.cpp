@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <climits>
 #include <cmath>
 #include <cstdlib>
 #include <iterator>
@@ -81,14 +82,15 @@ struct Grid {
     size_t at(int x, int y) const { return size_t(y) * size_t(w) + size_t(x); }
 };
 
-// Calls fn(x, y, d, bary) for every texel of the grid's region whose centre lies within
-// `dilation` texels of triangle P (texel units); bary: of the closest point of P.
+// Calls fn(x, y, d, bary) for every texel of the grid's region (rows [rowBegin, rowEnd) of it)
+// whose centre lies within `dilation` texels of triangle P (texel units); bary: of the closest
+// point of P.
 template <class Fn>
-void forEachTexelNear(const Vec2 (&P)[3], const Grid& g, double dilation, Fn&& fn) {
+void forEachTexelNear(const Vec2 (&P)[3], const Grid& g, double dilation, Fn&& fn, int rowBegin = 0, int rowEnd = INT_MAX) {
     double x0 = std::min({P[0].x, P[1].x, P[2].x}) - dilation, x1 = std::max({P[0].x, P[1].x, P[2].x}) + dilation;
     double y0 = std::min({P[0].y, P[1].y, P[2].y}) - dilation, y1 = std::max({P[0].y, P[1].y, P[2].y}) + dilation;
     int ix0 = std::max(0, int(std::floor(x0))), ix1 = std::min(g.w - 1, int(std::ceil(x1)));
-    int iy0 = std::max(0, int(std::floor(y0))), iy1 = std::min(g.h - 1, int(std::ceil(y1)));
+    int iy0 = std::max(rowBegin, int(std::floor(y0))), iy1 = std::min({g.h - 1, rowEnd - 1, int(std::ceil(y1))});
     for (int y = iy0; y <= iy1; ++y)
         for (int x = ix0; x <= ix1; ++x) {
             std::array<double, 3> b{};
@@ -97,18 +99,30 @@ void forEachTexelNear(const Vec2 (&P)[3], const Grid& g, double dilation, Fn&& f
         }
 }
 
+// Bands of kRasterRows page rows on `threads` threads, each band's texels written by the faces in
+// order (the same hits for any thread count).
+constexpr size_t kRasterRows = 64;
+
 void rasterizeTriangles(const TriMesh& mesh, const std::vector<std::array<Vec2, 3>>& cornerUV, const Grid& g,
-                        double dilation, std::vector<TexelHit>& hits) {
+                        double dilation, int threads, std::vector<TexelHit>& hits) {
     hits.assign(size_t(g.w) * size_t(g.h), {});
-    for (uint32_t f = 0; f < mesh.triangleCount(); ++f) {
-        Vec2 P[3];
-        for (int k = 0; k < 3; ++k) P[k] = {cornerUV[f][size_t(k)].x * g.size, cornerUV[f][size_t(k)].y * g.size};
-        if (std::fabs(cross(P[1] - P[0], P[2] - P[0])) < 1e-12) continue;
-        forEachTexelNear(P, g, dilation, [&](int x, int y, double d, const std::array<double, 3>& b) {
-            TexelHit& h = hits[g.at(x, y)];
-            if (float(d) < h.dist) h = {int32_t(f), float(d), {float(b[0]), float(b[1]), float(b[2])}};
-        });
-    }
+    parallelChunks(size_t(g.h), kRasterRows, threads, [&](size_t rowBegin, size_t rowEnd, size_t) {
+        for (uint32_t f = 0; f < mesh.triangleCount(); ++f) {
+            Vec2 P[3];
+            for (int k = 0; k < 3; ++k) P[k] = {cornerUV[f][size_t(k)].x * g.size, cornerUV[f][size_t(k)].y * g.size};
+            if (std::max({P[0].y, P[1].y, P[2].y}) + dilation < double(rowBegin) - 1 ||
+                std::min({P[0].y, P[1].y, P[2].y}) - dilation > double(rowEnd) + 1)
+                continue;  // off the band (with a texel to spare: the band clips exactly)
+            if (std::fabs(cross(P[1] - P[0], P[2] - P[0])) < 1e-12) continue;
+            forEachTexelNear(
+                P, g, dilation,
+                [&](int x, int y, double d, const std::array<double, 3>& b) {
+                    TexelHit& h = hits[g.at(x, y)];
+                    if (float(d) < h.dist) h = {int32_t(f), float(d), {float(b[0]), float(b[1]), float(b[2])}};
+                },
+                int(rowBegin), int(rowEnd));
+        }
+    });
 }
 
 // Islands: texel -> point X of the island's 3D triangle -> closest point of its faces (over
@@ -602,8 +616,13 @@ void encodeAnisotropyInTarget(const BakeTarget* targetOrNull, const TargetHit& t
 }
 
 // Rounds values in [0,1] to 8-bit steps, as they will be stored.
-void quantize(std::vector<float>& v) {
-    for (float& x : v) x = float(std::lround(std::clamp(double(x), 0.0, 1.0) * 255)) / 255.0f;
+// Chunks of the per-texel loops after the shading (each texel alone: any thread count).
+constexpr size_t kTexelChunk = size_t(1) << 16;
+
+void quantize(std::vector<float>& v, int threads) {
+    parallelChunks(v.size(), kTexelChunk, threads, [&](size_t begin, size_t end, size_t) {
+        for (size_t i = begin; i < end; ++i) v[i] = float(std::lround(std::clamp(double(v[i]), 0.0, 1.0) * 255)) / 255.0f;
+    });
 }
 
 }  // namespace
@@ -674,7 +693,7 @@ BakeResult bakeMaterial(const BakeSources& bs, const std::vector<std::array<Vec2
     BakeResult res;
 
     std::vector<TexelHit> hits;
-    rasterizeTriangles(mesh, cornerUV, g, o.dilation, hits);
+    rasterizeTriangles(mesh, cornerUV, g, o.dilation, o.threads, hits);
     rasterizeIslands(mesh, islands, g, o.dilation, o.threads, hits);
     std::vector<TargetHit> targetHits;
     if ((ch.normal || ch.clearcoatNormal || ch.anisotropy) && target) targetHits = rasterizeTarget(*target, g);
@@ -764,46 +783,54 @@ BakeResult bakeMaterial(const BakeSources& bs, const std::vector<std::array<Vec2
     for (const ExtensionImage& e : extensionImages) {
         if (!e.on) continue;
         if (e.srgb)
-            for (size_t i = 0; i < texels; ++i)
-                for (size_t c = 0; c < 3; ++c) {
-                    float& x = (*e.out)[i * e.comps + c];
-                    x = float(linearToSrgb(std::clamp(double(x), 0.0, 1.0)));
-                }
-        quantize(*e.out);
+            parallelChunks(texels, kTexelChunk, o.threads, [&](size_t begin, size_t end, size_t) {
+                for (size_t i = begin; i < end; ++i)
+                    for (size_t c = 0; c < 3; ++c) {
+                        float& x = (*e.out)[i * e.comps + c];
+                        x = float(linearToSrgb(std::clamp(double(x), 0.0, 1.0)));
+                    }
+            });
+        quantize(*e.out, o.threads);
     }
-    if (ch.alpha) quantize(res.alpha);
-    if (ch.orm) quantize(res.orm);
+    if (ch.alpha) quantize(res.alpha, o.threads);
+    if (ch.orm) quantize(res.orm, o.threads);
     if (ch.emissive) {
         double peak = 0;
         for (float v : res.emissive) peak = std::max(peak, double(v));
         res.emissiveScale = peak > 1 ? peak : 1;
-        for (float& v : res.emissive) v = float(linearToSrgb(v / res.emissiveScale));
-        quantize(res.emissive);
+        parallelChunks(res.emissive.size(), kTexelChunk, o.threads, [&](size_t begin, size_t end, size_t) {
+            for (size_t i = begin; i < end; ++i) res.emissive[i] = float(linearToSrgb(res.emissive[i] / res.emissiveScale));
+        });
+        quantize(res.emissive, o.threads);
     }
-    if (ch.anisotropy) quantize(res.anisotropy);
+    if (ch.anisotropy) quantize(res.anisotropy, o.threads);
     for (std::vector<float>* normals : {&res.normal, &res.clearcoatNormal}) {
         if (normals->empty()) continue;
-        for (size_t i = 0; i < texels; ++i) {
-            float* n = &(*normals)[i * 3];
-            Vec3 d = normalize(Vec3{2.0 * n[0] - 1, 2.0 * n[1] - 1, 2.0 * n[2] - 1});
-            if (!(length(d) > 0.5)) d = {0, 0, 1};
-            n[0] = float(d.x * 0.5 + 0.5);
-            n[1] = float(d.y * 0.5 + 0.5);
-            n[2] = float(d.z * 0.5 + 0.5);
-        }
-        quantize(*normals);
+        parallelChunks(texels, kTexelChunk, o.threads, [&](size_t begin, size_t end, size_t) {
+            for (size_t i = begin; i < end; ++i) {
+                float* n = &(*normals)[i * 3];
+                Vec3 d = normalize(Vec3{2.0 * n[0] - 1, 2.0 * n[1] - 1, 2.0 * n[2] - 1});
+                if (!(length(d) > 0.5)) d = {0, 0, 1};
+                n[0] = float(d.x * 0.5 + 0.5);
+                n[1] = float(d.y * 0.5 + 0.5);
+                n[2] = float(d.z * 0.5 + 0.5);
+            }
+        });
+        quantize(*normals, o.threads);
     }
 
     // Encode: sRGB 8-bit RGB.
     res.pixels.resize(texels * 3);
     std::vector<uint8_t> rgb8(res.pixels.size());
-    for (size_t i = 0; i < texels; ++i)
-        for (int c = 0; c < 3; ++c) {
-            double v = linearToSrgb(double(px[i * 3 + size_t(c)]));
-            uint8_t b = uint8_t(std::lround(v * 255));
-            rgb8[i * 3 + size_t(c)] = b;
-            res.pixels[i * 3 + size_t(c)] = float(b) / 255.0f;
-        }
+    parallelChunks(texels, kTexelChunk, o.threads, [&](size_t begin, size_t end, size_t) {
+        for (size_t i = begin; i < end; ++i)
+            for (int c = 0; c < 3; ++c) {
+                double v = linearToSrgb(double(px[i * 3 + size_t(c)]));
+                uint8_t b = uint8_t(std::lround(v * 255));
+                rgb8[i * 3 + size_t(c)] = b;
+                res.pixels[i * 3 + size_t(c)] = float(b) / 255.0f;
+            }
+    });
     if (o.encodePng) res.image = encodePng(rgb8, g.w, g.h, "lodbake_baseColor");
     res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return res;

@@ -265,13 +265,19 @@ TriMesh asTriMesh(const TriMesh& original, const LevelView& lv) {
     return m;
 }
 
-// The same surface: the same triangles of the same original faces at the same positions (a level
-// simplify could not make coarser, unmoved by vertex placement). Their corners may name other
-// wedges of the same vertices (simplify's own).
+// The same surface: the same triangles of the same original faces through the same wedges at the
+// same positions (a level simplify could not make coarser, unmoved by vertex placement).
 bool sameSurface(const LevelView& a, const LevelView& b) {
     auto same = [](Vec3 p, Vec3 q) { return p.x == q.x && p.y == q.y && p.z == q.z; };
-    return a.triangles == b.triangles && a.faces == b.faces &&
+    return a.triangles == b.triangles && a.cornerWedges == b.cornerWedges && a.faces == b.faces &&
            std::equal(a.positions.begin(), a.positions.end(), b.positions.begin(), b.positions.end(), same);
+}
+
+// The same level mesh: every attribute and index.
+bool sameLevelMesh(const LodLevelData& a, const LodLevelData& b) {
+    return a.positions == b.positions && a.normals == b.normals && a.uvs == b.uvs && a.tangents == b.tangents && a.joints == b.joints &&
+           a.weights == b.weights && a.targetPositions == b.targetPositions && a.targetNormals == b.targetNormals &&
+           a.targetTangents == b.targetTangents && a.indices == b.indices;
 }
 
 struct LevelAtlas {
@@ -649,9 +655,8 @@ void measureLevels(const Asset& asset, std::vector<LevelView>& views, const Pack
         r.source = views[k].source;
         r.maxDeviation = views[k].maxDeviation;
         if (k == 0) continue;
-        // A level that repeats the one before it (unmoved, through the same wedges) measures the same.
-        const bool repeated = k > 1 && sameSurface(views[k], views[k - 1]) && views[k].cornerWedges == views[k - 1].cornerWedges;
-        GeometricDistance d = repeated ? previous : measureLevel(asset, views[k], posed, original, dopt);
+        // A level that repeats the one before it (unmoved) measures the same.
+        GeometricDistance d = k > 1 && sameSurface(views[k], views[k - 1]) ? previous : measureLevel(asset, views[k], posed, original, dopt);
         previous = d;
         if (options.vertexPlacement && options.projectLevels && views[k].data)
             placeVertices(asset, views[k], posed, original, dopt, d, r.placement);
@@ -817,32 +822,6 @@ void describeOriginal(const SourceScene& s, PackLevelReport& r) {
     r = o;
 }
 
-// Level k as a copy of level k - 1 (the same surface): its mesh and page, baked once; the report
-// keeps level k's own coverage and deviation and takes the page figures of the level it repeats.
-// `shift`: 1 when LOD0 is the original (res.levels then starts at LOD1).
-void reuseLevel(PackResult& res, size_t k, size_t shift) {
-    res.levels[k - shift] = res.levels[k - 1 - shift];
-    res.levels[k - shift].name = "LOD" + std::to_string(k);
-    const PackLevelReport& from = res.reports[k - 1];
-    PackLevelReport& r = res.reports[k];
-    r.triangles = from.triangles;
-    r.vertices = from.vertices;
-    r.width = from.width;
-    r.height = from.height;
-    r.gutter = from.gutter;
-    r.mips = from.mips;
-    r.charts = from.charts;
-    r.absorbedIslands = from.absorbedIslands;
-    r.utilisation = from.utilisation;
-    r.boxUtilisation = from.boxUtilisation;
-    r.rasterUtilisation = from.rasterUtilisation;
-    r.footprintUtilisation = from.footprintUtilisation;
-    r.texelsPerUnit = from.texelsPerUnit;
-    r.channels = from.channels;
-    r.rank = from.rank;
-    r.textureSize = from.textureSize;
-}
-
 }  // namespace
 
 PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOptions& options) {
@@ -874,6 +853,7 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
     // The projection bakes' grid over the original, built for the first projected level: the
     // original triangles' page (the largest bake) runs without it.
     std::optional<FaceGrid> grid;
+    double previousReach = -1;  // the previous level's projection reach (-1: not projected)
 
     // LOD0's layout on the original's texels (source_texels.h), made at LOD0.
     std::optional<SourceTexelLayout> sourceLayout;
@@ -915,12 +895,6 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
         };
         LodLevelData scratch;  // LOD0's mesh when the original is LOD0: never built
         LodLevelData& L = original ? (k > 0 ? res.levels[k - 1] : scratch) : res.levels[k];
-        // A repeated level: the one before it again (not after an original LOD0, which has no mesh).
-        if (k > 0 && !(original && k == 1) && sameSurface(views[k], views[k - 1])) {
-            reuseLevel(res, k, original ? 1 : 0);
-            progress(0.3 + 0.7 * double(k + 1) / double(n));
-            continue;
-        }
         L.name = "LOD" + std::to_string(k);
         LevelAtlas la;
         // LOD0 on the source texels when they fit the page whole, else on the rank's layout.
@@ -958,14 +932,21 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
         const BakeTarget* targetOrNull = target ? &*target : nullptr;
         lap(r.wall.mesh, r.cpu.mesh);
         const double reach = 1.5 * r.hausdorff + kProjectionSlack * res.diagonal;
-        if (projected && !grid) grid.emplace(mesh);
-        const BakeResult baked = projected
-                                     ? bakeProjected(sources, *grid, L, front, la.atlas.width, la.atlas.height, reach, res.diagonal, channels,
-                                                     targetOrNull, options.threads)
-                                     : bakePage(sources, *layout, la, channels, targetOrNull, options.threads);
+        // A projected level with the previous projected level's mesh, page and reach (and so its
+        // channels: every coarser level has the same) bakes the same: its material is copied.
+        const LodLevelData* previous = k > 1 ? &res.levels[k - 1 - (original ? 1 : 0)] : nullptr;
+        const bool repeat = projected && previous && reach == previousReach && la.atlas.width == res.reports[k - 1].width &&
+                            la.atlas.height == res.reports[k - 1].height && sameLevelMesh(L, *previous);
+        if (projected && !grid && !repeat) grid.emplace(mesh);
+        BakeResult baked;
+        if (!repeat)
+            baked = projected ? bakeProjected(sources, *grid, L, front, la.atlas.width, la.atlas.height, reach, res.diagonal, channels,
+                                              targetOrNull, options.threads)
+                              : bakePage(sources, *layout, la, channels, targetOrNull, options.threads);
+        previousReach = projected ? reach : -1;
         r.bakeSeconds = baked.seconds;
         lap(r.wall.bake, r.cpu.bake);
-        L.material = levelMaterial(plan, baked, la.atlas.width, la.atlas.height, io, L.name);
+        L.material = repeat ? previous->material : levelMaterial(plan, baked, la.atlas.width, la.atlas.height, io, L.name);
         if (sourceTexels) std::tie(L.material.minFilter, L.material.magFilter) = sourceFilters(asset);
         lap(r.wall.material, r.cpu.material);
         r.channels = channelNames(L.material);
