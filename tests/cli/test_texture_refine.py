@@ -135,7 +135,7 @@ def check_pack(tc, name, source, tex, r, work):
     out, rep = chains["refined"]
     check_chain(tc, out, out + ".json")
     # The chain with refined textures is fold-free on every LOD (ranks have level islands too).
-    check_fold_free(tc, out, name + " refined")
+    check_fold_free(tc, out, name + " refined", out + ".json")
     levels = rep["levels"]
     n = r["input"]["levels"]
     smallest = {}
