@@ -937,13 +937,15 @@ AtlasResult packAtlas(const std::vector<AtlasChart>& input, const AtlasOptions& 
     while (gutter > 2 && paddedArea(charts, tMax, gutter) > 2 * paddedArea(charts, tMax, 0)) gutter /= 2;
 
     // 2-3. Page and density; narrower gutters while the charts do not fit even at minimal size
-    // (texel-aligned: while they do not fit at the density limit, which they must keep).
+    // (texel-aligned: while they do not fit at the density limit, which they must keep, down to
+    // 2 texels: copied texels touching another chart's would bleed into each other at every mip).
     PagePick pick;
+    const int narrowest = options.texelAligned ? std::min(gutter, 2) : 0;
     for (;;) {
         pick = options.powerOfTwo ? packPowerOfTwo(turned, charts, orders[0], tMax, gutter, maxSize, options.threads)
                                   : packFreeSize(turned, charts, orders, tMax, gutter, maxSize, options.threads);
-        if ((pick.best && (!options.texelAligned || pick.best->first >= tMax)) || gutter == 0) break;
-        gutter /= 2;
+        if ((pick.best && (!options.texelAligned || pick.best->first >= tMax)) || gutter <= narrowest) break;
+        gutter = std::max(narrowest, gutter / 2);
     }
 
     AtlasResult res;
