@@ -62,11 +62,12 @@ class PackAssets(unittest.TestCase):
             with self.subTest(asset=name):
                 r = self.chain(name)
                 lv0 = r["levels"][0]
-                if name in UTILISATION_FLOORS:
-                    # A LOD0 on the original's texels packs the original's islands as they are.
-                    if not lv0.get("sourceTexels", {}).get("used"):
-                        self.assertGreaterEqual(lv0["utilisation"], UTILISATION_FLOORS[name])
+                # A LOD0 on the original's texels packs the original's islands as they are, and
+                # its charts' UV area counts texels that several faces share more than once.
+                if name in UTILISATION_FLOORS and not lv0.get("sourceTexels", {}).get("used"):
+                    self.assertGreaterEqual(lv0["utilisation"], UTILISATION_FLOORS[name])
                     self.assertLessEqual(lv0["utilisation"], lv0["rasterUtilisation"] + 1e-9)
+                if name in UTILISATION_FLOORS:
                     self.assertLessEqual(lv0["rasterUtilisation"], lv0["footprintUtilisation"] + 1e-9)
 
 

@@ -30,7 +30,9 @@ NEAR_ISOMETRIC = {"wall5"}
 LOD1_REFINED = {"hemisphere9", "colors", "seamball", "Duck", "Avocado"}
 SIZES = [128, 256, 512]
 REFINE = ["--size", "512", "--sizes", ",".join(map(str, SIZES)), "--quiet"]
-PACK = ["--base-color-only", "--samples", "20000", "--quiet"]
+# --no-source-texels: the hierarchy is judged on pages it textures (a LOD0 on the original's
+# texels uses none of its layouts).
+PACK = ["--base-color-only", "--samples", "20000", "--quiet", "--no-source-texels"]
 COMPARE = ["--views", "8", "--resolution", "256", "--samples", "0", "--no-geometry", "--json"]
 
 
