@@ -101,7 +101,9 @@ def check_chain(tc, path, report=None):
             for key in ("texels", "bytes", "utilisation", "boxUtilisation", "screenCoverage"):
                 tc.assertIn(key, lv)
             tc.assertGreater(lv["utilisation"], 0)
-            tc.assertLessEqual(lv["utilisation"], lv["boxUtilisation"] + 1e-9)
+            # (A LOD0 on the original's texels counts texels that several faces share more than once.)
+            if not lv.get("sourceTexels", {}).get("used"):
+                tc.assertLessEqual(lv["utilisation"], lv["boxUtilisation"] + 1e-9)
             tc.assertEqual(lv["screenCoverage"], cov[k])
             if k > 0:
                 tc.assertGreater(lv["deviation"]["hausdorff"], 0)
@@ -178,8 +180,10 @@ class PackCli(unittest.TestCase):
         # --lod0-density: every level is textured at LOD0's texel limit (for close-up comparisons
         # such as scripts/bench.py quality), so coarse pages are larger than by default, never larger
         # than the finer level's, and the chain stays valid.
-        _, rep_default = self.pack("seamball", "ball.default.glb")
-        out, rep = self.pack("seamball", "ball.dense.glb", "--lod0-density")
+        # Both on resampled LOD0 pages: a LOD0 on the original's texels (a smaller page here)
+        # holds the coarser pages' texels down in both runs alike.
+        _, rep_default = self.pack("seamball", "ball.default.glb", "--no-source-texels")
+        out, rep = self.pack("seamball", "ball.dense.glb", "--lod0-density", "--no-source-texels")
         check_chain(self, out, rep)
         with open(rep_default) as f:
             default = json.load(f)["levels"]
