@@ -12,6 +12,10 @@ constexpr int kByte = 5120, kUnsignedByte = 5121, kShort = 5122, kUnsignedShort 
               kUnsignedInt = 5125, kFloat = 5126;
 constexpr int kArrayBuffer = 34962, kElementArrayBuffer = 34963;
 
+// Extensions both the hero LOD0's reader and the chain writer name.
+constexpr const char* kDraco = "KHR_draco_mesh_compression";
+constexpr const char* kMeshopt = "EXT_meshopt_compression";
+
 // "image/png" / "image/jpeg" / "image/ktx2" from magic bytes, "" when unknown.
 inline std::string sniffImageMime(const uint8_t* p, size_t n) {
     if (n >= 8 && p[0] == 0x89 && p[1] == 'P' && p[2] == 'N' && p[3] == 'G') return "image/png";

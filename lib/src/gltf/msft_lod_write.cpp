@@ -43,8 +43,6 @@ namespace {
 using json = nlohmann::json;
 using namespace gltf_detail;
 
-constexpr const char* kDraco = "KHR_draco_mesh_compression";
-constexpr const char* kMeshopt = "EXT_meshopt_compression";
 constexpr const char* kQuantization = "KHR_mesh_quantization";
 constexpr const char* kBasisu = "KHR_texture_basisu";
 constexpr const char* kLod = "MSFT_lod";

@@ -32,9 +32,6 @@ namespace {
 using json = nlohmann::json;
 using namespace gltf_detail;
 
-constexpr const char* kDraco = "KHR_draco_mesh_compression";
-constexpr const char* kMeshopt = "EXT_meshopt_compression";
-
 bool hasExtension(const json& o, const char* name) {
     return o.is_object() && o.contains("extensions") && o["extensions"].is_object() && o["extensions"].contains(name);
 }
