@@ -237,5 +237,46 @@ TEST(BakeMaterial, ChannelsDoNotDependOnThreadsOrOnEachOther) {
     EXPECT_EQ(alone([](BakeChannels& c) { c.normal = true; }).normal, one.normal);
 }
 
+// A chart copying source texels at a whole-texel offset (a source-texel page): with extendCharts
+// its dilated ring holds the texels next to the copied ones in the source, exactly what a chart
+// covering one more texel on every side shows there; without, the ring repeats the border.
+TEST(BakeMaterial, ExtendedChartsContinueTheirCopyIntoTheRing) {
+    auto quadOver = [](double first, double texels) {  // the quad's uv0 over source texels [first, first + texels)
+        Asset a = unitQuad();
+        for (uint32_t v = 0; v < 4; ++v) {
+            const Vec3& p = a.mesh.positions[v];
+            a.mesh.wedges.uv0[v] = {(first + texels * p.x) / 8, (first + texels * (1 - p.y)) / 8};
+        }
+        a.materials[0].baseColor.texture = addVaryingTexture(a, 5);
+        return a;
+    };
+    const int size = 24, shift = 8;  // page texel = source texel + shift
+    auto pageUVs = [&](const Asset& a) {
+        std::vector<std::array<Vec2, 3>> uv = ownUVs(a.mesh);
+        for (auto& t : uv)
+            for (Vec2& p : t) p = {(p.x * 8 + shift) / size, (p.y * 8 + shift) / size};
+        return uv;
+    };
+    const Asset inner = quadOver(2, 4), outer = quadOver(1, 6);
+    BakeOptions o;
+    o.size = size;
+    o.fillGaps = false;
+    o.encodePng = false;
+    const BakeResult whole = bakeBaseColor(outer, pageUVs(outer), o);
+    o.extendCharts = true;
+    const BakeResult extended = bakeBaseColor(inner, pageUVs(inner), o);
+    o.extendCharts = false;
+    const BakeResult clamped = bakeBaseColor(inner, pageUVs(inner), o);
+    int ringDiffers = 0;
+    for (int y = 1 + shift; y < 7 + shift; ++y)
+        for (int x = 1 + shift; x < 7 + shift; ++x)
+            for (int c = 0; c < 3; ++c) {
+                const size_t i = (size_t(y) * size + size_t(x)) * 3 + size_t(c);
+                ASSERT_NEAR(extended.pixels[i], whole.pixels[i], 1e-5) << x << "," << y;
+                ringDiffers += std::abs(clamped.pixels[i] - whole.pixels[i]) > 1e-3;
+            }
+    EXPECT_GT(ringDiffers, 0);
+}
+
 }  // namespace
 }  // namespace lodbake

@@ -155,6 +155,33 @@ TEST(PackAtlas, TexelAlignedChartsThatDoNotFitLowerTheDensity) {
     EXPECT_LT(r.texelsPerUnit, 1.0);  // the caller falls back (lod_chain: sourceTexels)
 }
 
+TEST(PackAtlas, InPlaceChartsKeepTheirTexelsWhenNoSearchFits) {
+    // Four 30 x 30 islands of a 64 x 64 texture, 2 texels apart at odd offsets: on 16-texel blocks
+    // with gutters no search fits them in 64 x 64; kept where they are they do.
+    std::vector<AtlasChart> charts;
+    for (double y : {33.0, 1.0})
+        for (double x : {33.0, 1.0}) {
+            charts.push_back(rectChart(x, y, 30, 30));
+            charts.back().inPlace = true;
+        }
+    AtlasOptions o;
+    o.maxTexelsPerUnit = 1;
+    o.gutter = 2;
+    o.maxSize = 64;
+    o.texelAligned = true;
+    const AtlasResult r = packedAlikeOnAnyThreads(charts, o, {2});
+    EXPECT_EQ(r.texelsPerUnit, 1.0);
+    EXPECT_EQ(r.width, 64);
+    EXPECT_EQ(r.height, 64);
+    for (const ChartPlacement& p : r.charts) EXPECT_EQ(p.m, (std::array<double, 6>{1, 0, 0, 0, 1, 0}));
+    // Unmarked, the same charts are packed afresh (on whole texels, as no 16-texel block search
+    // fits them), away from their texture places.
+    for (AtlasChart& c : charts) c.inPlace = false;
+    const AtlasResult searched = packAtlas(charts, o);
+    EXPECT_TRUE(std::any_of(searched.charts.begin(), searched.charts.end(),
+                            [](const ChartPlacement& p) { return p.m != std::array<double, 6>{1, 0, 0, 0, 1, 0}; }));
+}
+
 TEST(PackAtlas, NoGutterAlongThePageBorder) {
     std::vector<AtlasChart> charts{rectChart(0, 0, 0.25, 0.25)};
     AtlasOptions o;

@@ -69,13 +69,20 @@ TEST(SourceTexels, IslandsInSourceTexels) {
 
 TEST(SourceTexels, UntexturedAndFlatFacesKeepT0Pieces) {
     Asset a = twoSquares(0.505);
-    // The right square reads one texel (a palette): no area, so a T0 piece at 10 texels per unit.
+    // The right square reads one texel (a palette): no area, so a T0 piece; it shows one colour,
+    // so it is 8 texels across (its T0 box is 1 unit) rather than at 20 texels per unit.
     for (uint32_t w : {4u, 5u, 6u, 7u}) a.mesh.wedges.uv0[w] = {0.9, 0.1};
-    SourceTexelLayout s = sourceTexelLayout(a, {{64, 32}}, t0For(a), 10);
+    SourceTexelLayout s = sourceTexelLayout(a, {{64, 32}}, t0For(a), 20);
     ASSERT_FALSE(s.layout.empty()) << s.reason;
     EXPECT_EQ(s.islands, 1u);
     EXPECT_EQ(s.layout.chartCount, 2u);
-    EXPECT_EQ(s.layout.cornerUV[2][1].x, 10.0);  // position (2, 0) -> T0 (1, 0) x 10
+    EXPECT_EQ(s.layout.cornerUV[2][1].x, 8.0);  // position (2, 0) -> T0 (1, 0) x 8
+
+    // Reading along a line of 6 texels (u 0.8 .. 0.9 of 64) over its 0.5 units of T0 width:
+    // 12 texels per unit, the texels its UVs cross.
+    a.mesh.wedges.uv0[5] = a.mesh.wedges.uv0[6] = {0.8, 0.1};
+    s = sourceTexelLayout(a, {{64, 32}}, t0For(a), 20);
+    EXPECT_NEAR(s.layout.cornerUV[2][1].x, 12.8, 1e-9);  // T0 (1, 0) x 6.4 / 0.5
 
     // No texture at all: nothing to copy, and the reason says so.
     a.materials[0].baseColor.texture = -1;

@@ -298,6 +298,9 @@ public:
         return false;
     }
 
+    // Whether the footprint lies on the page at (x, y).
+    bool onPage(const Footprint& f, int x, int y) const { return x >= 0 && y >= 0 && x + f.w <= W_ && y + f.h <= H_; }
+
     void place(const Footprint& f, int x, int y) {
         for (int i = 0; i < f.h; ++i)
             for (const auto& [a, b] : f.rows[size_t(i)]) {
@@ -309,7 +312,7 @@ public:
                     if (w == hi / 64 && hi % 64 != 63) m &= (uint64_t(1) << (hi % 64 + 1)) - 1;
                     row[w] |= m;
                 }
-                rowFree_[size_t(y + i)] -= b - a + 1;
+                rowFree_[size_t(y + i)] = W_ - setCells(y + i);  // kept charts may overlap
             }
         for (int i = 0; i < f.h; ++i) rowRun_[size_t(y + i)] = longestFreeRun(y + i);
         usedW_ = std::max(usedW_, x + f.w);
@@ -326,6 +329,13 @@ private:
     std::vector<int> rowFree_;
     std::vector<int> rowRun_;  // longest run of free texels per row
     int usedW_ = 0, usedH_ = 0;
+
+    int setCells(int y) const {
+        const uint64_t* row = bits_.data() + size_t(y) * words_;
+        int n = 0;
+        for (size_t w = 0; w < words_; ++w) n += __builtin_popcountll(row[w]);
+        return n;
+    }
 
     int longestFreeRun(int y) const {
         const uint64_t* row = bits_.data() + size_t(y) * words_;
@@ -530,10 +540,13 @@ struct PackState {
 
 // `prefix`, when given, receives the state before each chart of `order` is placed; `from`, when
 // given, is such a state of an order that agrees with `order` on its first `fromIndex` charts:
-// the packing resumes there (the same charts placed the same way).
+// the packing resumes there (the same charts placed the same way). `inPlace`, when given, holds
+// per chart a cell its first orientation takes, unturned, when it lies on the page ({-1, -1}:
+// none); such charts come first in `order` and may overlap each other (AtlasChart::inPlace).
 std::optional<Packing> packBitmap(const Footprints& fp, const std::vector<size_t>& order, int binW, int binH,
                                   Placement placement = Placement::TopEdge, CostBound* bound = nullptr,
-                                  std::vector<PackState>* prefix = nullptr, const PackState* from = nullptr, size_t fromIndex = 0) {
+                                  std::vector<PackState>* prefix = nullptr, const PackState* from = nullptr, size_t fromIndex = 0,
+                                  const std::vector<std::array<int, 2>>* inPlace = nullptr) {
     const int scale = fp.scale, r = fp.radius;
     PackState state = from ? *from : PackState{BitmapPage((binW + 2 * r) / scale, (binH + 2 * r) / scale), Packing{}};
     BitmapPage& page = state.page;
@@ -560,7 +573,12 @@ std::optional<Packing> packBitmap(const Footprints& fp, const std::vector<size_t
             firstLimit = lo + 1;
         }
         double bestKey = firstLimit;
-        for (size_t v = 0; v < fp.charts[i].size(); ++v)
+        const bool kept = inPlace && page.onPage(fp.charts[i][0].rot[0], (*inPlace)[i][0], (*inPlace)[i][1]);
+        if (kept) {
+            s.x = (*inPlace)[i][0]; s.y = (*inPlace)[i][1]; s.rotation = 0; s.orientation = 0;
+            bestKey = -1;
+        }
+        for (size_t v = 0; v < fp.charts[i].size() && !kept; ++v)
             for (int rot = 0; rot < fp.charts[i][v].turns; ++rot) {
                 const Footprint& f = fp.charts[i][v].rot[size_t(rot)];
                 const double key = placement == Placement::Gravity ? f.centroidRow : f.h;
@@ -896,6 +914,43 @@ PagePick packPowerOfTwo(const Orientations& turned, const std::vector<Oriented>&
     return pick;
 }
 
+// Charts marked inPlace kept where their UVs are, on a maxSize x maxSize page (texel-aligned, one
+// texel per UV unit); the others placed around them, largest first, on whole texels. The marked
+// charts are one texture's islands in its texels: they fit in place where no search packs them
+// into the same page (the texture itself holds them), and need no gutter between each other, as
+// the texels around each are the texture's own.
+PagePick packInPlace(const std::vector<AtlasChart>& input, const Orientations& turned, const std::vector<size_t>& order, int gutter,
+                     int maxSize, int threads) {
+    PagePick pick;
+    // Kept charts need no block grid (their offset is 0, which every mip divides): whole texels
+    // let islands a few texels apart keep their places.
+    const Footprints fp = footprintsAt(turned, 1.0, gutter, 1, threads);
+    std::vector<std::array<int, 2>> cells(turned.size(), {-1, -1});
+    std::vector<size_t> inPlaceFirst;
+    for (size_t i = 0; i < turned.size(); ++i) {
+        const Oriented& c = turned[i][0];
+        if (input[i].inPlace && c.minX >= 0 && c.minY >= 0) {
+            cells[i] = {int(c.minX), int(c.minY)};
+            inPlaceFirst.push_back(i);
+        }
+    }
+    for (size_t i : order)
+        if (cells[i][0] < 0) inPlaceFirst.push_back(i);
+    if (auto p = packBitmap(fp, inPlaceFirst, maxSize, maxSize, Placement::TopEdge, nullptr, nullptr, nullptr, 0, &cells)) {
+        // Power-of-two sides (within maxSize) whatever the option: the kept charts' texels then
+        // fall on the same mip texels as in the original's (power-of-two) texture.
+        auto side = [&](int texels) {
+            int pot = 8;
+            while (pot < texels && pot < maxSize) pot *= 2;
+            return pot <= maxSize ? pot : roundToFour(texels, maxSize);
+        };
+        pick.width = side(p->width);
+        pick.height = side(p->height);
+        pick.best = std::make_pair(1.0, std::move(*p));
+    }
+    return pick;
+}
+
 // The affine UV -> page map of every chart, and the utilisation figures of the page.
 void placeCharts(const Orientations& turned, const std::vector<Oriented>& charts, const Packing& pk, double t, int gutter,
                  AtlasResult& res) {
@@ -946,6 +1001,15 @@ AtlasResult packAtlas(const std::vector<AtlasChart>& input, const AtlasOptions& 
                                   : packFreeSize(turned, charts, orders, tMax, gutter, maxSize, options.threads);
         if ((pick.best && (!options.texelAligned || pick.best->first >= tMax)) || gutter <= narrowest) break;
         gutter = std::max(narrowest, gutter / 2);
+    }
+    // Texel-aligned charts that no search fits at their density: kept in place where they can be.
+    for (int g = std::max(0, options.gutter); options.texelAligned && tMax == 1.0 && (!pick.best || pick.best->first < tMax);) {
+        if (PagePick kept = packInPlace(input, turned, orders[0], g, maxSize, options.threads); kept.best) {
+            pick = std::move(kept);
+            gutter = g;
+        }
+        if (g <= narrowest) break;
+        g = std::max(narrowest, g / 2);
     }
 
     AtlasResult res;

@@ -46,6 +46,7 @@ struct TexelHit {
     float dist = 1e30f;
     std::array<float, 3> bary{};
     int32_t island = -1;  // >= 0: the texel belongs to this island; face/bary = the closest original point
+    std::array<float, 2> beyond{};  // texel centre minus the closest point (dilated texels), texels
 };
 
 // Closest point of triangle abc to p as barycentrics; returns the distance.
@@ -118,7 +119,10 @@ void rasterizeTriangles(const TriMesh& mesh, const std::vector<std::array<Vec2, 
                 P, g, dilation,
                 [&](int x, int y, double d, const std::array<double, 3>& b) {
                     TexelHit& h = hits[g.at(x, y)];
-                    if (float(d) < h.dist) h = {int32_t(f), float(d), {float(b[0]), float(b[1]), float(b[2])}};
+                    if (!(float(d) < h.dist)) return;
+                    const Vec2 q = P[0] * b[0] + P[1] * b[1] + P[2] * b[2];
+                    h = {int32_t(f), float(d), {float(b[0]), float(b[1]), float(b[2])}, -1,
+                         {float(x + 0.5 - q.x), float(y + 0.5 - q.y)}};
                 },
                 int(rowBegin), int(rowEnd));
         }
@@ -215,6 +219,7 @@ struct ShadeContext {
     std::vector<SourceTexture>& sources;
     const std::array<std::vector<Vec4>, 2>& tangents;
     int size;
+    bool extendCharts;  // BakeOptions::extendCharts
 };
 
 const Material& materialOf(const ShadeContext& c, uint32_t f) {
@@ -322,6 +327,7 @@ bool lookup(const ShadeContext& c, const TextureRef& ref, const TexelHit& h, flo
         // inverse of [e1 e2] = 1/det [e2.y -e2.x; -e1.y e1.x]
         dx = (g1 * e2.y - g2 * e1.y) * (1 / det);   // d uv / d x
         dy = (g2 * e1.x - g1 * e2.x) * (1 / det);   // d uv / d y
+        if (c.extendCharts) uv = uv + dx * double(h.beyond[0]) + dy * double(h.beyond[1]);
     }
     const std::array<double, 4> lm = textureTransformLinear(ref.transform);
     Vec2 st = applyTextureTransform(ref.transform, uv);
@@ -720,7 +726,7 @@ BakeResult bakeMaterial(const BakeSources& bs, const std::vector<std::array<Vec2
     if (ch.anisotropy) res.anisotropy.assign(texels * 3, 0.0f);
     std::vector<uint8_t> covered(texels, 0);
     std::vector<size_t> rowCovered(size_t(g.h), 0), rowIsland(size_t(g.h), 0), rowLookups(size_t(g.h), 0);
-    const ShadeContext ctx{asset, cornerUV, islands, sources, BakeSourcesAccess::tangents(bs), g.size};
+    const ShadeContext ctx{asset, cornerUV, islands, sources, BakeSourcesAccess::tangents(bs), g.size, o.extendCharts};
     parallelFor(size_t(g.h), o.threads, [&](size_t y) {
         for (int x = 0; x < g.w; ++x) {
             const size_t i = g.at(x, int(y));

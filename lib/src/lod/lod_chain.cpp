@@ -138,6 +138,7 @@ struct LayoutData {
     // places none and the projected levels' pages take their own.
     std::vector<std::vector<uint32_t>> islandFaces;
     bool islandFacesFound = false;
+    uint32_t inPlaceCharts = 0;  // charts [0, n) are the original's texture islands (AtlasChart::inPlace)
 };
 
 void addIslands(const ChartLayout& ch, LayoutData& d) {
@@ -309,6 +310,7 @@ LevelAtlas packLevelAtlas(const LayoutData& L, const LevelUVs& luv, bool origina
             la.chartSlot[c] = int(charts.size());
             AtlasChart a;
             a.uvArea = levelChartArea(L, luv, c);
+            a.inPlace = !own && c < L.inPlaceCharts;
             // A layout chart's footprint includes its original faces: the layout bake reads them,
             // and around a projected level's triangles they keep the chart's own texels between it
             // and its neighbours, which mips far below the page's gutter blend. A chart grown
@@ -352,10 +354,16 @@ BakeOptions pageBakeOptions(int width, int height, const BakeChannels& channels,
     return bo;
 }
 
+// Charts copied texel for texel (source texels) extend over their gutter ring up to this many
+// texels: the first mips that average across a border read the original's neighbours; beyond, the
+// pull-push fill (a wider margin costs a closest-point test per texel of every triangle's box).
+constexpr int kMaxChartExtension = 8;
+
 // Bakes the original triangles at the page UVs: every channel of `channels`, the normal map in
 // the frames of `target` (the level's own mesh on this page; null without a normal map).
+// `sourceTexels`: the page copies the original's texels (its gutters continue each chart's copy).
 BakeResult bakePage(const BakeSources& sources, LayoutData& L, const LevelAtlas& la, const BakeChannels& channels,
-                    const BakeTarget* target, int threads) {
+                    const BakeTarget* target, int threads, bool sourceTexels) {
     const Asset& asset = sources.asset();
     const ChartLayout& ch = *L.ch;
     const AtlasResult& a = la.atlas;
@@ -385,7 +393,12 @@ BakeResult bakePage(const BakeSources& sources, LayoutData& L, const LevelAtlas&
     }
     // UVs are scaled by the longer side; only the width x height page is baked (the chain
     // encodes it itself).
-    return bakeMaterial(sources, uv, pageBakeOptions(a.width, a.height, channels, threads), islands, target);
+    BakeOptions bo = pageBakeOptions(a.width, a.height, channels, threads);
+    if (sourceTexels) {
+        bo.extendCharts = true;
+        bo.dilation = std::clamp((a.gutter + 1) / 2, 1, kMaxChartExtension);
+    }
+    return bakeMaterial(sources, uv, bo, islands, target);
 }
 
 // The projection bake of a coarse level: every level triangle is an island of the page (its own
@@ -880,7 +893,10 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
             std::vector<std::pair<int, int>> sizes;
             for (const Image& image : asset.images) sizes.push_back(imageSize(image));
             sourceLayout = sourceTexelLayout(asset, sizes, *layouts[0].ch, r.texelLimit / layouts[0].uvPerUnit);
-            if (!sourceLayout->layout.empty()) sourceData.emplace(layoutData(asset, sourceLayout->layout, r.rank));
+            if (!sourceLayout->layout.empty()) {
+                sourceData.emplace(layoutData(asset, sourceLayout->layout, r.rank));
+                sourceData->inPlaceCharts = uint32_t(sourceLayout->inPlace);
+            }
             r.sourceTexelsNote = sourceLayout->reason;
         }
         const bool projected = k > 0 && options.projectLevels;
@@ -942,7 +958,7 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
         if (!repeat)
             baked = projected ? bakeProjected(sources, *grid, L, front, la.atlas.width, la.atlas.height, reach, res.diagonal, channels,
                                               targetOrNull, options.threads)
-                              : bakePage(sources, *layout, la, channels, targetOrNull, options.threads);
+                              : bakePage(sources, *layout, la, channels, targetOrNull, options.threads, sourceTexels);
         previousReach = projected ? reach : -1;
         r.bakeSeconds = baked.seconds;
         lap(r.wall.bake, r.cpu.bake);

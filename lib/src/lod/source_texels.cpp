@@ -24,6 +24,7 @@ std::vector<const TextureRef*> materialTextureRefs(const Material& m) {
 // the bake as on any level.
 struct MaterialGrid {
     int width = 0, height = 0;
+    int image = -1;  // the texture whose texels these are
 };
 
 MaterialGrid materialGrid(const Asset& asset, const Material& m, const std::vector<std::pair<int, int>>& imageSizes) {
@@ -37,14 +38,15 @@ MaterialGrid materialGrid(const Asset& asset, const Material& m, const std::vect
         if (set != 0 || (t.present && (t.offset.x != 0 || t.offset.y != 0 || t.rotation != 0 || t.scale.x != 1 || t.scale.y != 1)))
             continue;
         const auto [w, h] = imageSizes[size_t(image)];
-        if (w < 1 || h < 1) continue;
-        g.width = std::max(g.width, w);
-        g.height = std::max(g.height, h);
+        if (w < 1 || h < 1 || double(w) * h <= double(g.width) * g.height) continue;
+        g = {w, h, image};
     }
     return g;
 }
 
 constexpr double kMinTexelArea = 2e-6;  // twice a UV triangle's area in texels: below it, no area
+constexpr double kConstantPieceTexels = 8;  // the longer side of a one-colour T0 piece, texels
+constexpr double kLinePieceTexels = 64;     // at most, of a piece whose UVs cover no area
 
 uint32_t findRoot(std::vector<uint32_t>& parent, uint32_t x) {
     while (parent[x] != x) x = parent[x] = parent[parent[x]];
@@ -104,20 +106,19 @@ SourceTexelLayout sourceTexelLayout(const Asset& asset, const std::vector<std::p
                     parent[findRoot(parent, f0)] = findRoot(parent, f1);
             }
     }
-    // Islands of one material that cover the same texels (a texture region shared by repeated
-    // parts, mirrored halves) become one chart: the shared texels are stored once. A texel is
-    // covered when its centre lies in a face's UV triangle (wrapped into the texture).
-    std::vector<uint32_t> byMaterial;
+    // Islands on one texture that cover the same texels (a texture region shared by repeated
+    // parts, mirrored halves, or by two materials) become one chart: the shared texels are stored
+    // once. A texel is covered when its centre lies in a face's UV triangle (wrapped into the
+    // texture).
+    std::vector<uint32_t> byImage;
     for (size_t f = 0; f < n; ++f)
-        if (textured[f]) byMaterial.push_back(uint32_t(f));
-    std::stable_sort(byMaterial.begin(), byMaterial.end(),
-                     [&](uint32_t x, uint32_t y) { return mesh.triangleMaterial[x] < mesh.triangleMaterial[y]; });
-    std::vector<uint32_t> owner;  // per texel of the current material's grid: a face covering it
-    for (size_t i = 0; i < byMaterial.size(); ++i) {
-        const uint32_t f = byMaterial[i];
+        if (textured[f]) byImage.push_back(uint32_t(f));
+    std::stable_sort(byImage.begin(), byImage.end(), [&](uint32_t x, uint32_t y) { return gridOf(x)->image < gridOf(y)->image; });
+    std::vector<uint32_t> owner;  // per texel of the current texture: a face covering it
+    for (size_t i = 0; i < byImage.size(); ++i) {
+        const uint32_t f = byImage[i];
         const MaterialGrid& g = *gridOf(f);
-        if (i == 0 || mesh.triangleMaterial[f] != mesh.triangleMaterial[byMaterial[i - 1]])
-            owner.assign(size_t(g.width) * size_t(g.height), UINT32_MAX);
+        if (i == 0 || g.image != gridOf(byImage[i - 1])->image) owner.assign(size_t(g.width) * size_t(g.height), UINT32_MAX);
         Vec2 P[3];
         for (size_t k = 0; k < 3; ++k) {
             const Vec2 p = uv[mesh.cornerWedges[f][k]];
@@ -138,16 +139,33 @@ SourceTexelLayout sourceTexelLayout(const Asset& asset, const std::vector<std::p
                 else parent[findRoot(parent, o)] = findRoot(parent, f);
             }
     }
-    // Chart ids: islands in the order of their first face, then T0's charts of the untextured faces.
+    // The texture whose islands cover the most texels: they can keep their places on the page.
+    std::map<int, double> imageTexels;
+    for (size_t f = 0; f < n; ++f)
+        if (textured[f]) {
+            const MaterialGrid& g = *gridOf(f);
+            const Vec2 a = uv[mesh.cornerWedges[f][0]], b = uv[mesh.cornerWedges[f][1]], c = uv[mesh.cornerWedges[f][2]];
+            imageTexels[g.image] += std::abs(cross(b - a, c - a)) * g.width * g.height;
+        }
+    const int mainImage = std::max_element(imageTexels.begin(), imageTexels.end(), [](auto& x, auto& y) { return x.second < y.second; })->first;
+    // Chart ids: the main texture's islands, the other islands (each in the order of its first
+    // face), then T0's charts of the untextured faces.
     ChartLayout& L = out.layout;
     L.faceChart.assign(n, 0);
     L.cornerUV.resize(n);
     std::vector<uint32_t> islandOf(n, UINT32_MAX);
     uint32_t charts = 0;
+    for (int pass = 0; pass < 2; ++pass) {
+        for (size_t f = 0; f < n; ++f)
+            if (textured[f] && (gridOf(f)->image == mainImage) == (pass == 0)) {
+                uint32_t& id = islandOf[findRoot(parent, uint32_t(f))];
+                if (id == UINT32_MAX) id = charts++;
+            }
+        if (pass == 0) out.inPlace = charts;
+    }
     for (size_t f = 0; f < n; ++f) {
         if (!textured[f]) continue;
-        uint32_t& id = islandOf[findRoot(parent, uint32_t(f))];
-        if (id == UINT32_MAX) id = charts++;
+        const uint32_t id = islandOf[findRoot(parent, uint32_t(f))];
         L.faceChart[f] = id;
         const MaterialGrid& g = *gridOf(f);
         for (size_t k = 0; k < 3; ++k) {
@@ -156,13 +174,63 @@ SourceTexelLayout sourceTexelLayout(const Asset& asset, const std::vector<std::p
         }
     }
     out.islands = charts;
-    std::map<uint32_t, uint32_t> t0Chart;
+    // T0 pieces: the untextured faces of one T0 chart, split by material where a material is
+    // constant (no texture, no vertex colours). A constant piece shows one colour and needs no
+    // resolution: it is shrunk to kConstantPieceTexels across, so the original's texels keep the
+    // page. A piece of a texture's faces whose UVs cover no area (palette texels, strips along a
+    // line) needs no more texels than its UVs cross in the texture: it takes that density.
+    const bool colours = !mesh.wedges.color.empty();
+    auto pieceMaterial = [&](size_t f) -> int32_t {  // the material of a constant face, else -1
+        const int32_t m = mesh.triangleMaterial.empty() ? -1 : mesh.triangleMaterial[f];
+        if (colours || m < 0 || size_t(m) >= asset.materials.size()) return -1;
+        for (const TextureRef* r : materialTextureRefs(asset.materials[size_t(m)]))
+            if (r->texture >= 0) return -1;
+        return m;
+    };
+    struct Piece {
+        uint32_t chart = 0;
+        double side = 0;     // the longer side of its T0 box, layout units
+        double density = 0;  // page texels per layout unit its faces need (at most t0Texels)
+        double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300;
+    };
+    // Texels per layout unit face f needs: the texture's texels its UV edges cross per layout unit
+    // of the same edge (all of t0Texels where vertex colours or no texture vary over it).
+    auto faceDensity = [&](size_t f) {
+        const MaterialGrid* g = gridOf(f);
+        if (!g || colours || !uvs) return t0Texels * 4;  // never capped
+        double d = 0;
+        for (size_t k = 0; k < 3; ++k) {
+            const Vec2 e = uv[mesh.cornerWedges[f][(k + 1) % 3]] - uv[mesh.cornerWedges[f][k]];
+            const Vec2 l = t0.cornerUV[f][(k + 1) % 3] - t0.cornerUV[f][k];
+            const double texels = std::hypot(e.x * g->width, e.y * g->height), units = std::hypot(l.x, l.y);
+            if (units > 0) d = std::max(d, texels / units);
+        }
+        return std::min(d, 2 * t0Texels);
+    };
+    std::map<std::pair<uint32_t, int32_t>, Piece> pieces;  // by (T0 chart, constant material or -1)
     for (size_t f = 0; f < n; ++f) {
         if (textured[f]) continue;
-        auto it = t0Chart.emplace(t0.faceChart[f], charts).first;
-        if (it->second == charts) ++charts;
-        L.faceChart[f] = it->second;
-        for (size_t k = 0; k < 3; ++k) L.cornerUV[f][k] = t0.cornerUV[f][k] * t0Texels;
+        const int32_t m = pieceMaterial(f);
+        Piece& p = pieces[{t0.faceChart[f], m}];
+        if (m < 0) p.density = std::max(p.density, faceDensity(f));
+        for (const Vec2& q : t0.cornerUV[f]) {
+            p.x0 = std::min(p.x0, q.x); p.x1 = std::max(p.x1, q.x);
+            p.y0 = std::min(p.y0, q.y); p.y1 = std::max(p.y1, q.y);
+        }
+    }
+    for (auto& [key, p] : pieces) {
+        p.chart = charts++;
+        p.side = std::max(p.x1 - p.x0, p.y1 - p.y0);
+    }
+    for (size_t f = 0; f < n; ++f) {
+        if (textured[f]) continue;
+        const int32_t m = pieceMaterial(f);
+        const Piece& p = pieces[{t0.faceChart[f], m}];
+        L.faceChart[f] = p.chart;
+        const double least = p.side > 0 ? kConstantPieceTexels / p.side : t0Texels;  // every piece a few texels across
+        const double most = p.side > 0 && p.density <= 2 * t0Texels ? kLinePieceTexels / p.side : t0Texels;
+        const double scale = std::min({t0Texels, most, std::max(least, p.density)});
+        for (size_t k = 0; k < 3; ++k) L.cornerUV[f][k] = t0.cornerUV[f][k] * scale;
     }
     L.chartCount = charts;
     L.material = t0.material;

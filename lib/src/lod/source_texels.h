@@ -26,6 +26,7 @@ struct SourceTexelLayout {
     ChartLayout layout;  // empty when the original cannot be copied texel for texel (see reason)
     std::string reason;  // why not
     size_t islands = 0;  // charts from texture islands (the first ones); the rest are T0 pieces
+    size_t inPlace = 0;  // the first islands: the texture with the most texels (AtlasChart::inPlace)
 };
 
 // `imageSizes`: width and height of each Asset::images entry. `t0` is the layout the untextured

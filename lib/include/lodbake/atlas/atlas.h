@@ -60,6 +60,9 @@ struct AtlasChart {
     // The chart's UV triangles, rasterised for its shape; empty = its points' convex hull.
     std::vector<std::array<Vec2, 3>> triangles;
     double uvArea = 0;         // sum of |UV triangle areas| (the chart's actual coverage)
+    // Texel-aligned pages: the chart's UVs are already page texels (an island of the original's
+    // texture, in its texels); kept there when the searched layouts do not fit and the spot is free.
+    bool inPlace = false;
 };
 
 struct AtlasOptions {

@@ -40,6 +40,12 @@ struct BakeOptions {
     // narrower or shorter than `size` (pack's non-square pages) is baked and gap-filled alone.
     int width = 0, height = 0;
     double dilation = 1;    // conservative rasterisation margin around each triangle, texels
+    // Dilated texels read the textures where their nearest triangle's map continues (its affine
+    // extension), not at its closest point. On a page whose charts copy the original's texels at
+    // an integer offset, the margin then holds the original's own neighbouring texels, wrapped
+    // by its sampler, so bilinear taps and mips across a chart's border read what the original's
+    // read there. Vertex colours, normals and frames still take the closest point.
+    bool extendCharts = false;
     bool fillGaps = true;   // pull-push fill of uncovered texels (pullPushFill)
     bool encodePng = true;  // BakeResult::image (false: pixels only, for callers that encode themselves)
     int threads = 1;        // texel shading threads (0 = all cores); the result is the same for any count
