@@ -17,6 +17,9 @@
 //                    one-second trot; one texture of four coloured cells; 452 triangles
 //   materials.glb    four spheres on a floor, each on a KHR_materials_* extension: sheen (cloth),
 //                    clearcoat (paint), transmission + volume + ior (glass), specular colour
+//   facets.glb       a flat-shaded low-poly gem: a noisy geodesic icosphere whose every corner
+//                    carries its face's normal (hard edges everywhere), latitude-longitude UVs into
+//                    one small banded texture; 720 triangles
 //
 // `--scale S` multiplies every grid's resolution by S (about S^2 times the triangles) for
 // benchmarks; S = 1 gives the samples above.
@@ -145,6 +148,7 @@ public:
         mesh_.triangleMaterial.push_back(material);
     }
     size_t vertexCount() const { return mesh_.positions.size(); }
+    Vec3 position(uint32_t v) const { return mesh_.positions[v]; }
     TriMesh take() { return std::move(mesh_); }
 
 private:
@@ -991,6 +995,103 @@ Asset makeMaterials(double scale) {
     return asset;
 }
 
+// --- facets: a flat-shaded, low-poly gem (hard edges everywhere) ----------------------------
+
+// A deterministic hash of an integer lattice key to [0, 1) (splitmix64's finaliser).
+double hashUnit(const MeshBuilder::Key& key) {
+    uint64_t h = 0x9e3779b97f4a7c15ull;
+    for (int64_t k : {std::get<0>(key), std::get<1>(key), std::get<2>(key)}) {
+        h ^= uint64_t(k) + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2);
+        h = (h ^ (h >> 30)) * 0xbf58476d1ce4e5b9ull;
+        h = (h ^ (h >> 27)) * 0x94d049bb133111ebull;
+        h ^= h >> 31;
+    }
+    return double(h >> 11) / double(uint64_t(1) << 53);
+}
+
+// facets: a rock-like gem as a flat-shaded low-poly export writes it: a geodesic icosphere
+// (frequency n, 20 n^2 triangles) pushed in and out by deterministic radial noise, every corner
+// carrying its face's normal (split normals, so every edge is a hard edge), with continuous
+// latitude-longitude UVs (a seam where longitude wraps) into a small banded texture: eight
+// coloured strata along v, each with a checker tint along u.
+Asset makeFacets(double scale) {
+    Asset asset = newAsset("facets");
+    const int S = 64;
+    const int mat = addTexturedMaterial(asset, "facets", imageOf(S, "facets", [](double u, double v) {
+        const int band = std::min(7, int(v * 8));
+        const Rgb a = palette(band * 5);  // 0, 5, 10, 3, 8, 1, 6, 11: neighbouring bands differ
+        if ((int(u * 8) + band) % 2 == 0) return a;
+        return Rgb{uint8_t((a.r * 3 + 255) / 4), uint8_t((a.g * 3 + 255) / 4), uint8_t((a.b * 3 + 255) / 4)};
+    }));
+    asset.materials[mat].roughnessFactor = 0.4;  // glossier than the other samples: facets catch the light
+    const double phi = (1 + std::sqrt(5.0)) / 2;
+    const Vec3 ico[12] = {{-1, phi, 0}, {1, phi, 0}, {-1, -phi, 0}, {1, -phi, 0}, {0, -1, phi}, {0, 1, phi},
+                          {0, -1, -phi}, {0, 1, -phi}, {phi, 0, -1}, {phi, 0, 1}, {-phi, 0, -1}, {-phi, 0, 1}};
+    const int faces[20][3] = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+                              {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
+                              {3, 8, 9},  {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
+    const int n = scaled(6, scale, 1);
+    MeshBuilder mb;
+    // The lattice point with weights w over icosahedron corners c (sum n): keyed and summed in
+    // corner order, so the copies on shared edges and corners are bit-identical and weld.
+    auto vertex = [&](std::array<int, 3> c, std::array<int, 3> w) {
+        std::array<std::pair<int, int>, 3> cw{{{c[0], w[0]}, {c[1], w[1]}, {c[2], w[2]}}};
+        std::sort(cw.begin(), cw.end());
+        std::array<int64_t, 3> key{-1, -1, -1};
+        Vec3 p{0, 0, 0};
+        int m = 0;
+        for (auto [corner, weight] : cw)
+            if (weight > 0) {
+                key[m++] = int64_t(corner) * (n + 1) + weight;
+                p += ico[corner] * double(weight);
+            }
+        const MeshBuilder::Key k{key[0], key[1], key[2]};
+        const Vec3 d = normalize(p);
+        // Low-frequency bumps plus a per-vertex jitter; y squashed a little, as a pebble.
+        const double r = 1 + 0.12 * std::sin(2.1 * d.x + 1.3) * std::cos(1.7 * d.y - 0.4) +
+                         0.08 * std::sin(3.3 * d.z + 2.2 * d.x) + 0.1 * (hashUnit(k) - 0.5);
+        const Vec3 q = d * r;
+        return mb.vertex(k, Vec3{q.x, 0.8 * q.y, q.z});
+    };
+    for (const auto& f : faces)
+        for (int i = 0; i < n; ++i)
+            for (int j = 0; i + j < n; ++j) {
+                // (i, j): i steps towards f[1], j towards f[2]; up triangles, then the down one.
+                std::vector<std::array<std::array<int, 2>, 3>> tris{{{{i, j}, {i + 1, j}, {i, j + 1}}}};
+                if (i + j < n - 1) tris.push_back({{{i + 1, j}, {i + 1, j + 1}, {i, j + 1}}});
+                for (const auto& t : tris) {
+                    std::array<uint32_t, 3> v;
+                    std::array<Vec3, 3> pos;
+                    for (int c = 0; c < 3; ++c) {
+                        v[c] = vertex({f[0], f[1], f[2]}, {n - t[c][0] - t[c][1], t[c][0], t[c][1]});
+                        pos[c] = mb.position(v[c]);
+                    }
+                    const Vec3 normal = normalize(cross(pos[1] - pos[0], pos[2] - pos[0]));
+                    // Longitude and latitude UVs; a face across the wrap takes u + 1 on its small
+                    // side (the sampler repeats), a corner on the axis the mean u of the others.
+                    std::array<Vec2, 3> uv;
+                    std::array<bool, 3> onAxis{};
+                    for (int c = 0; c < 3; ++c) {
+                        const Vec3 d = normalize(pos[c]);
+                        onAxis[c] = std::hypot(d.x, d.z) < 1e-9;
+                        uv[c] = {onAxis[c] ? 0 : 0.5 + std::atan2(d.z, d.x) / (2 * kPi),
+                                 0.5 - std::asin(std::clamp(d.y, -1.0, 1.0)) / kPi};
+                    }
+                    double uMax = 0;
+                    for (int c = 0; c < 3; ++c)
+                        if (!onAxis[c]) uMax = std::max(uMax, uv[c].x);
+                    for (int c = 0; c < 3; ++c)
+                        if (!onAxis[c] && uMax - uv[c].x > 0.5) uv[c].x += 1;
+                    for (int c = 0; c < 3; ++c)
+                        if (onAxis[c]) uv[c].x = 0.5 * (uv[(c + 1) % 3].x + uv[(c + 2) % 3].x);
+                    mb.triangle(mat, {mb.wedge(v[0], mat, uv[0], normal), mb.wedge(v[1], mat, uv[1], normal),
+                                      mb.wedge(v[2], mat, uv[2], normal)});
+                }
+            }
+    asset.mesh = mb.take();
+    return asset;
+}
+
 }  // namespace
 }  // namespace lodbake
 
@@ -1000,8 +1101,8 @@ int main(int argc, char** argv) {
         std::vector<std::string> dirs;
         bool verbose = false;
         double scale = 1;
-        cli::ArgParser p("make-samples", "OUTDIR\n\nWrites hemisphere9.glb, wall5.glb, colors.glb, seamball.glb, pbrscene.glb, walker.glb, drum.glb, critter.glb\n"
-                                         "and materials.glb into OUTDIR\n"
+        cli::ArgParser p("make-samples", "OUTDIR\n\nWrites hemisphere9.glb, wall5.glb, colors.glb, seamball.glb, pbrscene.glb, walker.glb, drum.glb,\n"
+                                         "critter.glb, materials.glb and facets.glb into OUTDIR\n"
                                          "(created if missing). Output is byte-identical on every run.");
         p.positionals("OUTDIR", [&](const std::string& v) { dirs.push_back(v); });
         p.flag("-v", "print one line per sample", [&] { verbose = true; });
@@ -1027,7 +1128,8 @@ int main(int argc, char** argv) {
                                   {"walker.glb", makeWalker},
                                   {"drum.glb", makeDrum},
                                   {"critter.glb", makeCritter},
-                                  {"materials.glb", makeMaterials}};
+                                  {"materials.glb", makeMaterials},
+                                  {"facets.glb", makeFacets}};
         for (const Sample& s : samples) {
             Asset a = s.make(scale);
             std::string path = (std::filesystem::path(dirs[0]) / s.file).string();
