@@ -35,6 +35,7 @@
 
 #include "common/cli.h"
 #include "lodbake/core/errors.h"
+#include "lodbake/core/math.h"
 #include "lodbake/core/pose.h"
 #include "lodbake/core/tangents.h"
 #include "lodbake/gltf/gltf.h"
@@ -42,8 +43,6 @@
 
 namespace lodbake {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // --- images -------------------------------------------------------------------------------
 

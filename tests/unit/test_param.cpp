@@ -15,8 +15,6 @@ using namespace lodbake;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 // Lat-long sphere patch: pole vertex 0 at +z, `rings` rings down to polar angle maxTheta, `seg`
 // segments per ring; maxTheta = pi/2 gives a hemisphere (a disk), with `closed` a full sphere.
 TriMesh latLong(int rings, int seg, bool closed) {

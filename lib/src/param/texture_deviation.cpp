@@ -122,7 +122,7 @@ TextureDeviation textureDeviation(const TriMesh& mesh, const Level& level, const
     double total = 0;
     for (size_t t = 0; t < area.size(); ++t) {
         const Tri& v = level.triangles[t];
-        area[t] = 0.5 * length(cross(mesh.positions[v[1]] - mesh.positions[v[0]], mesh.positions[v[2]] - mesh.positions[v[0]]));
+        area[t] = triangleArea(mesh.positions[v[0]], mesh.positions[v[1]], mesh.positions[v[2]]);
         total += area[t];
     }
     if (!(total > 0) || options.samples == 0) return res;
