@@ -3,6 +3,7 @@
 
 #include <cmath>
 
+#include "lodbake/atlas/atlas_apply.h"
 #include "lodbake/bake/bake.h"
 #include "lodbake/core/errors.h"
 #include "lodbake/param/chart_uv.h"

@@ -13,6 +13,7 @@
 #include <map>
 #include <memory>
 
+#include "lodbake/chart/level_charts.h"
 #include "lodbake/core/closest_point.h"
 #include "lodbake/core/errors.h"
 #include "lodbake/core/face_tree.h"

@@ -6,6 +6,7 @@
 #include <unordered_map>
 
 #include "lodbake/chart/chart_lookup.h"
+#include "lodbake/chart/level_charts.h"
 #include "lodbake/core/closest_point.h"
 #include "lodbake/core/errors.h"
 #include "lodbake/texture_hierarchy/refine.h"
