@@ -38,6 +38,7 @@
 
 #include "common/cli.h"
 #include "lodbake/core/errors.h"
+#include "lodbake/core/math.h"
 #include "lodbake/core/pose.h"
 #include "lodbake/core/tangents.h"
 #include "lodbake/gltf/gltf.h"
@@ -45,8 +46,6 @@
 
 namespace lodbake {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // --- images -------------------------------------------------------------------------------
 

@@ -62,7 +62,7 @@ inline TriMesh hexagonFan() {
     TriMesh m;
     m.positions.push_back({0, 0, 0});
     for (int k = 0; k < 6; ++k) {
-        double a = k * M_PI / 3;
+        double a = k * kPi / 3;
         m.positions.push_back({std::cos(a), std::sin(a), 0});
     }
     for (uint32_t k = 0; k < 6; ++k) m.triangles.push_back({0, k + 1, (k + 1) % 6 + 1});

@@ -25,7 +25,6 @@ using json = nlohmann::json;
 using namespace lodbake::testing;
 
 constexpr int kF32 = 5126;
-constexpr double kPi = 3.14159265358979323846;
 
 // Every field of every extension lodbake reads, with values unlike the defaults.
 json allExtensions() {

@@ -3,6 +3,7 @@
 
 #include <cmath>
 
+#include "lodbake/atlas/atlas_apply.h"
 #include "lodbake/bake/bake.h"
 #include "lodbake/core/errors.h"
 #include "lodbake/param/chart_uv.h"
@@ -14,8 +15,6 @@
 using namespace lodbake;
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // Lat-long sphere patch: pole vertex 0 at +z, `rings` rings down to polar angle maxTheta, `seg`
 // segments per ring; maxTheta = pi/2 gives a hemisphere (a disk), with `closed` a full sphere.

@@ -15,8 +15,6 @@ using namespace lodbake;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 // A closed tube of radius 0.1 along x from 0 to 2 (41 rings of 16 vertices, capped by one vertex at
 // each end), bound to a thigh joint at the origin and a shin joint at x = 1 that bends 90 degrees
 // about z from t = 0 to t = 1 (keys at 0, 0.5, 1). Weights go linearly from the thigh to the shin

@@ -6,6 +6,7 @@
 #include <map>
 #include <set>
 
+#include "lodbake/atlas/atlas_apply.h"
 #include "lodbake/bake/bake.h"
 #include "lodbake/texture/codec.h"
 #include "lodbake/gltf/gltf.h"

@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "common/cli.h"
+#include "lodbake/core/math.h"
 #include "lodbake/stages/compare.h"
 
 namespace lodbake {
@@ -26,8 +27,6 @@ const char* kExitCodes =
     "Exit codes of compare (code 1 also means a tolerance was exceeded, for CI):\n"
     "  0 every given tolerance holds, 1 a tolerance is exceeded or a usage error,\n"
     "  2 unreadable or invalid input, 3 --lod level or --animation not present, 4 internal failure.\n";
-
-constexpr double kPi = 3.14159265358979323846;
 
 int run(const CompareSettings& s) {
     CompareStageResult r = runCompare(s);

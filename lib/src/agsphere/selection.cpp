@@ -15,11 +15,10 @@
 #include <unordered_set>
 
 #include "agsphere/boundary_runs.h"
+#include "lodbake/core/math.h"
 
 namespace lodbake::agsphere_detail {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // Triangles the ear clipping of region i's kept loops makes (n + 2 h - 2 for n loop vertices and
 // h holes); the region's face count when a loop is too short or the boundary walk fails.

@@ -4,13 +4,14 @@
 // The level UVs themselves are computed (and checked) by parameterize (ParameterizeResult::levels):
 // corners that are not vertices of their triangle's chart take the UV of the closest point of
 // that chart's surface; level triangles that would fold use their island.
+#include "lodbake/atlas/atlas_apply.h"
+
 #include <algorithm>
 #include <map>
 #include <string>
 #include <tuple>
 
 #include "lodbake/core/errors.h"
-#include "lodbake/param/parameterize.h"
 
 namespace lodbake {
 

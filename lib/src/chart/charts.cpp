@@ -18,11 +18,10 @@
 
 #include "lodbake/core/adjacency.h"
 #include "lodbake/core/errors.h"
+#include "lodbake/core/math.h"
 
 namespace lodbake {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // Shape of a face set: E_region and the normal cone, plus the disk test.
 struct Shape {

@@ -1,9 +1,10 @@
 // Which chart each level triangle takes its UVs from (shared by parameterize, applyAtlas and
 // textureDeviation so the solver guards exactly the triangles that are written).
+#include "lodbake/chart/level_charts.h"
+
 #include <algorithm>
 
 #include "lodbake/core/errors.h"
-#include "lodbake/param/parameterize.h"
 
 namespace lodbake {
 

@@ -1,13 +1,14 @@
 // glTF 2.0 reader: tinygltf parses JSON and loads buffers and images (kept encoded); accessor and
-// primitive decoding (primitive_read.cpp, draco_decode.cpp), scene flattening, welding and the
-// LODBAKE_multires extension (multires_codec.cpp) are ours.
+// primitive decoding (primitive_read.cpp, draco_decode.cpp), scene flattening, the welded mesh
+// (scene_mesh.cpp) and the LODBAKE_multires extension (multires_codec.cpp) are ours.
 //
 // Pipeline of readGltf:
 //   1. loadModel: read the file bytes, detect GLB/JSON by magic, parse the JSON with nlohmann
 //      (extensions, materials, LODBAKE_multires), check extensionsRequired, let tinygltf load it;
 //   2. flattenScene: scene roots (or an MSFT_lod level), node hierarchy with world transforms;
-//   3. weldScene: decode each triangle primitive, transform, weld by world position
-//      (or, for a file with LODBAKE_multires, readMultiresOriginal rebuilds the original exactly);
+//   3. weldScene (scene_mesh.cpp): decode each triangle primitive, transform, weld by world
+//      position (core/weld.h) (or, for a file with LODBAKE_multires, readMultiresOriginal
+//      rebuilds the original exactly);
 //   4. readMaterials, readImages: materials, textures, samplers, images (kept encoded;
 //      lodbake/texture/codec.h checks them).
 
@@ -32,6 +33,7 @@
 #include "gltf/morph_read.h"
 #include "gltf/rig_read.h"
 #include "gltf/scene_extras_codec.h"
+#include "gltf/scene_mesh.h"
 #include "lodbake/core/errors.h"
 #include "lodbake/core/pose.h"
 #include "lodbake/gltf/gltf.h"
@@ -423,219 +425,7 @@ std::vector<SceneNode> expandInstances(const ReadContext& c, const std::vector<S
 }
 
 // ---------------------------------------------------------------------------------------------
-// 3. Welding
-
-struct PosKey {
-    uint64_t b[3];
-    bool operator==(const PosKey& o) const { return b[0] == o.b[0] && b[1] == o.b[1] && b[2] == o.b[2]; }
-};
-// A position's hash for the weld table. Positions read from floats leave the low 29 mantissa bits
-// zero, so the words are mixed (MurmurHash3's 64-bit finaliser) before the table's low bits are used.
-uint64_t hashOf(const PosKey& k) {
-    uint64_t h = 0;
-    for (uint64_t x : k.b) {
-        h = (h ^ x) * 0x9e3779b97f4a7c15ull;
-        h ^= h >> 33;
-        h *= 0xff51afd7ed558ccdull;
-        h ^= h >> 33;
-        h *= 0xc4ceb9fe1a85ec53ull;
-        h ^= h >> 33;
-    }
-    return h;
-}
-
-// Welding by exact position: an open-addressing table (linear probing) of welded vertex ids, which
-// are handed out in order of first appearance (id = number of positions before it).
-class PositionWeld {
-public:
-    // Room for `more` new positions without rehashing (geometric growth: many small primitives
-    // stay linear).
-    void reserve(size_t more) {
-        size_t need = 2 * (keys_.size() + more), cap = std::max<size_t>(64, slots_.size());
-        while (cap < need) cap *= 2;
-        if (cap != slots_.size()) rehash(cap);
-        if (keys_.capacity() < keys_.size() + more) keys_.reserve(std::max(keys_.size() + more, 2 * keys_.capacity()));
-    }
-    // The id of `k`; a new key gets the next id (`inserted` is then true).
-    uint32_t insert(const PosKey& k, bool& inserted) {
-        if (2 * (keys_.size() + 1) > slots_.size()) reserve(std::max<size_t>(keys_.size(), 32));
-        const size_t mask = slots_.size() - 1;
-        for (size_t i = size_t(hashOf(k)) & mask;; i = (i + 1) & mask) {
-            const uint32_t id = slots_[i];
-            if (id == kEmpty) {
-                slots_[i] = uint32_t(keys_.size());
-                keys_.push_back(k);
-                inserted = true;
-                return slots_[i];
-            }
-            if (keys_[id] == k) {
-                inserted = false;
-                return id;
-            }
-        }
-    }
-
-private:
-    static constexpr uint32_t kEmpty = ~0u;
-    std::vector<uint32_t> slots_;
-    std::vector<PosKey> keys_;
-
-    void rehash(size_t cap) {
-        slots_.assign(cap, kEmpty);
-        for (uint32_t id = 0; id < keys_.size(); ++id)
-            for (size_t i = size_t(hashOf(keys_[id])) & (cap - 1);; i = (i + 1) & (cap - 1))
-                if (slots_[i] == kEmpty) {
-                    slots_[i] = id;
-                    break;
-                }
-    }
-};
-
-PosKey keyOf(Vec3 p) {
-    PosKey k;
-    double v[3] = {p.x + 0.0, p.y + 0.0, p.z + 0.0};  // + 0.0 turns -0 into +0
-    for (int i = 0; i < 3; ++i) std::memcpy(&k.b[i], &v[i], 8);
-    return k;
-}
-
-struct MeshBuilder {
-    TriMesh mesh;
-    PositionWeld weld;
-    // Wedge attributes are stored once a primitive has them (earlier wedges get the defaults).
-    bool hasNormal = false, hasTangent = false, hasUv0 = false, hasUv1 = false, hasColor = false;
-    std::vector<std::array<uint16_t, 4>> joints;  // influences of the primitive being added (skinned assets)
-    std::vector<Vec4> weights;
-    size_t degenerate = 0;
-
-    void add(const ReadContext& c, const PrimData& p, const Mat4& world, int material, const std::string& what, RigRead& rr,
-             const NodeInfluence* binding, const MorphLayout& layout, int node) {
-        const double det = det3(world);
-        const NodeFrame frame = nodeFrame(world);
-        const double sgn = frame.sign;
-        const std::array<double, 9>& C = frame.cofactor;
-        if (mesh.wedges.targets.size() != layout.size()) mesh.wedges.targets.resize(layout.size());
-        std::vector<Vec3> wp(p.pos.size());
-        std::vector<PosKey> keys(p.pos.size());
-        for (size_t i = 0; i < wp.size(); ++i) {
-            wp[i] = transformPoint(world, p.pos[i]);
-            if (!isFinite(wp[i])) fail(c, what + ": vertex " + std::to_string(i) + " has a non-finite world position");
-            keys[i] = keyOf(wp[i]);
-        }
-        Wedges& W = mesh.wedges;
-        const size_t wedges = W.vertex.size();
-        auto start = [&](bool& has, bool present, auto& column, auto fill) {
-            if (present && !has) column.assign(wedges, fill);
-            has |= present;
-        };
-        start(hasNormal, !p.normal.empty(), W.normal, Vec3{0, 0, 0});
-        start(hasTangent, !p.tangent.empty(), W.tangent, Vec4{1, 0, 0, 1});
-        start(hasUv0, !p.uv0.empty(), W.uv0, Vec2{0, 0});
-        start(hasUv1, !p.uv1.empty(), W.uv1, Vec2{0, 0});
-        start(hasColor, !p.color.empty(), W.color, Vec4{1, 1, 1, 1});
-        joints.clear();
-        weights.clear();
-        if (binding) primitiveInfluences(c, p, *binding, rr, joints, weights, what);
-        std::vector<int64_t> local(p.pos.size(), -1);
-        // Room for this primitive up front (geometric growth: many small primitives stay linear).
-        auto grow = [](auto& v, size_t more) {
-            if (v.capacity() < v.size() + more) v.reserve(std::max(v.size() + more, 2 * v.capacity()));
-        };
-        size_t nv = p.pos.size(), nt = p.tris.size();
-        weld.reserve(nv);
-        grow(mesh.positions, nv);
-        grow(W.vertex, nv);
-        if (hasNormal) grow(W.normal, nv);
-        if (hasTangent) grow(W.tangent, nv);
-        if (hasUv0) grow(W.uv0, nv);
-        if (hasUv1) grow(W.uv1, nv);
-        if (hasColor) grow(W.color, nv);
-        if (binding) {
-            grow(W.joints, nv);
-            grow(W.weights, nv);
-        }
-        grow(mesh.cornerWedges, nt);
-        grow(mesh.triangles, nt);
-        grow(mesh.triangleMaterial, nt);
-        auto wedgeOf = [&](uint32_t i) -> uint32_t {
-            if (local[i] >= 0) return uint32_t(local[i]);
-            bool inserted = false;
-            uint32_t v = weld.insert(keys[i], inserted);
-            if (inserted) mesh.positions.push_back(Vec3{wp[i].x + 0.0, wp[i].y + 0.0, wp[i].z + 0.0});
-            uint32_t w = uint32_t(W.vertex.size());
-            W.vertex.push_back(v);
-            if (hasNormal) {
-                Vec3 n{0, 0, 0};
-                if (!p.normal.empty()) {
-                    Vec3 a = p.normal[i];
-                    n = normalize(Vec3{C[0] * a.x + C[1] * a.y + C[2] * a.z, C[3] * a.x + C[4] * a.y + C[5] * a.z,
-                                       C[6] * a.x + C[7] * a.y + C[8] * a.z}) * sgn;
-                    if (!isFinite(n)) n = {0, 0, 0};
-                }
-                W.normal.push_back(n);
-            }
-            if (hasTangent) {
-                Vec4 t{1, 0, 0, 1};
-                if (!p.tangent.empty()) {
-                    Vec3 d = normalize(transformVector(world, Vec3{p.tangent[i].x, p.tangent[i].y, p.tangent[i].z}));
-                    t = {d.x, d.y, d.z, (p.tangent[i].w < 0 ? -1.0 : 1.0) * sgn};
-                }
-                W.tangent.push_back(t);
-            }
-            if (hasUv0) W.uv0.push_back(p.uv0.empty() ? Vec2{0, 0} : p.uv0[i]);
-            if (hasUv1) W.uv1.push_back(p.uv1.empty() ? Vec2{0, 0} : p.uv1[i]);
-            if (hasColor) W.color.push_back(p.color.empty() ? Vec4{1, 1, 1, 1} : p.color[i]);
-            if (binding) {
-                W.joints.push_back(joints[i]);
-                W.weights.push_back(weights[i]);
-            }
-            if (!W.targets.empty()) appendWedgeDeltas(layout, node, p, i, frame, W);
-            local[i] = w;
-            return w;
-        };
-        for (Tri t : p.tris) {
-            if (det < 0) std::swap(t[1], t[2]);
-            if (keys[t[0]] == keys[t[1]] || keys[t[1]] == keys[t[2]] || keys[t[0]] == keys[t[2]]) {
-                degenerate++;
-                continue;
-            }
-            Tri cw{wedgeOf(t[0]), wedgeOf(t[1]), wedgeOf(t[2])};
-            mesh.cornerWedges.push_back(cw);
-            mesh.triangles.push_back({W.vertex[cw[0]], W.vertex[cw[1]], W.vertex[cw[2]]});
-            mesh.triangleMaterial.push_back(material);
-        }
-    }
-
-    void finish(Asset& asset) {
-        if (degenerate) asset.warnings.push_back(std::to_string(degenerate) + " degenerate triangles dropped");
-        asset.mesh = std::move(mesh);
-    }
-};
-
-// Step 3: every triangle primitive of every mesh node, decoded, transformed to world space and
-// welded by position into asset.mesh.
-void weldScene(const ReadContext& c, const std::vector<SceneNode>& nodes, RigRead& rr, const MorphLayout& layout, Asset& asset) {
-    const tinygltf::Model& model = *c.model;
-    MeshBuilder builder;
-    for (const auto& [n, world] : nodes) {
-        const auto& node = model.nodes[size_t(n)];
-        if (node.mesh < 0) continue;
-        if (size_t(node.mesh) >= model.meshes.size()) fail(c, "node " + std::to_string(n) + ": mesh " + std::to_string(node.mesh) + " does not exist");
-        const auto& mesh = model.meshes[size_t(node.mesh)];
-        const auto binding = rr.meshNodes.find(n);
-        for (size_t pi = 0; pi < mesh.primitives.size(); ++pi) {
-            PrimData p;
-            if (!decodePrimitive(c, node.mesh, int(pi), asset, p)) continue;
-            asset.stats.primitives++;
-            asset.stats.inputVertices += p.pos.size();
-            int material = mesh.primitives[pi].material;
-            if (material >= int(model.materials.size())) fail(c, "mesh " + std::to_string(node.mesh) + " primitive " + std::to_string(pi) + ": material " + std::to_string(material) + " does not exist");
-            builder.add(c, p, world, material < 0 ? -1 : material,
-                        "node " + std::to_string(n) + " mesh " + std::to_string(node.mesh) + " primitive " + std::to_string(pi), rr,
-                        binding == rr.meshNodes.end() ? nullptr : &binding->second, layout, n);
-        }
-    }
-    builder.finish(asset);
-}
+// 3. The welded mesh: weldScene, scene_mesh.cpp
 
 // ---------------------------------------------------------------------------------------------
 // 4. Materials, textures, samplers, images

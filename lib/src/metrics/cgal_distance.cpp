@@ -49,7 +49,7 @@ Surface collectSurface(const TriMesh& m) {
     for (const Tri& t : m.triangles) {
         for (uint32_t v : t) used[v] = 1;
         Vec3 a = m.positions[t[0]], b = m.positions[t[1]], c = m.positions[t[2]];
-        double area = 0.5 * length(cross(b - a, c - a));
+        double area = triangleArea(a, b, c);
         if (!(area > 0) || !std::isfinite(area)) continue;
         Triangle tri(toPoint(a), toPoint(b), toPoint(c));
         if (tri.is_degenerate()) continue;

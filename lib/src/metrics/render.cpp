@@ -11,6 +11,7 @@
 #include <cmath>
 #include <limits>
 
+#include "lodbake/core/math.h"
 #include "lodbake/core/tangents.h"
 #include "lodbake/texture/color_space.h"
 #include "lodbake/texture/texture_transform.h"
@@ -195,7 +196,7 @@ std::vector<Camera> sphereViews(int count, Vec3 center, double radius, double fo
     std::vector<Camera> views;
     if (count <= 0) return views;
     if (!(radius > 0)) radius = 1;
-    const double golden = 3.14159265358979323846 * (3 - std::sqrt(5.0));
+    const double golden = kPi * (3 - std::sqrt(5.0));
     double distance = radius / std::sin(fovY / 2);
     for (int i = 0; i < count; ++i) {
         double y = count == 1 ? 0.0 : 1 - 2 * (i + 0.5) / count;
@@ -400,7 +401,6 @@ constexpr CameraLight kPbrLights[] = {{-0.5, 0.6, 0.62, 2.4}, {0.8, 0.05, 0.6, 0
 constexpr double kAmbientDiffuse = 0.25, kAmbientSpecular = 0.25;
 // Perceptual roughness floor: keeps the GGX highlight of a mirror finite on a pixel grid.
 constexpr double kMinRoughness = 0.04;
-constexpr double kPi = 3.14159265358979323846;
 constexpr size_t kLightCount = sizeof(kPbrLights) / sizeof(kPbrLights[0]);
 
 // The lights of one render in world space.

@@ -194,7 +194,7 @@ ChartSolveResult optimizeChartUV(const ChartMesh& chart, const std::vector<Chart
     std::vector<ChartPair> spairs = pairs;
     double area = 0;
     for (const Tri& t : chart.triangles)
-        area += 0.5 * length(cross(chart.positions[t[1]] - chart.positions[t[0]], chart.positions[t[2]] - chart.positions[t[0]]));
+        area += triangleArea(chart.positions[t[0]], chart.positions[t[1]], chart.positions[t[2]]);
     double k = area > 0 ? 1 / std::sqrt(area) : 1;
     for (Vec3& p : scaled.positions) p = p * k;
     for (ChartPair& p : spairs) p.deviation *= k;

@@ -13,6 +13,7 @@
 #include <map>
 #include <memory>
 
+#include "lodbake/chart/level_charts.h"
 #include "lodbake/core/closest_point.h"
 #include "lodbake/core/errors.h"
 #include "lodbake/core/face_tree.h"
@@ -22,47 +23,11 @@
 namespace lodbake {
 namespace {
 
-// Barycentric coordinates of p in UV triangle (a, b, c); false for a degenerate triangle.
-bool barycentric(Vec2 p, Vec2 a, Vec2 b, Vec2 c, std::array<double, 3>& w) {
-    double d = cross(b - a, c - a);
-    if (!(std::abs(d) > 0)) return false;
-    w[1] = cross(p - a, c - a) / d;
-    w[2] = cross(b - a, p - a) / d;
-    w[0] = 1 - w[1] - w[2];
-    return true;
-}
-
 // Interleaved bits of two 10-bit coordinates: nearby (x, y) get nearby keys.
 uint32_t mortonKey(uint32_t x, uint32_t y) {
     uint32_t key = 0;
     for (uint32_t b = 0; b < 10; ++b) key |= ((x >> b) & 1u) << (2 * b) | ((y >> b) & 1u) << (2 * b + 1);
     return key;
-}
-
-// Closest point to p on segment ab, as the parameter along ab.
-double segmentParam(Vec2 p, Vec2 a, Vec2 b) {
-    Vec2 e = b - a;
-    double l2 = dot(e, e);
-    return l2 > 0 ? std::clamp(dot(p - a, e) / l2, 0.0, 1.0) : 0.0;
-}
-
-// UV-closest point of triangle t to p as barycentrics; returns the squared UV distance.
-double closestInTriangle(Vec2 p, const std::array<Vec2, 3>& t, std::array<double, 3>& w) {
-    if (barycentric(p, t[0], t[1], t[2], w) && w[0] >= 0 && w[1] >= 0 && w[2] >= 0) return 0;
-    double best = 1e300;
-    for (int k = 0; k < 3; ++k) {
-        Vec2 a = t[size_t(k)], b = t[size_t((k + 1) % 3)];
-        double s = segmentParam(p, a, b);
-        Vec2 q = a + (b - a) * s;
-        double d = dot(q - p, q - p);
-        if (d < best) {
-            best = d;
-            w = {0, 0, 0};
-            w[size_t(k)] = 1 - s;
-            w[size_t((k + 1) % 3)] = s;
-        }
-    }
-    return best;
 }
 
 struct UVGrid {
@@ -122,7 +87,7 @@ TextureDeviation textureDeviation(const TriMesh& mesh, const Level& level, const
     double total = 0;
     for (size_t t = 0; t < area.size(); ++t) {
         const Tri& v = level.triangles[t];
-        area[t] = 0.5 * length(cross(mesh.positions[v[1]] - mesh.positions[v[0]], mesh.positions[v[2]] - mesh.positions[v[0]]));
+        area[t] = triangleArea(mesh.positions[v[0]], mesh.positions[v[1]], mesh.positions[v[2]]);
         total += area[t];
     }
     if (!(total > 0) || options.samples == 0) return res;
@@ -231,7 +196,7 @@ TextureDeviation textureDeviation(const TriMesh& mesh, const Level& level, const
                             uint32_t f = grid.items[i];
                             if (layout.faceChart[f] != chart) continue;
                             std::array<double, 3> w{};
-                            double d = closestInTriangle(u, layout.cornerUV[f], w);
+                            double d = closestOnTriangle(u, layout.cornerUV[f], w);
                             if (d < best || (d == best && f < bestFace)) {
                                 best = d;
                                 bestFace = f;

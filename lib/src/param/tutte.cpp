@@ -8,12 +8,11 @@
 #include <Eigen/SparseLU>
 
 #include "lodbake/core/errors.h"
+#include "lodbake/core/math.h"
 #include "lodbake/param/chart_uv.h"
 
 namespace lodbake {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 uint64_t directedKey(uint32_t a, uint32_t b) { return (uint64_t(a) << 32) | b; }
 

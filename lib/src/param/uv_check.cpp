@@ -13,8 +13,7 @@ namespace {
 
 // Signed area in math orientation (u right, v up) of a triangle given in glTF UVs (v down).
 double signedAreaGltf(const std::array<Vec2, 3>& t) {
-    Vec2 a{t[0].x, -t[0].y}, b{t[1].x, -t[1].y}, c{t[2].x, -t[2].y};
-    return 0.5 * cross(b - a, c - a);
+    return signedArea({t[0].x, -t[0].y}, {t[1].x, -t[1].y}, {t[2].x, -t[2].y});
 }
 
 // True when the projections of a and b on the axes of both triangles' edges all overlap by more

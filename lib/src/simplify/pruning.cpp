@@ -40,7 +40,7 @@ void orderByVisualWeight(CollapseState& s) {
     std::vector<double> area(c.count(), 0.0);
     const auto& P = s.mesh.positions;
     for (const Tri& t : s.mesh.triangles)
-        area[c.label[t[0]]] += 0.5 * length(cross(P[t[1]] - P[t[0]], P[t[2]] - P[t[0]]));
+        area[c.label[t[0]]] += triangleArea(P[t[0]], P[t[1]], P[t[2]]);
     std::sort(c.order.begin(), c.order.end(), [&](uint32_t a, uint32_t b) {
         if (area[a] != area[b]) return area[a] < area[b];
         if (c.size[a] != c.size[b]) return c.size[a] < c.size[b];

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <numeric>
 
+#include "lodbake/core/math.h"
+
 namespace lodbake::simplify_detail {
 
 void initRegions(RegionState& r, const CollapseState& s) {
@@ -50,7 +52,7 @@ float regionShape(const RegionStats& r, double totalArea) {
     Vec3 ext{double(r.bmax[0] - r.bmin[0]), double(r.bmax[1] - r.bmin[1]), double(r.bmax[2] - r.bmin[2])};
     double h = 0.5 * length(ext);
     double flat = std::max(0.0, 1.0 - length(r.normalSum) / r.area) * h;
-    double spread = std::max(0.0, h - std::sqrt(r.area / M_PI));
+    double spread = std::max(0.0, h - std::sqrt(r.area / kPi));
     return float(r.area / totalArea * (flat + spread));
 }
 

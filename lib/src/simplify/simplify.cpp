@@ -31,6 +31,7 @@
 #include "collapse_rules.h"
 #include "collapse_state.h"
 #include "lodbake/core/errors.h"
+#include "lodbake/core/math.h"
 #include "pairs.h"
 #include "posed_guard.h"
 #include "pruning.h"
@@ -64,9 +65,9 @@ void validateInput(const TriMesh& mesh) {
 
 RuleSettings resolveSettings(const SimplifyOptions& options, double diagonal, double longestSide) {
     RuleSettings r;
-    r.cosMaxNormalChange = std::cos(std::clamp(options.maxNormalChangeDeg, 0.0, 180.0) * M_PI / 180.0);
+    r.cosMaxNormalChange = std::cos(std::clamp(options.maxNormalChangeDeg, 0.0, 180.0) * kPi / 180.0);
     // A spherical cap of half-angle t has |sum of area-weighted normals| / area = (1 + cos t) / 2.
-    r.minRegionCoherence = 0.5 * (1 + std::cos(std::clamp(options.maxRegionConeDeg, 0.0, 180.0) * M_PI / 180.0));
+    r.minRegionCoherence = 0.5 * (1 + std::cos(std::clamp(options.maxRegionConeDeg, 0.0, 180.0) * kPi / 180.0));
     r.epsilonDeviationFactor = options.epsilonDeviationFactor;
     r.epsilonBox = options.epsilonBoxFactor * longestSide;
     r.similarDeviation = options.similarDeviation;

@@ -1,5 +1,6 @@
 #include "lodbake/stages/parameterize.h"
 
+#include "lodbake/atlas/atlas_apply.h"
 #include "lodbake/bake/bake.h"
 #include "lodbake/core/errors.h"
 #include "lodbake/core/timing.h"

@@ -6,18 +6,12 @@
 #include <unordered_map>
 
 #include "lodbake/chart/chart_lookup.h"
+#include "lodbake/chart/level_charts.h"
 #include "lodbake/core/closest_point.h"
 #include "lodbake/core/errors.h"
 #include "lodbake/texture_hierarchy/refine.h"
 
 namespace lodbake {
-namespace {
-
-double triArea3(const TriMesh& m, const Tri& t) {
-    return 0.5 * length(cross(m.positions[t[1]] - m.positions[t[0]], m.positions[t[2]] - m.positions[t[0]]));
-}
-
-}  // namespace
 
 LayoutMeasure measureLayout(const TriMesh& mesh, const Multires& mr, const ChartLayout& lay, uint32_t lastLevel,
                             const ChartEnergyOptions& eo) {
@@ -35,8 +29,9 @@ LayoutMeasure measureLayout(const TriMesh& mesh, const Multires& mr, const Chart
     for (size_t f = 0; f < nf; ++f) {
         if (degenerateIndices(mesh.triangles[f])) continue;
         const auto& u = lay.cornerUV[f];
-        uvArea += 0.5 * std::abs(cross(u[1] - u[0], u[2] - u[0]));
-        area3 += triArea3(mesh, mesh.triangles[f]);
+        const Tri& t = mesh.triangles[f];
+        uvArea += triangleArea(u[0], u[1], u[2]);
+        area3 += triangleArea(mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]);
     }
     const double scale = uvArea > 0 ? std::sqrt(area3 / uvArea) : 1;
 
@@ -131,9 +126,9 @@ LayoutMeasure measureLayout(const TriMesh& mesh, const Multires& mr, const Chart
                                                              : closestSurfaceUV(mesh, lay.cornerUV, chartFaces[triChart[t]], mesh.positions[T[t][k]]);
             }
             tris.push_back(u);
-            double a3 = triArea3(mesh, T[t]);
+            double a3 = triangleArea(mesh.positions[T[t][0]], mesh.positions[T[t][1]], mesh.positions[T[t][2]]);
             if (!(a3 > 0)) continue;
-            double a2 = 0.5 * std::abs(cross(u[1] - u[0], u[2] - u[0]));
+            double a2 = triangleArea(u[0], u[1], u[2]);
             ratios.push_back(a2 / a3);
             sumUV += a2;
             sum3 += a3;

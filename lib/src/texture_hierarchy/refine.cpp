@@ -20,6 +20,7 @@
 #include "lodbake/core/errors.h"
 #include "lodbake/core/timing.h"
 #include "lodbake/chart/charts.h"
+#include "lodbake/chart/level_charts.h"
 #include "lodbake/texture_hierarchy/refine.h"
 
 namespace lodbake {

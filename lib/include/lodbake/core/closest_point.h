@@ -1,5 +1,6 @@
-// Closest point on a triangle, shared by simplify (vertex deviation, pairs), parameterize
-// (projected level corners, atlas application), texture-refine and pack. Header-only.
+// Closest point on a triangle, in 3D (shared by simplify's vertex deviation and pairs,
+// parameterize's projected level corners and atlas application, texture-refine and pack) and in
+// the plane (texture deviation's UV lookups), and closest points of face sets. Header-only.
 #pragma once
 
 #include <algorithm>
@@ -44,6 +45,44 @@ inline std::array<double, 3> closestOnTriangle(Vec3 p, Vec3 a, Vec3 b, Vec3 c) {
     if (!(std::fabs(den) > 0)) return {1, 0, 0};
     double v = vb / den, w = vc / den;
     return {1 - v - w, v, w};
+}
+
+// Barycentric coordinates w of p in the plane triangle (a, b, c); false (w untouched) for a
+// degenerate triangle. Coordinates outside [0, 1] place p outside the triangle.
+inline bool barycentric(Vec2 p, Vec2 a, Vec2 b, Vec2 c, std::array<double, 3>& w) {
+    double d = cross(b - a, c - a);
+    if (!(std::abs(d) > 0)) return false;
+    w[1] = cross(p - a, c - a) / d;
+    w[2] = cross(b - a, p - a) / d;
+    w[0] = 1 - w[1] - w[2];
+    return true;
+}
+
+// The closest point to p of segment ab, as the parameter in [0, 1] along ab (0 when a == b).
+inline double closestOnSegment(Vec2 p, Vec2 a, Vec2 b) {
+    Vec2 e = b - a;
+    double l2 = dot(e, e);
+    return l2 > 0 ? std::clamp(dot(p - a, e) / l2, 0.0, 1.0) : 0.0;
+}
+
+// The point of plane triangle t closest to p, as barycentrics `w`; returns the squared distance
+// (0 inside). A degenerate triangle is measured along its edges.
+inline double closestOnTriangle(Vec2 p, const std::array<Vec2, 3>& t, std::array<double, 3>& w) {
+    if (barycentric(p, t[0], t[1], t[2], w) && w[0] >= 0 && w[1] >= 0 && w[2] >= 0) return 0;
+    double best = 1e300;
+    for (int k = 0; k < 3; ++k) {
+        Vec2 a = t[size_t(k)], b = t[size_t((k + 1) % 3)];
+        double s = closestOnSegment(p, a, b);
+        Vec2 q = a + (b - a) * s;
+        double d = dot(q - p, q - p);
+        if (d < best) {
+            best = d;
+            w = {0, 0, 0};
+            w[size_t(k)] = 1 - s;
+            w[size_t((k + 1) % 3)] = s;
+        }
+    }
+    return best;
 }
 
 // The point of `faces` (ids of mesh triangles) closest to p: its face and barycentrics (first

@@ -1,4 +1,5 @@
-// Small fixed-size vector types used across lodbake. Header-only, no dependencies.
+// Small fixed-size vector types and the geometric primitives on them used across lodbake (pi,
+// triangle areas, 4x4 transforms). Header-only, no dependencies.
 #pragma once
 
 #include <array>
@@ -7,6 +8,8 @@
 #include <cstdint>
 
 namespace lodbake {
+
+constexpr double kPi = 3.14159265358979323846;
 
 struct Vec2 {
     double x = 0, y = 0;
@@ -59,6 +62,13 @@ inline Vec3 normalize(Vec3 a) {
     double l = length(a);
     return l > 0 ? a / l : Vec3{};
 }
+// Area of triangle abc (model units^2): half the length of the edge cross product.
+inline double triangleArea(Vec3 a, Vec3 b, Vec3 c) { return 0.5 * length(cross(b - a, c - a)); }
+// Signed area of triangle abc in the plane: positive when a, b, c turn counter-clockwise (x right,
+// y up).
+inline double signedArea(Vec2 a, Vec2 b, Vec2 c) { return 0.5 * cross(b - a, c - a); }
+// Area of triangle abc in the plane (either orientation).
+inline double triangleArea(Vec2 a, Vec2 b, Vec2 c) { return std::abs(signedArea(a, b, c)); }
 inline bool isFinite(Vec3 a) { return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z); }
 
 // Axis-aligned box; empty when min > max.

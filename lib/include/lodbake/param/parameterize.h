@@ -13,6 +13,7 @@
 #include "lodbake/core/mesh.h"
 #include "lodbake/core/multires.h"
 #include "lodbake/chart/charts.h"
+#include "lodbake/chart/level_charts.h"  // LevelUV::chart is levelTriangleCharts' choice
 #include "lodbake/param/chart_uv.h"
 
 namespace lodbake {
@@ -112,32 +113,6 @@ struct ParameterizeResult {
 // \throw InvalidInput (inconsistent multires), Impossible (no triangles; the charts do not fit
 //        the texture).
 ParameterizeResult parameterize(const TriMesh& mesh, const Multires& multires, const ParameterizeOptions& options = {});
-
-struct AtlasApplyStats {
-    size_t newWedges = 0;
-    size_t projectedCorners = 0;  // level corners whose vertex is not in the chart of the face
-    size_t islandTriangles = 0;   // level triangles (all levels) written with island UVs
-    int material = -1;            // index of the added material
-};
-
-// Adds the atlas to the asset: appends chart-split wedges (uv0 = atlas UV, normal/tangent/uv1
-// copied, colour white: it is baked) to asset.mesh.wedges, appends a Material using `bakedImage`
-// (plus its Texture and Image; factors only when bakedImage has no bytes), and gives every level new cornerWedges and a triangleMaterial
-// override pointing at that material. Level 0 (the original triangles) keeps its wedges and
-// materials; original wedges get uv0 = (0,0) when the asset had no TEXCOORD_0.
-// The level UVs are param.levels (chart of each triangle from levelTriangleCharts; a corner whose
-// vertex is not a vertex of that chart takes the UV of the closest point of the chart's surface;
-// island triangles their island's UVs, with their own wedges).
-// multires.charts receives the layout (faceChart, cornerUV, the added material and image).
-AtlasApplyStats applyAtlas(Asset& asset, Multires& multires, const ParameterizeResult& param, const Image& bakedImage);
-
-// The chart each triangle of `level` takes its UVs from: the chart of its face when the three
-// corners are vertices of that chart; else the lowest chart having all three corners (a collapse
-// moved the triangle off its face's chart, but its corners still share a chart); else the face's
-// chart, whose surface then supplies projected UVs for the corners outside it.
-// \pre faceChart has mesh.triangleCount() entries (ChartLayout::faceChart convention).
-std::vector<uint32_t> levelTriangleCharts(const TriMesh& mesh, const std::vector<uint32_t>& faceChart,
-                                          uint32_t chartCount, const Level& level);
 
 struct UVInjectivity {
     size_t triangles = 0;  // triangles checked (index-degenerate ones are skipped)

@@ -1,0 +1,149 @@
+// The page of packAtlas as one bit per texel, with per-row free counts and longest free runs: the
+// lowest free position of a chart footprint (bottom-left fill), and placing it.
+#pragma once
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "atlas/chart_footprint.h"
+
+namespace lodbake::atlas_detail {
+
+// The page as one bit per texel; charts are placed where their footprint meets no set bit.
+class BitmapPage {
+public:
+    BitmapPage(int width, int height)
+        : W_(width), H_(height), words_((size_t(width) + 63) / 64), bits_(words_ * size_t(height), 0),
+          rowFree_(size_t(height), width), rowRun_(size_t(height), width) {}
+
+    // The lowest position (smallest y + key, then smallest x) with y + key below `limit`.
+    bool find(const Footprint& f, double key, double limit, int& outX, int& outY) const {
+        int fullRow = -1;
+        for (int y = 0; y + f.h <= H_ && y + key < limit; ++y) {
+            // A row needs as many free texels as the footprint's row, and a free run as long as
+            // its longest run (fragmented rows low on the page fail here). A page row short of
+            // the footprint's least row rules out every position that covers it: the search
+            // resumes above it (rows are tested top first, so the jump is the longest).
+            // The page row that failed last is tested first: it usually fails the next position too.
+            auto tooFull = [&](int i) {
+                const int free = rowFree_[size_t(y + i)], run = rowRun_[size_t(y + i)];
+                if (free >= f.rowCells[size_t(i)] && run >= f.rowLongest[size_t(i)]) return false;
+                fullRow = y + i;
+                if (free < f.leastCells || run < f.leastLongest) y += i;
+                return true;
+            };
+            if (fullRow >= y && tooFull(fullRow - y)) continue;
+            bool roomy = true;
+            for (int i = f.h - 1; i >= 0 && roomy; --i) roomy = !tooFull(i);
+            if (!roomy) continue;
+            int x = 0, hot = 0;  // the footprint row that collided last is tested first
+            while (x + f.w <= W_) {
+                int next = -1;
+                for (int k = 0; k < f.h && next < 0; ++k) {
+                    const int i = k == 0 ? hot : k <= hot ? k - 1 : k;
+                    for (const auto& [a, b] : f.rows[size_t(i)]) {
+                        int p = firstSet(y + i, x + a, x + b);
+                        if (p < 0) continue;
+                        // Every shift that keeps this run over p, or starts it inside the set
+                        // stretch from p, collides: the run starts at the stretch's end at least.
+                        next = std::max(x + 1, firstClear(y + i, p) - a);
+                        hot = i;
+                        break;
+                    }
+                }
+                if (next < 0) { outX = x; outY = y; return true; }
+                x = next;
+            }
+        }
+        return false;
+    }
+
+    // Whether the footprint lies on the page at (x, y).
+    bool onPage(const Footprint& f, int x, int y) const { return x >= 0 && y >= 0 && x + f.w <= W_ && y + f.h <= H_; }
+
+    void place(const Footprint& f, int x, int y) {
+        for (int i = 0; i < f.h; ++i)
+            for (const auto& [a, b] : f.rows[size_t(i)]) {
+                uint64_t* row = bits_.data() + size_t(y + i) * words_;
+                const int lo = x + a, hi = x + b;
+                for (int w = lo / 64; w <= hi / 64; ++w) {
+                    uint64_t m = ~uint64_t(0);
+                    if (w == lo / 64) m &= ~uint64_t(0) << (lo % 64);
+                    if (w == hi / 64 && hi % 64 != 63) m &= (uint64_t(1) << (hi % 64 + 1)) - 1;
+                    row[w] |= m;
+                }
+                rowFree_[size_t(y + i)] = W_ - setCells(y + i);  // kept charts may overlap
+            }
+        for (int i = 0; i < f.h; ++i) rowRun_[size_t(y + i)] = longestFreeRun(y + i);
+        usedW_ = std::max(usedW_, x + f.w);
+        usedH_ = std::max(usedH_, y + f.h);
+    }
+    int usedWidth() const { return usedW_; }
+    int usedHeight() const { return usedH_; }
+    int height() const { return H_; }
+
+private:
+    int W_, H_;
+    size_t words_;
+    std::vector<uint64_t> bits_;
+    std::vector<int> rowFree_;
+    std::vector<int> rowRun_;  // longest run of free texels per row
+    int usedW_ = 0, usedH_ = 0;
+
+    int setCells(int y) const {
+        const uint64_t* row = bits_.data() + size_t(y) * words_;
+        int n = 0;
+        for (size_t w = 0; w < words_; ++w) n += __builtin_popcountll(row[w]);
+        return n;
+    }
+
+    int longestFreeRun(int y) const {
+        const uint64_t* row = bits_.data() + size_t(y) * words_;
+        int best = 0, run = 0;
+        for (size_t w = 0; w < words_; ++w) {
+            uint64_t m = row[w];
+            const int n = w + 1 == words_ && W_ % 64 ? W_ % 64 : 64;  // texels of the page in this word
+            if (n < 64) m |= ~uint64_t(0) << n;
+            // Alternate over the word: a free stretch (ends the run), then a set stretch.
+            for (int pos = 0; pos < 64;) {
+                const uint64_t rest = m >> pos;
+                if (rest == 0) { run += 64 - pos; break; }
+                const int free = __builtin_ctzll(rest);
+                best = std::max(best, run + free);
+                run = 0;
+                pos += free;
+                const uint64_t clear = ~(m >> pos);  // the bits shifted in count as clear
+                if (clear == 0) break;
+                pos += __builtin_ctzll(clear);
+            }
+        }
+        return std::max(best, run);
+    }
+
+    // The first clear bit at or after a in row y (the row's width when there is none).
+    int firstClear(int y, int a) const {
+        const uint64_t* row = bits_.data() + size_t(y) * words_;
+        for (size_t w = size_t(a) / 64; w < words_; ++w) {
+            uint64_t m = ~row[w];
+            if (w == size_t(a) / 64) m &= ~uint64_t(0) << (a % 64);
+            if (m) return std::min(W_, int(w * 64) + __builtin_ctzll(m));
+        }
+        return W_;
+    }
+
+    // The first set bit in [a, b] of row y, or -1.
+    int firstSet(int y, int a, int b) const {
+        const uint64_t* row = bits_.data() + size_t(y) * words_;
+        for (int w = a / 64; w <= b / 64; ++w) {
+            uint64_t m = row[w];
+            if (w == a / 64) m &= ~uint64_t(0) << (a % 64);
+            if (w == b / 64 && b % 64 != 63) m &= (uint64_t(1) << (b % 64 + 1)) - 1;
+            if (m) return w * 64 + __builtin_ctzll(m);
+        }
+        return -1;
+    }
+};
+
+}  // namespace lodbake::atlas_detail

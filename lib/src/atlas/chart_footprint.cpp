@@ -1,0 +1,228 @@
+// A chart's shape on a page: orientation, conservative rasterisation, quarter turns and coarser
+// grids of its footprint (chart_footprint.h).
+#include "atlas/chart_footprint.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "lodbake/core/parallel.h"
+
+namespace lodbake::atlas_detail {
+namespace {
+
+std::vector<Vec2> convexHull(std::vector<Vec2> p) {
+    std::sort(p.begin(), p.end(), [](Vec2 a, Vec2 b) { return a.x < b.x || (a.x == b.x && a.y < b.y); });
+    p.erase(std::unique(p.begin(), p.end(), [](Vec2 a, Vec2 b) { return a.x == b.x && a.y == b.y; }), p.end());
+    if (p.size() < 3) return p;
+    std::vector<Vec2> h(2 * p.size());
+    size_t k = 0;
+    for (size_t i = 0; i < p.size(); ++i) {
+        while (k >= 2 && cross(h[k - 1] - h[k - 2], p[i] - h[k - 2]) <= 0) --k;
+        h[k++] = p[i];
+    }
+    for (size_t i = p.size() - 1, t = k + 1; i > 0; --i) {
+        while (k >= t && cross(h[k - 1] - h[k - 2], p[i - 1] - h[k - 2]) <= 0) --k;
+        h[k++] = p[i - 1];
+    }
+    h.resize(k - 1);
+    return h;
+}
+
+// The chart in the frame rotated by the angle (c, s) = (cos, sin), moved to [0, w] x [0, h]
+// (aligned: by whole units, so that unit cell centres stay cell centres).
+Oriented frameAt(const AtlasChart& chart, const std::vector<Vec2>& hull, double c, double s, bool aligned = false) {
+    Oriented o;
+    o.uvArea = chart.uvArea;
+    o.c = c;
+    o.s = s;
+    double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
+    for (const Vec2& q : hull) {
+        double x = c * q.x + s * q.y, y = -s * q.x + c * q.y;
+        x0 = std::min(x0, x); x1 = std::max(x1, x);
+        y0 = std::min(y0, y); y1 = std::max(y1, y);
+    }
+    if (hull.empty()) { x0 = x1 = y0 = y1 = 0; }
+    if (aligned) {
+        x0 = std::floor(x0 / kAlignedBlock) * kAlignedBlock;
+        y0 = std::floor(y0 / kAlignedBlock) * kAlignedBlock;
+        o.aligned = true;
+        o.turns = 1;
+    }
+    o.minX = x0; o.minY = y0; o.w = x1 - x0; o.h = y1 - y0;
+    auto turn = [&](Vec2 q) { return Vec2{c * q.x + s * q.y - x0, -s * q.x + c * q.y - y0}; };
+    if (!chart.triangles.empty()) {
+        for (const auto& tri : chart.triangles) o.triangles.push_back({turn(tri[0]), turn(tri[1]), turn(tri[2])});
+    } else {
+        for (size_t i = 1; i + 1 < hull.size(); ++i) o.triangles.push_back({turn(hull[0]), turn(hull[i]), turn(hull[i + 1])});
+        if (hull.size() < 3) for (const Vec2& q : hull) o.triangles.push_back({turn(q), turn(q), turn(q)});
+    }
+    return o;
+}
+
+// True when triangle q[0..2] and the unit cell [x, x+1] x [y, y+1] overlap by more than a hair
+// (separating axes: the two cell axes and the three edge normals).
+bool triangleTouchesCell(const std::array<Vec2, 3>& q, int x, int y) {
+    const double eps = 1e-6;
+    const Vec2 cell[4] = {{double(x), double(y)}, {x + 1.0, double(y)}, {x + 1.0, y + 1.0}, {double(x), y + 1.0}};
+    for (int k = 0; k < 3; ++k) {
+        Vec2 e = q[(k + 1) % 3] - q[k];
+        Vec2 n{-e.y, e.x};
+        double t0 = dot(n, q[0]), t1 = dot(n, q[1]), t2 = dot(n, q[2]);
+        double tMin = std::min({t0, t1, t2}), tMax = std::max({t0, t1, t2});
+        double cMin = 1e300, cMax = -1e300;
+        for (const Vec2& c : cell) { cMin = std::min(cMin, dot(n, c)); cMax = std::max(cMax, dot(n, c)); }
+        double scale = std::sqrt(dot(n, n));
+        if (scale == 0) continue;
+        if (cMax <= tMin + eps * scale || tMax <= cMin + eps * scale) return false;
+    }
+    return true;
+}
+
+}  // namespace
+
+std::vector<Oriented> chartOrientations(const AtlasChart& chart, bool aligned) {
+    std::vector<Vec2> hull = convexHull(chart.points);
+    if (aligned) return {frameAt(chart, hull, 1, 0, true)};
+    double bestC = 1, bestS = 0, bestArea = 1e300;
+    auto tryAngle = [&](double c, double s) {
+        double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
+        for (const Vec2& q : hull) {
+            double x = c * q.x + s * q.y, y = -s * q.x + c * q.y;
+            x0 = std::min(x0, x); x1 = std::max(x1, x);
+            y0 = std::min(y0, y); y1 = std::max(y1, y);
+        }
+        double area = (x1 - x0) * (y1 - y0);
+        if (area < bestArea * (1 - 1e-9)) { bestArea = area; bestC = c; bestS = s; }
+    };
+    tryAngle(1, 0);  // the chart as it is first: ties keep it unrotated
+    for (size_t i = 0; i < hull.size(); ++i) {
+        Vec2 e = hull[(i + 1) % hull.size()] - hull[i];
+        double l = std::sqrt(dot(e, e));
+        if (l > 0) tryAngle(e.x / l, e.y / l);
+    }
+    return {frameAt(chart, hull, bestC, bestS)};
+}
+
+std::vector<uint8_t> chartMask(const Oriented& c, double t, int radius, int& gw, int& gh, size_t* rasterCells) {
+    gw = texels(c.w, t) + 2 * radius;
+    gh = texels(c.h, t) + 2 * radius;
+    std::vector<uint8_t> mask(size_t(gw) * size_t(gh), 0);
+    auto mark = [&](int x, int y) {
+        if (x >= 0 && y >= 0 && x < gw && y < gh) mask[size_t(y) * size_t(gw) + size_t(x)] = 1;
+    };
+    auto toGrid = [&](Vec2 p) { return Vec2{p.x * t + radius, p.y * t + radius}; };
+    for (const std::array<Vec2, 3>& tri : c.triangles) {
+        std::array<Vec2, 3> q{toGrid(tri[0]), toGrid(tri[1]), toGrid(tri[2])};
+        for (const Vec2& v : q) mark(int(std::floor(v.x)), int(std::floor(v.y)));  // corners always show
+        if (std::abs(cross(q[1] - q[0], q[2] - q[0])) < 1e-12) continue;
+        int x0 = std::max(0, int(std::floor(std::min({q[0].x, q[1].x, q[2].x}))));
+        int x1 = std::min(gw - 1, int(std::floor(std::max({q[0].x, q[1].x, q[2].x}))));
+        int y0 = std::max(0, int(std::floor(std::min({q[0].y, q[1].y, q[2].y}))));
+        int y1 = std::min(gh - 1, int(std::floor(std::max({q[0].y, q[1].y, q[2].y}))));
+        for (int y = y0; y <= y1; ++y)
+            for (int x = x0; x <= x1; ++x)
+                if (!mask[size_t(y) * size_t(gw) + size_t(x)] && triangleTouchesCell(q, x, y)) mark(x, y);
+    }
+    if (rasterCells) *rasterCells = size_t(std::count(mask.begin(), mask.end(), uint8_t(1)));
+    // Grow by the gutter radius (a square, separable max filter): two footprints that do not
+    // overlap keep their charts 2 * radius texels apart.
+    if (radius > 0) {
+        std::vector<uint8_t> tmp(mask.size(), 0);
+        for (int y = 0; y < gh; ++y)
+            for (int x = 0; x < gw; ++x)
+                if (mask[size_t(y) * size_t(gw) + size_t(x)])
+                    for (int d = std::max(0, x - radius); d <= std::min(gw - 1, x + radius); ++d) tmp[size_t(y) * size_t(gw) + size_t(d)] = 1;
+        std::fill(mask.begin(), mask.end(), uint8_t(0));
+        for (int y = 0; y < gh; ++y)
+            for (int x = 0; x < gw; ++x)
+                if (tmp[size_t(y) * size_t(gw) + size_t(x)])
+                    for (int d = std::max(0, y - radius); d <= std::min(gh - 1, y + radius); ++d) mask[size_t(d) * size_t(gw) + size_t(x)] = 1;
+    }
+    return mask;
+}
+
+Footprint rotatedFootprint(const std::vector<uint8_t>& mask, int gw, int gh, int rotation) {
+    Footprint f;
+    f.w = rotation % 2 ? gh : gw;
+    f.h = rotation % 2 ? gw : gh;
+    f.rows.resize(size_t(f.h));
+    f.rowCells.assign(size_t(f.h), 0);
+    f.rowLongest.assign(size_t(f.h), 0);
+    auto at = [&](int x, int y) -> bool {  // (x, y) in the rotated grid -> source cell
+        int sx = x, sy = y;
+        switch (rotation) {
+            case 1: sx = y; sy = gh - 1 - x; break;
+            case 2: sx = gw - 1 - x; sy = gh - 1 - y; break;
+            case 3: sx = gw - 1 - y; sy = x; break;
+            default: break;
+        }
+        return mask[size_t(sy) * size_t(gw) + size_t(sx)] != 0;
+    };
+    for (int y = 0; y < f.h; ++y) {
+        int start = -1;
+        for (int x = 0; x <= f.w; ++x) {
+            bool on = x < f.w && at(x, y);
+            if (on && start < 0) start = x;
+            if (!on && start >= 0) {
+                f.rows[size_t(y)].push_back({start, x - 1});
+                f.rowCells[size_t(y)] += x - start;
+                f.rowLongest[size_t(y)] = std::max(f.rowLongest[size_t(y)], x - start);
+                start = -1;
+            }
+        }
+    }
+    double cells = 0, moment = 0;
+    for (int y = 0; y < f.h; ++y) {
+        cells += f.rowCells[size_t(y)];
+        moment += f.rowCells[size_t(y)] * (y + 0.5);
+    }
+    f.centroidRow = cells > 0 ? moment / cells : 0.5 * f.h;
+    if (f.h > 0) {
+        f.leastCells = *std::min_element(f.rowCells.begin(), f.rowCells.end());
+        f.leastLongest = *std::min_element(f.rowLongest.begin(), f.rowLongest.end());
+    }
+    return f;
+}
+
+std::vector<uint8_t> coarsen(const std::vector<uint8_t>& mask, int gw, int gh, int scale, int& cw, int& ch) {
+    cw = (gw + scale - 1) / scale;
+    ch = (gh + scale - 1) / scale;
+    if (scale == 1) return mask;
+    std::vector<uint8_t> out(size_t(cw) * size_t(ch), 0);
+    for (int y = 0; y < gh; ++y)
+        for (int x = 0; x < gw; ++x)
+            if (mask[size_t(y) * size_t(gw) + size_t(x)]) out[size_t(y / scale) * size_t(cw) + size_t(x / scale)] = 1;
+    return out;
+}
+
+Footprints footprintsAt(const Orientations& charts, double t, int gutter, int scale, int threads, Footprints* twiceCoarser) {
+    const int radius = (gutter + 1) / 2;
+    Footprints fp;
+    fp.t = t;
+    fp.scale = scale;
+    fp.radius = radius;
+    fp.charts.resize(charts.size());
+    if (twiceCoarser) *twiceCoarser = fp, twiceCoarser->scale = 2 * scale;
+    parallelFor(charts.size(), threads, [&](size_t i) {  // each chart into its own slot
+        for (const Oriented& o : charts[i]) {
+            ChartFootprints c;
+            c.turns = o.turns;
+            std::vector<uint8_t> fine = chartMask(o, t, radius, c.gw, c.gh, &c.raster);
+            c.footprint = size_t(std::count(fine.begin(), fine.end(), uint8_t(1)));
+            auto blocks = [&](ChartFootprints& into, int s) {
+                std::vector<uint8_t> mask = coarsen(fine, into.gw, into.gh, s, into.cw, into.ch);
+                for (int rot = 0; rot < 4; ++rot) into.rot[size_t(rot)] = rotatedFootprint(mask, into.cw, into.ch, rot);
+            };
+            if (twiceCoarser) {
+                ChartFootprints cc = c;
+                blocks(cc, 2 * scale);
+                twiceCoarser->charts[i].push_back(std::move(cc));
+            }
+            blocks(c, scale);
+            fp.charts[i].push_back(std::move(c));
+        }
+    });
+    return fp;
+}
+
+}  // namespace lodbake::atlas_detail

@@ -1,0 +1,89 @@
+// A chart's shape on a page (packAtlas): its minimum-area orientation (Oriented), and its
+// footprint, the texels its triangles touch at a density grown by the gutter radius, in each
+// quarter turn and on the coarser grids of the page search.
+//
+// Reference: Freeman & Shapira, "Determining the minimum-area encasing rectangle for an arbitrary
+// closed curve" (1975), minimum-area rectangle from a hull edge.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include "lodbake/atlas/atlas.h"
+
+namespace lodbake::atlas_detail {
+
+// Texel-aligned charts start on blocks of this many texels and are not turned: the page's first
+// log2(kAlignedBlock) mip levels then average the same source texels as the original's mips.
+constexpr int kAlignedBlock = 16;
+
+// A chart turned to its minimum-area rectangle: rotate by -angle, then [minX, minX+w] x [minY, minY+h].
+struct Oriented {
+    double c = 1, s = 0;  // cos, sin of the angle
+    double minX = 0, minY = 0, w = 0, h = 0;
+    bool aligned = false; // texel-aligned (AtlasOptions::texelAligned)
+    int turns = 4;        // quarter turns tried in placement (texel-aligned: 1)
+    double uvArea = 0;
+    std::vector<std::array<Vec2, 3>> triangles;  // in the rotated frame, [0, w] x [0, h]
+};
+
+// The orientations a chart is tried in (each with the placement's four quarter turns): as it is
+// when texel-aligned, else its minimum-area rectangle only (further angles cost time in proportion and pack no tighter; see
+// docs/benchmarks.md).
+std::vector<Oriented> chartOrientations(const AtlasChart& chart, bool aligned);
+
+// Texels an extent takes at density t; held below 2^30 so that sums and gutters stay in int range
+// at any density asked for.
+inline int texels(double extent, double t) { return int(std::clamp(std::ceil(extent * t - 1e-9), 1.0, double(1 << 30))); }
+
+// A chart's footprint on the page at one density and rotation: the texels its triangles touch
+// (conservative rasterisation), grown by the gutter radius, as runs [a, b] per row.
+struct Footprint {
+    int w = 0, h = 0;                                  // grid size, texels
+    std::vector<std::vector<std::pair<int, int>>> rows;  // occupied runs per row, inclusive
+    std::vector<int> rowCells;                         // occupied texels per row
+    std::vector<int> rowLongest;                       // longest run per row
+    double centroidRow = 0;                            // mean row of the occupied texels
+    int leastCells = 0, leastLongest = 0;              // smallest rowCells and rowLongest
+};
+
+// The chart rasterised in its oriented frame at density t: cells [pad, pad + ceil(w t)) hold the
+// chart, pad = radius cells on each side hold its half of the gutter.
+std::vector<uint8_t> chartMask(const Oriented& c, double t, int radius, int& gw, int& gh, size_t* rasterCells = nullptr);
+
+// Quarter turns of the grid (counter-clockwise in texel space, determinant +1). Cell (x, y) of a
+// gw x gh grid goes to rotateCell(...); continuous points use placementFor's matching formulas.
+Footprint rotatedFootprint(const std::vector<uint8_t>& mask, int gw, int gh, int rotation);
+
+// The mask on a grid `scale` times coarser: a coarse cell is set when any of its cells is.
+std::vector<uint8_t> coarsen(const std::vector<uint8_t>& mask, int gw, int gh, int scale, int& cw, int& ch);
+
+// Every chart's footprints at one density, gutter and search scale (the four quarter turns of its
+// block-rounded mask), computed once and shared by every page width and order tried.
+struct ChartFootprints {
+    int turns = 4;       // the quarter turns tried (Oriented::turns)
+    int gw = 0, gh = 0;  // the unrotated texel grid
+    int cw = 0, ch = 0;  // ... in blocks
+    std::array<Footprint, 4> rot;
+    size_t raster = 0, footprint = 0;  // texels: conservative raster, and grown by the gutter radius
+};
+
+struct Footprints {
+    double t = 0;
+    int scale = 1;
+    int radius = 0;  // the gutter radius each footprint is grown by
+    std::vector<std::vector<ChartFootprints>> charts;  // per chart, per orientation
+};
+
+using Orientations = std::vector<std::vector<Oriented>>;  // per chart: the orientations tried
+
+// Every chart's footprints at density t with the gutter and search scale given, on `threads` threads.
+// `twiceCoarser`, when given, receives the same at scale 2 * scale (from the same rasterisation).
+Footprints footprintsAt(const Orientations& charts, double t, int gutter, int scale, int threads, Footprints* twiceCoarser = nullptr);
+
+}  // namespace lodbake::atlas_detail
