@@ -276,3 +276,34 @@ def main(test_case_classes):
         suite.addTests(unittest.defaultTestLoader.loadTestsFromTestCase(c))
     result = unittest.TextTestRunner(verbosity=2).run(suite)
     sys.exit(0 if result.wasSuccessful() else 1)
+
+
+NPM_GLTFPACK = os.path.join(NODE_MODULES, ".bin", "gltfpack")
+
+
+def gltfpack_at(src, triangles, out_dir, name, at_least=False):
+    """npm gltfpack -sp -se 1 at the -si ratio whose output has `triangles` triangles (bisection on
+    the ratio). When no ratio gives that count: the closest count, or with `at_least` the smallest
+    count above it (a harder bar for the level compared). Returns (path, triangles)."""
+    tried = {}
+
+    def run_at(ratio):
+        if ratio not in tried:
+            out = os.path.join(out_dir, "%s.gltfpack.%.6f.glb" % (name, ratio))
+            p = run([NPM_GLTFPACK, "-i", src, "-o", out, "-sp", "-se", "1", "-si", "%.6f" % ratio, "-v"])
+            line = next(l for l in p.stdout.splitlines() if l.startswith("output: ") and "triangles" in l)
+            tried[ratio] = (out, int(line.split("(")[1].split()[0]))
+        return tried[ratio]
+
+    lo, hi = 0.0, 1.0
+    best = run_at(1.0) if at_least else None
+    for _ in range(20):
+        mid = 0.5 * (lo + hi)
+        out, count = run_at(mid)
+        better = triangles <= count < best[1] if at_least else best is None or abs(count - triangles) < abs(best[1] - triangles)
+        if better:
+            best = (out, count)
+        if count == triangles:
+            break
+        lo, hi = (mid, hi) if count < triangles else (lo, mid)
+    return best

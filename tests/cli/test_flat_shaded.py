@@ -6,7 +6,7 @@ ChrKnight). A coarse level has fewer, larger faces than the original, so the ori
 can only reach it through the baked normal map. gltfpack `-sp` keeps the split normals of the
 faces it keeps, along with the original texture. Each level k >= 1 is set beside npm gltfpack
 `-sp -se 1` at the same triangle count: the `-si` ratio is searched until the counts match, or,
-when no ratio gives that count, gltfpack's smallest output above it (gltfpack_at_least). All of
+when no ratio gives that count, gltfpack's smallest output above it (lodbake_test.gltfpack_at with at_least). All of
 them are rendered by three.js (scripts/render_three.py, 8 views, 256 px) and checked:
 
 - LOD0 (the original's triangles and split normals on the original's texels) renders at
@@ -41,39 +41,11 @@ sys.path.insert(0, os.path.dirname(__file__))
 import lodbake_test as lt  # noqa: E402
 
 RENDER = os.path.join(lt.SOURCE, "scripts/render_three.py")
-GLTFPACK = os.path.join(lt.NODE_MODULES, ".bin/gltfpack")
 RATIOS = "0.5,0.1,0.02"
 THREE_MARGIN_DB = 2.0  # issue 34: "within 2 dB of gltfpack -sp at the same count or above it"
 LOD0_FLOOR_DB = 35.0
 NORMAL_MAP_GAIN_DB = 0.4  # the smallest measured gain is +0.81 dB (LOD2), so this leaves half of it as slack
 NORMAL_MAP_LEVELS = (1, 2)
-
-
-def gltfpack_at_least(src, triangles, out_dir, name):
-    """npm gltfpack -sp -se 1 at the -si ratio whose output has `triangles` triangles, or else the
-    smallest count above it (bisection on the ratio). Returns (path, triangles). On this closed gem
-    gltfpack empties the mesh below 38 triangles (-si 0.05 and lower gives 0), so our 14-triangle
-    level is compared with gltfpack's 38-triangle output, which is a harder bar."""
-    tried = {}
-
-    def run(ratio):
-        if ratio not in tried:
-            out = os.path.join(out_dir, "%s.gltfpack.%.6f.glb" % (name, ratio))
-            p = lt.run([GLTFPACK, "-i", src, "-o", out, "-sp", "-se", "1", "-si", "%.6f" % ratio, "-v"])
-            line = next(l for l in p.stdout.splitlines() if l.startswith("output: ") and "triangles" in l)
-            tried[ratio] = (out, int(line.split("(")[1].split()[0]))
-        return tried[ratio]
-
-    lo, hi, best = 0.0, 1.0, run(1.0)
-    for _ in range(20):
-        mid = 0.5 * (lo + hi)
-        out, count = run(mid)
-        if triangles <= count < best[1]:
-            best = (out, count)
-        if count == triangles:
-            break
-        lo, hi = (mid, hi) if count < triangles else (lo, mid)
-    return best
 
 
 def without_normal_maps(path, out):
@@ -94,7 +66,7 @@ class FlatShaded(unittest.TestCase):
         lt.require_browser_chain(("three", "playwright-core"))
         if not os.path.exists(lt.tool("lodbake")):
             lt.skip("lodbake is not built")
-        if not os.path.exists(GLTFPACK):
+        if not os.path.exists(lt.NPM_GLTFPACK):
             lt.skip("npm gltfpack is missing (cd scripts/node && npm ci)")
         cls.dir = lt.work_dir("flat_shaded")
         src = os.path.join(lt.make_samples(os.path.join(cls.dir, "samples")), "facets.glb")
@@ -109,7 +81,7 @@ class FlatShaded(unittest.TestCase):
         for k, level in enumerate(report["stages"][3]["levels"]):  # pack's
             e = {"lod": k, "triangles": level["triangles"], "ours": "%s#node=%d" % (out, ids[k])}
             if k > 0:
-                e["gltfpack"], e["gltfpack_triangles"] = gltfpack_at_least(src, level["triangles"], cls.dir, "facets")
+                e["gltfpack"], e["gltfpack_triangles"] = lt.gltfpack_at(src, level["triangles"], cls.dir, "facets", at_least=True)
             if k in NORMAL_MAP_LEVELS:
                 e["flat"] = "%s#node=%d" % (flat, ids[k])
             cls.levels.append(e)

@@ -32,7 +32,6 @@ sys.path.insert(0, os.path.dirname(__file__))
 import lodbake_test as lt  # noqa: E402
 
 RENDER = os.path.join(lt.SOURCE, "scripts/render_three.py")
-GLTFPACK = os.path.join(lt.NODE_MODULES, ".bin/gltfpack")
 SIMPLE_SKIN = "/usr/share/assimp/models/glTF2/simple_skin/simple_skin.gltf"
 RATIOS = "0.5,0.1,0.02"
 THREE_MARGIN_DB = 3.0
@@ -105,31 +104,6 @@ def base_colour_png(path, node=None):
     return g.bin[view.get("byteOffset", 0):view.get("byteOffset", 0) + view["byteLength"]]
 
 
-def gltfpack_at(src, triangles, out_dir, name):
-    """npm gltfpack -sp -se 1 at the -si ratio whose output has `triangles` triangles (bisection on
-    the ratio; the closest count when none matches). Returns (path, triangles)."""
-    tried = {}
-
-    def run(ratio):
-        if ratio not in tried:
-            out = os.path.join(out_dir, "%s.gltfpack.%.6f.glb" % (name, ratio))
-            p = lt.run([GLTFPACK, "-i", src, "-o", out, "-sp", "-se", "1", "-si", "%.6f" % ratio, "-v"])
-            line = next(l for l in p.stdout.splitlines() if l.startswith("output: ") and "triangles" in l)
-            tried[ratio] = (out, int(line.split("(")[1].split()[0]))
-        return tried[ratio]
-
-    lo, hi, best = 0.0, 1.0, None
-    for _ in range(20):
-        mid = 0.5 * (lo + hi)
-        out, count = run(mid)
-        if best is None or abs(count - triangles) < abs(best[1] - triangles):
-            best = (out, count)
-        if count == triangles:
-            break
-        lo, hi = (mid, hi) if count < triangles else (lo, mid)
-    return best
-
-
 def iou(original, candidate, lod, time):
     args = [lt.tool("compare"), original, candidate, "--animation", "0", "--time", time, "--samples", "0", "--json"]
     if lod is not None:
@@ -144,7 +118,7 @@ class SkinnedLevels(unittest.TestCase):
         for t in ("lodbake", "compare"):
             if not os.path.exists(lt.tool(t)):
                 lt.skip(t + " is not built")
-        if not os.path.exists(GLTFPACK):
+        if not os.path.exists(lt.NPM_GLTFPACK):
             lt.skip("npm gltfpack is missing (cd scripts/node && npm ci)")
         cls.dir = lt.work_dir("skinned_levels")
         samples = lt.make_samples(os.path.join(cls.dir, "samples"))
@@ -167,7 +141,7 @@ class SkinnedLevels(unittest.TestCase):
             for k, level in enumerate(report["stages"][3]["levels"]):
                 entry = {"lod": k, "node": ids[k], "triangles": level["triangles"]}
                 if k > 0:
-                    entry["gltfpack"], entry["gltfpack_triangles"] = gltfpack_at(src, level["triangles"], cls.dir, name)
+                    entry["gltfpack"], entry["gltfpack_triangles"] = lt.gltfpack_at(src, level["triangles"], cls.dir, name)
                 levels.append(entry)
             cls.chains[name] = {"out": out, "report": report, "levels": levels}
             candidates = []
