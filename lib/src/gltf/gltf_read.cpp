@@ -32,6 +32,7 @@
 #include "gltf/morph_read.h"
 #include "gltf/rig_read.h"
 #include "gltf/scene_extras_codec.h"
+#include "gltf/variants_codec.h"
 #include "lodbake/core/errors.h"
 #include "lodbake/core/pose.h"
 #include "lodbake/gltf/gltf.h"
@@ -112,8 +113,8 @@ const std::vector<std::string> kImageExtensions = {"KHR_texture_basisu", "EXT_te
 const std::vector<std::string> kSupportedRequired = [] {
     std::vector<std::string> v = {"EXT_mesh_gpu_instancing", "EXT_meshopt_compression", "KHR_draco_mesh_compression",
                                   "KHR_lights_punctual", "KHR_materials_emissive_strength",
-                                  "KHR_materials_pbrSpecularGlossiness", "KHR_materials_unlit", "KHR_mesh_quantization",
-                                  "KHR_texture_transform"};
+                                  "KHR_materials_pbrSpecularGlossiness", "KHR_materials_unlit", "KHR_materials_variants",
+                                  "KHR_mesh_quantization", "KHR_texture_transform"};
     v.insert(v.end(), readMaterialExtensionNames().begin(), readMaterialExtensionNames().end());
     return v;
 }();
@@ -629,12 +630,16 @@ void weldScene(const ReadContext& c, const std::vector<SceneNode>& nodes, RigRea
             asset.stats.inputVertices += p.pos.size();
             int material = mesh.primitives[pi].material;
             if (material >= int(model.materials.size())) fail(c, "mesh " + std::to_string(node.mesh) + " primitive " + std::to_string(pi) + ": material " + std::to_string(material) + " does not exist");
+            const size_t first = builder.mesh.triangles.size();  // this primitive's triangles, for its variant mapping
             builder.add(c, p, world, material < 0 ? -1 : material,
                         "node " + std::to_string(n) + " mesh " + std::to_string(node.mesh) + " primitive " + std::to_string(pi), rr,
                         binding == rr.meshNodes.end() ? nullptr : &binding->second, layout, n);
+            if (!asset.variants.empty())
+                assignTriangleMapping(asset.variants, first, builder.mesh.triangles.size(), readPrimitiveMapping(c, node.mesh, int(pi), asset.variants));
         }
     }
     builder.finish(asset);
+    if (!asset.variants.empty()) asset.variants.triangleMapping.resize(asset.mesh.triangleCount(), -1);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -786,6 +791,7 @@ Asset readLoaded(const ReadContext& c, tinygltf::Model& model, const ReadOptions
             if (!ours || n.first == multiresOriginalNode(*ext)) morphNodes.push_back(n);
         const MorphLayout layout = morphLayout(c, morphNodes);
         RigRead rr = readRig(c, nodes, layout, asset);
+        asset.variants.names = readVariantNames(c);  // before the mesh: its primitives' mappings index them
         if (ours) {
             // The original mesh rebuilt exactly, then the extension.
             asset.mesh = readMultiresOriginal(c, *ext, nodes, rr, layout, asset);
