@@ -20,8 +20,9 @@
 //   facets.glb       a flat-shaded low-poly gem: a noisy geodesic icosphere whose every corner
 //                    carries its face's normal (hard edges everywhere), latitude-longitude UVs into
 //                    one small banded texture; 720 triangles
-//   variants.glb     KHR_materials_variants: a textured ball on a grey pedestal with three variants
-//                    ("red", "blue", "gold") that change the ball, the pedestal or both; 1,600 triangles
+//   variants.glb     KHR_materials_variants: a textured ball on a grey pedestal with variants "red",
+//                    "blue" and "gold" that change the ball, the pedestal or both, and "classic" that
+//                    maps both to their default materials; 1,440 triangles
 //
 // `--scale S` multiplies every grid's resolution by S (about S^2 times the triangles) for
 // benchmarks; S = 1 gives the samples above.
@@ -1095,10 +1096,11 @@ Asset makeFacets(double scale) {
     return asset;
 }
 
-// variants: a ball (checkerboard texture) on a pedestal (grey), and three KHR_materials_variants
-// with a ground truth anyone can see: "red" paints the ball plain red; "blue" gives the ball a
-// blue checkerboard and the pedestal the red; "gold" leaves the ball and makes the pedestal a
-// rough gold metal. Two primitives (ball, pedestal), five materials.
+// variants: a ball (checkerboard texture) on a pedestal (grey), and KHR_materials_variants with a
+// ground truth anyone can see: "red" paints the ball plain red; "blue" gives the ball a blue
+// checkerboard and the pedestal the red; "gold" leaves the ball and makes the pedestal a rough
+// gold metal; "classic" names the default look explicitly (both parts mapped to their own
+// materials, as product files often do). Two primitives (ball, pedestal), five materials.
 Asset makeVariants(double scale) {
     Asset asset = newAsset("variants");
     const int S = 64;
@@ -1124,8 +1126,8 @@ Asset makeVariants(double scale) {
     addCylinder(mb, pedestal, 1, Vec3{0, 0, 0}, 0.45, 0, 0.5, scaled(30, scale, 2), scaled(4, scale, 1), Vec2{0, 0}, Vec2{1, 1});
     asset.mesh = mb.take();
     MaterialVariants& v = asset.variants;
-    v.names = {"red", "blue", "gold"};
-    v.mappings = {{red, blueMat, -1}, {-1, red, gold}};  // the ball's, the pedestal's
+    v.names = {"red", "blue", "gold", "classic"};
+    v.mappings = {{red, blueMat, -1, ball}, {-1, red, gold, pedestal}};  // the ball's, the pedestal's
     v.triangleMapping.assign(asset.mesh.triangleCount(), 1);
     std::fill(v.triangleMapping.begin(), v.triangleMapping.begin() + long(ballTriangles), 0);
     return asset;
