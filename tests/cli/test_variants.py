@@ -104,6 +104,13 @@ class Variants(unittest.TestCase):
         self.assertEqual([v["material"] >= 0 for v in levels[0]["variants"]], [v in CHANGING for v in VARIANTS])
         for level in levels:
             self.assertEqual(level["variants"][VARIANTS.index("classic")]["material"], -1)
+        try:
+            import test_report_schemas as schemas
+        except ImportError:
+            return
+        if schemas.jsonschema is None:
+            self.skipTest("python3-jsonschema is missing: the report is not checked against docs/schemas")
+        self.assertEqual(schemas.errors(schemas.load_schemas(), "lodbake", self.report), [])
 
     def test_separate_tools(self):
         d = lt.work_dir("variants_tools")
