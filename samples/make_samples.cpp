@@ -20,6 +20,9 @@
 //   facets.glb       a flat-shaded low-poly gem: a noisy geodesic icosphere whose every corner
 //                    carries its face's normal (hard edges everywhere), latitude-longitude UVs into
 //                    one small banded texture; 720 triangles
+//   variants.glb     KHR_materials_variants: a textured ball on a grey pedestal with variants "red",
+//                    "blue" and "gold" that change the ball, the pedestal or both, and "classic" that
+//                    maps both to their default materials; 1,440 triangles
 //
 // `--scale S` multiplies every grid's resolution by S (about S^2 times the triangles) for
 // benchmarks; S = 1 gives the samples above.
@@ -148,6 +151,7 @@ public:
     }
     size_t vertexCount() const { return mesh_.positions.size(); }
     Vec3 position(uint32_t v) const { return mesh_.positions[v]; }
+    size_t triangleCount() const { return mesh_.triangles.size(); }
     TriMesh take() { return std::move(mesh_); }
 
 private:
@@ -1091,6 +1095,43 @@ Asset makeFacets(double scale) {
     return asset;
 }
 
+// variants: a ball (checkerboard texture) on a pedestal (grey), and KHR_materials_variants with a
+// ground truth anyone can see: "red" paints the ball plain red; "blue" gives the ball a blue
+// checkerboard and the pedestal the red; "gold" leaves the ball and makes the pedestal a rough
+// gold metal; "classic" names the default look explicitly (both parts mapped to their own
+// materials, as product files often do). Two primitives (ball, pedestal), five materials.
+Asset makeVariants(double scale) {
+    Asset asset = newAsset("variants");
+    const int S = 64;
+    std::vector<uint8_t> px(size_t(S) * S * 3);
+    drawCell(px, S, 0, 0, S, S, 4, 5);
+    const int ball = addTexturedMaterial(asset, "ball", encodePng(px, S, S, "ball"));
+    const int pedestal = int(asset.materials.size());
+    asset.materials.push_back(plainMaterial("pedestal", {0.35, 0.35, 0.35, 1}, 0, 0.7));
+    const int red = int(asset.materials.size());
+    asset.materials.push_back(plainMaterial("red", {0.8, 0.05, 0.04, 1}, 0, 0.5));
+    const int blue = addImage(asset, imageOf(S, "ball_blue", [](double u, double v) {
+        return (int(u * 8) + int(v * 8)) % 2 ? Rgb{30, 70, 220} : Rgb{220, 230, 255};
+    }));
+    asset.materials.push_back(plainMaterial("blue", {1, 1, 1, 1}, 0, 0.6));
+    asset.materials.back().baseColor.texture = blue;
+    const int blueMat = int(asset.materials.size()) - 1;
+    const int gold = int(asset.materials.size());
+    asset.materials.push_back(plainMaterial("gold", {1.0, 0.76, 0.33, 1}, 1, 0.45));
+    MeshBuilder mb;
+    const int nLat = scaled(20, scale, 2), nLon = scaled(30, scale, 2);
+    addSphere(mb, ball, 0, Vec3{0, 1.1, 0}, 0.6, nLat, nLon, Vec2{0, 0}, Vec2{1, 1});
+    const size_t ballTriangles = mb.triangleCount();
+    addCylinder(mb, pedestal, 1, Vec3{0, 0, 0}, 0.45, 0, 0.5, scaled(30, scale, 2), scaled(4, scale, 1), Vec2{0, 0}, Vec2{1, 1});
+    asset.mesh = mb.take();
+    MaterialVariants& v = asset.variants;
+    v.names = {"red", "blue", "gold", "classic"};
+    v.mappings = {{red, blueMat, -1, ball}, {-1, red, gold, pedestal}};  // the ball's, the pedestal's
+    v.triangleMapping.assign(asset.mesh.triangleCount(), 1);
+    std::fill(v.triangleMapping.begin(), v.triangleMapping.begin() + long(ballTriangles), 0);
+    return asset;
+}
+
 }  // namespace
 }  // namespace lodbake
 
@@ -1101,7 +1142,7 @@ int main(int argc, char** argv) {
         bool verbose = false;
         double scale = 1;
         cli::ArgParser p("make-samples", "OUTDIR\n\nWrites hemisphere9.glb, wall5.glb, colors.glb, seamball.glb, pbrscene.glb, walker.glb, drum.glb,\n"
-                                         "critter.glb, materials.glb and facets.glb into OUTDIR\n"
+                                         "critter.glb, materials.glb, facets.glb and variants.glb into OUTDIR\n"
                                          "(created if missing). Output is byte-identical on every run.");
         p.positionals("OUTDIR", [&](const std::string& v) { dirs.push_back(v); });
         p.flag("-v", "print one line per sample", [&] { verbose = true; });
@@ -1128,7 +1169,8 @@ int main(int argc, char** argv) {
                                   {"drum.glb", makeDrum},
                                   {"critter.glb", makeCritter},
                                   {"materials.glb", makeMaterials},
-                                  {"facets.glb", makeFacets}};
+                                  {"facets.glb", makeFacets},
+                                  {"variants.glb", makeVariants}};
         for (const Sample& s : samples) {
             Asset a = s.make(scale);
             std::string path = (std::filesystem::path(dirs[0]) / s.file).string();

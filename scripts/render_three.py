@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Render glTF files with three.js in headless Chromium and compare them with a reference.
 
-    python3 scripts/render_three.py --reference ORIGINAL.glb CANDIDATE[#node=K] ... --out DIR
+    python3 scripts/render_three.py --reference ORIGINAL.glb[#variant=V] CANDIDATE[#node=K][&variant=V] ... --out DIR
         [--views 8] [--size 256] [--elevation 25] [--json FILE]
     python3 scripts/render_three.py --batch GROUPS.json [--json FILE] ...
 
@@ -11,7 +11,9 @@ RoomEnvironment PMREM, one directional light, Neutral tone mapping, sRGB output)
 cameras: `views` azimuths every 360/views degrees at `elevation` degrees, framing the bounding
 sphere of the reference's scene. A candidate renders its default scene, or only node K (with its
 children) when written FILE#node=K, e.g. one level of a pack output (node 0 carries MSFT_lod, its
-ids are the coarser levels' nodes). The images are composited over black and written as PNGs to
+ids are the coarser levels' nodes). FILE#variant=NAME (or FILE#node=K&variant=NAME; the reference
+too) selects that KHR_materials_variants variant the way a viewer does (three.js's GLTFLoader reads
+only the default materials: tests/browser/three_view.js applies the mappings). The images are composited over black and written as PNGs to
 DIR. Per candidate it prints and writes (--json) whether it loaded without error, the fraction
 of non-background pixels, and over the views the mean PSNR (RGB, dB; identical images = 100 dB),
 mean SSIM (grey, 8x8 sliding uniform window, K1 = 0.01, K2 = 0.03) and mean silhouette IoU
@@ -261,24 +263,38 @@ class Handler(http.server.SimpleHTTPRequestHandler):
         pass
 
 
-def parse_candidate(text):
-    """'FILE#node=K' -> (FILE, K); 'FILE' -> (FILE, -1)."""
+def parse_spec(text):
+    """'FILE#node=K&variant=NAME' (either part optional) -> (FILE, K or -1, NAME or None)."""
     path, _, fragment = text.partition("#")
-    node = -1
-    if fragment:
-        key, _, value = fragment.partition("=")
-        if key != "node" or not value.isdigit():
-            raise ValueError("candidate fragment must be #node=K: " + text)
-        node = int(value)
-    return path, node
+    node, variant = -1, None
+    for part in fragment.split("&") if fragment else []:
+        key, _, value = part.partition("=")
+        if key == "node" and value.isdigit():
+            node = int(value)
+        elif key == "variant" and value:
+            variant = urllib.parse.unquote(value)
+        else:
+            raise ValueError("candidate fragment must be #node=K, #variant=NAME or #node=K&variant=NAME: " + text)
+    return path, node, variant
 
 
-def label_for(path, node):
+def parse_candidate(text):
+    """'FILE#node=K' -> (FILE, K); 'FILE' -> (FILE, -1) (a variant is ignored: parse_spec)."""
+    return parse_spec(text)[:2]
+
+
+def spec_text(path, node, variant=None):
+    parts = (["node=%d" % node] if node >= 0 else []) + (["variant=" + variant] if variant is not None else [])
+    return path + ("#" + "&".join(parts) if parts else "")
+
+
+def label_for(path, node, variant=None):
     base = os.path.basename(path)
     for ext in (".glb", ".gltf"):
         if base.endswith(ext):
             base = base[:-len(ext)]
-    return base + ("_node%d" % node if node >= 0 else "")
+    return (base + ("_node%d" % node if node >= 0 else "")
+            + ("_" + "".join(c if c.isalnum() else "_" for c in variant) if variant is not None else ""))
 
 
 def _serve(entries, node_modules):
@@ -305,8 +321,8 @@ def _compare(entries, reports, size, views, band=0):
     for i, e in enumerate(entries):
         r = reports.get(e["index"], {"ok": False, "errors": ["no report from the renderer"], "console": []})
         errors = list(r.get("errors", [])) + [c for c in r.get("console", []) if c.startswith(("error", "pageerror"))]
-        res = {"candidate": e["path"] + ("#node=%d" % e["node"] if e["node"] >= 0 else ""), "file": e["path"],
-               "node": e["node"], "label": e["label"], "loaded": bool(r.get("ok")) and not errors, "errors": errors,
+        res = {"candidate": spec_text(e["path"], e["node"], e["variant"]), "file": e["path"],
+               "node": e["node"], "variant": e["variant"], "label": e["label"], "loaded": bool(r.get("ok")) and not errors, "errors": errors,
                "warnings": [c for c in r.get("console", []) if c.startswith("warning")], "pngs": []}
         images = []
         if r.get("ok"):
@@ -367,12 +383,12 @@ def render_batch(groups, views=8, size=256, elevation=25.0, node_modules=DEFAULT
         os.makedirs(g["out"], exist_ok=True)
         entries, labels = [], set()
         for text in [g["reference"]] + list(g["candidates"]):
-            path, node = parse_candidate(text)
-            label = "reference" if not entries else label_for(path, node)
+            path, node, variant = parse_spec(text)
+            label = "reference" if not entries else label_for(path, node, variant)
             while label in labels:
                 label += "_"
             labels.add(label)
-            entries.append({"path": os.path.abspath(path), "node": node, "label": label, "out": g["out"],
+            entries.append({"path": os.path.abspath(path), "node": node, "variant": variant, "label": label, "out": g["out"],
                             "index": index, "rgba": os.path.join(tmp, "%d.rgba" % index),
                             "seams": os.path.join(tmp, "%d.seams.rgba" % index) if entries and seam_band > 0 else None})
             index += 1
@@ -383,6 +399,8 @@ def render_batch(groups, views=8, size=256, elevation=25.0, node_modules=DEFAULT
         for entries in plan:
             for j, e in enumerate(entries):
                 item = {"url": url_of(e["path"]), "node": e["node"], "out": e["rgba"]}
+                if e["variant"] is not None:
+                    item["variant"] = e["variant"]
                 if j == 0:
                     item["frame"] = url_of(e["path"])
                 if e["seams"]:
@@ -444,7 +462,7 @@ def print_result(result):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--reference", help="original asset: frames the cameras, the images compared against")
-    ap.add_argument("candidates", nargs="*", help="FILE or FILE#node=K")
+    ap.add_argument("candidates", nargs="*", help="FILE, FILE#node=K, FILE#variant=NAME or FILE#node=K&variant=NAME")
     ap.add_argument("--out", help="directory for the PNGs")
     ap.add_argument("--batch", help='JSON file [{"reference", "candidates", "out"}, ...]: several groups in one '
                                     'browser session (instead of --reference/--out); --json then writes a list')

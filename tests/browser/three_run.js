@@ -5,7 +5,8 @@
 //   node three_run.js PAGE_URL JOB.json
 // JOB.json: {"size": S, "views": V, "elevation": DEG,
 //            "items": [{"url": URL, "node": K or -1, "out": FILE.rgba, "frame": URL (optional),
-//                       "seams": FILE.rgba (optional)}, ...]}
+//                       "seams": FILE.rgba (optional), "variant": NAME (optional: a
+//                       KHR_materials_variants variant selected)}, ...]}
 // Renders the items in order; an item with "frame" first frames the cameras on that file (the
 // first item must have one). Writes each item's V views to "out" as raw RGBA (V images of
 // S x S pixels, rows top-down, RGB premultiplied by alpha), and with "seams" the V seam masks
@@ -40,8 +41,9 @@ const { chromium } = require('playwright-core');
       const item = job.items[i];
       logs = [];
       if (item.frame) framed = await page.evaluate((u) => window.lodbakeFrame(u), item.frame);
-      const r = framed.ok ? await page.evaluate(([u, n, v, e, s]) => window.lodbakeRender(u, n, v, e, s),
-                                                [item.url, item.node, job.views, job.elevation, !!item.seams])
+      const r = framed.ok ? await page.evaluate(([u, n, v, e, s, m]) => window.lodbakeRender(u, n, v, e, s, m),
+                                                [item.url, item.node, job.views, job.elevation, !!item.seams,
+                                                 item.variant === undefined ? null : item.variant])
                           : { ok: false, errors: ['framing failed: '].concat(framed.errors) };
       if (r.ok) {
         const bytes = Buffer.concat(r.views.map((b) => Buffer.from(b, 'base64')));

@@ -6,9 +6,10 @@
 // API for the driver (three_run.js), once window.lodbakeThreeReady is true:
 //   await lodbakeSetup({size})             renderer and lights (size: square image side, pixels)
 //   await lodbakeFrame(url)                frames the cameras on this file's scene
-//   await lodbakeRender(url, node, views, elevationDeg, seams)
+//   await lodbakeRender(url, node, views, elevationDeg, seams, variant)
 //       renders the file's default scene, or only node `node` (an index, with its children)
-//       when node >= 0; returns {ok, errors, width, height, views: [base64 RGBA, rows top-down,
+//       when node >= 0, with KHR_materials_variants variant `variant` selected when it is a
+//       name (null = the default materials); returns {ok, errors, width, height, views: [base64 RGBA, rows top-down,
 //       RGB premultiplied by alpha = composited over black]}; with `seams`, also seams: per view
 //       the visible texture seams as base64 RGBA (R = 255 on a seam pixel, same rows).
 //
@@ -63,7 +64,30 @@ function setup({ size }) {
   return { ok: true, revision: THREE.REVISION };
 }
 
-async function loadObject(url, node) {
+// Selects KHR_materials_variants variant `name` on `object` as a viewer's selectVariant does:
+// every primitive whose mappings name the variant gets that material. three.js's GLTFLoader
+// reads only the default materials (its variants live in a third-party plugin), so the
+// primitives are found through the parser's associations.
+async function selectVariant(gltf, object, name) {
+  const json = gltf.parser.json;
+  const variants = ((json.extensions || {}).KHR_materials_variants || {}).variants || [];
+  const index = variants.findIndex((v) => v.name === name);
+  if (index < 0) throw new Error('no variant named ' + JSON.stringify(name) + ' in the file');
+  const meshes = [];
+  object.traverse((o) => { if (o.isMesh) meshes.push(o); });
+  for (const mesh of meshes) {
+    const a = gltf.parser.associations.get(mesh);
+    if (!a || a.meshes === undefined || a.primitives === undefined) continue;
+    const primitive = json.meshes[a.meshes].primitives[a.primitives];
+    const ext = (primitive.extensions || {}).KHR_materials_variants;
+    const mapping = ext && (ext.mappings || []).find((m) => (m.variants || []).includes(index));
+    if (!mapping) continue;
+    mesh.material = await gltf.parser.getDependency('material', mapping.material);
+    gltf.parser.assignFinalMaterial(mesh);
+  }
+}
+
+async function loadObject(url, node, variant) {
   const gltf = await loader.loadAsync(url);
   let object = gltf.scene || (gltf.scenes && gltf.scenes[0]);
   if (node >= 0) {
@@ -73,6 +97,7 @@ async function loadObject(url, node) {
     object.removeFromParent();
   }
   if (!object) throw new Error('no scene in ' + url);
+  if (variant !== undefined && variant !== null) await selectVariant(gltf, object, variant);
   return object;
 }
 
@@ -202,9 +227,9 @@ function toBase64(bytes) {
   return btoa(s);
 }
 
-async function renderViews(url, node, views, elevationDeg, seams) {
+async function renderViews(url, node, views, elevationDeg, seams, variant) {
   if (!frame) throw new Error('lodbakeFrame was not called');
-  const object = await loadObject(url, node);
+  const object = await loadObject(url, node, variant);
   scene.add(object);
   const size = renderer.getDrawingBufferSize(new THREE.Vector2());
   const w = size.x, h = size.y;

@@ -34,6 +34,7 @@
 #include "gltf/rig_read.h"
 #include "gltf/scene_extras_codec.h"
 #include "gltf/scene_mesh.h"
+#include "gltf/variants_codec.h"
 #include "lodbake/core/errors.h"
 #include "lodbake/core/pose.h"
 #include "lodbake/gltf/gltf.h"
@@ -114,8 +115,8 @@ const std::vector<std::string> kImageExtensions = {"KHR_texture_basisu", "EXT_te
 const std::vector<std::string> kSupportedRequired = [] {
     std::vector<std::string> v = {"EXT_mesh_gpu_instancing", "EXT_meshopt_compression", "KHR_draco_mesh_compression",
                                   "KHR_lights_punctual", "KHR_materials_emissive_strength",
-                                  "KHR_materials_pbrSpecularGlossiness", "KHR_materials_unlit", "KHR_mesh_quantization",
-                                  "KHR_texture_transform"};
+                                  "KHR_materials_pbrSpecularGlossiness", "KHR_materials_unlit", "KHR_materials_variants",
+                                  "KHR_mesh_quantization", "KHR_texture_transform"};
     v.insert(v.end(), readMaterialExtensionNames().begin(), readMaterialExtensionNames().end());
     return v;
 }();
@@ -576,6 +577,7 @@ Asset readLoaded(const ReadContext& c, tinygltf::Model& model, const ReadOptions
             if (!ours || n.first == multiresOriginalNode(*ext)) morphNodes.push_back(n);
         const MorphLayout layout = morphLayout(c, morphNodes);
         RigRead rr = readRig(c, nodes, layout, asset);
+        asset.variants.names = readVariantNames(c);  // before the mesh: its primitives' mappings index them
         if (ours) {
             // The original mesh rebuilt exactly, then the extension.
             asset.mesh = readMultiresOriginal(c, *ext, nodes, rr, layout, asset);

@@ -28,6 +28,7 @@
 #include "gltf/multires_codec.h"
 #include "gltf/rig_write.h"
 #include "gltf/scene_extras_codec.h"
+#include "gltf/variants_codec.h"
 #include "lodbake/core/errors.h"
 #include "lodbake/gltf/gltf.h"
 
@@ -79,15 +80,23 @@ private:
     std::unordered_map<uint64_t, uint32_t> other_;
 };
 
-// Writes one mesh (triangles with welded ids and corner wedges, material per triangle).
+// Writes one mesh (triangles with welded ids and corner wedges, material per triangle); with
+// `variants`, one primitive per (material, variant mapping of the triangle) carrying the mapping.
 int writeMesh(Writer& w, json& meshes, const TriMesh& src, const MorphTargets& morph, const std::vector<Tri>& tris,
-              const std::vector<Tri>& corners, const std::vector<int>& material, const std::string& name, std::vector<PrimMap>* maps) {
-    std::map<int, std::vector<uint32_t>> groups;
-    for (size_t f = 0; f < tris.size(); ++f) groups[material[f]].push_back(uint32_t(f));
+              const std::vector<Tri>& corners, const std::vector<int>& material, const std::string& name, std::vector<PrimMap>* maps,
+              const MaterialVariants* variants = nullptr) {
+    // Without variants every mapping is -1: the groups (and the file) are those of material alone.
+    std::map<std::pair<int, int32_t>, std::vector<uint32_t>> groups;
+    for (size_t f = 0; f < tris.size(); ++f) {
+        int32_t mapping = variants && f < variants->triangleMapping.size() ? variants->triangleMapping[f] : -1;
+        if (mapping >= 0 && size_t(mapping) >= variants->mappings.size()) mapping = -1;
+        groups[{material[f], mapping}].push_back(uint32_t(f));
+    }
     json prims = json::array();
     const Wedges& W = src.wedges;
     CornerIds ids(W.size());
-    for (const auto& [mat, faces] : groups) {
+    for (const auto& [key, faces] : groups) {
+        const auto [mat, mapping] = key;
         PrimMap pm;
         pm.material = mat;
         pm.faces = faces;
@@ -149,6 +158,7 @@ int writeMesh(Writer& w, json& meshes, const TriMesh& src, const MorphTargets& m
         }
         json prim = {{"attributes", attrs}, {"indices", w.addIndices(idx, n)}, {"mode", 4}};
         if (mat >= 0) prim["material"] = mat;
+        if (mapping >= 0) prim["extensions"][kMaterialVariants] = primitiveVariantsJson(variants->mappings[size_t(mapping)]);
         if (!morph.empty() && W.targets.size() == morph.size()) {
             std::vector<std::vector<float>> dp(morph.size()), dn(morph.size()), dt(morph.size());
             auto gather = [&](const std::vector<Vec3>& d, std::vector<float>& out) {
@@ -272,7 +282,8 @@ void writeGltfTo(const std::string& path, const Asset& asset, const Multires* mu
     json meshes = json::array(), nodes = json::array(), sceneNodes = json::array();
     WrittenMeshes written;
     const int originalMesh = writeMesh(w, meshes, mesh, asset.morph, mesh.triangles, mesh.cornerWedges,
-                                       materialsOf(nullptr, mesh.triangleCount()), "original", &written.originalPrims);
+                                       materialsOf(nullptr, mesh.triangleCount()), "original", &written.originalPrims,
+                                       asset.variants.empty() ? nullptr : &asset.variants);
     written.originalMesh = originalMesh;
     // A skinned mesh is posed by its joints (the node's own transform is ignored), so with a rig
     // every mesh node uses the skin and the levels stay in place instead of side by side.
@@ -387,6 +398,11 @@ void writeGltfTo(const std::string& path, const Asset& asset, const Multires* mu
     std::sort(usedMaterial.khr.begin(), usedMaterial.khr.end());
     usedMaterial.khr.erase(std::unique(usedMaterial.khr.begin(), usedMaterial.khr.end()), usedMaterial.khr.end());
     used.insert(used.end(), usedMaterial.khr.begin(), usedMaterial.khr.end());
+
+    if (!asset.variants.empty()) {
+        root["extensions"][kMaterialVariants] = variantsRootJson(asset.variants.names);
+        used.push_back(kMaterialVariants);
+    }
 
     // 3. LODBAKE_multires.
     if (multires) {

@@ -32,6 +32,7 @@
 #include "gltf/material_json.h"
 #include "gltf/rig_write.h"
 #include "gltf/scene_extras_codec.h"
+#include "gltf/variants_codec.h"
 #include "lodbake/core/errors.h"
 #include "lodbake/gltf/gltf.h"
 #include "lodbake/gltf/msft_lod.h"
@@ -63,9 +64,14 @@ void checkLevel(const std::string& path, const LodLevelData& L) {
     for (const std::vector<float>& d : L.targetPositions) ok = ok && !d.empty();
     for (uint32_t i : L.indices) ok = ok && i < n;
     if (!ok) throw InvalidInput(path + ": level '" + L.name + "' has inconsistent mesh data");
-    if ((!L.material.normal.encoded.empty() || L.material.ext.clearcoat.normalTexture.texture >= 0 ||
-         L.material.ext.anisotropy.texture.texture >= 0) && L.tangents.empty())
-        throw InvalidInput(path + ": level '" + L.name + "' has a normal map but no tangents");
+    auto normalMapped = [](const LodMaterial& M) {
+        return !M.normal.encoded.empty() || M.ext.clearcoat.normalTexture.texture >= 0 || M.ext.anisotropy.texture.texture >= 0;
+    };
+    bool normalMaps = normalMapped(L.material);
+    for (const LodMaterial& M : L.variantMaterials) normalMaps = normalMaps || normalMapped(M);
+    if (normalMaps && L.tangents.empty()) throw InvalidInput(path + ": level '" + L.name + "' has a normal map but no tangents");
+    for (int m : L.variantMaterial)
+        if (m >= int(L.variantMaterials.size())) throw InvalidInput(path + ": level '" + L.name + "' names a missing variant material");
 }
 
 // KHR_draco_mesh_compression: the Draco bitstream in a buffer view, accessors without views whose
@@ -300,6 +306,93 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
     std::string stem = std::filesystem::path(path).stem().string();
     bool usesEmissiveStrength = false, usesUnlit = false, usesQuantization = false, usesBasisu = false;
     std::vector<std::string> materialExtensionsUsed;  // KHR_materials_clearcoat, ... (with repeats)
+    // One material and its textures, images in the order of first use; with `written` (a chain
+    // with variants: the level's textures so far), an image equal to one already written there
+    // with the same sampler is shared instead of stored again. Adds the new image bytes to
+    // `imageBytes`.
+    struct WrittenTexture {
+        const Image* image;
+        size_t sampler, texture;
+    };
+    std::vector<std::vector<WrittenTexture>> writtenTextures(levels.size());
+    auto writeMaterial = [&](const LodMaterial& M, const std::string& name, std::vector<WrittenTexture>* written, size_t& imageBytes) {
+        const size_t sampler = samplerFor(M.minFilter, M.magFilter);
+        // Adds one texture (and its image) of this level; returns the texture index.
+        auto addTexture = [&](const Image& image, const std::string& suffix) {
+            if (written)
+                for (const WrittenTexture& t : *written)
+                    if (t.sampler == sampler && t.image->encoded == image.encoded) return t.texture;
+            const size_t index = textures.size();
+            std::string mime = sniffImageMime(image.encoded.data(), image.encoded.size());
+            if (mime.empty()) mime = "image/png";
+            // A KTX2 image only through KHR_texture_basisu (required: there is no PNG fallback).
+            if (mime == "image/ktx2") {
+                textures.push_back({{"sampler", sampler}, {"extensions", {{kBasisu, {{"source", images.size()}}}}}});
+                usesBasisu = true;
+            } else {
+                textures.push_back({{"source", images.size()}, {"sampler", sampler}});
+            }
+            const std::string imageName = name + suffix;
+            json img = {{"name", imageName}};
+            if (glb || options.embedImages) {
+                img["bufferView"] = b.addView(image.encoded.data(), image.encoded.size(), 0);
+                img["mimeType"] = mime;
+            } else {
+                std::string file = stem + "_" + imageName + (mime == "image/jpeg" ? ".jpg" : mime == "image/ktx2" ? ".ktx2" : ".png");
+                img["uri"] = file;
+                sideImages.emplace_back(file, &image);
+            }
+            imageBytes += image.encoded.size();
+            images.push_back(img);
+            if (written) written->push_back({&image, sampler, index});
+            return index;
+    };
+    json pbr = {{"metallicFactor", M.metallicFactor}, {"roughnessFactor", M.roughnessFactor}};
+    const Vec4& bc = M.baseColorFactor;
+    if (bc.x != 1 || bc.y != 1 || bc.z != 1 || bc.w != 1) pbr["baseColorFactor"] = {bc.x, bc.y, bc.z, bc.w};
+    json mat = {{"name", name}};
+    if (!M.baseColor.encoded.empty()) pbr["baseColorTexture"] = {{"index", addTexture(M.baseColor, "")}};
+    if (!M.orm.encoded.empty()) {
+        const size_t t = addTexture(M.orm, "_orm");
+        if (M.metallicRoughness) pbr["metallicRoughnessTexture"] = {{"index", t}};
+        if (M.occlusion) mat["occlusionTexture"] = {{"index", t}};
+    }
+    if (!M.emissive.encoded.empty()) mat["emissiveTexture"] = {{"index", addTexture(M.emissive, "_emissive")}};
+    if (!M.normal.encoded.empty()) mat["normalTexture"] = {{"index", addTexture(M.normal, "_normal")}};
+    mat["pbrMetallicRoughness"] = pbr;
+    const Vec3& e = M.emissiveFactor;
+    if (e.x != 0 || e.y != 0 || e.z != 0) mat["emissiveFactor"] = {e.x, e.y, e.z};
+    if (M.emissiveStrength > 1) {
+        mat["extensions"][kEmissiveStrength] = {{"emissiveStrength", M.emissiveStrength}};
+        usesEmissiveStrength = true;
+    }
+    if (M.unlit) {
+        mat["extensions"][kUnlit] = json::object();
+        usesUnlit = true;
+    }
+    // The extensions: each of the level's extension images becomes one texture, on first use.
+    std::vector<int> extensionTexture(M.extensionImages.size(), -1);
+    json ext = mat.contains("extensions") ? mat["extensions"] : json::object();
+    bool transform = false;
+    writeMaterialExtensions(
+        M.ext,
+        [&](const TextureRef& r) {
+            if (r.texture < 0 || size_t(r.texture) >= M.extensionImages.size()) return -1;
+            int& t = extensionTexture[size_t(r.texture)];
+            if (t < 0) t = int(addTexture(M.extensionImages[size_t(r.texture)], "_" + M.extensionImages[size_t(r.texture)].name));
+            return t;
+        },
+        ext, materialExtensionsUsed, transform);
+    if (!ext.empty()) mat["extensions"] = ext;
+    if (M.alphaMode == AlphaMode::Mask) {
+        mat["alphaMode"] = "MASK";
+        mat["alphaCutoff"] = M.alphaCutoff;
+    } else if (M.alphaMode == AlphaMode::Blend) {
+        mat["alphaMode"] = "BLEND";
+    }
+    if (M.doubleSided) mat["doubleSided"] = true;
+    return mat;
+    };
     for (size_t i = 0; i < levels.size(); ++i) {
         LodLevelData optimized;  // geometry only: the material stays the caller's
         if (options.optimize) {
@@ -337,80 +430,8 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
         if (morphed) addMorphDefaults(mesh, *morph);
         meshes.push_back(mesh);
         // The caller's material: side images are written after the loop.
-        const LodMaterial& M = levels[i].material;
-        const size_t sampler = samplerFor(M.minFilter, M.magFilter);
         size_t imageBytes = 0;
-        // Adds one texture (and its image) of this level; returns the texture index.
-        auto addTexture = [&](const Image& image, const std::string& suffix) {
-            const size_t index = textures.size();
-            std::string mime = sniffImageMime(image.encoded.data(), image.encoded.size());
-            if (mime.empty()) mime = "image/png";
-            // A KTX2 image only through KHR_texture_basisu (required: there is no PNG fallback).
-            if (mime == "image/ktx2") {
-                textures.push_back({{"sampler", sampler}, {"extensions", {{kBasisu, {{"source", images.size()}}}}}});
-                usesBasisu = true;
-            } else {
-                textures.push_back({{"source", images.size()}, {"sampler", sampler}});
-            }
-            const std::string name = L.name + suffix;
-            json img = {{"name", name}};
-            if (glb || options.embedImages) {
-                img["bufferView"] = b.addView(image.encoded.data(), image.encoded.size(), 0);
-                img["mimeType"] = mime;
-            } else {
-                std::string file = stem + "_" + name + (mime == "image/jpeg" ? ".jpg" : mime == "image/ktx2" ? ".ktx2" : ".png");
-                img["uri"] = file;
-                sideImages.emplace_back(file, &image);
-            }
-            imageBytes += image.encoded.size();
-            images.push_back(img);
-            return index;
-        };
-        json pbr = {{"metallicFactor", M.metallicFactor}, {"roughnessFactor", M.roughnessFactor}};
-        const Vec4& bc = M.baseColorFactor;
-        if (bc.x != 1 || bc.y != 1 || bc.z != 1 || bc.w != 1) pbr["baseColorFactor"] = {bc.x, bc.y, bc.z, bc.w};
-        json mat = {{"name", L.name}};
-        if (!M.baseColor.encoded.empty()) pbr["baseColorTexture"] = {{"index", addTexture(M.baseColor, "")}};
-        if (!M.orm.encoded.empty()) {
-            const size_t t = addTexture(M.orm, "_orm");
-            if (M.metallicRoughness) pbr["metallicRoughnessTexture"] = {{"index", t}};
-            if (M.occlusion) mat["occlusionTexture"] = {{"index", t}};
-        }
-        if (!M.emissive.encoded.empty()) mat["emissiveTexture"] = {{"index", addTexture(M.emissive, "_emissive")}};
-        if (!M.normal.encoded.empty()) mat["normalTexture"] = {{"index", addTexture(M.normal, "_normal")}};
-        mat["pbrMetallicRoughness"] = pbr;
-        const Vec3& e = M.emissiveFactor;
-        if (e.x != 0 || e.y != 0 || e.z != 0) mat["emissiveFactor"] = {e.x, e.y, e.z};
-        if (M.emissiveStrength > 1) {
-            mat["extensions"][kEmissiveStrength] = {{"emissiveStrength", M.emissiveStrength}};
-            usesEmissiveStrength = true;
-        }
-        if (M.unlit) {
-            mat["extensions"][kUnlit] = json::object();
-            usesUnlit = true;
-        }
-        // The extensions: each of the level's extension images becomes one texture, on first use.
-        std::vector<int> extensionTexture(M.extensionImages.size(), -1);
-        json ext = mat.contains("extensions") ? mat["extensions"] : json::object();
-        bool transform = false;
-        writeMaterialExtensions(
-            M.ext,
-            [&](const TextureRef& r) {
-                if (r.texture < 0 || size_t(r.texture) >= M.extensionImages.size()) return -1;
-                int& t = extensionTexture[size_t(r.texture)];
-                if (t < 0) t = int(addTexture(M.extensionImages[size_t(r.texture)], "_" + M.extensionImages[size_t(r.texture)].name));
-                return t;
-            },
-            ext, materialExtensionsUsed, transform);
-        if (!ext.empty()) mat["extensions"] = ext;
-        if (M.alphaMode == AlphaMode::Mask) {
-            mat["alphaMode"] = "MASK";
-            mat["alphaCutoff"] = M.alphaCutoff;
-        } else if (M.alphaMode == AlphaMode::Blend) {
-            mat["alphaMode"] = "BLEND";
-        }
-        if (M.doubleSided) mat["doubleSided"] = true;
-        materials.push_back(mat);
+        materials.push_back(writeMaterial(levels[i].material, L.name, options.variants.empty() ? nullptr : &writtenTextures[i], imageBytes));
         stats.levelImageBytes.push_back(imageBytes);
         json node = {{"name", L.name}, {"mesh", meshBase + i}};
         if (options.quantize && !skinned && !morphed) {
@@ -420,6 +441,24 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
         }
         levelNodes.push_back(int(nodes.size()));
         nodes.push_back(node);
+    }
+    // KHR_materials_variants: each level's variant materials after every level's default one (a
+    // level's default keeps index materialBase + level), and every variant mapped explicitly.
+    for (size_t i = 0; i < levels.size() && !options.variants.empty(); ++i) {
+        const LodLevelData& L = levels[i];
+        std::vector<int32_t> table(options.variants.size(), int32_t(materialBase + i));
+        for (size_t m = 0; m < L.variantMaterials.size(); ++m) {
+            size_t first = 0;  // the first variant that uses it names it
+            while (first < L.variantMaterial.size() && L.variantMaterial[first] != int(m)) ++first;
+            const std::string name = L.name + "_" + (first < options.variants.size() ? options.variants[first] : std::to_string(m));
+            size_t imageBytes = 0;
+            const size_t index = materials.size();
+            materials.push_back(writeMaterial(L.variantMaterials[m], name, &writtenTextures[i], imageBytes));
+            stats.levelImageBytes[(lod0 ? 1 : 0) + i] += imageBytes;
+            for (size_t v = 0; v < table.size() && v < L.variantMaterial.size(); ++v)
+                if (L.variantMaterial[v] == int(m)) table[v] = int32_t(index);
+        }
+        meshes[meshBase + i]["primitives"][0]["extensions"][kMaterialVariants] = primitiveVariantsJson(table);
     }
     json sceneNodes = json::array({0});
     std::vector<int> morphNodes;  // every level node carries the targets
@@ -453,6 +492,10 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
         nodes[0]["extensions"][kLod] = {{"ids", ids}};
         if (!screenCoverage.empty()) nodes[0]["extras"]["MSFT_screencoverage"] = screenCoverage;
         used.push_back(kLod);
+    }
+    if (!options.variants.empty() && !levels.empty()) {
+        root["extensions"][kMaterialVariants] = variantsRootJson(options.variants);
+        used.push_back(kMaterialVariants);
     }
     if (usesEmissiveStrength) used.push_back(kEmissiveStrength);
     if (usesUnlit) used.push_back(kUnlit);

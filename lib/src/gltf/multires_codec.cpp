@@ -12,6 +12,7 @@
 
 #include "gltf/gltf_internal.h"
 #include "gltf/morph_read.h"
+#include "gltf/variants_codec.h"
 #include "lodbake/core/errors.h"
 
 namespace lodbake::gltf_detail {
@@ -104,6 +105,11 @@ TriMesh rebuildOriginal(const ReadContext& c, const json& ext, const json& orig,
                 mesh.positions[mesh.triangles[f][size_t(k)]] = transformPoint(world, p.pos[li]);
             }
             mesh.triangleMaterial[f] = material;
+        }
+        if (!asset.variants.empty()) {
+            const int32_t mapping = readPrimitiveMapping(c, meshIndex, int(pi), asset.variants);
+            asset.variants.triangleMapping.resize(F, -1);
+            for (uint32_t f : faces) asset.variants.triangleMapping[f] = mapping;
         }
     }
     for (size_t f = 0; f < F; ++f) if (!faceSeen[f]) fail(c, what + ": face " + std::to_string(f) + " is in no primitive");

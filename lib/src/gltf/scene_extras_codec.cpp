@@ -17,8 +17,9 @@ using json = nlohmann::json;
 
 constexpr const char* kLights = "KHR_lights_punctual";
 
-// Root extensions whose content reaches the output: lights here, LODBAKE_multires by its codec.
-const std::vector<std::string> kCarriedRootExtensions = {kLights, "LODBAKE_multires"};
+// Root extensions whose content reaches the output: lights here, LODBAKE_multires and
+// KHR_materials_variants by their codecs.
+const std::vector<std::string> kCarriedRootExtensions = {kLights, "LODBAKE_multires", "KHR_materials_variants"};
 // Node extensions the reader uses: lights here, instancing expanded by the reader, MSFT_lod (a
 // chain read as input: its levels are nodes of their own).
 const std::vector<std::string> kReadNodeExtensions = {kLights, "EXT_mesh_gpu_instancing", "MSFT_lod"};

@@ -6,6 +6,7 @@
 
 #include <tiny_gltf.h>
 
+#include "gltf/variants_codec.h"
 #include "lodbake/core/weld.h"
 
 namespace lodbake::gltf_detail {
@@ -143,12 +144,16 @@ void weldScene(const ReadContext& c, const std::vector<std::pair<int, Mat4>>& no
             asset.stats.inputVertices += p.pos.size();
             int material = mesh.primitives[pi].material;
             if (material >= int(model.materials.size())) fail(c, "mesh " + std::to_string(node.mesh) + " primitive " + std::to_string(pi) + ": material " + std::to_string(material) + " does not exist");
+            const size_t first = builder.mesh.triangles.size();  // this primitive's triangles, for its variant mapping
             builder.add(c, p, world, material < 0 ? -1 : material,
                         "node " + std::to_string(n) + " mesh " + std::to_string(node.mesh) + " primitive " + std::to_string(pi), rr,
                         binding == rr.meshNodes.end() ? nullptr : &binding->second, layout, n);
+            if (!asset.variants.empty())
+                assignTriangleMapping(asset.variants, first, builder.mesh.triangles.size(), readPrimitiveMapping(c, node.mesh, int(pi), asset.variants));
         }
     }
     builder.finish(asset);
+    if (!asset.variants.empty()) asset.variants.triangleMapping.resize(asset.mesh.triangleCount(), -1);
 }
 
 }  // namespace lodbake::gltf_detail

@@ -33,6 +33,7 @@
 #include "lodbake/bake/material_plan.h"
 #include "lod/level_islands.h"
 #include "lod/level_material.h"
+#include "lod/level_variants.h"
 #include "lod/source_texels.h"
 #include "lod/vertex_placement.h"
 #include "lodbake/core/errors.h"
@@ -875,6 +876,9 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
     // 4. Per level: texture, page, mesh, bake.
     const MaterialPlan plan = options.baseColorOnly ? baseColorPlan(planMaterial(asset)) : planMaterial(asset);
     res.warnings = plan.warnings;
+    const ChainVariants variants = chainVariants(asset, options.baseColorOnly);  // KHR_materials_variants (level_variants.h)
+    res.warnings.insert(res.warnings.end(), variants.warnings.begin(), variants.warnings.end());
+    res.variants = variants.names;
     res.warnings.insert(res.warnings.end(), repeated.begin(), repeated.end());
     res.rig = asset.rig;
     res.morph = asset.morph;
@@ -937,10 +941,13 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
         }
         const size_t front = L.indices.size() / 3;
         if (plan.backFaces) addBackFaces(asset, views[k], L);
-        const bool normalMap = !options.baseColorOnly && (options.normalMaps == NormalMaps::Always ||
-                                                          (options.normalMaps == NormalMaps::Auto && (plan.normalTexture || k > 0)));
-        const BakeChannels channels = levelChannels(plan, normalMap);
-        const bool normalMaps = channels.normal || channels.clearcoatNormal || channels.anisotropy;
+        // The level's channels for a material plan: the default's, or a variant's.
+        auto channelsOf = [&](const MaterialPlan& p) {
+            return levelChannels(p, !options.baseColorOnly && (options.normalMaps == NormalMaps::Always ||
+                                                               (options.normalMaps == NormalMaps::Auto && (p.normalTexture || k > 0))));
+        };
+        const BakeChannels channels = channelsOf(plan);
+        const bool normalMaps = channels.normal || channels.clearcoatNormal || channels.anisotropy || variantsNeedTangents(variants, channelsOf);
         if (normalMaps) L.tangents = levelTangents(L);
         // The normal maps' target frames; none without one.
         std::optional<BakeTarget> target;
@@ -964,6 +971,19 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
         lap(r.wall.bake, r.cpu.bake);
         L.material = repeat ? previous->material : levelMaterial(plan, baked, la.atlas.width, la.atlas.height, io, L.name);
         if (sourceTexels) std::tie(L.material.minFilter, L.material.magFilter) = sourceFilters(asset);
+        if (repeat && !variants.empty()) copyLevelVariants(*previous, variants, L, r);
+        if (!repeat && !variants.empty())  // the same bake with each variant's sources and channels
+            bakeLevelVariants(
+                variants, channelsOf,
+                [&](const BakeSources& s, const BakeChannels& c) {
+                    return projected ? bakeProjected(s, *grid, L, front, la.atlas.width, la.atlas.height, reach, res.diagonal, c,
+                                                     targetOrNull, options.threads)
+                                     : bakePage(s, *layout, la, c, targetOrNull, options.threads, sourceTexels);
+                },
+                [&](const MaterialPlan& p, const BakeResult& b, const std::string& name) {
+                    return levelMaterial(p, b, la.atlas.width, la.atlas.height, io, name);
+                },
+                L, r);
         lap(r.wall.material, r.cpu.material);
         r.channels = channelNames(L.material);
         r.triangles = L.indices.size() / 3;
@@ -991,8 +1011,10 @@ void appendLevelStats(PackWriteStats& st, const LodChainWriteStats& w, size_t k)
 
 PackWriteStats writePackResult(const std::string& path, const PackResult& result, const PackWriteOptions& options) {
     PackWriteStats st;
+    LodChainWriteOptions chain = options.chain;
+    chain.variants = result.variants;
     if (!options.split) {
-        LodChainWriteStats w = writeLodChain(path, result.levels, result.screenCoverage, options.chain, &result.rig, &result.morph,
+        LodChainWriteStats w = writeLodChain(path, result.levels, result.screenCoverage, chain, &result.rig, &result.morph,
                                              &result.scene, result.original ? &*result.original : nullptr);
         st.files.push_back(path);
         for (size_t k = 0; k < result.reports.size(); ++k) appendLevelStats(st, w, k);
@@ -1008,8 +1030,8 @@ PackWriteStats writePackResult(const std::string& path, const PackResult& result
     for (size_t k = 0; k < result.reports.size(); ++k) {
         std::string file = stem + ".lod" + std::to_string(k) + ext;
         const bool hero = result.original && k == 0;
-        LodChainWriteStats w = hero ? writeLodChain(file, {}, {}, options.chain, &result.rig, &result.morph, &result.scene, &*result.original)
-                                    : writeLodChain(file, {result.levels[k - first]}, {}, options.chain, &result.rig, &result.morph, &result.scene);
+        LodChainWriteStats w = hero ? writeLodChain(file, {}, {}, chain, &result.rig, &result.morph, &result.scene, &*result.original)
+                                    : writeLodChain(file, {result.levels[k - first]}, {}, chain, &result.rig, &result.morph, &result.scene);
         st.files.push_back(file);
         appendLevelStats(st, w, 0);
         st.totalBytes += w.fileBytes;

@@ -58,6 +58,12 @@ nlohmann::json makeReport(const PackSettings& s, const Asset& asset, const Multi
             levels.back()["sourceTexels"] = r.sourceTexelsNote.empty()
                                                 ? nlohmann::json{{"used", r.sourceTexels}}
                                                 : nlohmann::json{{"used", r.sourceTexels}, {"why", r.sourceTexelsNote}};
+        if (!r.variants.empty()) {
+            nlohmann::json variants = nlohmann::json::array();
+            for (const PackLevelReport::Variant& v : r.variants)
+                variants.push_back({{"name", v.name}, {"material", v.material}, {"channels", v.channels}});
+            levels.back()["variants"] = variants;
+        }
         if (r.placement.tried) {
             const PackLevelReport::Placement& pl = r.placement;
             levels.back()["placement"] = {{"applied", pl.applied},

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "lodbake/core/material_extensions.h"
+#include "lodbake/core/material_variants.h"
 #include "lodbake/core/math.h"
 #include "lodbake/core/morph.h"
 #include "lodbake/core/rig.h"
@@ -117,6 +118,7 @@ struct Asset {
     Rig rig;  // skin and animations; empty for a static asset
     MorphTargets morph;  // names and default weights of mesh.wedges.targets; empty = no morph targets
     SceneExtras scene;   // lights, cameras and their nodes, extras (lodbake/core/scene_extras.h)
+    MaterialVariants variants;  // KHR_materials_variants (lodbake/core/material_variants.h); empty = none
     std::vector<std::string> warnings;
     LoadStats stats;
 };

@@ -56,6 +56,11 @@ struct LodLevelData {
     std::vector<std::vector<float>> targetPositions, targetNormals, targetTangents;
     std::vector<uint32_t> indices;   // 3 per triangle
     LodMaterial material;
+    // KHR_materials_variants (the chain's variants, LodChainWriteOptions::variants): per variant,
+    // the index into variantMaterials of its material on this level, -1 = `material` (the variant
+    // changes nothing this level shows). Empty without variants.
+    std::vector<int> variantMaterial;
+    std::vector<LodMaterial> variantMaterials;
 };
 
 struct LodChainWriteOptions {
@@ -80,6 +85,11 @@ struct LodChainWriteOptions {
     // keeps FLOAT UVs). Not with `draco`.
     bool quantize = false;
     int quantPositionBits = 14;  // --quantize position grid bits (1..16)
+    // KHR_materials_variants: the root list of variant names (LodLevelData::variantMaterial indexes
+    // it); empty = none. Each level's variant materials follow all the levels' default materials
+    // (so a level's default material keeps its index), named "<level>_<variant>", and images
+    // equal to one the level already wrote are shared.
+    std::vector<std::string> variants;
 };
 
 // meshopt_analyzeVertexCache with a 16-entry FIFO: ACMR = vertex shader invocations per triangle

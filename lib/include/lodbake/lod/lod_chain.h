@@ -128,6 +128,15 @@ struct PackLevelReport {
     // LOD0: its page holds the original's texels one to one (PackOptions::sourceTexels), or why not.
     bool sourceTexels = false;
     std::string sourceTexelsNote;
+    // KHR_materials_variants, per variant of the input: its name, the level's variant material it
+    // uses (-1 = the level's default material: the variant changes nothing the level shows; two
+    // variants with equal materials share one) and that material's textures (channelNames).
+    struct Variant {
+        std::string name;
+        int material = -1;
+        std::vector<std::string> channels;
+    };
+    std::vector<Variant> variants;
     uint32_t rank = 0;            // texture hierarchy rank the level is textured with (0 = T0)
     int textureSize = 0;          // the hierarchy texture of that rank whose resolution the level needs
                                   // (smallest side >= its texel limit, else the largest); 0 = no hierarchy
@@ -143,6 +152,7 @@ struct PackResult {
     Rig rig;                                // the asset's skin and animations, written once for every level
     MorphTargets morph;                     // the asset's morph target names and default weights
     SceneExtras scene;                      // the asset's lights, cameras and extras, written with the chain
+    std::vector<std::string> variants;      // the asset's KHR_materials_variants names (levels' variantMaterial index them)
     double seconds = 0;
     double measureSeconds = 0, measureCpuSeconds = 0;  // of seconds: the levels' measured deviation (wall, CPU)
 };
