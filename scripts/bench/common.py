@@ -36,7 +36,8 @@ ALIASES = {
     "bunny-1M": "StanfordBunny-x2",  # 1.1M, geometry only
     "bunny-4M": "StanfordBunny-x3",  # 4.4M
 }
-SAMPLES = ("hemisphere9", "wall5", "colors", "seamball", "pbrscene", "walker", "drum", "critter", "materials")
+SAMPLES = ("hemisphere9", "wall5", "colors", "seamball", "pbrscene", "walker", "drum", "critter", "materials", "facets",
+           "variants")
 
 
 def log(msg):
