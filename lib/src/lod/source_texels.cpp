@@ -190,29 +190,31 @@ SourceTexelLayout sourceTexelLayout(const Asset& asset, const std::vector<std::p
     struct Piece {
         uint32_t chart = 0;
         double side = 0;     // the longer side of its T0 box, layout units
-        double density = 0;  // page texels per layout unit its faces need (at most t0Texels)
+        bool lines = true;   // every face reads a texture through UVs that cover no area
+        double density = 0;  // then: the page texels per layout unit its faces' UVs cross
         double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300;
     };
-    // Texels per layout unit face f needs: the texture's texels its UV edges cross per layout unit
-    // of the same edge (all of t0Texels where vertex colours or no texture vary over it).
-    auto faceDensity = [&](size_t f) {
-        const MaterialGrid* g = gridOf(f);
-        if (!g || colours || !uvs) return t0Texels * 4;  // never capped
+    // The texture's texels face f's UV edges cross per layout unit of the same edge.
+    auto lineDensity = [&](size_t f, const MaterialGrid& g) {
         double d = 0;
         for (size_t k = 0; k < 3; ++k) {
             const Vec2 e = uv[mesh.cornerWedges[f][(k + 1) % 3]] - uv[mesh.cornerWedges[f][k]];
             const Vec2 l = t0.cornerUV[f][(k + 1) % 3] - t0.cornerUV[f][k];
-            const double texels = std::hypot(e.x * g->width, e.y * g->height), units = std::hypot(l.x, l.y);
+            const double texels = std::hypot(e.x * g.width, e.y * g.height), units = std::hypot(l.x, l.y);
             if (units > 0) d = std::max(d, texels / units);
         }
-        return std::min(d, 2 * t0Texels);
+        return d;
     };
     std::map<std::pair<uint32_t, int32_t>, Piece> pieces;  // by (T0 chart, constant material or -1)
     for (size_t f = 0; f < n; ++f) {
         if (textured[f]) continue;
         const int32_t m = pieceMaterial(f);
         Piece& p = pieces[{t0.faceChart[f], m}];
-        if (m < 0) p.density = std::max(p.density, faceDensity(f));
+        if (m < 0) {
+            const MaterialGrid* g = gridOf(f);
+            p.lines = p.lines && g && !colours && uvs;
+            if (p.lines) p.density = std::max(p.density, lineDensity(f, *g));
+        }
         for (const Vec2& q : t0.cornerUV[f]) {
             p.x0 = std::min(p.x0, q.x); p.x1 = std::max(p.x1, q.x);
             p.y0 = std::min(p.y0, q.y); p.y1 = std::max(p.y1, q.y);
@@ -227,9 +229,10 @@ SourceTexelLayout sourceTexelLayout(const Asset& asset, const std::vector<std::p
         const int32_t m = pieceMaterial(f);
         const Piece& p = pieces[{t0.faceChart[f], m}];
         L.faceChart[f] = p.chart;
-        const double least = p.side > 0 ? kConstantPieceTexels / p.side : t0Texels;  // every piece a few texels across
-        const double most = p.side > 0 && p.density <= 2 * t0Texels ? kLinePieceTexels / p.side : t0Texels;
-        const double scale = std::min({t0Texels, most, std::max(least, p.density)});
+        double scale = t0Texels;
+        if (m >= 0 && p.side > 0) scale = std::min(t0Texels, kConstantPieceTexels / p.side);
+        if (m < 0 && p.lines && p.side > 0)
+            scale = std::min({t0Texels, kLinePieceTexels / p.side, std::max(kConstantPieceTexels / p.side, p.density)});
         for (size_t k = 0; k < 3; ++k) L.cornerUV[f][k] = t0.cornerUV[f][k] * scale;
     }
     L.chartCount = charts;
