@@ -13,19 +13,21 @@ const { chromium } = require('playwright-core');
     args: ['--headless', '--no-sandbox', '--disable-gpu', '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
            '--disable-background-networking', '--disable-component-update', '--disable-sync', '--no-first-run'],
   });
+  let page;
   try {
-    const page = await browser.newPage({ viewport: { width: 512, height: 512 } });
+    page = await browser.newPage({ viewport: { width: 512, height: 512 } });
     const logs = [];
     page.on('console', (m) => logs.push(m.type() + ': ' + m.text()));
     page.on('pageerror', (e) => logs.push('pageerror: ' + e.message));
     await page.goto(url);
-    await page.waitForFunction(() => window.lodbakeResult !== undefined, null, { timeout: 180000 });
+    await page.waitForFunction(() => window.lodbakeResult !== undefined, null, { timeout: 240000 });
     const result = await page.evaluate(() => window.lodbakeResult);
     await page.screenshot({ path: shot });
     result.console = logs.slice(0, 30);
     console.log(JSON.stringify(result));
   } catch (e) {
-    console.error(String(e && e.stack || e));
+    const where = page ? await page.evaluate(() => window.lodbakeStage).catch(() => undefined) : undefined;
+    console.error(String(e && e.stack || e) + (where ? ' (page stage: ' + where + ')' : ''));
     process.exitCode = 2;
   } finally {
     await browser.close();
