@@ -23,7 +23,6 @@ import lodbake_test as lt  # noqa: E402
 
 NODE_MODULES = lt.NODE_MODULES
 BROWSER_DIR = os.path.join(lt.SOURCE, "tests/browser")
-CHROMIUM = lt.CHROMIUM
 
 
 class QuietHandler(http.server.SimpleHTTPRequestHandler):
@@ -70,17 +69,9 @@ class BrowserChain(unittest.TestCase):
 
     def view(self, model, levels, animate=False):
         shot = os.path.join(self.dir, os.path.basename(model) + ".png")
-        url = "http://127.0.0.1:%d/index.html?model=%s%s" % (self.port, os.path.basename(model), "&animate=1" if animate else "")
-        env = dict(os.environ, NODE_PATH=NODE_MODULES, CHROMIUM=CHROMIUM)
-        import subprocess
-        p = subprocess.run(["node", os.path.join(BROWSER_DIR, "run.js"), url, shot], stdout=subprocess.PIPE,
-                           stderr=subprocess.PIPE, text=True, timeout=600, env=env)
-        self.assertEqual(p.returncode, 0, p.stderr[-3000:])
-        r = json.loads(p.stdout.strip().splitlines()[-1])
+        r = lt.babylon_view(self, self.port, model, shot, animate)
         print("%s: %s" % (os.path.basename(model), json.dumps({k: r[k] for k in ("nodeLODs", "materialLODs", "meshes", "nonEmptyPixels", "pixels")})))
         print("screenshot: " + shot)
-        self.assertTrue(r["ok"], r)
-        self.assertEqual(r["errors"], [], r)
         if levels == 1:
             return r
         self.assertTrue(r.get("msftLod"), "Babylon did not activate MSFT_lod")

@@ -139,16 +139,7 @@ class HeroLod0(unittest.TestCase):
 
     def babylon(self, model, animate=False):
         shot = os.path.join(self.dir, os.path.basename(model) + ".babylon.png")
-        url = "http://127.0.0.1:%d/index.html?model=%s%s" % (self.server.server_address[1], os.path.basename(model),
-                                                              "&animate=1" if animate else "")
-        p = subprocess.run(["node", os.path.join(BROWSER_DIR, "run.js"), url, shot], stdout=subprocess.PIPE,
-                           stderr=subprocess.PIPE, text=True, timeout=600,
-                           env=dict(os.environ, NODE_PATH=lt.NODE_MODULES, CHROMIUM=lt.CHROMIUM))
-        self.assertEqual(p.returncode, 0, p.stderr[-3000:])
-        r = json.loads(p.stdout.strip().splitlines()[-1])
-        self.assertTrue(r["ok"], r)
-        self.assertEqual(r["errors"], [], r)
-        return r
+        return lt.babylon_view(self, self.server.server_address[1], model, shot, animate)
 
     def test_validator(self):
         lt.assert_no_validator_errors(self, list(self.hero.values()))
