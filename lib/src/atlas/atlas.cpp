@@ -13,8 +13,8 @@
 //      by the gutter radius; the four quarter turns of the (block-rounded) mask, computed once per
 //      density and shared by every page tried;
 //   3. page size and density: packFreeSize runs packBitmap at the density limit into twenty strip
-//      widths (five for very many charts), three sorted chart orders plus eight shuffled ones (few
-//      charts) and two placement rules (smallest page wins; the trials run on
+//      widths (five for very many charts), three sorted chart orders plus eight shuffled ones (at
+//      most 32 charts) and two placement rules (smallest page wins; the trials run on
 //      AtlasOptions::threads threads, the winner is picked in trial order), then, for few charts,
 //      a local search of pairwise swaps on the winner's order (improveOrder: a swap (a, b) resumes
 //      from the winner's packing before position a). Trials share the smallest page finished so
@@ -63,16 +63,21 @@ struct Packing {
 constexpr double kStripWidths[] = {0.6, 0.65, 0.7, 0.75, 0.8, 0.85, 0.9, 0.95, 1.0, 1.05,
                                    1.1, 1.15, 1.2, 1.25, 1.3, 1.4, 1.5, 1.6, 1.8, 2.0};
 constexpr size_t kManyCharts = 32;            // more charts: no local search of the chart order
-constexpr size_t kManyChartsForOrders = 64;   // more charts: only the first sorted order
+constexpr size_t kManyChartsForOrders = 32;   // more charts: only the first sorted order
 constexpr size_t kManyChartsForRules = 256;
 constexpr size_t kManyChartsWidthStride = 4;
 constexpr int kShuffledOrders = 8;
 constexpr int kOrderSweeps = 8;
-// Trials on large pages (search grids of 2 x 2 texel blocks or coarser), when there are more than
-// kRankFromTrials of them, and the swaps of the order search there, are ranked on a grid twice as
-// coarse first: those within kRankSlack of the coarse minimum (at most kFineTrials of them, the
-// cheapest) are packed on the search grid. Fewer trials are all packed there: each one counts.
+// Trials on large pages (search grids of 2 x 2 texel blocks or coarser, or a padded side of at
+// least kRankFromSide texels, where a one-texel search of every trial and swap costs seconds for
+// a fraction of a percent of page area), when there are more than kRankFromTrials of them, and
+// the swaps of the order search there, are ranked on a grid twice as coarse first: those within
+// kRankSlack of the coarse minimum (at most kFineTrials of them, the cheapest) are packed on the
+// search grid. Fewer trials are all packed there: each one counts. Shuffled orders pay off for
+// up to kManyChartsForOrders charts; above, the first sorted order alone packs pages as small
+// (within 1%) in a quarter of the time.
 constexpr int kRankFromScale = 2;
+constexpr double kRankFromSide = 512;
 constexpr size_t kRankFromTrials = 64;
 constexpr double kRankSlack = 1.03;
 constexpr size_t kFineTrials = 16;
@@ -313,16 +318,26 @@ bool mayFit(const std::vector<Oriented>& charts, double t, int binW, int binH) {
     return area <= kCoverageSlack * double(binW) * binH;
 }
 
+// The charts packed in binW x binH at density t, when they fit.
+std::optional<std::pair<double, Packing>> fitAt(const Orientations& charts, const std::vector<size_t>& order, int threads,
+                                                double t, int gutter, int binW, int binH) {
+    std::vector<Oriented> first;
+    for (const auto& c : charts) first.push_back(c.front());
+    if (!mayFit(first, t, binW, binH)) return std::nullopt;
+    if (auto p = packBitmap(charts, order, t, gutter, binW, binH, searchScale(std::max(binW, binH), charts), threads))
+        return std::make_pair(t, *p);
+    return std::nullopt;
+}
+
 // The densest t in (0, hi] at which the charts fit in binW x binH, to 0.5%: a bracket around the
 // density whose padded area fills 3/4 of the page (area grows as t^2), narrowed by bisection.
 std::optional<std::pair<double, Packing>> densestFit(const Orientations& charts, const std::vector<size_t>& order, int threads,
                                                      double hi, int gutter, int binW, int binH) {
+    if (auto p = fitAt(charts, order, threads, hi, gutter, binW, binH)) return p;
     const int scale = searchScale(std::max(binW, binH), charts);
     auto fit = [&](double t) { return packBitmap(charts, order, t, gutter, binW, binH, scale, threads); };
     std::vector<Oriented> first;
     for (const auto& c : charts) first.push_back(c.front());
-    if (mayFit(first, hi, binW, binH))
-        if (auto p = fit(hi)) return std::make_pair(hi, *p);
     double t = std::min(hi, hi * std::sqrt(0.75 * double(binW) * binH / std::max(1e-300, paddedArea(first, hi, gutter))));
     // The charts' coverage bounds the start too (it binds only when texels() saturates at a huge hi).
     double uvArea = 0;
@@ -422,9 +437,10 @@ struct PagePick {
 // padded area (their coverage plus a gutter ring). For few charts a local search of pairwise
 // swaps on the winner's order follows. Very many charts try one rule and every
 // kManyChartsWidthStride-th width only (the page area varies little across widths there). When
-// the padded area exceeds the page, or nothing fits, the densest fit of maxSize x maxSize.
+// the padded area exceeds the page, or nothing fits, the densest fit of maxSize x maxSize; with
+// `exact` (texel-aligned charts, which only the density limit serves) a fit at tMax or none.
 PagePick packFreeSize(const Orientations& turned, const std::vector<Oriented>& charts, const std::vector<std::vector<size_t>>& orders,
-                      double tMax, int gutter, int maxSize, int threads) {
+                      double tMax, int gutter, int maxSize, int threads, bool exact) {
     PagePick pick;
     double a = 0;
     for (const Oriented& c : charts) a += std::pow(std::sqrt(c.uvArea) * tMax + gutter, 2);
@@ -449,7 +465,7 @@ PagePick packFreeSize(const Orientations& turned, const std::vector<Oriented>& c
     // Rasterised only for the trials: at a density whose padded area exceeds the page they would
     // take memory in proportion to tMax^2 for nothing.
     // Large pages with many trials: ranked on a twice coarser grid first (see kRankFromScale).
-    const bool ranked = scale >= kRankFromScale && trials.size() > kRankFromTrials;
+    const bool ranked = (scale >= kRankFromScale || std::sqrt(a) >= kRankFromSide) && trials.size() > kRankFromTrials;
     Footprints coarse;
     const Footprints fp = trials.empty() ? Footprints{} : footprintsAt(turned, tMax, gutter, scale, threads, ranked ? &coarse : nullptr);
     std::vector<std::optional<Packing>> packed(trials.size());
@@ -486,7 +502,8 @@ PagePick packFreeSize(const Orientations& turned, const std::vector<Oriented>& c
         improveOrder(fp, ranked ? &coarse : nullptr, orders[trials[winner].order], trials[winner].width, maxSize, trials[winner].rule, threads, bestArea,
                      keepIfSmaller);
     if (!pick.best) {
-        pick.best = densestFit(turned, orders[0], threads, tMax, gutter, maxSize, maxSize);
+        pick.best = exact ? fitAt(turned, orders[0], threads, tMax, gutter, maxSize, maxSize)
+                          : densestFit(turned, orders[0], threads, tMax, gutter, maxSize, maxSize);
         if (pick.best) { pick.width = pick.best->second.width; pick.height = pick.best->second.height; }
     }
     return pick;
@@ -599,7 +616,7 @@ AtlasResult packAtlas(const std::vector<AtlasChart>& input, const AtlasOptions& 
     const int narrowest = options.texelAligned ? std::min(gutter, 2) : 0;
     for (;;) {
         pick = options.powerOfTwo ? packPowerOfTwo(turned, charts, orders[0], tMax, gutter, maxSize, options.threads)
-                                  : packFreeSize(turned, charts, orders, tMax, gutter, maxSize, options.threads);
+                                  : packFreeSize(turned, charts, orders, tMax, gutter, maxSize, options.threads, options.texelAligned);
         if ((pick.best && (!options.texelAligned || pick.best->first >= tMax)) || gutter <= narrowest) break;
         gutter = std::max(narrowest, gutter / 2);
     }
