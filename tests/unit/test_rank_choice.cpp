@@ -67,13 +67,13 @@ TEST(RankChoice, ProbeSamplesLieInsideTheirCellAndWeighTheArea) {
 }
 
 TEST(RankChoice, ManyTrianglesShareCellsAndKeepTheirArea) {
-    // 40,000 triangles > 128^2 cells: every third gets a cell and weighs for its group.
+    // 40,000 triangles > 64^2 cells: every tenth gets a cell and weighs for its group.
     std::vector<std::array<Vec3, 3>> tris(40000, kTriangle);
     ProbeLayout p = probeLayout(tris);
     EXPECT_EQ(p.cell, 4);
-    EXPECT_LE(p.side, 512);
-    EXPECT_EQ(p.triangles.size(), size_t((40000 + 2) / 3));
-    EXPECT_EQ(p.triangles[1], 3u);
+    EXPECT_LE(p.side, 256);
+    EXPECT_EQ(p.triangles.size(), size_t(4000));
+    EXPECT_EQ(p.triangles[1], 10u);
     double weight = 0;
     for (const ProbeLayout::Sample& s : p.samples) weight += s.weight;
     EXPECT_NEAR(weight, 0.5 * 40000, 1e-6);
@@ -123,4 +123,21 @@ TEST(RankChoice, ATieKeepsTheLowerRank) {
     b.deviation.score = 0.2;
     EXPECT_EQ(bestCandidate({a, b}), 1u);
     EXPECT_NE(choiceReason({a, b}, 1, 2).find("also the energy rule's pick"), std::string::npos);
+}
+
+// The energy rule's pick (rank 2) stays while it scores within kScoreMargin of the best; beyond,
+// the best wins.
+TEST(RankChoice, TheEnergyPickStaysWithinTheMargin) {
+    std::vector<RankCandidate> c(3);
+    for (uint32_t r = 0; r < 3; ++r) c[r].rank = r;
+    c[0].deviation.score = 0.100;
+    c[1].deviation.score = 0.120;
+    c[2].deviation.score = 0.100 * (1 + 0.5 * kScoreMargin);
+    EXPECT_EQ(chooseCandidate(c, 2), 2u);
+    EXPECT_NE(choiceReason(c, 2, 2).find("within the margin"), std::string::npos) << choiceReason(c, 2, 2);
+    c[2].deviation.score = 0.100 * (1 + 2 * kScoreMargin);
+    EXPECT_EQ(chooseCandidate(c, 2), 0u);
+    EXPECT_EQ(chooseCandidate(c, 2, 0.0), 0u);
+    c[2].deviation.score = 0.05;
+    EXPECT_EQ(chooseCandidate(c, 2), 2u);
 }

@@ -2,7 +2,7 @@
 //
 // Pipeline (driven by lod_chain.cpp's chooseLayoutByBake):
 //   probeLayout (cells and samples) -> the probe bake (the caller's) -> per candidate page:
-//   textureDeviation (bilinear read-back at the samples) -> bestCandidate -> choiceReason.
+//   textureDeviation (bilinear read-back at the samples) -> chooseCandidate -> choiceReason.
 #include "lod/rank_choice.h"
 
 #include <algorithm>
@@ -114,6 +114,14 @@ size_t bestCandidate(const std::vector<RankCandidate>& candidates) {
     return best;
 }
 
+size_t chooseCandidate(const std::vector<RankCandidate>& candidates, uint32_t byEnergy, double margin) {
+    const size_t best = bestCandidate(candidates);
+    for (size_t i = 0; i < candidates.size(); ++i)
+        if (candidates[i].rank == byEnergy && candidates[i].deviation.score <= candidates[best].deviation.score * (1 + margin))
+            return i;
+    return best;
+}
+
 std::string choiceReason(const std::vector<RankCandidate>& candidates, size_t chosen, uint32_t byEnergy) {
     auto name = [](uint32_t rank) { return rank == 0 ? std::string("T0") : "rank " + std::to_string(rank); };
     const RankCandidate& c = candidates[chosen];
@@ -122,6 +130,12 @@ std::string choiceReason(const std::vector<RankCandidate>& candidates, size_t ch
         if (&o != &c && (!runnerUp || o.deviation.score < runnerUp->deviation.score)) runnerUp = &o;
     char buf[256];
     if (!runnerUp) return name(c.rank) + ": the only candidate";
+    if (runnerUp->deviation.score < c.deviation.score) {  // kept within the margin
+        std::snprintf(buf, sizeof buf, "%s, the energy rule's pick, scores within the margin of the least texture deviation "
+                      "(%.5f; %s %.5f)", name(c.rank).c_str(), c.deviation.score, name(runnerUp->rank).c_str(),
+                      runnerUp->deviation.score);
+        return buf;
+    }
     std::snprintf(buf, sizeof buf, "%s shows the least texture deviation (%.5f; next %s %.5f)", name(c.rank).c_str(),
                   c.deviation.score, name(runnerUp->rank).c_str(), runnerUp->deviation.score);
     std::string why = buf;

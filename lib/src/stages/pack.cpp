@@ -65,7 +65,8 @@ nlohmann::json makeReport(const PackSettings& s, const Asset& asset, const Multi
                 candidates.push_back({{"rank", c.rank}, {"score", c.score}, {"baseColorRms", c.baseColor}, {"normalRms", c.normal},
                                       {"width", c.width}, {"height", c.height}, {"charts", c.charts}});
             levels.back()["rankChoice"] = {{"candidates", candidates}, {"chosen", r.rank}, {"byEnergy", rc.byEnergy},
-                                           {"reason", rc.reason}, {"seconds", rc.seconds}};
+                                           {"reason", rc.reason}, {"seconds", rc.seconds},
+                                           {"cpuSeconds", rc.cpuSeconds}};
         }
         if (!r.variants.empty()) {
             nlohmann::json variants = nlohmann::json::array();

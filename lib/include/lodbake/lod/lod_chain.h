@@ -158,7 +158,7 @@ struct PackLevelReport {
         std::vector<Candidate> candidates;    // T0 first, then the eligible ranks, ascending
         uint32_t byEnergy = 0;                // the rank the energy rule picks (the highest eligible)
         std::string reason;
-        double seconds = 0;                   // wall time of the candidates' and the probe's bakes
+        double seconds = 0, cpuSeconds = 0;   // wall and process CPU time of the choice (probe, candidates' pages and bakes)
     } rankChoice;
 };
 
