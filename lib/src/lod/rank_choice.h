@@ -10,6 +10,9 @@
 // triangle's own cell of a probe page, so no seam or gutter reaches it. The candidate whose
 // read-back lies closest to the probe wins, by more than the estimate can resolve (kScoreMargin)
 // over the energy rule's pick.
+// \bug The read-back is at the page's finest level (magnified, as up close); a level seen smaller
+//      reads coarser mips, where a layout of less stretch can render better than its score says
+//      (docs/pack.md, "Choosing the layout by the bake").
 #pragma once
 
 #include <array>
