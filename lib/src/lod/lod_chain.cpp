@@ -823,8 +823,13 @@ void recordPage(const LevelAtlas& la, const LayoutData& lay, PackLevelReport& r)
     r.texelsPerUnit = la.atlas.texelsPerUnit * lay.uvPerUnit;
 }
 
+// Scored pages are packed at half the level's page side, and below this side when that is larger
+// (texels): a 2048 page (LOD0 when the source texels do not fit) is scored at 512 a side.
+constexpr double kScoredMaxSide = 512;
+
 // Level k's layout by the bake (lod/rank_choice.h) among `ranks` (T0 first): each candidate's page
-// packed at half the texel limit and page cap (a quarter of the texels), its level mesh built and
+// packed at half the texel limit and page cap (a quarter of the texels; less above
+// kScoredMaxSide), its level mesh built and
 // its base colour (and, when the level gets one, its normal map in object space) baked the way
 // the level's own bake runs (by projection, or the original triangles at the layout), then read
 // back at the probe's sample points of the level's surface. (Packing each candidate's page at full
@@ -862,18 +867,23 @@ void chooseLayoutByBake(const BakeSources& sources, const Multires& mr, std::vec
                                                res.diagonal, channels, normal ? &probeFrames : nullptr, options.threads);
     const PageChannels probePage{probe.side, probe.side, &probeBake.pixels, &probeBake.normal};
 
+    // Half the side, or less for a page that needs more than 2 x kScoredMaxSide a side (LOD0 when
+    // the source texels do not fit): scale s of the texel limit, page cap and mip sides, log2(1/s)
+    // mips fewer (the same share of gutters).
+    const double scale = std::min(0.5, kScoredMaxSide / std::max(1.0, r.sideNeeded));
+    const int fewerMips = int(std::lround(std::log2(1 / scale)));
     PackOptions half = options;
-    half.maxSize = std::max(16, options.maxSize / 2);
-    half.minMipSide = std::max(1, options.minMipSide / 2);
-    half.maxMips = std::max(0, options.maxMips - 1);  // the same gutter share of the page
+    half.maxSize = std::max(16, int(options.maxSize * scale));
+    half.minMipSide = std::max(1, int(options.minMipSide * scale));
+    half.maxMips = std::max(0, options.maxMips - fewerMips);
     PackLevelReport halfReport = r;
-    halfReport.texelLimit = 0.5 * r.texelLimit;
-    // The finer levels' pages at half the side: a level's page holds no more texels than the finer
-    // one's, a cap that decides many coarse pages' density.
+    halfReport.texelLimit = scale * r.texelLimit;
+    // The finer levels' pages at the same scale: a level's page holds no more texels than the
+    // finer one's, a cap that decides many coarse pages' density.
     std::vector<PackLevelReport> halfReports(res.reports.begin(), res.reports.begin() + std::ptrdiff_t(k));
     for (PackLevelReport& f : halfReports) {
-        f.width = (f.width + 1) / 2;
-        f.height = (f.height + 1) / 2;
+        f.width = int(std::ceil(f.width * scale));
+        f.height = int(std::ceil(f.height * scale));
     }
     std::vector<RankCandidate> candidates;
     for (uint32_t rank : ranks) {
