@@ -5,11 +5,11 @@ absent): every refined rank has lower E and lower UV-area / 3D-area std-dev than
 levels it serves at the same texel count (both measured at 512^2); the refined layouts keep the
 original triangles and every level they serve injective (0 flipped, 0 overlapping: a level
 triangle that would fold gets its own island, as in T0), and so does every LOD of the packed chain;
-the file carries the textureHierarchy; pack assigns every LOD the highest-rank texture valid for
-it; with both finest LODs' pages capped at the same size (the refined chain never gets more texels),
-the packed chain with refined textures has a higher base-colour PSNR (compare) on LOD0 and LOD1
-than the chain packed with T0 only (every input but the near-isometric wall5 gets a refined
-texture on both);
+the file carries the textureHierarchy; pack offers every LOD T0 and the ranks valid for it and,
+with several, reports each one's texture deviation and takes the lowest (rankChoice); with both
+finest LODs' pages capped at the same size (the refined chain never gets more texels), a LOD that
+chose a refined texture has a higher base-colour PSNR (compare) than the chain packed with T0
+only (every input but the near-isometric wall5 is offered a refined texture on both);
 gltf-validator 0 errors on the final chain; usage errors.
 """
 import filecmp
@@ -143,18 +143,41 @@ def check_pack(tc, name, source, tex, r, work):
     smallest = {}
     for t in r["textures"]:
         smallest[t["rank"]] = min(smallest.get(t["rank"], 1 << 30), t["resolution"])
+    offered = []
     for k, lv in enumerate(levels):
-        # The highest rank valid for the level that the hierarchy offers at the page side it needs.
-        want = max((x["rank"] for x in r["ranks"]
-                    if x["validLevels"][0] <= k <= x["validLevels"][1] and smallest[x["rank"]] <= lv["pageSideNeeded"]),
-                   default=0)
-        tc.assertEqual(lv["textureRank"], want, "%s LOD%d" % (name, k))
+        # Eligible: T0 and every rank valid for the level that the hierarchy offers at the page side
+        # it needs. With several, the one whose bake shows the least texture deviation (rankChoice);
+        # the energy rule's pick (byEnergy) is the highest.
+        eligible = sorted({0} | {x["rank"] for x in r["ranks"]
+                                 if x["validLevels"][0] <= k <= x["validLevels"][1] and smallest[x["rank"]] <= lv["pageSideNeeded"]})
+        offered.append(eligible[-1])
+        what = "%s LOD%d" % (name, k)
+        if len(eligible) > 1:
+            tc.assertIn("rankChoice", lv, what)
+            rc = lv["rankChoice"]
+            tc.assertEqual([c["rank"] for c in rc["candidates"]], eligible, what)
+            tc.assertEqual(rc["chosen"], lv["textureRank"], what)
+            tc.assertEqual(rc["byEnergy"], eligible[-1], what)
+            # The lowest score wins, unless the energy rule's pick scores within the margin (2%) of it.
+            best = min(c["score"] for c in rc["candidates"])
+            energy = next(c for c in rc["candidates"] if c["rank"] == rc["byEnergy"])
+            chosen = next(c for c in rc["candidates"] if c["rank"] == rc["chosen"])
+            if energy["score"] <= best * 1.02:
+                tc.assertEqual(rc["chosen"], rc["byEnergy"], what + ": the energy rule's pick stays within the margin")
+            else:
+                tc.assertEqual(chosen["score"], best, what + ": the lowest score wins")
+            tc.assertTrue(rc["reason"], what)
+            print("%s: rank scores %s, chosen %d (energy rule: %d)"
+                  % (what, ", ".join("%d: %.5f" % (c["rank"], c["score"]) for c in rc["candidates"]), rc["chosen"], rc["byEnergy"]))
+        else:
+            tc.assertNotIn("rankChoice", lv, what)
+            tc.assertEqual(lv["textureRank"], 0, what)
         tc.assertIn(lv["hierarchyTextureSize"], SIZES)
     tc.assertEqual(levels[n]["textureRank"], 0)
     if name not in NEAR_ISOMETRIC:
-        tc.assertGreaterEqual(levels[0]["textureRank"], 1, name + ": LOD0 gets a refined texture")
+        tc.assertGreaterEqual(offered[0], 1, name + ": LOD0 is offered a refined texture")
     if name in LOD1_REFINED:
-        tc.assertGreaterEqual(levels[1]["textureRank"], 1, name + ": LOD1 gets a refined texture")
+        tc.assertGreaterEqual(offered[1], 1, name + ": LOD1 is offered a refined texture")
     for k in (0, 1):
         what = "%s LOD%d (cap %d, rank %d)" % (name, k, cap, levels[k]["textureRank"])
         p_ref, texels_ref = psnr(chains["refined"][0], source, k)

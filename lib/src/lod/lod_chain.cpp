@@ -8,7 +8,8 @@
 //      viewport H pixels tall; with the bounding sphere radius R that is coverage <= 2 R p / (e_k H)
 //      (independent of the field of view: coverage = projected sphere height / viewport height);
 //   4. per level: levelCoverage (its coverage range and the texel density it can show);
-//      selectTexture (T0, or the highest-rank texture of the hierarchy valid for the level);
+//      eligibleRanks (T0 and the ranks of the hierarchy valid for the level) and, with several,
+//      chooseLayoutByBake (the one whose bake shows the least texture deviation, rank_choice.h);
 //      levelUVs (the layout UV of every level corner; a level baked by projection then takes
 //      its own charts, ownCharts: islands unfolded onto neighbouring charts); packLevelPage (the charts its triangles
 //      use repacked at that density, gutters sized for the mips used down to its smallest
@@ -34,6 +35,7 @@
 #include "lod/level_islands.h"
 #include "lod/level_material.h"
 #include "lod/level_variants.h"
+#include "lod/rank_choice.h"
 #include "lod/source_texels.h"
 #include "lod/vertex_placement.h"
 #include "lodbake/core/errors.h"
@@ -716,25 +718,36 @@ void levelCoverage(const PackResult& res, size_t k, const PackOptions& options, 
     r.texelLimit = (options.lod0Density ? res.reports[0].maxCoverage : r.maxCoverage) * H / (2 * res.radius);
 }
 
-// The highest-rank texture valid for level `level` that the hierarchy offers at the page side the
-// level needs (a rank whose smallest texture is larger than that page is not used: its extra
-// chart seams and gutters only pay at the resolutions it was made for), and of its sizes the
-// smallest that gives the density the level can show (the largest when none does). The page side
+// The layouts eligible for level `level`: T0 and every rank valid for it that the hierarchy offers
+// at the page side the level needs (a rank whose smallest texture is larger than that page is not
+// used: its extra chart seams and gutters only pay at the resolutions it was made for), ascending.
+// The energy rule takes the highest (lowest E); chooseLayoutByBake measures them. The page side
 // estimate does not depend on the layout: sqrt(3D area) x texel limit / 0.8. Sets r.sideNeeded,
-// r.rank and r.textureSize (0 without a hierarchy).
-void selectTexture(const Multires& mr, const std::vector<LayoutData>& layouts, size_t level, bool hierarchy, double area3D,
-                   const PackOptions& options, PackLevelReport& r) {
+// r.rank (the highest) and r.rankChoice.byEnergy.
+std::vector<uint32_t> eligibleRanks(const Multires& mr, const std::vector<LayoutData>& layouts, size_t level, bool hierarchy,
+                                    double area3D, const PackOptions& options, PackLevelReport& r) {
     const double sideNeeded = std::min(double(options.maxSize), std::sqrt(area3D) * r.texelLimit / 0.8);
     r.sideNeeded = sideNeeded;
-    r.rank = 0;
+    std::vector<char> eligible(layouts.size(), 0);
+    eligible[0] = 1;
     if (hierarchy) {
         std::vector<int> smallest(layouts.size(), 0);
         for (const HierarchyTexture& h : mr.textures.textures)
             if (h.rank < layouts.size() && (smallest[h.rank] == 0 || h.size < smallest[h.rank])) smallest[h.rank] = h.size;
         for (const HierarchyTexture& h : mr.textures.textures)
             if (h.firstLevel <= level && level <= h.lastLevel && h.rank < layouts.size() && smallest[h.rank] <= sideNeeded)
-                r.rank = std::max(r.rank, h.rank);
+                eligible[h.rank] = 1;
     }
+    std::vector<uint32_t> ranks;
+    for (uint32_t j = 0; j < eligible.size(); ++j)
+        if (eligible[j]) ranks.push_back(j);
+    r.rank = r.rankChoice.byEnergy = ranks.back();
+    return ranks;
+}
+
+// Of rank r.rank's hierarchy textures the smallest that gives the density the level can show (the
+// largest when none does). Sets r.textureSize (0 without a hierarchy).
+void setTextureSize(const Multires& mr, const std::vector<LayoutData>& layouts, bool hierarchy, PackLevelReport& r) {
     const double tMax = r.texelLimit / layouts[r.rank].uvPerUnit;
     r.textureSize = 0;
     if (hierarchy)
@@ -808,6 +821,109 @@ void recordPage(const LevelAtlas& la, const LayoutData& lay, PackLevelReport& r)
     r.rasterUtilisation = la.atlas.rasterUtilisation;
     r.footprintUtilisation = la.atlas.footprintUtilisation;
     r.texelsPerUnit = la.atlas.texelsPerUnit * lay.uvPerUnit;
+}
+
+// Scored pages are packed at half the level's page side, and below this side when that is larger
+// (texels): a 2048 page (LOD0 when the source texels do not fit) is scored at 512 a side.
+constexpr double kScoredMaxSide = 512;
+
+// Level k's layout by the bake (lod/rank_choice.h) among `ranks` (T0 first): each candidate's page
+// packed at half the texel limit and page cap (a quarter of the texels; less above
+// kScoredMaxSide), its level mesh built and
+// its base colour (and, when the level gets one, its normal map in object space) baked the way
+// the level's own bake runs (by projection, or the original triangles at the layout), then read
+// back at the probe's sample points of the level's surface. (Packing each candidate's page at full
+// size instead, the level's own page, follows the full-size packer more closely but cost Duck's
+// LOD1 5.8 s of CPU instead of 1.2 s; the margin of chooseCandidate absorbs the difference.) The probe and the projected bakes
+// search the original through `grid` (built here when missing). Sets r.rank, r.textureSize and
+// r.rankChoice. The same for any thread count: each bake is, and the read-back runs in order.
+void chooseLayoutByBake(const BakeSources& sources, const Multires& mr, std::vector<LayoutData>& layouts,
+                        const std::vector<uint32_t>& ranks, const LevelView& view, size_t k, bool projected, bool normal,
+                        std::optional<FaceGrid>& grid, const PackResult& res, const PackOptions& options, PackLevelReport& r) {
+    const auto t0 = Clock::now();
+    const double cpu0 = processCpuSeconds();
+    const Asset& asset = sources.asset();
+    const TriMesh& mesh = asset.mesh;
+    if (!grid) grid.emplace(mesh);
+    BakeChannels channels;  // base colour, and the normal map
+    channels.normal = normal;
+    const double reach = 1.5 * r.hausdorff + kProjectionSlack * res.diagonal;  // the level bake's
+    // The probe: every level triangle in a cell of its own, baked by projection like a coarse level.
+    const std::vector<Vec3>& positions = view.positionsOr(mesh);
+    std::vector<std::array<Vec3, 3>> triangles(view.triangles.size());
+    for (size_t t = 0; t < triangles.size(); ++t)
+        for (size_t j = 0; j < 3; ++j) triangles[t][j] = positions[view.triangles[t][j]];
+    const ProbeLayout probe = probeLayout(triangles);
+    LodLevelData cells;
+    for (size_t i = 0; i < probe.triangles.size(); ++i)
+        for (size_t j = 0; j < 3; ++j) {
+            const Vec3& p = triangles[probe.triangles[i]][j];
+            cells.positions.insert(cells.positions.end(), {float(p.x), float(p.y), float(p.z)});
+            cells.uvs.insert(cells.uvs.end(), {float(probe.uv[i][j].x), float(probe.uv[i][j].y)});
+            cells.indices.push_back(uint32_t(cells.indices.size()));
+        }
+    const BakeTarget probeFrames = objectSpaceTarget(probe.uv);
+    const BakeResult probeBake = bakeProjected(sources, *grid, cells, probe.triangles.size(), probe.side, probe.side, reach,
+                                               res.diagonal, channels, normal ? &probeFrames : nullptr, options.threads);
+    const PageChannels probePage{probe.side, probe.side, &probeBake.pixels, &probeBake.normal};
+
+    // Half the side, or less for a page that needs more than 2 x kScoredMaxSide a side (LOD0 when
+    // the source texels do not fit): scale s of the texel limit, page cap and mip sides, log2(1/s)
+    // mips fewer (the same share of gutters).
+    const double scale = std::min(0.5, kScoredMaxSide / std::max(1.0, r.sideNeeded));
+    const int fewerMips = int(std::lround(std::log2(1 / scale)));
+    PackOptions half = options;
+    half.maxSize = std::max(16, int(options.maxSize * scale));
+    half.minMipSide = std::max(1, int(options.minMipSide * scale));
+    half.maxMips = std::max(0, options.maxMips - fewerMips);
+    PackLevelReport halfReport = r;
+    halfReport.texelLimit = scale * r.texelLimit;
+    // The finer levels' pages at the same scale: a level's page holds no more texels than the
+    // finer one's, a cap that decides many coarse pages' density.
+    std::vector<PackLevelReport> halfReports(res.reports.begin(), res.reports.begin() + std::ptrdiff_t(k));
+    for (PackLevelReport& f : halfReports) {
+        f.width = int(std::ceil(f.width * scale));
+        f.height = int(std::ceil(f.height * scale));
+    }
+    std::vector<RankCandidate> candidates;
+    for (uint32_t rank : ranks) {
+        LayoutData& lay = layouts[rank];
+        const LevelUVs luv = projected ? ownCharts(mesh, lay, view, levelUVs(mesh, lay, view, view.data))
+                                       : levelUVs(mesh, lay, view, view.data);
+        const LevelAtlas la = packLevelPage(lay, luv, k, halfReport, halfReports, half);
+        const int w = la.atlas.width, h = la.atlas.height, size = std::max(w, h);
+        LodLevelData L;
+        buildLevelMesh(asset, view, luv, la, L);
+        std::vector<std::array<Vec2, 3>> pageUV(view.triangles.size()), bakeUV(view.triangles.size());
+        for (size_t t = 0; t < pageUV.size(); ++t)
+            for (size_t j = 0; j < 3; ++j) {
+                const uint32_t v = L.indices[3 * t + j];
+                pageUV[t][j] = {L.uvs[2 * v], L.uvs[2 * v + 1]};
+                bakeUV[t][j] = {pageUV[t][j].x * w / size, pageUV[t][j].y * h / size};
+            }
+        const BakeTarget frames = objectSpaceTarget(std::move(bakeUV));
+        const BakeTarget* framesOrNull = normal ? &frames : nullptr;
+        const BakeResult baked = projected ? bakeProjected(sources, *grid, L, view.triangles.size(), w, h, reach, res.diagonal,
+                                                           channels, framesOrNull, options.threads)
+                                           : bakePage(sources, lay, la, channels, framesOrNull, options.threads, false);
+        RankCandidate c;
+        c.rank = rank;
+        c.deviation = textureDeviation(probe, probePage, PageChannels{w, h, &baked.pixels, &baked.normal}, pageUV);
+        c.width = w;
+        c.height = h;
+        c.charts = la.charts;
+        candidates.push_back(c);
+    }
+    const size_t best = chooseCandidate(candidates, r.rankChoice.byEnergy);
+    r.rank = candidates[best].rank;
+    setTextureSize(mr, layouts, true, r);
+    PackLevelReport::RankChoice& rc = r.rankChoice;
+    rc.candidates.clear();
+    for (const RankCandidate& c : candidates)
+        rc.candidates.push_back({c.rank, c.deviation.score, c.deviation.color, c.deviation.normal, c.width, c.height, c.charts});
+    rc.reason = choiceReason(candidates, best, rc.byEnergy);
+    rc.seconds = secondsSince(t0);
+    rc.cpuSeconds = processCpuSeconds() - cpu0;
 }
 
 // 5. The original as LOD0: it must be the chain's input (same flattened triangles).
@@ -892,7 +1008,17 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
     for (size_t k = 0; k < n; ++k) {
         PackLevelReport& r = res.reports[k];
         levelCoverage(res, k, options, r);
-        selectTexture(mr, layouts, views[k].level, hierarchy, area3D, options, r);
+        const std::vector<uint32_t> eligible = eligibleRanks(mr, layouts, views[k].level, hierarchy, area3D, options, r);
+        setTextureSize(mr, layouts, hierarchy, r);
+        const bool projected = k > 0 && options.projectLevels;
+        // Several layouts eligible: the one whose bake shows the least texture deviation (LOD0 on
+        // the source texels needs none, unless they do not fit; the original as LOD0 bakes none).
+        const bool levelNormalMap = !options.baseColorOnly && (options.normalMaps == NormalMaps::Always ||
+                                                               (options.normalMaps == NormalMaps::Auto && (plan.normalTexture || k > 0)));
+        auto chooseRank = [&] {
+            if (options.rankByBake && eligible.size() > 1 && !(original && k == 0))
+                chooseLayoutByBake(sources, mr, layouts, eligible, views[k], k, projected, levelNormalMap, grid, res, options, r);
+        };
         if (k == 0 && options.sourceTexels) {
             std::vector<std::pair<int, int>> sizes;
             for (const Image& image : asset.images) sizes.push_back(imageSize(image));
@@ -903,7 +1029,7 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
             }
             r.sourceTexelsNote = sourceLayout->reason;
         }
-        const bool projected = k > 0 && options.projectLevels;
+        if (!(k == 0 && sourceData)) chooseRank();
         auto tStep = Clock::now();
         double cpuStep = processCpuSeconds();
         auto lap = [&](double& wall, double& cpu) {
@@ -928,6 +1054,7 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
             if (sourceTexels && la.atlas.texelsPerUnit < 1) {
                 r.sourceTexelsNote = "the original's texture islands do not fit a " + std::to_string(options.maxSize) + " page";
                 sourceTexels = false;
+                chooseRank();
                 layout = &layouts[r.rank];
                 luv = levelUVs(mesh, *layout, views[k], views[k].data);
                 la = packLevelPage(*layout, luv, k, r, res.reports, options);

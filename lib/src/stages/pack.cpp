@@ -58,6 +58,16 @@ nlohmann::json makeReport(const PackSettings& s, const Asset& asset, const Multi
             levels.back()["sourceTexels"] = r.sourceTexelsNote.empty()
                                                 ? nlohmann::json{{"used", r.sourceTexels}}
                                                 : nlohmann::json{{"used", r.sourceTexels}, {"why", r.sourceTexelsNote}};
+        if (!r.rankChoice.candidates.empty()) {
+            const PackLevelReport::RankChoice& rc = r.rankChoice;
+            nlohmann::json candidates = nlohmann::json::array();
+            for (const PackLevelReport::RankChoice::Candidate& c : rc.candidates)
+                candidates.push_back({{"rank", c.rank}, {"score", c.score}, {"baseColorRms", c.baseColor}, {"normalRms", c.normal},
+                                      {"width", c.width}, {"height", c.height}, {"charts", c.charts}});
+            levels.back()["rankChoice"] = {{"candidates", candidates}, {"chosen", r.rank}, {"byEnergy", rc.byEnergy},
+                                           {"reason", rc.reason}, {"seconds", rc.seconds},
+                                           {"cpuSeconds", rc.cpuSeconds}};
+        }
         if (!r.variants.empty()) {
             nlohmann::json variants = nlohmann::json::array();
             for (const PackLevelReport::Variant& v : r.variants)

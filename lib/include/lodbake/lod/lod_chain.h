@@ -3,8 +3,8 @@
 // charts of its layout repacked at the texel density the level can show, the ORIGINAL appearance
 // baked into it (bakeBaseColor, pull-push gap fill), one mesh / one material / one draw call per
 // level. The layout is T0 (multires.charts) or, when texture-refine added a texture hierarchy
-// (multires.textures), the highest-rank texture valid for the level that the hierarchy offers at
-// the page side the level needs.
+// (multires.textures), a texture valid for the level that the hierarchy offers at the page side
+// the level needs: of those and T0, the one whose bake shows the least texture deviation.
 // Screen coverage thresholds come from each level's measured two-sided Hausdorff distance to
 // the original.
 #pragma once
@@ -74,6 +74,10 @@ struct PackOptions {
     // without its material channels, for comparisons.
     bool baseColorOnly = false;
     bool useTextureHierarchy = true;  // false: every level uses T0 even when the file has a texture hierarchy
+    // Where T0 and hierarchy ranks are eligible for a level, the one whose bake shows the least
+    // texture deviation (lod/rank_choice.h; a few half-side bakes per level); false: the highest
+    // eligible rank (the rank with the lowest mapping energy E).
+    bool rankByBake = true;
     // LOD0's page copies the original's texels one to one, its charts the original's texture
     // islands (lod/source_texels.h), where the original allows it (else, and when false, LOD0
     // resamples them at its layout's density like every level).
@@ -140,6 +144,22 @@ struct PackLevelReport {
     uint32_t rank = 0;            // texture hierarchy rank the level is textured with (0 = T0)
     int textureSize = 0;          // the hierarchy texture of that rank whose resolution the level needs
                                   // (smallest side >= its texel limit, else the largest); 0 = no hierarchy
+    // How `rank` was chosen where more than one layout was eligible (PackOptions::rankByBake):
+    // every candidate's page baked at half the side and read back at sample points of the level
+    // against a probe bake of them (lod/rank_choice.h). Empty candidates: one layout was eligible.
+    struct RankChoice {
+        struct Candidate {
+            uint32_t rank = 0;
+            double score = 0;                 // RMS texture deviation over the compared channels (lower is better)
+            double baseColor = 0, normal = 0; // RMS per channel (encoded [0,1] values; normal in object space)
+            int width = 0, height = 0;        // the scored page
+            size_t charts = 0;
+        };
+        std::vector<Candidate> candidates;    // T0 first, then the eligible ranks, ascending
+        uint32_t byEnergy = 0;                // the rank the energy rule picks (the highest eligible)
+        std::string reason;
+        double seconds = 0, cpuSeconds = 0;   // wall and process CPU time of the choice (probe, candidates' pages and bakes)
+    } rankChoice;
 };
 
 struct PackResult {
