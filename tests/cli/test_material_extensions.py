@@ -151,6 +151,37 @@ class MaterialExtensions(unittest.TestCase):
         self.assertTrue(all(l["drawCalls"] == 1 and "splitBy" not in l for l in pack_levels(report1)))
         lt.assert_no_validator_errors(self, [out, one])
 
+    def test_variant_ior_splits_the_draws(self):
+        """The variants sample with its gold pedestal at ior 1.8: the default materials agree, the
+        "gold" variant does not, so every level is two primitives and each maps "gold" to a
+        material with its part's exact ior (ball 1.5, pedestal 1.8)."""
+        lt.require_tools("lodbake", "make-samples")
+        d = lt.work_dir("material_extensions_variant_draws")
+        lt.make_samples(d)
+        with open(os.path.join(d, "variants.glb"), "rb") as f:
+            glb = f.read()
+
+        def gold_ior(doc):
+            for m in doc["materials"]:
+                if m.get("name") == "gold":
+                    m.setdefault("extensions", {})["KHR_materials_ior"] = {"ior": 1.8}
+            doc["extensionsUsed"] = sorted(set(doc.get("extensionsUsed", []) + ["KHR_materials_ior"]))
+        src, out = os.path.join(d, "gold.glb"), os.path.join(d, "gold.lod.glb")
+        with open(src, "wb") as f:
+            f.write(glb_with_json(glb, gold_ior))
+        lt.run([lt.tool("lodbake"), "-i", src, "-o", out, "--ratio", "0.5", "--max-size", "128", "--quiet"])
+        j = lt.Gltf(out).json
+        gold = [v["name"] for v in j["extensions"]["KHR_materials_variants"]["variants"]].index("gold")
+        for node in (n for n in j["nodes"] if "mesh" in n):
+            prims = j["meshes"][node["mesh"]]["primitives"]
+            self.assertEqual(len(prims), 2)
+            iors = []
+            for p in prims:
+                m = next(m["material"] for m in p["extensions"]["KHR_materials_variants"]["mappings"] if gold in m["variants"])
+                iors.append(j["materials"][m].get("extensions", {}).get("KHR_materials_ior", {}).get("ior", 1.5))
+            self.assertEqual(sorted(iors), [1.5, 1.8])
+        lt.assert_no_validator_errors(self, [out])
+
     def test_shared_assets(self):
         lt.require_tools("lodbake")
         if not os.path.isdir(lt.ASSETS):

@@ -892,7 +892,8 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
     for (const auto& b : variants.bakes) selections.push_back(&b->asset.mesh.triangleMaterial);
     DrawSplitOptions splitOptions;
     splitOptions.maxDraws = options.maxDraws;
-    splitOptions.extensionProperties = plan.ext.any();
+    splitOptions.extensionProperties = plan.ext.any();  // else no material of the chain carries them
+    for (const auto& b : variants.bakes) splitOptions.extensionProperties |= b->plan.ext.any();
     const DrawSplit split = splitDraws(asset, selections, splitOptions);
     res.warnings.insert(res.warnings.end(), split.warnings[0].begin(), split.warnings[0].end());
     std::vector<size_t> selectionOfVariant;  // per variant: its selection (0 = the default's)
