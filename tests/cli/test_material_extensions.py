@@ -5,10 +5,13 @@ paint, transmission + volume glass, specular colour, and a floor without extensi
 shared SheenCloth, ClearCoatCarPaint and TransmissionTest assets (skipped when ../shared/assets
 is absent). Per run: no "is not carried" warning; every level's material has the extensions the
 input uses; channels that vary over the input are textures (the sample's, whose ground truth the
-test knows); the report lists those channels; glTF-Validator finds no error.
+test knows); the report lists those channels; glTF-Validator finds no error. The sample with
+its glass at another ior is split into two primitives per level (issue 30 item 4), or merged into
+one with a warning under --max-draws 1.
 """
 import json
 import os
+import struct
 import sys
 import unittest
 
@@ -30,6 +33,17 @@ def chain(src, out):
     p = lt.run([lt.tool("lodbake"), "-i", src, "-o", out, "--report", rep] + FLAGS)
     with open(rep) as f:
         return out, p.stderr, json.load(f)
+
+
+def glb_with_json(glb, edit):
+    """The GLB `glb` with its JSON chunk changed by edit(doc); the binary chunk is kept."""
+    length = struct.unpack_from("<I", glb, 12)[0]
+    doc = json.loads(glb[20:20 + length])
+    edit(doc)
+    text = json.dumps(doc).encode()
+    text += b" " * (-len(text) % 4)
+    rest = glb[20 + length:]
+    return struct.pack("<IIIII", 0x46546C67, 2, 20 + len(text) + len(rest), len(text), 0x4E4F534A) + text + rest
 
 
 def pack_levels(report):
@@ -85,6 +99,87 @@ class MaterialExtensions(unittest.TestCase):
         channels = pack_levels(report)[0]["channels"]
         for c in ("clearcoat", "sheenColor", "transmission", "thickness", "specularColor"):
             self.assertIn(c, channels)
+        lt.assert_no_validator_errors(self, [out])
+
+    def test_disagreeing_ior_splits_the_draws(self):
+        """The sample with its glass at ior 1.33 (the rest 1.5): every level is two primitives on the
+        same pages and vertices, their materials carrying the inputs' exact iors; --max-draws 1
+        gives one primitive with the area-weighted ior and a warning naming the property."""
+        lt.require_tools("lodbake", "make-samples")
+        d = lt.work_dir("material_extensions_draws")
+        lt.make_samples(d)
+        with open(os.path.join(d, "materials.glb"), "rb") as f:
+            glb = f.read()
+
+        def water_glass(doc):
+            for m in doc["materials"]:
+                if m.get("name") == "glass":
+                    m["extensions"]["KHR_materials_ior"]["ior"] = 1.33
+        src = os.path.join(d, "water.glb")
+        with open(src, "wb") as f:
+            f.write(glb_with_json(glb, water_glass))
+        flags = ["--ratio", "0.1", "--max-size", "128", "--quiet"]
+        out, rep = os.path.join(d, "water.lod.glb"), os.path.join(d, "water.json")
+        lt.run([lt.tool("lodbake"), "-i", src, "-o", out, "--report", rep] + flags)
+        j = lt.Gltf(out).json
+        with open(rep) as f:
+            levels = pack_levels(json.load(f))
+        for k, node in enumerate(n for n in j["nodes"] if "mesh" in n):
+            with self.subTest(level=k):
+                prims = j["meshes"][node["mesh"]]["primitives"]
+                self.assertEqual(len(prims), 2)
+                self.assertEqual(prims[0]["attributes"], prims[1]["attributes"], "one vertex set")
+                mats = [j["materials"][p["material"]] for p in prims]
+                self.assertEqual(sorted(m["extensions"]["KHR_materials_ior"]["ior"] for m in mats), [1.33, 1.5])
+                for key in ("baseColorTexture",):
+                    self.assertEqual(mats[0]["pbrMetallicRoughness"][key], mats[1]["pbrMetallicRoughness"][key], "one set of pages")
+                self.assertEqual(mats[0]["extensions"]["KHR_materials_volume"], mats[1]["extensions"]["KHR_materials_volume"])
+                self.assertEqual(levels[k]["drawCalls"], 2)
+                self.assertEqual(levels[k]["splitBy"], ["ior"])
+        one, rep1 = os.path.join(d, "water.one.glb"), os.path.join(d, "water.one.json")
+        lt.run([lt.tool("lodbake"), "-i", src, "-o", one, "--report", rep1, "--max-draws", "1"] + flags)
+        j1 = lt.Gltf(one).json
+        for node in (n for n in j1["nodes"] if "mesh" in n):
+            prims = j1["meshes"][node["mesh"]]["primitives"]
+            self.assertEqual(len(prims), 1)
+            ior = j1["materials"][prims[0]["material"]]["extensions"]["KHR_materials_ior"]["ior"]
+            self.assertTrue(1.33 < ior < 1.5, ior)
+        with open(rep1) as f:
+            report1 = json.load(f)
+        warnings = report1.get("warnings", []) + [w for s in report1.get("stages", []) for w in s.get("warnings", [])]
+        self.assertTrue(any("materials disagree on KHR_materials_ior ior (spread 0.17)" in w for w in warnings), warnings)
+        self.assertTrue(all(l["drawCalls"] == 1 and "splitBy" not in l for l in pack_levels(report1)))
+        lt.assert_no_validator_errors(self, [out, one])
+
+    def test_variant_ior_splits_the_draws(self):
+        """The variants sample with its gold pedestal at ior 1.8: the default materials agree, the
+        "gold" variant does not, so every level is two primitives and each maps "gold" to a
+        material with its part's exact ior (ball 1.5, pedestal 1.8)."""
+        lt.require_tools("lodbake", "make-samples")
+        d = lt.work_dir("material_extensions_variant_draws")
+        lt.make_samples(d)
+        with open(os.path.join(d, "variants.glb"), "rb") as f:
+            glb = f.read()
+
+        def gold_ior(doc):
+            for m in doc["materials"]:
+                if m.get("name") == "gold":
+                    m.setdefault("extensions", {})["KHR_materials_ior"] = {"ior": 1.8}
+            doc["extensionsUsed"] = sorted(set(doc.get("extensionsUsed", []) + ["KHR_materials_ior"]))
+        src, out = os.path.join(d, "gold.glb"), os.path.join(d, "gold.lod.glb")
+        with open(src, "wb") as f:
+            f.write(glb_with_json(glb, gold_ior))
+        lt.run([lt.tool("lodbake"), "-i", src, "-o", out, "--ratio", "0.5", "--max-size", "128", "--quiet"])
+        j = lt.Gltf(out).json
+        gold = [v["name"] for v in j["extensions"]["KHR_materials_variants"]["variants"]].index("gold")
+        for node in (n for n in j["nodes"] if "mesh" in n):
+            prims = j["meshes"][node["mesh"]]["primitives"]
+            self.assertEqual(len(prims), 2)
+            iors = []
+            for p in prims:
+                m = next(m["material"] for m in p["extensions"]["KHR_materials_variants"]["mappings"] if gold in m["variants"])
+                iors.append(j["materials"][m].get("extensions", {}).get("KHR_materials_ior", {}).get("ior", 1.5))
+            self.assertEqual(sorted(iors), [1.5, 1.8])
         lt.assert_no_validator_errors(self, [out])
 
     def test_shared_assets(self):

@@ -12,6 +12,7 @@
 #include <cmath>
 
 #include "lodbake/bake/bake.h"
+#include "lodbake/bake/draw_split.h"
 #include "lodbake/bake/material_plan.h"
 #include "lodbake/gltf/gltf.h"
 #include "lodbake/texture/codec.h"
@@ -211,9 +212,16 @@ TEST(MaterialPlanExtensions, UnionNeutralValuesAndUniformProperties) {
     EXPECT_FALSE(x.sheenColorTexture);            // the same colour everywhere: a factor
     EXPECT_DOUBLE_EQ(x.factors.sheen.colorFactor.x, 0.5);
     EXPECT_FALSE(x.factors.transmission.present);
-    EXPECT_DOUBLE_EQ(x.factors.ior.ior, 1.75);    // equal areas
+    EXPECT_DOUBLE_EQ(x.factors.ior.ior, 1.75);    // equal areas: a level drawn as one primitive
+    // The disagreement splits the chain's levels (draw_split.h); forced into one draw, it warns.
+    const Asset asset = twoMaterials(coat, plain);
+    EXPECT_EQ(splitDraws(asset, {&asset.mesh.triangleMaterial}).groups.size(), 2u);
+    DrawSplitOptions one;
+    one.maxDraws = 1;
+    const DrawSplit merged = splitDraws(asset, {&asset.mesh.triangleMaterial}, one);
+    EXPECT_DOUBLE_EQ(merged.groups[0].values[0].ior, 1.75);
     bool warned = false;
-    for (const std::string& w : p.warnings) warned |= w.find("KHR_materials_ior ior (spread 0.5)") != std::string::npos;
+    for (const std::string& w : merged.warnings[0]) warned |= w.find("KHR_materials_ior ior (spread 0.5)") != std::string::npos;
     EXPECT_TRUE(warned);
     EXPECT_FALSE(baseColorPlan(p).ext.any());
 }

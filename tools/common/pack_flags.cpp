@@ -61,6 +61,16 @@ void addPackFlags(ArgParser& p, PackFlags& a) {
     p.flag("--no-vertex-placement", "keep coarse levels' vertices at their original positions (default: moved towards "
            "the original surface unless that raises the measured Hausdorff distance; levels baked by projection only)",
            [&o] { o.vertexPlacement = false; });
+    p.option("--max-draws", "N",
+             "at most N primitives (draw calls) per level where the input's materials disagree on what glTF cannot vary "
+             "per texel (ior, volume attenuation, dispersion, iridescence ior, unlit, alpha mode and cutoff); beyond N the "
+             "smallest combinations merge into their nearest with area-weighted values and a warning (default 0: as many "
+             "as keep every combination exact; 1: one primitive)",
+             [&o](const std::string& v) {
+                 const int n = parseInt("--max-draws", v);
+                 if (n < 0) throw UsageError("--max-draws must be >= 0");
+                 o.maxDraws = size_t(n);
+             });
     p.flag("--base-color-only", "bake base colour (and alpha) only; other channels become constant factors",
            [&o] { o.baseColorOnly = true; });
     p.flag("--no-texture-hierarchy", "texture every level with T0 even when the input has texture-refine's hierarchy",

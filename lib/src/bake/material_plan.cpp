@@ -1,12 +1,13 @@
 // Which channels of the chain's one material vary (baked textures) and which are factors.
 #include "lodbake/bake/material_plan.h"
 
+#include "lodbake/bake/draw_split.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <map>
 #include <set>
-#include <sstream>
 #include <type_traits>
 
 namespace lodbake {
@@ -65,49 +66,14 @@ const Material& firstWith(const std::vector<UsedMaterial>& mats, HasFn has) {
     return *mats.front().m;
 }
 
-// A property glTF cannot vary per texel: its mean over the triangles whose material has the
-// extension, weighted by area (`weight` = the material's area share), and a warning naming it
-// when the inputs disagree. V is double or Vec3 (spread: the largest component difference).
-template <class V, class HasFn, class ValueFn>
-V uniformProperty(const std::vector<UsedMaterial>& mats, const char* name, HasFn has, ValueFn value,
-                  std::vector<std::string>& warnings) {
-    V sum{}, lo{}, hi{};
-    double area = 0;
-    bool first = true;
-    size_t n = 0;
-    for (const UsedMaterial& u : mats) {
-        if (!has(*u.m)) continue;
-        const V v = value(*u.m);
-        // Materials of zero area still count, equally, so the mean is defined.
-        const double w = u.area > 0 ? u.area : 1e-300;
-        sum = sum + v * w;
-        area += w;
-        if constexpr (std::is_same_v<V, double>) {
-            lo = first ? v : std::min(lo, v);
-            hi = first ? v : std::max(hi, v);
-        } else {
-            lo = first ? v : Vec3{std::min(lo.x, v.x), std::min(lo.y, v.y), std::min(lo.z, v.z)};
-            hi = first ? v : Vec3{std::max(hi.x, v.x), std::max(hi.y, v.y), std::max(hi.z, v.z)};
-        }
-        first = false;
-        ++n;
-    }
-    if (n == 0) return V{};
-    double spread;
-    if constexpr (std::is_same_v<V, double>) spread = hi - lo;
-    else spread = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
-    if (!(spread > 0)) return lo;  // agreeing inputs: their value exactly
-    const V mean = sum * (1 / area);
-    std::ostringstream w;
-    w << "materials disagree on " << name << " (spread " << spread << "): the chain's material takes the area-weighted mean ";
-    if constexpr (std::is_same_v<V, double>) w << mean;
-    else w << "[" << mean.x << ", " << mean.y << ", " << mean.z << "]";
-    warnings.push_back(w.str());
-    return mean;
-}
-
 // The extensions' channels and properties of the chain's material (ExtensionPlan).
 void planExtensions(const Asset& asset, const std::vector<UsedMaterial>& mats, MaterialPlan& p) {
+    // The properties glTF cannot vary per texel: merged over every used material here (the one
+    // material a level drawn as one primitive carries); draw_split.h splits where they disagree
+    // and warns where a merge remains.
+    std::vector<WeightedMaterial> weighted;
+    for (const UsedMaterial& u : mats) weighted.push_back({u.m, u.area});
+    const MaterialUniforms uniforms = mergeUniforms(weighted, nullptr);
     ExtensionPlan& x = p.ext;
     MaterialExtensions& f = x.factors;
     for (const UsedMaterial& u : mats) {
@@ -170,16 +136,8 @@ void planExtensions(const Asset& asset, const std::vector<UsedMaterial>& mats, M
         double largest = 0;
         for (const UsedMaterial& u : mats) largest = std::max(largest, u.m->ext.volume.thicknessFactor);
         f.volume.thicknessFactor = x.thicknessTexture ? largest : e0.volume.thicknessFactor;
-        auto has = [](const Material& m) { return m.ext.volume.present; };
-        // Attenuation is exponential in distance / attenuationDistance: its coefficient
-        // 1 / distance is what averages (an infinite distance, no attenuation, is 0).
-        const double coefficient = uniformProperty<double>(
-            mats, "KHR_materials_volume attenuationDistance (as 1 / distance)", has,
-            [](const Material& m) { return std::isfinite(m.ext.volume.attenuationDistance) ? 1 / m.ext.volume.attenuationDistance : 0.0; },
-            p.warnings);
-        f.volume.attenuationDistance = coefficient > 0 ? 1 / coefficient : std::numeric_limits<double>::infinity();
-        f.volume.attenuationColor = uniformProperty<Vec3>(mats, "KHR_materials_volume attenuationColor", has,
-                                                          [](const Material& m) { return m.ext.volume.attenuationColor; }, p.warnings);
+        f.volume.attenuationDistance = uniforms.attenuationDistance;
+        f.volume.attenuationColor = uniforms.attenuationColor;
     }
     if (f.specular.present) {
         x.specularTexture = channelVaries<double>(mats, asset, [](const Material& m) { return m.ext.specular.factor; },
@@ -194,20 +152,14 @@ void planExtensions(const Asset& asset, const std::vector<UsedMaterial>& mats, M
         f.specular.factor = x.specularTexture ? 1 : e0.specular.factor;
         f.specular.colorFactor = x.specularColorTexture ? Vec3{1, 1, 1} * x.specularColorScale : e0.specular.colorFactor;
     }
-    if (f.ior.present)
-        f.ior.ior = uniformProperty<double>(mats, "KHR_materials_ior ior", [](const Material& m) { return m.ext.ior.present; },
-                                            [](const Material& m) { return m.ext.ior.ior; }, p.warnings);
-    if (f.dispersion.present)
-        f.dispersion.dispersion = uniformProperty<double>(
-            mats, "KHR_materials_dispersion dispersion", [](const Material& m) { return m.ext.dispersion.present; },
-            [](const Material& m) { return m.ext.dispersion.dispersion; }, p.warnings);
+    if (f.ior.present) f.ior.ior = uniforms.ior;
+    if (f.dispersion.present) f.dispersion.dispersion = uniforms.dispersion;
     if (f.iridescence.present) {
         auto has = [](const Material& m) { return m.ext.iridescence.present; };
         x.iridescenceTexture = channelVaries<double>(mats, asset, [](const Material& m) { return m.ext.iridescence.factor; },
                                                      [](const Material& m) { return &m.ext.iridescence.texture; });
         f.iridescence.factor = x.iridescenceTexture ? 1 : e0.iridescence.factor;
-        f.iridescence.ior = uniformProperty<double>(mats, "KHR_materials_iridescence iridescenceIor", has,
-                                                    [](const Material& m) { return m.ext.iridescence.ior; }, p.warnings);
+        f.iridescence.ior = uniforms.iridescenceIor;
         // The thickness a material shows: [minimum, maximum] with a thickness texture, else the
         // maximum. Parts without iridescence (factor 0) do not count.
         double lo = std::numeric_limits<double>::infinity(), hi = -lo, constant = 0;
@@ -276,7 +228,7 @@ MaterialPlan planMaterial(const Asset& asset) {
     p.roughnessFactor = first.roughnessFactor;
     p.emissiveFactor = first.emissiveFactor * first.emissiveStrength;
     p.baseColorTexture = !mesh.wedges.color.empty();
-    bool anyMask = false, anyBlend = false, anyOpaque = false, anyUnlit = false, allUnlit = true;
+    bool anyMask = false, anyBlend = false, anyOpaque = false, allUnlit = true;
     bool anySingle = false;
     double cutoff = 1;
     for (const Material* m : mats) {
@@ -289,7 +241,6 @@ MaterialPlan planMaterial(const Asset& asset) {
         p.normalTexture |= hasTexture(m->normal, asset);
         p.doubleSided |= m->doubleSided;
         anySingle |= !m->doubleSided;
-        anyUnlit |= m->unlit;
         allUnlit &= m->unlit;
         anyMask |= m->alphaMode == AlphaMode::Mask;
         anyBlend |= m->alphaMode == AlphaMode::Blend;
@@ -307,16 +258,11 @@ MaterialPlan planMaterial(const Asset& asset) {
     }
     if (!p.baseColorTexture && p.alphaMode == AlphaMode::Opaque) p.baseColorFactor.w = 1;
     p.unlit = allUnlit;
-    if ((anyMask || anyBlend) && anyOpaque)
-        p.warnings.push_back("materials mix alpha modes: opaque parts are baked with alpha 1 into one " +
-                             std::string(anyBlend ? "BLEND" : "MASK") + " material");
-    if (anyMask && anyBlend) p.warnings.push_back("materials mix MASK and BLEND: the chain's material blends");
     if (p.doubleSided && anySingle) {
         p.doubleSided = false;
         p.backFaces = true;
         p.warnings.push_back("materials mix single- and double-sided: the double-sided parts get back faces");
     }
-    if (anyUnlit && !allUnlit) p.warnings.push_back("materials mix unlit and lit shading: the chain's material is lit");
     if (!p.unlit) {
         std::map<int32_t, double> area;
         for (size_t t = 0; t < mesh.triangleCount(); ++t) {

@@ -169,8 +169,18 @@ VertexCacheStats analyzeVertexCache(const LodLevelData& L) {
 void optimizeLevelBuffers(LodLevelData& L) {
     const size_t n = L.positions.size() / 3, count = L.indices.size();
     std::vector<unsigned> cache(count), order(count);
-    meshopt_optimizeVertexCache(cache.data(), L.indices.data(), count, n);
-    meshopt_optimizeOverdraw(order.data(), cache.data(), count, L.positions.data(), n, 12, kOverdrawThreshold);
+    // Triangles move within their part only (each part is its own primitive).
+    std::vector<size_t> ranges{count};
+    if (!L.parts.empty()) {
+        ranges.clear();
+        for (const LodPart& part : L.parts) ranges.push_back(3 * part.triangles);
+    }
+    size_t first = 0;
+    for (size_t r : ranges) {
+        meshopt_optimizeVertexCache(cache.data() + first, L.indices.data() + first, r, n);
+        meshopt_optimizeOverdraw(order.data() + first, cache.data() + first, r, L.positions.data(), n, 12, kOverdrawThreshold);
+        first += r;
+    }
     std::vector<unsigned> remap(n);
     const size_t unique = meshopt_optimizeVertexFetchRemap(remap.data(), order.data(), count, n);
     meshopt_remapIndexBuffer(L.indices.data(), order.data(), count, remap.data());
@@ -223,8 +233,24 @@ PrimitiveStreams gpuPrimitive(BufferBuilder& b, const LodLevelData& L, const Str
     if (!L.tangents.empty()) attrs["TANGENT"] = direction(L.tangents, 4);
     addInfluences(b, attrs, L.joints, L.weights);
     out.quantized = out.quantized || q;
-    out.primitive = {{"attributes", attrs}, {"indices", addIndexStream(b, L.indices, n, mo)}, {"mode", 4}};
-    addMorphTargets(b, out.primitive, L.targetPositions, L.targetNormals, L.targetTangents);
+    if (L.parts.empty()) {
+        out.primitive = {{"attributes", attrs}, {"indices", addIndexStream(b, L.indices, n, mo)}, {"mode", 4}};
+        addMorphTargets(b, out.primitive, L.targetPositions, L.targetNormals, L.targetTangents);
+        out.primitives.push_back(out.primitive);
+        return out;
+    }
+    // Parts: every primitive reads the same vertex streams (and morph targets), each its own indices.
+    json shared = {{"attributes", attrs}, {"mode", 4}};
+    addMorphTargets(b, shared, L.targetPositions, L.targetNormals, L.targetTangents);
+    size_t first = 0;
+    for (const LodPart& part : L.parts) {
+        const std::vector<uint32_t> idx(L.indices.begin() + std::ptrdiff_t(first), L.indices.begin() + std::ptrdiff_t(first + 3 * part.triangles));
+        json prim = shared;
+        prim["indices"] = addIndexStream(b, idx, n, mo);
+        out.primitives.push_back(std::move(prim));
+        first += 3 * part.triangles;
+    }
+    out.primitive = out.primitives.front();
     return out;
 }
 

@@ -40,12 +40,13 @@ struct StreamOptions {
 };
 
 struct PrimitiveStreams {
-    nlohmann::json primitive;        // attributes, indices, mode
+    nlohmann::json primitive;        // attributes, indices, mode (the first part's with parts)
+    std::vector<nlohmann::json> primitives;  // one per LodPart (the same attributes), or `primitive`
     bool quantized = false;          // some accessor needs KHR_mesh_quantization
     bool floatUvFallback = false;    // quantize asked, but UVs outside [0,1] stayed FLOAT
 };
 
-// One primitive's accessors over new views of `buffer`: FLOAT streams (byte-identical to plain
+// One primitive's accessors (one per part, sharing the vertex streams) over new views of `buffer`: FLOAT streams (byte-identical to plain
 // accessors) unless `options` asks for quantized formats or meshopt compression.
 PrimitiveStreams gpuPrimitive(BufferBuilder& buffer, const LodLevelData& level, const StreamOptions& options);
 

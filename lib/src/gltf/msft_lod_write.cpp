@@ -30,6 +30,7 @@
 #include "gltf/gltf_internal.h"
 #include "gltf/gpu_streams.h"
 #include "gltf/material_json.h"
+#include "lodbake/core/material_uniforms.h"
 #include "gltf/rig_write.h"
 #include "gltf/scene_extras_codec.h"
 #include "gltf/variants_codec.h"
@@ -63,6 +64,12 @@ void checkLevel(const std::string& path, const LodLevelData& L) {
         for (const std::vector<float>& d : *targets) ok = ok && (d.empty() || d.size() == 3 * n);
     for (const std::vector<float>& d : L.targetPositions) ok = ok && !d.empty();
     for (uint32_t i : L.indices) ok = ok && i < n;
+    size_t partTriangles = 0;
+    for (const LodPart& p : L.parts) {
+        ok = ok && p.triangles > 0;
+        partTriangles += p.triangles;
+    }
+    ok = ok && (L.parts.empty() || 3 * partTriangles == L.indices.size());
     if (!ok) throw InvalidInput(path + ": level '" + L.name + "' has inconsistent mesh data");
     auto normalMapped = [](const LodMaterial& M) {
         return !M.normal.encoded.empty() || M.ext.clearcoat.normalTexture.texture >= 0 || M.ext.anisotropy.texture.texture >= 0;
@@ -152,6 +159,34 @@ json dracoPrimitive(Buffer& b, const LodLevelData& L, const LodChainWriteOptions
     int ia = b.addAccessor({{"componentType", points < 65536 ? kUnsignedShort : kUnsignedInt}, {"count", faces * 3}, {"type", "SCALAR"}});
     json ext = {{"bufferView", view}, {"attributes", ids}};
     return {{"attributes", attrs}, {"indices", ia}, {"mode", 4}, {"extensions", {{kDraco, ext}}}};
+}
+
+// Part `part` of L as a level of its own: its triangles and the vertices they use (in first-use
+// order), for Draco, which encodes a primitive's vertices with its faces.
+LodLevelData partLevel(const LodLevelData& L, size_t part) {
+    size_t first = 0;
+    for (size_t p = 0; p < part; ++p) first += 3 * L.parts[p].triangles;
+    const size_t count = 3 * L.parts[part].triangles;
+    LodLevelData out;
+    out.name = L.name;
+    std::vector<uint32_t> remap(L.positions.size() / 3, UINT32_MAX);
+    auto copy = [](const std::vector<float>& from, std::vector<float>& to, size_t v, size_t comps) {
+        if (!from.empty()) to.insert(to.end(), from.begin() + std::ptrdiff_t(comps * v), from.begin() + std::ptrdiff_t(comps * (v + 1)));
+    };
+    for (size_t i = first; i < first + count; ++i) {
+        const uint32_t v = L.indices[i];
+        if (remap[v] == UINT32_MAX) {
+            remap[v] = uint32_t(out.positions.size() / 3);
+            copy(L.positions, out.positions, v, 3);
+            copy(L.normals, out.normals, v, 3);
+            copy(L.uvs, out.uvs, v, 2);
+            copy(L.tangents, out.tangents, v, 4);
+            copy(L.weights, out.weights, v, 4);
+            if (!L.joints.empty()) out.joints.insert(out.joints.end(), L.joints.begin() + std::ptrdiff_t(4 * v), L.joints.begin() + std::ptrdiff_t(4 * v + 4));
+        }
+        out.indices.push_back(remap[v]);
+    }
+    return out;
 }
 
 // The arrays of the file being written.
@@ -291,7 +326,7 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
     // The baked levels' meshes, materials and samplers follow the original's (none without it).
     // Linear-mipmap-linear minification unless a level keeps other filters: the gutters are sized
     // for the mip levels it uses.
-    const size_t meshBase = meshes.size(), materialBase = materials.size();
+    const size_t meshBase = meshes.size();
     json samplers = doc.samplers;
     std::map<std::pair<int, int>, size_t> samplerOf;  // (min, mag) filter -> sampler index
     auto samplerFor = [&](int minFilter, int magFilter) {
@@ -315,7 +350,14 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
         size_t sampler, texture;
     };
     std::vector<std::vector<WrittenTexture>> writtenTextures(levels.size());
-    auto writeMaterial = [&](const LodMaterial& M, const std::string& name, std::vector<WrittenTexture>* written, size_t& imageBytes) {
+    // With `uniforms` (a part of a split level): the material with those values (material_uniforms.h).
+    auto writeMaterial = [&](const LodMaterial& M, const std::string& name, std::vector<WrittenTexture>* written, size_t& imageBytes,
+                             const MaterialUniforms* uniforms = nullptr) {
+        AlphaMode alphaMode = M.alphaMode;
+        double alphaCutoff = M.alphaCutoff;
+        bool unlit = M.unlit;
+        MaterialExtensions materialExt = M.ext;
+        if (uniforms) applyUniforms(*uniforms, alphaMode, alphaCutoff, unlit, materialExt);
         const size_t sampler = samplerFor(M.minFilter, M.magFilter);
         // Adds one texture (and its image) of this level; returns the texture index.
         auto addTexture = [&](const Image& image, const std::string& suffix) {
@@ -366,7 +408,7 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
         mat["extensions"][kEmissiveStrength] = {{"emissiveStrength", M.emissiveStrength}};
         usesEmissiveStrength = true;
     }
-    if (M.unlit) {
+    if (unlit) {
         mat["extensions"][kUnlit] = json::object();
         usesUnlit = true;
     }
@@ -375,7 +417,7 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
     json ext = mat.contains("extensions") ? mat["extensions"] : json::object();
     bool transform = false;
     writeMaterialExtensions(
-        M.ext,
+        materialExt,
         [&](const TextureRef& r) {
             if (r.texture < 0 || size_t(r.texture) >= M.extensionImages.size()) return -1;
             int& t = extensionTexture[size_t(r.texture)];
@@ -384,10 +426,10 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
         },
         ext, materialExtensionsUsed, transform);
     if (!ext.empty()) mat["extensions"] = ext;
-    if (M.alphaMode == AlphaMode::Mask) {
+    if (alphaMode == AlphaMode::Mask) {
         mat["alphaMode"] = "MASK";
-        mat["alphaCutoff"] = M.alphaCutoff;
-    } else if (M.alphaMode == AlphaMode::Blend) {
+        mat["alphaCutoff"] = alphaCutoff;
+    } else if (alphaMode == AlphaMode::Blend) {
         mat["alphaMode"] = "BLEND";
     }
     if (M.doubleSided) mat["doubleSided"] = true;
@@ -408,30 +450,40 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
             optimized.targetNormals = src.targetNormals;
             optimized.targetTangents = src.targetTangents;
             optimized.indices = src.indices;
+            optimized.parts = src.parts;
             optimizeLevelBuffers(optimized);
         }
         const LodLevelData& L = options.optimize ? optimized : levels[i];
         stats.levelCacheBefore.push_back(analyzeVertexCache(levels[i]));
         stats.levelCacheAfter.push_back(analyzeVertexCache(L));
         size_t before = b.size;
-        json prim;
+        std::vector<json> prims;
         if (options.draco && !morphed) {
-            prim = dracoPrimitive(b, L, options, path);
+            if (L.parts.empty()) prims.push_back(dracoPrimitive(b, L, options, path));
+            for (size_t p = 0; p < L.parts.size(); ++p) prims.push_back(dracoPrimitive(b, partLevel(L, p), options, path));
         } else {
             PrimitiveStreams ps = gpuPrimitive(b, L, streams);
-            prim = std::move(ps.primitive);
+            prims = std::move(ps.primitives);
             usesQuantization = usesQuantization || ps.quantized;
             if (ps.floatUvFallback)
                 stats.warnings.push_back(path + ": level '" + L.name + "' has UVs outside [0,1]: kept FLOAT texture coordinates");
         }
         stats.levelGeometryBytes.push_back(b.size - before);
-        prim["material"] = materialBase + i;
-        json mesh = {{"name", L.name}, {"primitives", json::array({prim})}};
+        // The caller's material (one per part, sharing its textures): side images are written after the loop.
+        size_t imageBytes = 0;
+        const bool shareTextures = !options.variants.empty() || !L.parts.empty();
+        if (L.parts.empty()) {
+            prims[0]["material"] = materials.size();
+            materials.push_back(writeMaterial(levels[i].material, L.name, shareTextures ? &writtenTextures[i] : nullptr, imageBytes));
+        }
+        for (size_t p = 0; p < L.parts.size(); ++p) {
+            prims[p]["material"] = materials.size();
+            materials.push_back(writeMaterial(levels[i].material, p == 0 ? L.name : L.name + "_part" + std::to_string(p), &writtenTextures[i],
+                                              imageBytes, &L.parts[p].uniforms));
+        }
+        json mesh = {{"name", L.name}, {"primitives", prims}};
         if (morphed) addMorphDefaults(mesh, *morph);
         meshes.push_back(mesh);
-        // The caller's material: side images are written after the loop.
-        size_t imageBytes = 0;
-        materials.push_back(writeMaterial(levels[i].material, L.name, options.variants.empty() ? nullptr : &writtenTextures[i], imageBytes));
         stats.levelImageBytes.push_back(imageBytes);
         json node = {{"name", L.name}, {"mesh", meshBase + i}};
         if (options.quantize && !skinned && !morphed) {
@@ -442,11 +494,45 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
         levelNodes.push_back(int(nodes.size()));
         nodes.push_back(node);
     }
-    // KHR_materials_variants: each level's variant materials after every level's default one (a
-    // level's default keeps index materialBase + level), and every variant mapped explicitly.
+    // A split level's variants: per part and variant, its variant material (or its default) with the
+    // part's values for that variant; equal (material, values) pairs share one glTF material.
+    auto writePartVariants = [&](size_t i) {
+        const LodLevelData& L = levels[i];
+        json& prims = meshes[meshBase + i]["primitives"];
+        for (size_t p = 0; p < L.parts.size(); ++p) {
+            const LodPart& part = L.parts[p];
+            std::vector<std::pair<int, MaterialUniforms>> written;  // (variant material, values) per index below
+            std::vector<size_t> index;
+            std::vector<int32_t> table(options.variants.size(), prims[p]["material"].get<int32_t>());
+            for (size_t v = 0; v < options.variants.size() && v < L.variantMaterial.size(); ++v) {
+                const int m = L.variantMaterial[v];
+                const MaterialUniforms& u = v < part.variantUniforms.size() ? part.variantUniforms[v] : part.uniforms;
+                if (m < 0 && u == part.uniforms) continue;  // the part's default material
+                size_t w = 0;
+                while (w < written.size() && !(written[w].first == m && written[w].second == u)) ++w;
+                if (w == written.size()) {
+                    const LodMaterial& M = m < 0 ? L.material : L.variantMaterials[size_t(m)];
+                    size_t imageBytes = 0;
+                    index.push_back(materials.size());
+                    materials.push_back(writeMaterial(M, L.name + "_" + options.variants[v] + (p == 0 ? "" : "_part" + std::to_string(p)),
+                                                      &writtenTextures[i], imageBytes, &u));
+                    stats.levelImageBytes[(lod0 ? 1 : 0) + i] += imageBytes;
+                    written.push_back({m, u});
+                }
+                table[v] = int32_t(index[w]);
+            }
+            prims[p]["extensions"][kMaterialVariants] = primitiveVariantsJson(table);
+        }
+    };
+    // KHR_materials_variants: each level's variant materials after every level's default ones, and
+    // every variant mapped explicitly.
     for (size_t i = 0; i < levels.size() && !options.variants.empty(); ++i) {
         const LodLevelData& L = levels[i];
-        std::vector<int32_t> table(options.variants.size(), int32_t(materialBase + i));
+        if (!L.parts.empty()) {
+            writePartVariants(i);
+            continue;
+        }
+        std::vector<int32_t> table(options.variants.size(), meshes[meshBase + i]["primitives"][0]["material"].get<int32_t>());
         for (size_t m = 0; m < L.variantMaterials.size(); ++m) {
             size_t first = 0;  // the first variant that uses it names it
             while (first < L.variantMaterial.size() && L.variantMaterial[first] != int(m)) ++first;

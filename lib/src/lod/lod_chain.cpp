@@ -31,9 +31,11 @@
 #include <nlohmann/json.hpp>
 
 #include "lodbake/bake/bake.h"
+#include "lodbake/bake/draw_split.h"
 #include "lodbake/bake/material_plan.h"
 #include "lod/level_islands.h"
 #include "lod/level_material.h"
+#include "lod/level_parts.h"
 #include "lod/level_variants.h"
 #include "lod/rank_choice.h"
 #include "lod/source_texels.h"
@@ -491,7 +493,9 @@ void splitRoundedSliverCorners(const std::vector<std::array<Vec2, 3>>& placed, L
 
 // Appends a reversed copy (negated normals) of every triangle whose original material is
 // double-sided: a chain whose one material is single-sided still shows those parts from behind.
-void addBackFaces(const Asset& asset, const LevelView& lv, LodLevelData& out) {
+// Returns, per back copy, the level triangle it copies.
+std::vector<size_t> addBackFaces(const Asset& asset, const LevelView& lv, LodLevelData& out) {
+    std::vector<size_t> source;
     const TriMesh& m = asset.mesh;
     std::unordered_map<uint32_t, uint32_t> back;  // vertex -> its back-facing copy
     auto copyOf = [&](uint32_t v) {
@@ -510,7 +514,9 @@ void addBackFaces(const Asset& asset, const LevelView& lv, LodLevelData& out) {
         if (mi < 0 || size_t(mi) >= asset.materials.size() || !asset.materials[size_t(mi)].doubleSided) continue;
         const uint32_t a = copyOf(out.indices[3 * t]), b = copyOf(out.indices[3 * t + 1]), c = copyOf(out.indices[3 * t + 2]);
         out.indices.insert(out.indices.end(), {a, c, b});
+        source.push_back(t);
     }
+    return source;
 }
 
 void buildLevelMesh(const Asset& asset, const LevelView& lv, const LevelUVs& luv, const LevelAtlas& la, LodLevelData& out) {
@@ -995,6 +1001,26 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
     const ChainVariants variants = chainVariants(asset, options.baseColorOnly);  // KHR_materials_variants (level_variants.h)
     res.warnings.insert(res.warnings.end(), variants.warnings.begin(), variants.warnings.end());
     res.variants = variants.names;
+    // What glTF cannot vary per texel, kept exact by primitives on the same pages (draw_split.h):
+    // the default selection, then each variant bake's.
+    const std::vector<int32_t> noMaterials(mesh.triangleMaterial.empty() ? mesh.triangleCount() : 0, -1);
+    std::vector<const std::vector<int32_t>*> selections{mesh.triangleMaterial.empty() ? &noMaterials : &mesh.triangleMaterial};
+    for (const auto& b : variants.bakes) selections.push_back(&b->asset.mesh.triangleMaterial);
+    DrawSplitOptions splitOptions;
+    splitOptions.maxDraws = options.maxDraws;
+    splitOptions.extensionProperties = plan.ext.any();  // else no material of the chain carries them
+    for (const auto& b : variants.bakes) splitOptions.extensionProperties |= b->plan.ext.any();
+    const DrawSplit split = splitDraws(asset, selections, splitOptions);
+    res.warnings.insert(res.warnings.end(), split.warnings[0].begin(), split.warnings[0].end());
+    std::vector<size_t> selectionOfVariant;  // per variant: its selection (0 = the default's)
+    for (size_t v = 0; v < variants.names.size(); ++v) {
+        const int b = variants.bakeOf[v];
+        selectionOfVariant.push_back(b < 0 ? 0 : size_t(b) + 1);
+        const bool first = b >= 0 && std::find(variants.bakeOf.begin(), variants.bakeOf.end(), b) - variants.bakeOf.begin() == std::ptrdiff_t(v);
+        if (first)
+            for (const std::string& w : split.warnings[size_t(b) + 1]) res.warnings.push_back("variant '" + variants.names[v] + "': " + w);
+    }
+    std::vector<std::vector<uint32_t>> triangleGroups(n);  // per level, per triangle: its draw group
     res.warnings.insert(res.warnings.end(), repeated.begin(), repeated.end());
     res.rig = asset.rig;
     res.morph = asset.morph;
@@ -1067,7 +1093,12 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
             buildLevelMesh(asset, views[k], luv, la, L);
         }
         const size_t front = L.indices.size() / 3;
-        if (plan.backFaces) addBackFaces(asset, views[k], L);
+        const std::vector<size_t> backSource = plan.backFaces ? addBackFaces(asset, views[k], L) : std::vector<size_t>{};
+        if (split.groups.size() > 1) {
+            std::vector<uint32_t>& groups = triangleGroups[k];
+            for (size_t t = 0; t < front; ++t) groups.push_back(split.groupOf[views[k].faces[t]]);
+            for (size_t t : backSource) groups.push_back(groups[t]);
+        }
         // The level's channels for a material plan: the default's, or a variant's.
         auto channelsOf = [&](const MaterialPlan& p) {
             return levelChannels(p, !options.baseColorOnly && (options.normalMaps == NormalMaps::Always ||
@@ -1117,6 +1148,10 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
         r.vertices = L.positions.size() / 3;
         progress(0.3 + 0.7 * double(k + 1) / double(n));
     }
+    // 6. Levels whose triangles span several draw groups: ordered by group, one primitive each
+    // (after every bake: a repeated level compares its mesh with the previous one as baked).
+    for (size_t k = original ? 1 : 0; k < n && split.groups.size() > 1; ++k)
+        splitLevel(split, triangleGroups[k], selectionOfVariant, res.levels[original ? k - 1 : k], res.reports[k]);
     if (original) describeOriginal(*res.original, res.reports[0]);
     res.seconds = secondsSince(t0);
     return res;

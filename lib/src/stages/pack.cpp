@@ -68,6 +68,7 @@ nlohmann::json makeReport(const PackSettings& s, const Asset& asset, const Multi
                                            {"reason", rc.reason}, {"seconds", rc.seconds},
                                            {"cpuSeconds", rc.cpuSeconds}};
         }
+        if (!r.splitBy.empty()) levels.back()["splitBy"] = r.splitBy;
         if (!r.variants.empty()) {
             nlohmann::json variants = nlohmann::json::array();
             for (const PackLevelReport::Variant& v : r.variants)
@@ -98,7 +99,8 @@ nlohmann::json makeReport(const PackSettings& s, const Asset& asset, const Multi
                       {"optimize", c.optimize}, {"meshopt", c.meshopt}, {"quantize", c.quantize}, {"normalMaps", normalMapsName(o.normalMaps)},
                       {"baseColorOnly", o.baseColorOnly}, {"projectLevels", o.projectLevels},
                       {"vertexPlacement", o.vertexPlacement},
-                      {"qp", c.quantPosition}, {"qt", c.quantTexcoord}, {"qn", c.quantNormal}, {"lod0", lod0Name(o.lod0)}};
+                      {"qp", c.quantPosition}, {"qt", c.quantTexcoord}, {"qn", c.quantNormal}, {"lod0", lod0Name(o.lod0)},
+                      {"maxDraws", o.maxDraws}};
     nlohmann::json lod0 = {{"mode", lod0Name(o.lod0)}};
     if (res.original) {
         const SourceScene& src = *res.original;

@@ -16,8 +16,10 @@ namespace lodbake {
 // and white). Per channel: baked into a texture when its value differs between the used materials
 // or one of them has a texture for it; else `factors` holds the constant value.
 // What glTF cannot vary per texel (ior, attenuation distance and colour, dispersion, iridescence
-// ior) is the area-weighted mean over the triangles whose material has the extension (a warning
-// names a property whose inputs disagree). Baked channels read as follows in `factors`:
+// ior) is here the area-weighted mean over the triangles whose material has the extension
+// (mergeUniforms): the value of a level drawn as one primitive. Where the inputs disagree, the
+// level is split (lodbake/bake/draw_split.h), which also warns about what a merge leaves.
+// Baked channels read as follows in `factors`:
 //   - scalar and colour channels: factor 1 (the texture holds factor x texture of the input),
 //     except specular colour: its factor is specularColorScale (the texture holds value / scale);
 //   - volume thickness: thicknessFactor = the largest input thickness factor (the texture holds
@@ -69,7 +71,9 @@ struct MaterialPlan {
     bool unlit = false;        // every used material is KHR_materials_unlit
     // KHR_materials_* extensions: the union of those the used materials carry (ExtensionPlan).
     ExtensionPlan ext;
-    std::vector<std::string> warnings;  // mixed alpha modes, sidedness or shading models, disagreeing per-material properties
+    // Mixed sidedness. Mixed alpha modes, shading models and disagreeing per-primitive properties
+    // are draw_split.h's to warn about (a split keeps them exact).
+    std::vector<std::string> warnings;
     bool ormTexture() const { return occlusionTexture || metallicRoughnessTexture; }
 };
 

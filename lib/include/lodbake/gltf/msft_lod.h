@@ -1,5 +1,7 @@
 // Writing the final LOD chain (`pack`'s output): a glTF whose LOD0 node carries MSFT_lod, every
-// level one mesh / one primitive / one material with its baked atlas pages, optionally
+// level one mesh / one primitive / one material with its baked atlas pages (or, where the input's
+// materials disagree on what glTF cannot vary per texel, one primitive per LodPart, the parts'
+// materials sharing the level's textures), optionally
 // compressed with KHR_draco_mesh_compression or EXT_meshopt_compression, optionally quantized
 // (KHR_mesh_quantization). Takes lodbake's own structs only (images already
 // encoded: lodbake/texture/codec.h); tinygltf-free, Draco stays inside lib/src/io (STYLE.md practice 10).
@@ -9,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "lodbake/core/material_uniforms.h"
 #include "lodbake/core/mesh.h"
 
 namespace lodbake {
@@ -42,6 +45,16 @@ struct LodMaterial {
     int minFilter = 0, magFilter = 0;
 };
 
+// One primitive of a level drawn as several (lodbake/bake/draw_split.h): its triangles and the
+// values glTF cannot vary per texel that its material holds. Every part uses the level's vertices,
+// pages and UVs; its material is the level's (or a variant's) with these values.
+struct LodPart {
+    size_t triangles = 0;        // the next this many triangles of LodLevelData::indices
+    MaterialUniforms uniforms;   // of the level's default material on this part
+    // Per variant (LodChainWriteOptions::variants): the values of its material on this part.
+    std::vector<MaterialUniforms> variantUniforms;
+};
+
 // One level of the chain, ready to write: an indexed triangle list (CCW) in world space.
 struct LodLevelData {
     std::string name;                // node / mesh / material name, e.g. "LOD1"
@@ -61,6 +74,9 @@ struct LodLevelData {
     // changes nothing this level shows). Empty without variants.
     std::vector<int> variantMaterial;
     std::vector<LodMaterial> variantMaterials;
+    // Empty: one primitive draws every triangle with `material`. Else one primitive per part, the
+    // parts' triangle counts summing to the level's (its triangles ordered by part).
+    std::vector<LodPart> parts;
 };
 
 struct LodChainWriteOptions {

@@ -2,9 +2,11 @@
 // level (LOD0 = the original triangles, LOD k = multires level k) gets its own atlas page: the
 // charts of its layout repacked at the texel density the level can show, the ORIGINAL appearance
 // baked into it (bakeBaseColor, pull-push gap fill), one mesh / one material / one draw call per
-// level. The layout is T0 (multires.charts) or, when texture-refine added a texture hierarchy
-// (multires.textures), a texture valid for the level that the hierarchy offers at the page side
-// the level needs: of those and T0, the one whose bake shows the least texture deviation.
+// level (several primitives on the same pages where the materials disagree on what glTF cannot
+// vary per texel: PackOptions::maxDraws). The layout is T0 (multires.charts) or, when
+// texture-refine added a texture hierarchy (multires.textures), a texture valid for the level that
+// the hierarchy offers at the page side the level needs: of those and T0, the one whose bake shows
+// the least texture deviation.
 // Screen coverage thresholds come from each level's measured two-sided Hausdorff distance to
 // the original.
 #pragma once
@@ -82,6 +84,11 @@ struct PackOptions {
     // islands (lod/source_texels.h), where the original allows it (else, and when false, LOD0
     // resamples them at its layout's density like every level).
     bool sourceTexels = true;
+    // At most this many primitives (draw calls) per baked level where the input's materials
+    // disagree on what glTF cannot vary per texel (ior, attenuation, dispersion, iridescence ior,
+    // unlit, alpha mode and cutoff: lodbake/bake/draw_split.h); 0 = as many as keep every
+    // combination exact, 1 = one primitive with area-weighted values (and a warning per property).
+    size_t maxDraws = 0;
     Lod0 lod0 = Lod0::Baked;
     // Lod0::Original: the input asset the chain was made from (the file simplify read). Its
     // flattened triangles must be the multires original's. Empty with Lod0::Original = an error.
@@ -92,7 +99,8 @@ struct PackOptions {
 struct PackLevelReport {
     std::string source;           // "original" or "level K" of the multires input
     size_t triangles = 0, vertices = 0;
-    size_t drawCalls = 1, materials = 1;  // the original as LOD0: its primitives and distinct materials
+    size_t drawCalls = 1, materials = 1;  // primitives and their materials (the original as LOD0: its own)
+    std::vector<std::string> splitBy;     // the properties the level's primitives differ in (uniformDifferences)
     int width = 0, height = 0;    // atlas page, texels
     int gutter = 0, mips = 0;     // gutter (texels) and the mip levels it was sized for
     size_t charts = 0;            // charts on the page
