@@ -10,7 +10,6 @@ namespace {
 
 using UvTri = std::array<Vec2, 3>;
 
-double signedArea(const UvTri& t) { return cross(t[1] - t[0], t[2] - t[0]); }
 double lengthOf(Vec2 v) { return std::sqrt(v.x * v.x + v.y * v.y); }
 
 // True when the interiors of two UV triangles overlap by more than `tol` (separating axis test
@@ -173,23 +172,23 @@ private:
         const double x = dot(C - A, e) / l2, h = length(cross(e, C - A)) / l2;
         if (!(h > 0)) return false;
         // The neighbour's orientation is the chart's: the unfolded triangle must turn the same way.
-        const double want = signedArea(uv_[s]);
+        const double want = signedArea(uv_[s][0], uv_[s][1], uv_[s][2]);
         if (!(std::abs(want) > 0)) return false;
         const Vec2 perp{-d.y, d.x};
         Vec2 p = ua + d * x + perp * h;
         placed[ia] = ua;
         placed[ib] = ub;
         placed[ic] = p;
-        if (signedArea(placed) * want < 0) placed[ic] = p = ua + d * x - perp * h;
+        if (signedArea(placed[0], placed[1], placed[2]) * want < 0) placed[ic] = p = ua + d * x - perp * h;
         // Share the chart's UV of the third corner when it is about where the unfolding puts it:
         // the texture then stays continuous across both of its other edges.
         auto known = vertexUv_.find((uint64_t(chart_[s]) << 32) | tri[ic]);
         if (known != vertexUv_.end() && lengthOf(known->second - p) <= 0.25 * dl) {
             UvTri shared = placed;
             shared[ic] = known->second;
-            if (signedArea(shared) * want > 0) placed = shared;
+            if (signedArea(shared[0], shared[1], shared[2]) * want > 0) placed = shared;
         }
-        if (!(signedArea(placed) * want > 0)) return false;
+        if (!(signedArea(placed[0], placed[1], placed[2]) * want > 0)) return false;
         return !grid_.overlapsChart(chart_[s], placed, uv_, 1e-7 * dl);
     }
 
@@ -223,7 +222,7 @@ LevelChartSet absorbIslands(const std::vector<Vec3>& positions, const std::vecto
             out.source.push_back(out.chart[t]);
         }
         out.chart[t] = it->second;
-        out.uvArea[it->second] += 0.5 * std::abs(signedArea(out.uv[t]));
+        out.uvArea[it->second] += triangleArea(out.uv[t][0], out.uv[t][1], out.uv[t][2]);
     }
     return out;
 }

@@ -58,11 +58,6 @@ namespace {
 
 using namespace lod_detail;
 
-constexpr double kPi = 3.14159265358979323846;
-
-double triArea2(Vec2 a, Vec2 b, Vec2 c) { return std::abs(cross(b - a, c - a)) * 0.5; }
-double triArea3(Vec3 a, Vec3 b, Vec3 c) { return length(cross(b - a, c - a)) * 0.5; }
-
 // One level's geometry in terms of original faces: triangles, corner wedges and face ids.
 struct LevelView {
     std::vector<Tri> triangles, cornerWedges;
@@ -150,7 +145,7 @@ void addIslands(const ChartLayout& ch, LayoutData& d) {
     for (uint32_t i = 0; i < ch.islands.size(); ++i) {
         const LayoutIsland& isl = ch.islands[i];
         d.island.emplace(islandKey(isl.vertices), i);
-        d.chartUvArea.push_back(triArea2(isl.uv[0], isl.uv[1], isl.uv[2]));
+        d.chartUvArea.push_back(triangleArea(isl.uv[0], isl.uv[1], isl.uv[2]));
     }
 }
 
@@ -179,11 +174,11 @@ LayoutData layoutData(const Asset& asset, const ChartLayout& ch, uint32_t rank) 
     for (size_t f = 0; f < mesh.triangleCount(); ++f) {
         uint32_t c = ch.faceChart[f];
         d.chartFaces[c].push_back(uint32_t(f));
-        double a = triArea2(ch.cornerUV[f][0], ch.cornerUV[f][1], ch.cornerUV[f][2]);
+        double a = triangleArea(ch.cornerUV[f][0], ch.cornerUV[f][1], ch.cornerUV[f][2]);
         d.chartUvArea[c] += a;
         uvTotal += a;
         const Tri& t = mesh.triangles[f];
-        areaTotal += triArea3(mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]);
+        areaTotal += triangleArea(mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]);
     }
     if (!(uvTotal > 0) || !(areaTotal > 0)) throw Impossible(asset.sourcePath + ": the chart layout has no area");
     d.uvPerUnit = std::sqrt(uvTotal / areaTotal);
@@ -979,7 +974,7 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
     const bool hierarchy = options.useTextureHierarchy && !mr.textures.empty();
     std::vector<LayoutData> layouts = layoutsOf(asset, mr, hierarchy);  // 1
     double area3D = 0;
-    for (const Tri& t : mesh.triangles) area3D += triArea3(mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]);
+    for (const Tri& t : mesh.triangles) area3D += triangleArea(mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]);
     const auto tMeasure = Clock::now();
     const double cpuMeasure = processCpuSeconds();
     measureLevels(asset, views, options, res, progress);  // 2

@@ -39,8 +39,6 @@ struct Combination {
     }
 };
 
-double area(Vec3 a, Vec3 b, Vec3 c) { return 0.5 * length(cross(b - a, c - a)); }
-
 // Points spread over triangles by area: stratified along the cumulative area, barycentrics from
 // the R2 low-discrepancy sequence. Each sample is (triangle index, barycentrics).
 struct SurfaceSample {
@@ -53,7 +51,7 @@ std::vector<SurfaceSample> areaSamples(const std::vector<Vec3>& positions, const
     double total = 0;
     for (size_t t = 0; t < triangles.size(); ++t) {
         const Tri& f = triangles[t];
-        total += area(positions[f[0]], positions[f[1]], positions[f[2]]);
+        total += triangleArea(positions[f[0]], positions[f[1]], positions[f[2]]);
         cumulative[t] = total;
     }
     std::vector<SurfaceSample> out;
@@ -137,7 +135,7 @@ PlacementResult placeLevelVertices(const TriMesh& original, const DistanceRefere
     // the diagonal; the search widens from there.
     const double reach = std::min(std::max(level.maxDeviation, 1e-4 * diagonal), 2e-3 * diagonal);
     double originalArea = 0;
-    for (const Tri& f : original.triangles) originalArea += area(pos[f[0]], pos[f[1]], pos[f[2]]);
+    for (const Tri& f : original.triangles) originalArea += triangleArea(pos[f[0]], pos[f[1]], pos[f[2]]);
     // The samples resolve the original's detail (the level has fewer triangles than the original),
     // so their count on either side follows the original's triangles, capped by the level's free
     // vertices (the unknowns to fit).
@@ -158,7 +156,7 @@ PlacementResult placeLevelVertices(const TriMesh& original, const DistanceRefere
         current.positions = pos;
         current.triangles = level.triangles;
         double levelArea = 0;
-        for (const Tri& f : level.triangles) levelArea += area(pos[f[0]], pos[f[1]], pos[f[2]]);
+        for (const Tri& f : level.triangles) levelArea += triangleArea(pos[f[0]], pos[f[1]], pos[f[2]]);
         if (!(levelArea > 0) || !(originalArea > 0)) break;
         // A small level is searched face by face (pruned by boxes, the previous sample's face as
         // the hint: consecutive samples lie close together), a large one through a grid.

@@ -112,7 +112,7 @@ public:
 private:
     struct Impl;
     std::unique_ptr<Impl> impl_;
-    friend struct BakeSourcesAccess;  // bake.cpp reads the decoded sources
+    friend struct BakeSourcesAccess;  // the bake reads the decoded sources (lib/src/bake/bake_sources.h)
 };
 
 // Rasterises the ORIGINAL triangles of asset.mesh at `cornerUV` (per face corner, glTF convention:

@@ -1,6 +1,7 @@
 // Closest point on a triangle, in 3D (shared by simplify's vertex deviation and pairs,
 // parameterize's projected level corners and atlas application, texture-refine and pack) and in
-// the plane (texture deviation's UV lookups), and closest points of face sets. Header-only.
+// the plane (the bake's texel coverage, texture deviation's UV lookups), and closest points of
+// face sets. Header-only.
 #pragma once
 
 #include <algorithm>

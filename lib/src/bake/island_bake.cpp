@@ -1,0 +1,155 @@
+// Island baking (island_bake.h): the level islands of a chart layout as the bake takes them
+// (layoutBakeIslands), their texels' closest points on the original surface (rasterizeIslands),
+// and the texel -> original UV Jacobian a filtered fetch needs at an island texel
+// (islandDerivatives).
+#include "bake/island_bake.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <utility>
+
+#include "lodbake/core/closest_point.h"
+#include "lodbake/core/errors.h"
+#include "lodbake/core/face_grid.h"
+#include "lodbake/core/face_tree.h"
+#include "lodbake/core/parallel.h"
+
+namespace lodbake {
+namespace bake_detail {
+namespace {
+
+constexpr size_t kIslandTreeFrom = 64;  // island texels from which a FaceTree answers them
+
+}  // namespace
+
+// The texels of each island are measured over facesNearTriangle, which holds the closest point of
+// every point X of the island's triangle; the merge is in island order (island_bake.h).
+void rasterizeIslands(const TriMesh& mesh, const std::vector<BakeIsland>& islands, const Grid& g, double dilation,
+                      int threads, std::vector<TexelHit>& hits) {
+    for (size_t i = 0; i < islands.size(); ++i)
+        if (islands[i].faces.empty()) throw InvalidInput("bake: island " + std::to_string(i) + " has no faces to sample");
+    std::vector<std::vector<std::pair<size_t, TexelHit>>> found(islands.size());
+    parallelFor(islands.size(), threads, [&](size_t i) {
+        const BakeIsland& isl = islands[i];
+        Vec2 P[3];
+        for (int k = 0; k < 3; ++k) P[k] = {isl.uv[size_t(k)].x * g.size, isl.uv[size_t(k)].y * g.size};
+        if (std::fabs(cross(P[1] - P[0], P[2] - P[0])) < 1e-12) return;
+        // The texels first: a few of them are answered faster by BoxedFaces' scan than by
+        // building a FaceTree (both give the scan's answer).
+        struct Query {
+            size_t texel;
+            float d;
+            Vec3 X;
+        };
+        std::vector<Query> queries;
+        forEachTexelNear(P, g, dilation, [&](int x, int y, double d, const std::array<double, 3>& b) {
+            if (!(float(d) < hits[g.at(x, y)].dist)) return;  // a face's hit is nearer
+            queries.push_back({g.at(x, y), float(d), isl.position[0] * b[0] + isl.position[1] * b[1] + isl.position[2] * b[2]});
+        });
+        if (queries.empty()) return;
+        auto answer = [&](const auto& near, auto&& closest) {
+            for (const Query& q : queries) {
+                std::array<double, 3> fb{};
+                uint32_t f = closest(near, q.X, fb);
+                found[i].push_back({q.texel, {int32_t(f), q.d, {float(fb[0]), float(fb[1]), float(fb[2])}, int32_t(i)}});
+            }
+        };
+        std::vector<uint32_t> faces = facesNearTriangle(mesh, isl.faces, isl.position);
+        if (queries.size() < kIslandTreeFrom) {
+            uint32_t f = 0xffffffffu;  // the previous texel's face: the next texel's search bound
+            answer(BoxedFaces(mesh, std::move(faces)), [&](const BoxedFaces& near, Vec3 X, std::array<double, 3>& fb) {
+                near.closest(X, f, f, fb);
+                return f;
+            });
+        } else {
+            uint32_t hint = UINT32_MAX;  // the previous texel's answer: the next texel's start
+            answer(FaceTree(mesh, std::move(faces)), [&](const FaceTree& near, Vec3 X, std::array<double, 3>& fb) {
+                uint32_t f = 0;
+                near.closest(X, f, fb, hint);
+                return f;
+            });
+        }
+    });
+    for (const auto& list : found)
+        for (const auto& [texel, hit] : list)
+            if (hit.dist < hits[texel].dist) hits[texel] = hit;
+}
+
+// d(original UV)/d(texel x) and /d(texel y) at an island texel: texel -> 3D on the island's
+// triangle (affine), then 3D -> original UV on face f (its tangent plane, affine).
+void islandDerivatives(const TriMesh& mesh, const BakeIsland& isl, int size, uint32_t f, const Vec2 T[3], Vec2& dx, Vec2& dy) {
+    dx = dy = Vec2{0, 0};
+    Vec2 P[3];
+    for (int k = 0; k < 3; ++k) P[k] = {isl.uv[size_t(k)].x * size, isl.uv[size_t(k)].y * size};
+    Vec2 e1 = P[1] - P[0], e2 = P[2] - P[0];
+    double det = cross(e1, e2);
+    if (!(std::fabs(det) > 0)) return;
+    Vec3 E1 = isl.position[1] - isl.position[0], E2 = isl.position[2] - isl.position[0];
+    Vec3 dXdx = (E1 * e2.y - E2 * e1.y) * (1 / det), dXdy = (E2 * e1.x - E1 * e2.x) * (1 / det);
+    const Tri& t = mesh.triangles[f];
+    Vec3 a1 = mesh.positions[t[1]] - mesh.positions[t[0]], a2 = mesh.positions[t[2]] - mesh.positions[t[0]];
+    double g11 = dot(a1, a1), g12 = dot(a1, a2), g22 = dot(a2, a2), gd = g11 * g22 - g12 * g12;
+    if (!(gd > 0)) return;
+    auto map = [&](Vec3 v) {
+        double r1 = dot(a1, v), r2 = dot(a2, v);
+        double al = (g22 * r1 - g12 * r2) / gd, be = (g11 * r2 - g12 * r1) / gd;
+        return (T[1] - T[0]) * al + (T[2] - T[0]) * be;
+    };
+    dx = map(dXdx);
+    dy = map(dXdy);
+}
+
+}  // namespace bake_detail
+
+std::vector<BakeIsland> layoutBakeIslands(const TriMesh& mesh, const ChartLayout& layout) {
+    std::vector<BakeIsland> out;
+    if (layout.islands.empty()) return out;
+    std::vector<std::vector<uint32_t>> vertexCharts(mesh.vertexCount());
+    std::vector<uint32_t> unindexed;  // faces with a repeated corner index: FaceGrid leaves them out
+    for (uint32_t f = 0; f < mesh.triangleCount(); ++f) {
+        const uint32_t c = layout.faceChart.at(f);
+        if (c >= layout.chartCount) throw InvalidInput("layout: chart id out of range");
+        for (uint32_t v : mesh.triangles[f]) vertexCharts[v].push_back(c);
+        if (degenerateIndices(mesh.triangles[f])) unindexed.push_back(f);
+    }
+    // An island samples the faces of every chart that holds one of its corners, but the bake
+    // (facesNearTriangle) keeps only those whose box lies within d0 + 2r of the island's centroid
+    // c (d0: c's distance to them, r: the largest |corner - c|). A corner lies on such a face, so
+    // d0 <= r: the faces within 4r of c hold all it keeps, in the same order (by chart, then id),
+    // and the island's face list stays proportional to its own size, not its charts'.
+    const FaceGrid grid(mesh);
+    for (size_t i = 0; i < layout.islands.size(); ++i) {
+        const LayoutIsland& isl = layout.islands[i];
+        BakeIsland b;
+        b.uv = isl.uv;
+        std::vector<uint32_t> charts;
+        for (size_t k = 0; k < 3; ++k) {
+            if (isl.vertices[k] >= mesh.vertexCount()) throw InvalidInput("layout island " + std::to_string(i) + ": vertex out of range");
+            b.position[k] = mesh.positions[isl.vertices[k]];
+            charts.insert(charts.end(), vertexCharts[isl.vertices[k]].begin(), vertexCharts[isl.vertices[k]].end());
+        }
+        std::sort(charts.begin(), charts.end());
+        charts.erase(std::unique(charts.begin(), charts.end()), charts.end());
+        if (charts.empty()) throw InvalidInput("layout island " + std::to_string(i) + " touches no chart");
+        const Vec3 c = (b.position[0] + b.position[1] + b.position[2]) * (1.0 / 3);
+        double r = 0;
+        for (const Vec3& q : b.position) r = std::max(r, length(q - c));
+        const double reach = 4 * r * (1 + 1e-6) + 1e-9 * (1 + length(c));
+        std::vector<uint32_t> near = grid.facesIn(c - Vec3{reach, reach, reach}, c + Vec3{reach, reach, reach});
+        near.insert(near.end(), unindexed.begin(), unindexed.end());
+        for (uint32_t f : near)
+            if (std::binary_search(charts.begin(), charts.end(), layout.faceChart[f]) && boxDistance2(faceBox(mesh, f), c) <= reach * reach)
+                b.faces.push_back(f);
+        std::sort(b.faces.begin(), b.faces.end(), [&](uint32_t x, uint32_t y) {
+            return std::make_pair(layout.faceChart[x], x) < std::make_pair(layout.faceChart[y], y);
+        });
+        b.faces.erase(std::unique(b.faces.begin(), b.faces.end()), b.faces.end());
+        if (b.faces.empty()) throw InvalidInput("layout island " + std::to_string(i) + " touches no chart");
+        out.push_back(std::move(b));
+    }
+    return out;
+}
+
+}  // namespace lodbake

@@ -1,0 +1,29 @@
+// Island baking: the bake's side of parameterize's fold fallback. A level island is a UV triangle
+// that is not an original face (a level triangle parameterize could not keep injective in its
+// chart); each texel it covers maps to a point of its 3D triangle and shows the original surface
+// at that point's closest point. layoutBakeIslands (lodbake/bake/bake.h) builds them from a chart
+// layout; this header holds what the bake does with them.
+#pragma once
+
+#include <vector>
+
+#include "bake/texel_raster.h"
+#include "lodbake/bake/bake.h"
+
+namespace lodbake::bake_detail {
+
+// Adds the islands' texels to `hits` (the faces' hits, rasterizeTriangles): texel -> point X of
+// the island's 3D triangle -> closest point of its faces. A texel takes the nearest hit, a face's
+// before an island's, the earlier island on ties. Islands are measured on `threads` threads, then
+// merged in island order, so the hits do not depend on the count.
+// \throw InvalidInput (an island without faces).
+void rasterizeIslands(const TriMesh& mesh, const std::vector<BakeIsland>& islands, const Grid& g, double dilation,
+                      int threads, std::vector<TexelHit>& hits);
+
+// d(original UV)/d(texel x) and /d(texel y) at a texel of island `isl` (UVs scaled by `size`)
+// whose closest point lies on face f with original UVs T: texel -> 3D on the island's triangle
+// (affine), then 3D -> original UV on face f (its tangent plane, affine). Zero for a degenerate
+// island or face.
+void islandDerivatives(const TriMesh& mesh, const BakeIsland& isl, int size, uint32_t f, const Vec2 T[3], Vec2& dx, Vec2& dy);
+
+}  // namespace lodbake::bake_detail

@@ -1,0 +1,59 @@
+// Texel coverage of UV triangles: which texels of the baked region a triangle reaches (its texel
+// centres within a dilation margin), and for each texel the nearest original face and the
+// barycentrics of its closest point. Every later step of the bake reads a texel through this hit.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <climits>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "lodbake/core/closest_point.h"
+#include "lodbake/core/math.h"
+#include "lodbake/core/mesh.h"
+
+namespace lodbake::bake_detail {
+
+// What a texel shows: the original face and the barycentrics of the point it reads.
+struct TexelHit {
+    int32_t face = -1;
+    float dist = 1e30f;
+    std::array<float, 3> bary{};
+    int32_t island = -1;  // >= 0: the texel belongs to this island; face/bary = the closest original point
+    std::array<float, 2> beyond{};  // texel centre minus the closest point (dilated texels), texels
+};
+
+// The baked region: texels [0, w) x [0, h) of the size x size grid cornerUV is scaled to.
+struct Grid {
+    int size, w, h;
+    size_t at(int x, int y) const { return size_t(y) * size_t(w) + size_t(x); }
+};
+
+// Calls fn(x, y, d, bary) for every texel of the grid's region (rows [rowBegin, rowEnd) of it)
+// whose centre lies within `dilation` texels of triangle P (texel units); bary: of the closest
+// point of P (core/closest_point.h). Inline: it is the rasterisers' inner loop.
+template <class Fn>
+void forEachTexelNear(const Vec2 (&P)[3], const Grid& g, double dilation, Fn&& fn, int rowBegin = 0, int rowEnd = INT_MAX) {
+    double x0 = std::min({P[0].x, P[1].x, P[2].x}) - dilation, x1 = std::max({P[0].x, P[1].x, P[2].x}) + dilation;
+    double y0 = std::min({P[0].y, P[1].y, P[2].y}) - dilation, y1 = std::max({P[0].y, P[1].y, P[2].y}) + dilation;
+    int ix0 = std::max(0, int(std::floor(x0))), ix1 = std::min(g.w - 1, int(std::ceil(x1)));
+    int iy0 = std::max(rowBegin, int(std::floor(y0))), iy1 = std::min({g.h - 1, rowEnd - 1, int(std::ceil(y1))});
+    const std::array<Vec2, 3> tri{P[0], P[1], P[2]};
+    for (int y = iy0; y <= iy1; ++y)
+        for (int x = ix0; x <= ix1; ++x) {
+            std::array<double, 3> b{};
+            double d = std::sqrt(closestOnTriangle(Vec2{x + 0.5, y + 0.5}, tri, b));
+            if (d <= dilation) fn(x, y, d, b);
+        }
+}
+
+// The hits of the ORIGINAL faces at `cornerUV` (per face corner, [0,1] scaled by g.size): each
+// texel within `dilation` texels of a face takes the nearest face (the earlier face on ties), its
+// closest point's barycentrics and the offset from that point to the texel centre. Faces with no
+// UV area are skipped. Rows in bands on `threads` threads; the hits do not depend on the count.
+void rasterizeTriangles(const TriMesh& mesh, const std::vector<std::array<Vec2, 3>>& cornerUV, const Grid& g,
+                        double dilation, int threads, std::vector<TexelHit>& hits);
+
+}  // namespace lodbake::bake_detail
