@@ -124,13 +124,18 @@ def peers_available():
         found["gltfpack-npm"] = lambda src, out, r, extra=(): [npm, "-i", src, "-o", out, "-si", str(r)] + list(extra)
     b = blender()
     if b:
+        # Blender's embedded Python takes its library from the first python3 on PATH: a pyenv (or
+        # virtualenv) one ahead of Debian's hides Debian's numpy, and the scripts die on import
+        # while Blender still exits 0. Blender runs with those directories left out of PATH, and
+        # --python-exit-code makes a failing script a failed run.
+        path = os.pathsep.join(d for d in os.environ.get("PATH", "").split(os.pathsep)
+                               if d and ".pyenv" not in d and "virtualenv" not in d)
+        run = ["env", "PATH=" + path, b, "-b", "--factory-startup", "--python-exit-code", "3", "--python"]
         decimate = os.path.join(SOURCE, "scripts/blender_decimate.py")
-        found["blender-decimate"] = lambda src, out, r, extra=(): [b, "-b", "--factory-startup", "--python", decimate, "--",
-                                                                  src, out, str(r)]
+        found["blender-decimate"] = lambda src, out, r, extra=(): run + [decimate, "--", src, out, str(r)]
         bake = os.path.join(SHARED, "peers/blender_bake.py")
         if os.path.exists(bake):
-            found["blender-bake"] = lambda src, out, r, extra=(): [b, "-b", "--factory-startup", "--python", bake, "--",
-                                                                  src, out, str(r)]
+            found["blender-bake"] = lambda src, out, r, extra=(): run + [bake, "--", src, out, str(r)]
     return found
 
 
