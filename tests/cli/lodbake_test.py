@@ -225,6 +225,17 @@ class Gltf:
 
 # UV fold checks on written glTF UVs (independent of the tools' own counts).
 
+def glb_with_json(glb, edit):
+    """The GLB `glb` with its JSON chunk changed by edit(doc); the binary chunk is kept."""
+    length = struct.unpack_from("<I", glb, 12)[0]
+    doc = json.loads(glb[20:20 + length])
+    edit(doc)
+    text = json.dumps(doc).encode()
+    text += b" " * (-len(text) % 4)
+    rest = glb[20 + length:]
+    return struct.pack("<IIIII", 0x46546C67, 2, 20 + len(text) + len(rest), len(text), 0x4E4F534A) + text + rest
+
+
 def lod_levels(g):
     """Levels of an MSFT_lod chain (a Gltf): node 0 and the nodes its MSFT_lod lists. Other nodes
     (a rig's joints, lights, cameras) are not levels."""

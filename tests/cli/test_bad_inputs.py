@@ -35,17 +35,6 @@ def minimal_gltf(positions, indices, extra=None):
     return json.dumps(doc)
 
 
-def glb_with_json(glb, edit):
-    """The GLB `glb` with its JSON chunk changed by edit(doc); the binary chunk is kept."""
-    length = struct.unpack_from("<I", glb, 12)[0]
-    doc = json.loads(glb[20:20 + length])
-    edit(doc)
-    text = json.dumps(doc).encode()
-    text += b" " * (-len(text) % 4)
-    rest = glb[20 + length:]
-    return struct.pack("<IIIII", 0x46546C67, 2, 20 + len(text) + len(rest), len(text), 0x4E4F534A) + text + rest
-
-
 class BadInputs(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
@@ -113,7 +102,7 @@ class BadInputs(unittest.TestCase):
         for frac in (0.1, 0.5, 0.9):
             put("truncated-%d.glb" % int(frac * 100), data[: int(len(data) * frac)], "wb")
         put("bad-magic-length.glb", struct.pack("<III", 0x46546C67, 2, 10 ** 9) + data[12:], "wb")
-        put("zero-length-buffer.glb", glb_with_json(data, lambda doc: doc["buffers"][0].update(byteLength=0)), "wb")
+        put("zero-length-buffer.glb", lt.glb_with_json(data, lambda doc: doc["buffers"][0].update(byteLength=0)), "wb")
         if os.path.isdir(lt.BAD_INPUTS):
             for name in sorted(os.listdir(lt.BAD_INPUTS)):
                 if name.endswith((".gltf", ".glb")):
@@ -163,7 +152,7 @@ class BadInputs(unittest.TestCase):
             data = f.read()
         path = os.path.join(self.dir, "negative-vertex-count.glb")
         with open(path, "wb") as f:
-            f.write(glb_with_json(data, lambda doc: doc["extensions"]["LODBAKE_multires"]["original"].update(vertexCount=-8)))
+            f.write(lt.glb_with_json(data, lambda doc: doc["extensions"]["LODBAKE_multires"]["original"].update(vertexCount=-8)))
         out = os.path.join(self.dir, "negative-vertex-count.uv.glb")
         p = lt.run([lt.tool("parameterize"), "-i", path, "-o", out, "--quiet"], check=False, timeout=120)
         self.assertEqual(p.returncode, 2, p.stderr)

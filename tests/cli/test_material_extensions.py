@@ -11,7 +11,6 @@ one with a warning under --max-draws 1.
 """
 import json
 import os
-import struct
 import sys
 import unittest
 
@@ -33,17 +32,6 @@ def chain(src, out):
     p = lt.run([lt.tool("lodbake"), "-i", src, "-o", out, "--report", rep] + FLAGS)
     with open(rep) as f:
         return out, p.stderr, json.load(f)
-
-
-def glb_with_json(glb, edit):
-    """The GLB `glb` with its JSON chunk changed by edit(doc); the binary chunk is kept."""
-    length = struct.unpack_from("<I", glb, 12)[0]
-    doc = json.loads(glb[20:20 + length])
-    edit(doc)
-    text = json.dumps(doc).encode()
-    text += b" " * (-len(text) % 4)
-    rest = glb[20 + length:]
-    return struct.pack("<IIIII", 0x46546C67, 2, 20 + len(text) + len(rest), len(text), 0x4E4F534A) + text + rest
 
 
 def pack_levels(report):
@@ -117,7 +105,7 @@ class MaterialExtensions(unittest.TestCase):
                     m["extensions"]["KHR_materials_ior"]["ior"] = 1.33
         src = os.path.join(d, "water.glb")
         with open(src, "wb") as f:
-            f.write(glb_with_json(glb, water_glass))
+            f.write(lt.glb_with_json(glb, water_glass))
         flags = ["--ratio", "0.1", "--max-size", "128", "--quiet"]
         out, rep = os.path.join(d, "water.lod.glb"), os.path.join(d, "water.json")
         lt.run([lt.tool("lodbake"), "-i", src, "-o", out, "--report", rep] + flags)
@@ -168,7 +156,7 @@ class MaterialExtensions(unittest.TestCase):
             doc["extensionsUsed"] = sorted(set(doc.get("extensionsUsed", []) + ["KHR_materials_ior"]))
         src, out = os.path.join(d, "gold.glb"), os.path.join(d, "gold.lod.glb")
         with open(src, "wb") as f:
-            f.write(glb_with_json(glb, gold_ior))
+            f.write(lt.glb_with_json(glb, gold_ior))
         lt.run([lt.tool("lodbake"), "-i", src, "-o", out, "--ratio", "0.5", "--max-size", "128", "--quiet"])
         j = lt.Gltf(out).json
         gold = [v["name"] for v in j["extensions"]["KHR_materials_variants"]["variants"]].index("gold")

@@ -113,10 +113,9 @@ class Meshopt(unittest.TestCase):
                     e["byteLength"] = 8
                     return
 
-        from test_bad_inputs import glb_with_json
         bad = os.path.join(self.dir, "cut.glb")
         with open(bad, "wb") as f:
-            f.write(glb_with_json(glb, cut))
+            f.write(lt.glb_with_json(glb, cut))
         dst = os.path.join(self.dir, "cut.mr.glb")
         p = lt.run([lt.tool("simplify"), "-i", bad, "-o", dst, "--ratio", "0.5"], check=False)
         self.assertEqual(p.returncode, 2, p.stderr)
