@@ -833,9 +833,9 @@ constexpr double kScoredMaxSide = 512;
 // kScoredMaxSide), its level mesh built and
 // its base colour (and, when the level gets one, its normal map in object space) baked the way
 // the level's own bake runs (by projection, or the original triangles at the layout), then read
-// back at the probe's sample points of the level's surface. (Packing each candidate's page at full
-// size instead, the level's own page, follows the full-size packer more closely but cost Duck's
-// LOD1 5.8 s of CPU instead of 1.2 s; the margin of chooseCandidate absorbs the difference.) The probe and the projected bakes
+// back at the probe's sample points of the level's surface. The reduced page costs a fraction of
+// a full-size one; where it ranks candidates differently than full size would, their scores lie
+// within chooseCandidate's margin. The probe and the projected bakes
 // search the original through `grid` (built here when missing). Sets r.rank, r.textureSize and
 // r.rankChoice. The same for any thread count: each bake is, and the read-back runs in order.
 void chooseLayoutByBake(const BakeSources& sources, const Multires& mr, std::vector<LayoutData>& layouts,

@@ -1,5 +1,5 @@
 // Choosing a level's texture layout (T0 or a rank of the texture hierarchy) by the texture
-// deviation its bake shows (issue 34, "choose by the rendered result").
+// deviation its bake shows, not by the mapping energy E.
 //
 // texture-refine's ranks lower the mapping energy E, but their extra charts bring seams and
 // gutters that a renderer's bilinear taps read across, and a page of more, smaller charts holds
@@ -89,8 +89,8 @@ struct RankCandidate {
 // fewer charts). \pre candidates non-empty.
 size_t bestCandidate(const std::vector<RankCandidate>& candidates);
 
-// Scores closer than this (relative) are within what the reduced bake can tell apart: on the
-// samples, a 1.8% lead rendered 0.12 dB worse in three.js, leads of 6% and more rendered better.
+// Scores closer than this (relative) are within what the reduced bake can tell apart: a smaller
+// lead does not predict which page renders better, so the energy rule's pick stands.
 constexpr double kScoreMargin = 0.02;
 
 // The choice: the best candidate, unless the one of rank `byEnergy` (the energy rule's pick)
