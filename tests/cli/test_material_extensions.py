@@ -5,9 +5,10 @@ paint, transmission + volume glass, specular colour, and a floor without extensi
 shared SheenCloth, ClearCoatCarPaint and TransmissionTest assets (skipped when ../shared/assets
 is absent). Per run: no "is not carried" warning; every level's material has the extensions the
 input uses; channels that vary over the input are textures (the sample's, whose ground truth the
-test knows); the report lists those channels; glTF-Validator finds no error. The sample with
-its glass at another ior is split into two primitives per level (issue 30 item 4), or merged into
-one with a warning under --max-draws 1.
+test knows); the report lists those channels; glTF-Validator finds no error. Every level draws
+the sample's glass as its own primitive, the only one whose material transmits, so that viewers
+refract the rest through it; with the glass at another ior too, that part's material has the
+glass's exact ior, and --max-draws 1 merges both parts into one with a warning.
 """
 import json
 import os
@@ -46,6 +47,7 @@ def pack_levels(report):
 
 class MaterialExtensions(unittest.TestCase):
     def check_extensions(self, path, expected):
+        """Every level's materials together carry `expected`."""
         j = lt.Gltf(path).json
         for name in expected:
             self.assertIn(name, j.get("extensionsUsed", []))
@@ -53,9 +55,11 @@ class MaterialExtensions(unittest.TestCase):
             if "mesh" not in node:
                 continue
             with self.subTest(level=i):
-                mat = j["materials"][j["meshes"][node["mesh"]]["primitives"][0]["material"]]
+                carried = set()
+                for prim in j["meshes"][node["mesh"]]["primitives"]:
+                    carried |= set(j["materials"][prim["material"]].get("extensions", {}))
                 for name in expected:
-                    self.assertIn(name, mat.get("extensions", {}), "level %d lacks %s" % (i, name))
+                    self.assertIn(name, carried, "level %d lacks %s" % (i, name))
         return j
 
     def test_sample(self):
@@ -67,9 +71,24 @@ class MaterialExtensions(unittest.TestCase):
         expected = {"KHR_materials_sheen", "KHR_materials_clearcoat", "KHR_materials_transmission", "KHR_materials_volume",
                     "KHR_materials_specular", "KHR_materials_ior"}
         j = self.check_extensions(out, expected)
+        # The glass is the only part that transmits: it is drawn on its own, and the other part's
+        # material (same pages) drops transmission and volume, so viewers refract it.
+        levels = pack_levels(report)
+        for k, node in enumerate(n for n in j["nodes"] if "mesh" in n):
+            with self.subTest(level=k):
+                prims = j["meshes"][node["mesh"]]["primitives"]
+                self.assertEqual(len(prims), 2)
+                exts = [j["materials"][p["material"]].get("extensions", {}) for p in prims]
+                self.assertEqual(sorted("KHR_materials_transmission" in e for e in exts), [False, True])
+                solid = next(e for e in exts if "KHR_materials_transmission" not in e)
+                self.assertNotIn("KHR_materials_volume", solid)
+                self.assertIn("KHR_materials_sheen", solid)
+                self.assertEqual(levels[k]["drawCalls"], 2)
+                self.assertEqual(levels[k]["splitBy"], ["transmission"])
         # Ground truth of the sample: every extension covers only part of the surface, so each
         # varying channel is a texture; the glass's properties are the only ones (no warning).
-        mat = j["materials"][0]["extensions"]
+        lod0 = j["meshes"][j["nodes"][next(i for i, n in enumerate(j["nodes"]) if "mesh" in n)]["mesh"]]["primitives"]
+        mat = next(e for e in (j["materials"][p["material"]]["extensions"] for p in lod0) if "KHR_materials_transmission" in e)
         self.assertIn("sheenColorTexture", mat["KHR_materials_sheen"])
         # Roughness matters only under sheen / a coat: the cloth's and the paint's, as factors.
         self.assertNotIn("sheenRoughnessTexture", mat["KHR_materials_sheen"])
@@ -118,12 +137,13 @@ class MaterialExtensions(unittest.TestCase):
                 self.assertEqual(len(prims), 2)
                 self.assertEqual(prims[0]["attributes"], prims[1]["attributes"], "one vertex set")
                 mats = [j["materials"][p["material"]] for p in prims]
+                glass = next(m for m in mats if "KHR_materials_transmission" in m["extensions"])
+                self.assertEqual(glass["extensions"]["KHR_materials_ior"]["ior"], 1.33)
                 self.assertEqual(sorted(m["extensions"]["KHR_materials_ior"]["ior"] for m in mats), [1.33, 1.5])
                 for key in ("baseColorTexture",):
                     self.assertEqual(mats[0]["pbrMetallicRoughness"][key], mats[1]["pbrMetallicRoughness"][key], "one set of pages")
-                self.assertEqual(mats[0]["extensions"]["KHR_materials_volume"], mats[1]["extensions"]["KHR_materials_volume"])
                 self.assertEqual(levels[k]["drawCalls"], 2)
-                self.assertEqual(levels[k]["splitBy"], ["ior"])
+                self.assertEqual(levels[k]["splitBy"], ["ior", "transmission"])
         one, rep1 = os.path.join(d, "water.one.glb"), os.path.join(d, "water.one.json")
         lt.run([lt.tool("lodbake"), "-i", src, "-o", one, "--report", rep1, "--max-draws", "1"] + flags)
         j1 = lt.Gltf(one).json
@@ -136,6 +156,7 @@ class MaterialExtensions(unittest.TestCase):
             report1 = json.load(f)
         warnings = report1.get("warnings", []) + [w for s in report1.get("stages", []) for w in s.get("warnings", [])]
         self.assertTrue(any("materials disagree on KHR_materials_ior ior (spread 0.17)" in w for w in warnings), warnings)
+        self.assertTrue(any("transmissive and solid parts" in w for w in warnings), warnings)
         self.assertTrue(all(l["drawCalls"] == 1 and "splitBy" not in l for l in pack_levels(report1)))
         lt.assert_no_validator_errors(self, [out, one])
 

@@ -151,6 +151,41 @@ TEST(DrawSplit, VariantSelectionsSplitToo) {
     EXPECT_EQ(s.groups[s.groupOf[0]].values[1].ior, 1.5);
 }
 
+TEST(DrawSplit, TransmissiveAndSolidPartsSplitAndTheSolidOneDropsTransmission) {
+    Material glass, zero, solid;
+    glass.ext.transmission = {true, 0.9, {}};
+    glass.ext.volume.present = true;
+    glass.ext.volume.thicknessFactor = 0.2;
+    zero.ext.transmission = {true, 0, {}};  // transmits nothing: solid
+    const Asset a = trianglesOf({glass, zero, solid}, {2, 1, 1});
+    const DrawSplit s = splitDraws(a, {&a.mesh.triangleMaterial});
+    ASSERT_EQ(s.groups.size(), 2u);
+    EXPECT_NE(s.groupOf[0], s.groupOf[1]);
+    EXPECT_EQ(s.groupOf[1], s.groupOf[2]);
+    EXPECT_TRUE(s.groups[s.groupOf[0]].values[0].transmission);
+    EXPECT_FALSE(s.groups[s.groupOf[1]].values[0].transmission);
+    EXPECT_EQ(s.splitBy, std::vector<std::string>{"transmission"});
+    // The level material carries the union; the solid part's copy loses transmission and volume.
+    MaterialExtensions ext = glass.ext;
+    AlphaMode mode = AlphaMode::Opaque;
+    double cutoff = 0.5;
+    bool unlit = false;
+    applyUniforms(s.groups[s.groupOf[1]].values[0], mode, cutoff, unlit, ext);
+    EXPECT_FALSE(ext.transmission.present);
+    EXPECT_FALSE(ext.volume.present);
+    ext = glass.ext;
+    applyUniforms(s.groups[s.groupOf[0]].values[0], mode, cutoff, unlit, ext);
+    EXPECT_TRUE(ext.transmission.present);
+    EXPECT_TRUE(ext.volume.present);
+    // Forced into one primitive: it transmits, with a warning about the solid parts.
+    DrawSplitOptions one;
+    one.maxDraws = 1;
+    const DrawSplit m = splitDraws(a, {&a.mesh.triangleMaterial}, one);
+    ASSERT_EQ(m.groups.size(), 1u);
+    EXPECT_TRUE(m.groups[0].values[0].transmission);
+    EXPECT_TRUE(warned(m, "transmissive and solid"));
+}
+
 TEST(DrawSplit, MergeUniformsAveragesAttenuationThroughItsCoefficient) {
     Material a, b;
     a.ext.volume.present = b.ext.volume.present = true;

@@ -63,7 +63,8 @@ void addPackFlags(ArgParser& p, PackFlags& a) {
            [&o] { o.vertexPlacement = false; });
     p.option("--max-draws", "N",
              "at most N primitives (draw calls) per level where the input's materials disagree on what glTF cannot vary "
-             "per texel (ior, volume attenuation, dispersion, iridescence ior, unlit, alpha mode and cutoff); beyond N the "
+             "per texel (ior, volume attenuation, dispersion, iridescence ior, unlit, alpha mode and cutoff) or on whether "
+             "a part transmits; beyond N the "
              "smallest combinations merge into their nearest with area-weighted values and a warning (default 0: as many "
              "as keep every combination exact; 1: one primitive)",
              [&o](const std::string& v) {

@@ -59,10 +59,12 @@ V uniformProperty(const std::vector<WeightedMaterial>& mats, const char* name, H
     return mean;
 }
 
+bool transmits(const Material& m) { return !m.unlit && m.ext.transmission.present && m.ext.transmission.factor > 0; }
+
 // Step 1's key: one optional value per property and selection; nullopt = free. Attenuation
 // distance enters as its coefficient 1 / distance (0 = none), its colour as three values.
 using Key = std::vector<std::optional<double>>;
-constexpr size_t kFields = 10;  // blend, cutoff, unlit, ior, attenuation coefficient, colour r g b, dispersion, iridescence ior
+constexpr size_t kFields = 11;  // blend, cutoff, unlit, ior, attenuation coefficient, colour r g b, dispersion, iridescence ior, transmits
 
 void appendKey(const Material& m, bool extensionProperties, Key& key) {
     using O = std::optional<double>;
@@ -89,6 +91,7 @@ void appendKey(const Material& m, bool extensionProperties, Key& key) {
         key.insert(key.end(), 5, std::nullopt);
     }
     key.push_back(e.iridescence.present ? O(e.iridescence.ior) : std::nullopt);
+    key.push_back(transmits(m) ? 1.0 : 0.0);
 }
 
 size_t fixedCount(const Key& k) { return size_t(std::count_if(k.begin(), k.end(), [](const auto& v) { return v.has_value(); })); }
@@ -116,6 +119,7 @@ struct Group {
 MaterialUniforms mergeUniforms(const std::vector<WeightedMaterial>& mats, std::vector<std::string>* warnings, const MaterialUniforms* unseen) {
     MaterialUniforms u;
     bool anyMask = false, anyBlend = false, anyOpaque = false, anyUnlit = false, allUnlit = true;
+    bool anyTransmits = false, anyLitSolid = false;
     double cutoff = 1;
     for (const WeightedMaterial& w : mats) {
         const Material& m = *w.material;
@@ -125,6 +129,8 @@ MaterialUniforms mergeUniforms(const std::vector<WeightedMaterial>& mats, std::v
         anyBlend |= m.alphaMode == AlphaMode::Blend;
         anyOpaque |= m.alphaMode == AlphaMode::Opaque;
         if (m.alphaMode == AlphaMode::Mask) cutoff = std::min(cutoff, m.alphaCutoff);
+        anyTransmits |= transmits(m);
+        anyLitSolid |= !m.unlit && !transmits(m);
     }
     u.alphaMode = anyBlend ? AlphaMode::Blend : anyMask ? AlphaMode::Mask : AlphaMode::Opaque;
     u.alphaCutoff = anyMask ? cutoff : 0.5;
@@ -137,6 +143,10 @@ MaterialUniforms mergeUniforms(const std::vector<WeightedMaterial>& mats, std::v
         if (anyUnlit && !allUnlit) warnings->push_back("materials mix unlit and lit shading: the chain's material is lit");
     }
     if (u.unlit) return u;
+    u.transmission = anyTransmits;
+    if (warnings && anyTransmits && anyLitSolid)
+        warnings->push_back("materials mix transmissive and solid parts in one primitive: renderers that refract only "
+                            "the opaque pass (three.js, Babylon.js) show nothing of the solid parts through the transmissive ones");
     auto volume = [](const Material& m) { return m.ext.volume.present; };
     const MaterialUniforms defaults = unseen ? *unseen : MaterialUniforms{};
     // Attenuation is exponential in distance / attenuationDistance: its coefficient

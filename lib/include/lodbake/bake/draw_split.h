@@ -1,9 +1,10 @@
 // Which primitives a chain level is drawn with. Every level has one set of baked pages and one UV
 // set; what glTF cannot vary per texel (alpha mode and cutoff, unlit, ior, volume attenuation,
-// dispersion, iridescence ior: lodbake/core/material_uniforms.h) is one value per primitive. The
-// input's triangles are grouped so that each group's materials agree on those values: a level
-// gets one primitive per group it has triangles of, all on the same pages and UVs, their
-// materials differing in these values only. Sidedness never splits (mixed sidedness gets back
+// dispersion, iridescence ior: lodbake/core/material_uniforms.h) is one value per primitive, and
+// so is whether it transmits (renderers refract only the primitives drawn without transmission).
+// The input's triangles are grouped so that each group's materials agree on those values: a level
+// gets one primitive per group it has triangles of, all on the same pages and UVs, their materials
+// differing in these values only. Sidedness never splits (mixed sidedness gets back
 // faces: material_plan.h), and an OPAQUE material joins a MASK group (its alpha is baked as 1).
 #pragma once
 
@@ -52,8 +53,9 @@ struct WeightedMaterial {
 // masks (the smallest cutoff); unlit if all are; each extension property the area-weighted mean over
 // the materials where it shows: ior over the lit ones (1.5 without KHR_materials_ior), attenuation
 // (through its coefficient 1 / distance) and dispersion (0 without the extension) over those with a
-// volume, iridescence ior over those with iridescence. Where it shows on none: `unseen`'s value, or
-// the default without it. With `warnings`: one per mix or disagreement.
+// volume, iridescence ior over those with iridescence; transmission if any lit one transmits (a
+// transmission factor above 0). Where a value shows on none: `unseen`'s value, or the default
+// without it. With `warnings`: one per mix or disagreement.
 MaterialUniforms mergeUniforms(const std::vector<WeightedMaterial>& materials, std::vector<std::string>* warnings,
                                const MaterialUniforms* unseen = nullptr);
 

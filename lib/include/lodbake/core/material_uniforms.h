@@ -22,11 +22,15 @@ struct MaterialUniforms {
     Vec3 attenuationColor{1, 1, 1};
     double dispersion = 0;         // KHR_materials_dispersion
     double iridescenceIor = 1.3;   // KHR_materials_iridescence
+    // KHR_materials_transmission: whether the primitive transmits at all. Renderers draw a
+    // transmissive primitive after the opaque ones and refract only those (three.js, Babylon.js),
+    // so the parts that do not transmit must not carry the extension, or nothing shows through.
+    bool transmission = false;
 };
 
 // The names of the properties on which `a` and `b` differ, in this order: "alphaMode",
 // "alphaCutoff" (when both are MASK), "unlit", "ior", "attenuationDistance", "attenuationColor",
-// "dispersion", "iridescenceIor".
+// "dispersion", "iridescenceIor", "transmission".
 inline std::vector<std::string> uniformDifferences(const MaterialUniforms& a, const MaterialUniforms& b) {
     std::vector<std::string> out;
     if (a.alphaMode != b.alphaMode) out.push_back("alphaMode");
@@ -38,6 +42,7 @@ inline std::vector<std::string> uniformDifferences(const MaterialUniforms& a, co
     if (c.x != d.x || c.y != d.y || c.z != d.z) out.push_back("attenuationColor");
     if (a.dispersion != b.dispersion) out.push_back("dispersion");
     if (a.iridescenceIor != b.iridescenceIor) out.push_back("iridescenceIor");
+    if (a.transmission != b.transmission) out.push_back("transmission");
     return out;
 }
 
@@ -46,7 +51,9 @@ inline bool operator==(const MaterialUniforms& a, const MaterialUniforms& b) {
 }
 
 // Sets a material's per-primitive properties to `u`: alpha mode and cutoff, unlit, and the
-// properties of the extensions `ext` carries (an absent extension stays absent).
+// properties of the extensions `ext` carries (an absent extension stays absent). A part that does
+// not transmit drops KHR_materials_transmission, and with it the volume and dispersion only
+// transmission shows (a volume stays where diffuse transmission shows it).
 inline void applyUniforms(const MaterialUniforms& u, AlphaMode& alphaMode, double& alphaCutoff, bool& unlit, MaterialExtensions& ext) {
     alphaMode = u.alphaMode;
     alphaCutoff = u.alphaCutoff;
@@ -58,6 +65,10 @@ inline void applyUniforms(const MaterialUniforms& u, AlphaMode& alphaMode, doubl
     }
     if (ext.dispersion.present) ext.dispersion.dispersion = u.dispersion;
     if (ext.iridescence.present) ext.iridescence.ior = u.iridescenceIor;
+    if (!u.transmission && ext.transmission.present) {
+        ext.transmission.present = false;
+        if (!ext.diffuseTransmission.present) ext.volume.present = ext.dispersion.present = false;
+    }
 }
 
 }  // namespace lodbake
