@@ -86,6 +86,15 @@ def speed(res):
                 else:
                     cells += ["%.2f" % r["wall"], "%.1f×" % (ours["wall"] / r["wall"]) if ours and r["wall"] > 0 else "–"]
             out.append("| %s | %s | %s |" % (e["name"], fmt(ours and ours["wall"]), " | ".join(cells)))
+    costs = [(e["name"], e["extensionCost"]) for e in res["assets"] if "error" not in e.get("extensionCost", {"error": 1})]
+    if costs:
+        out += ["", "What the material extensions' channels cost pack (`--extension-cost`: the same asset without "
+                    "its KHR_materials_* extensions; pack's CPU seconds, its levels and measure; goal ≤ 30%):", "",
+                "| asset | extensions | pack CPU s | without | cost |", "|---|---|---:|---:|---:|"]
+        for name, c in costs:
+            out.append("| %s | %s | %.2f | %.2f | %+.0f%%%s |" % (
+                name, ", ".join(e.replace("KHR_materials_", "") for e in c["extensions"]), c["packCpuWith"], c["packCpuWithout"],
+                100 * c["cost"], "" if c["cost"] <= 0.3 else " (**above 30%**)"))
     if any(b["label"] == "against" for b in res["builds"]):
         out += ["", "| asset | bin wall s | against wall s | bin / against | same bytes |", "|---|---:|---:|---:|---|"]
         for e in res["assets"]:

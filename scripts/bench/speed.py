@@ -4,11 +4,17 @@ input at each ratio of the chain (a peer's time is the sum over the ratios: one 
 a user scripting it would run it). With --against the second build runs each asset right after
 the first. With --threads 1,0 every thread count runs and the outputs are checked byte-identical.
 
+With --extension-cost every asset whose materials use KHR_materials_* extensions also runs (first
+build, first thread count) as a copy without them, and the entry records pack's CPU time with and
+without: what the extension channels cost (CPU seconds; goal: at most 30% of pack's time).
+
 Goals (issue 33): <= 3 s on every shared asset under 20k triangles, <= 15 s on 2CylinderEngine and
 StanfordBunny, >= 10x faster than the Blender bake recipe."""
+import json
 import os
 
 from . import common
+from lodbake_test import glb_with_json  # noqa: E402 (tests/cli is on sys.path through common)
 
 QUICK_ASSETS = ["seamball"]
 QUICK_PEERS = ("gltfpack-debian", "gltfpack-npm")
@@ -21,6 +27,8 @@ def add_arguments(p):
     p.add_argument("--peers", help="comma-separated subset of gltfpack-debian, gltfpack-npm, blender-decimate, blender-bake "
                    "(default: every one installed; --quick: gltfpack only)")
     p.add_argument("--chain-flags", default="", help="extra lodbake flags for both builds (write --chain-flags=--flag)")
+    p.add_argument("--extension-cost", action="store_true", help="also run each asset that uses material extensions "
+                   "without them, and record pack's time both ways")
 
 
 def default_assets(args):
@@ -68,6 +76,72 @@ def run_lodbake(build, src, work, name, threads, args):
             "bytes": os.path.getsize(out), "sha256": common.sha256(out)}
 
 
+# Material extensions whose channels the bake carries; variants are a choice of materials, not a channel.
+def material_extensions(doc):
+    return sorted({e for m in doc.get("materials", []) for e in m.get("extensions", {})
+                   if e.startswith("KHR_materials_") and e != "KHR_materials_variants"})
+
+
+def strip_material_extensions(doc):
+    names = set(material_extensions(doc))
+    for m in doc.get("materials", []):
+        for e in names:
+            m.get("extensions", {}).pop(e, None)
+    for key in ("extensionsUsed", "extensionsRequired"):
+        if key in doc:
+            doc[key] = [e for e in doc[key] if e not in names]
+
+
+def without_extensions(src, work, label):
+    """A copy of src without its material extensions (None when it has none). A .gltf's external
+    files are linked beside the copy."""
+    d = os.path.join(work, "noext-" + label)
+    os.makedirs(d, exist_ok=True)
+    if not material_extensions(common.Gltf(src).json):
+        return None
+    out = os.path.join(d, os.path.basename(src))
+    if src.endswith(".glb"):
+        with open(src, "rb") as f:
+            glb = f.read()
+        with open(out, "wb") as f:
+            f.write(glb_with_json(glb, strip_material_extensions))
+        return out
+    with open(src) as f:
+        doc = json.load(f)
+    strip_material_extensions(doc)
+    for item in doc.get("buffers", []) + doc.get("images", []):
+        uri = item.get("uri", "")
+        if uri and not uri.startswith("data:"):
+            link = os.path.join(d, uri)
+            os.makedirs(os.path.dirname(link), exist_ok=True)
+            if not os.path.lexists(link):
+                os.symlink(os.path.join(os.path.dirname(os.path.abspath(src)), uri), link)
+    with open(out, "w") as f:
+        json.dump(doc, f)
+    return out
+
+
+def pack_cpu(report_path):
+    """Pack's CPU seconds in a lodbake report: every level's steps (UVs, page, mesh, bake, material)
+    and the measure. CPU, not wall time: the figure holds on a machine that is not quiet."""
+    pack = next(s for s in common.read_json(report_path)["stages"] if s.get("tool") == "pack")
+    return sum(sum(lv.get("cpuSeconds", {}).values()) for lv in pack["levels"]) + pack["time"].get("measureCpu", 0)
+
+
+def extension_cost(build, src, work, label, threads, args, ours):
+    """Pack's CPU seconds (of the last rep) with and without the material extensions."""
+    plain = without_extensions(src, work, label)
+    if plain is None or not ours or "error" in ours:
+        return None
+    row = run_lodbake(build, plain, work, label + ".noext", threads, args)
+    if "error" in row:
+        return {"error": row["error"]}
+    report = lambda name: os.path.join(work, "%s.%s.t%s.lod.json" % (name, build.label, threads))
+    with_, without = pack_cpu(report(label)), pack_cpu(report(label + ".noext"))
+    return {"extensions": material_extensions(common.Gltf(src).json), "packCpuWith": round(with_, 3),
+            "packCpuWithout": round(without, 3), "cost": round(with_ / without - 1, 3) if without > 0 else None}
+
+
 def run_peer(name, make, src, work, label, args):
     outs = [os.path.join(work, "%s.%s.%s.glb" % (label, name, r)) for r in args.ratio.split(",")]
     cmds = [make(src, o, r) for o, r in zip(outs, args.ratio.split(","))]
@@ -98,6 +172,10 @@ def run(args, builds, results):
         for b in builds:
             for t in args.threads.split(","):
                 entry["rows"].append(run_lodbake(b, src, work, label, t, args))
+        if args.extension_cost:
+            cost = extension_cost(builds[0], src, work, label, args.threads.split(",")[0], args, entry["rows"][0])
+            if cost:
+                entry["extensionCost"] = cost
         for p in wanted:
             if p in peers:
                 entry["rows"].append(run_peer(p, peers[p], src, work, label, args))
@@ -122,6 +200,10 @@ def format_asset(entry):
             lines.append("  %-36s FAILED %s" % (tag, r["error"].splitlines()[-1][:120] if r["error"] else ""))
             continue
         lines.append("  %-36s %8.2f s wall %8.2f s CPU %8.1f MB peak" % (tag, r["wall"], r["cpu"], r["peakMB"]))
+    cost = entry.get("extensionCost")
+    if cost and "error" not in cost:
+        lines.append("  pack CPU with %s: %.2f s, without: %.2f s (extension channels %+.0f%%)"
+                     % (", ".join(cost["extensions"]), cost["packCpuWith"], cost["packCpuWithout"], 100 * cost["cost"]))
     ours = _first(entry["rows"], tool="lodbake", build="bin")
     if ours:
         for r in entry["rows"]:

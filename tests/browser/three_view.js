@@ -7,9 +7,9 @@
 //   await lodbakeSetup({size})             renderer and lights (size: square image side, pixels)
 //   await lodbakeFrame(url)                frames the cameras on this file's scene
 //   await lodbakeRender(url, node, views, elevationDeg, seams, variant)
-//       renders the file's default scene, or only node `node` (an index, with its children)
-//       when node >= 0, with KHR_materials_variants variant `variant` selected when it is a
-//       name (null = the default materials); returns {ok, errors, width, height, views: [base64 RGBA, rows top-down,
+//       renders the file's default scene, or only node `node` (an index, with its children,
+//       and the scene's KHR_lights_punctual lights) when node >= 0, with KHR_materials_variants
+//       variant `variant` selected when it is a name (null = the default materials); returns {ok, errors, width, height, views: [base64 RGBA, rows top-down,
 //       RGB premultiplied by alpha = composited over black]}; with `seams`, also seams: per view
 //       the visible texture seams as base64 RGBA (R = 255 on a seam pixel, same rows).
 //
@@ -94,7 +94,24 @@ async function loadObject(url, node, variant) {
     const count = (gltf.parser.json.nodes || []).length;
     if (node >= count) throw new Error('node ' + node + ' out of range (' + count + ' nodes)');
     object = await gltf.parser.getDependency('node', node);
+    // The file's punctual lights light every level as a viewer shows them: they come along, at
+    // their place in the scene, when they are not under the node already.
+    const lights = [];
+    if (gltf.scene) {
+      gltf.scene.updateMatrixWorld(true);
+      gltf.scene.traverse((o) => {
+        let inside = false;
+        for (let p = o; p && !inside; p = p.parent) inside = p === object;
+        if (o.isLight && !inside) lights.push(o);
+      });
+    }
     object.removeFromParent();
+    if (lights.length > 0) {
+      const group = new THREE.Group();
+      for (const l of lights) group.attach(l);
+      group.add(object);
+      object = group;
+    }
   }
   if (!object) throw new Error('no scene in ' + url);
   if (variant !== undefined && variant !== null) await selectVariant(gltf, object, variant);
