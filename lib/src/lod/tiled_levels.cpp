@@ -126,8 +126,9 @@ TiledLevelUVs tiledLevelUVs(const TriMesh& original, const std::vector<Vec3>& po
                             const std::vector<uint32_t>& faces, const TilingEligibility& tiling, double maxStretch) {
     const std::vector<Vec2>& uv = uvSetOf(original.wedges, tiling.uvSet);
     auto tileUV = [&](uint32_t w) { return applyTextureTransform(tiling.transform, uv[w]); };
-    // The original's UV-to-3D area ratio and orientation (area-weighted over its triangles), and
-    // each vertex's wedges among the original faces' corners (one per UV island around it).
+    // The original's UV-to-3D area ratio and orientation (area-weighted over its triangles: the
+    // reference where a level triangle's own face has no area), and each vertex's wedges among
+    // the original faces' corners (one per UV island around it).
     double uvSum = 0, areaSum = 0;
     std::vector<std::vector<uint32_t>> wedgesOf(original.vertexCount());
     for (size_t f = 0; f < original.triangleCount(); ++f) {
@@ -139,8 +140,8 @@ TiledLevelUVs tiledLevelUVs(const TriMesh& original, const std::vector<Vec3>& po
             if (std::find(of.begin(), of.end(), w[j]) == of.end()) of.push_back(w[j]);
         }
     }
-    const double orientation = uvSum < 0 ? -1 : 1;
-    const double reference = areaSum > 0 ? std::abs(uvSum) / areaSum : 1;
+    const double meanOrientation = uvSum < 0 ? -1 : 1;
+    const double meanRatio = areaSum > 0 ? std::abs(uvSum) / areaSum : 1;
     const double limit = std::log(maxStretch);
 
     TiledLevelUVs out;
@@ -153,6 +154,11 @@ TiledLevelUVs tiledLevelUVs(const TriMesh& original, const std::vector<Vec3>& po
         const std::array<Vec2, 3> face{tileUV(original.cornerWedges[f][0]), tileUV(original.cornerWedges[f][1]),
                                        tileUV(original.cornerWedges[f][2])};
         const Vec2 centre = (face[0] + face[1] + face[2]) * (1.0 / 3);
+        // The face's own map is the reference (UV density may vary over the original).
+        const double faceUV = 0.5 * uvArea2(face), faceArea = area3(original.positions, original.triangles[f]);
+        const bool own = faceUV != 0 && faceArea > 0;
+        const double reference = own ? std::abs(faceUV) / faceArea : meanRatio;
+        const double orientation = own ? (faceUV < 0 ? -1 : 1) : meanOrientation;
         for (size_t j = 0; j < 3; ++j) {
             const uint32_t v = triangles[t][j];
             const size_t at = size_t(std::find(original.triangles[f].begin(), original.triangles[f].end(), v) - original.triangles[f].begin());
@@ -174,21 +180,28 @@ TiledLevelUVs tiledLevelUVs(const TriMesh& original, const std::vector<Vec3>& po
         levelArea += area;
         double best = stretchOf(out.uv[t], area, reference, orientation);
         if (best <= limit) continue;
-        // Every combination of its corners' wedges: the least stretched (first found on ties).
+        // Every combination of its corners' wedges, each of the last two corners also moved by
+        // whole tiles towards the first (the same texels: a seam where the UVs wrap, such as a
+        // sphere's u = 0 / 1, is a whole number of tiles): the least stretched (first on ties).
         const std::vector<uint32_t>&a = wedgesOf[triangles[t][0]], &b = wedgesOf[triangles[t][1]], &c = wedgesOf[triangles[t][2]];
         std::array<Vec2, 3> chosen = out.uv[t];
         bool changed = false;
+        auto wrapped = [](Vec2 p, Vec2 to, int k) {  // k bit 0: u moved, bit 1: v moved
+            return Vec2{k & 1 ? p.x - std::round(p.x - to.x) : p.x, k & 2 ? p.y - std::round(p.y - to.y) : p.y};
+        };
         for (uint32_t x : a)
             for (uint32_t y : b)
-                for (uint32_t z : c) {
-                    const std::array<Vec2, 3> trial{tileUV(x), tileUV(y), tileUV(z)};
-                    const double s = stretchOf(trial, area, reference, orientation);
-                    if (s < best) {
-                        best = s;
-                        chosen = trial;
-                        changed = true;
+                for (uint32_t z : c)
+                    for (int k = 0; k < 16; ++k) {
+                        const Vec2 p = tileUV(x);
+                        const std::array<Vec2, 3> trial{p, wrapped(tileUV(y), p, k & 3), wrapped(tileUV(z), p, k >> 2)};
+                        const double s = stretchOf(trial, area, reference, orientation);
+                        if (s < best) {
+                            best = s;
+                            chosen = trial;
+                            changed = true;
+                        }
                     }
-                }
         if (changed) ++out.rechosen;
         out.uv[t] = chosen;
         if (best > limit) {

@@ -58,8 +58,9 @@ struct TiledLevelUVs {
 
 // Corner UVs of a level (triangles over `positions`, each descending from original face
 // `faces[t]`): the original's UVs at its corners (a level's vertices are original vertices), each
-// taken from the UV island of its face. A triangle counts as stretched when its UV-to-3D area ratio differs from the
-// original's by more than `maxStretch` times either way, or its UVs face the other way.
+// taken from the UV island of its face. A triangle counts as stretched when its UV-to-3D area
+// ratio differs from its face's by more than `maxStretch` times either way, or its UVs face the
+// other way.
 TiledLevelUVs tiledLevelUVs(const TriMesh& original, const std::vector<Vec3>& positions, const std::vector<Tri>& triangles,
                             const std::vector<uint32_t>& faces, const TilingEligibility& tiling, double maxStretch = 3);
 
