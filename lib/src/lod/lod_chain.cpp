@@ -1147,6 +1147,7 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
             baked = bakeTile(asset, tiling, channels, options.threads);
             tile = levelMaterial(plan, baked, tiling.width, tiling.height, io, "tile");
             tile->repeat = true;
+            std::tie(tile->minFilter, tile->magFilter) = sourceFilters(asset);  // its texels are the source's
         } else if (!repeat && !tiled)
             baked = projected ? bakeProjected(sources, *grid, L, front, la.atlas.width, la.atlas.height, reach, res.diagonal, channels,
                                               targetOrNull, options.threads)
