@@ -23,6 +23,8 @@
 //   variants.glb     KHR_materials_variants: a textured ball on a grey pedestal with variants "red",
 //                    "blue" and "gold" that change the ball, the pedestal or both, and "classic" that
 //                    maps both to their default materials; 1,440 triangles
+//   tiles.glb        a draped sheet whose one material repeats: a 64x64 woven base colour and its
+//                    normal map tiled 8 x 8 by KHR_texture_transform (scale 8, -8); 3,200 triangles
 //
 // `--scale S` multiplies every grid's resolution by S (about S^2 times the triangles) for
 // benchmarks; S = 1 gives the samples above.
@@ -1132,6 +1134,52 @@ Asset makeVariants(double scale) {
     return asset;
 }
 
+// tiles: a draped sheet 2 x 2 (x, z) with one woven material whose textures repeat 8 times each
+// way (KHR_texture_transform scale (8, -8) on UVs spanning [0,1]: the flip is SheenCloth's), the
+// case pack keeps tiled. Both images are periodic, so the tile's edges meet seamlessly.
+Asset makeTiles(double scale) {
+    Asset asset = newAsset("tiles");
+    const int S = 64;
+    // Threads along u and v, over and under each other: a weave whose period is the image.
+    auto weave = [](double x, double y) {  // texel units, period S
+        const double a = std::sin(2 * kPi * 4 * x / S), b = std::sin(2 * kPi * 4 * y / S);
+        return 1.5 * (a * a * (b > 0 ? 1 : 0.4) + b * b * (a > 0 ? 0.4 : 1));
+    };
+    Image colour = imageOf(S, "weave_baseColor", [&](double u, double v) {
+        const double w = weave(u * S, v * S) / 3;
+        return Rgb{uint8_t(40 + 150 * w), uint8_t(60 + 120 * w), uint8_t(160 + 80 * w)};
+    });
+    Material m = plainMaterial("weave", {1, 1, 1, 1}, 0, 0.7);
+    m.baseColor.texture = addImage(asset, std::move(colour));
+    m.normal.texture = addImage(asset, encodePng(normalMapOf(S, 1.0, weave), S, S, "weave_normal"));
+    for (TextureRef* r : {&m.baseColor, &m.normal}) {
+        r->transform.present = true;
+        r->transform.scale = {8, -8};
+    }
+    asset.materials.push_back(m);
+    const int n = scaled(40, scale, 1);
+    auto height = [](double x, double z) { return 0.15 * std::sin(2.5 * x) * std::cos(1.7 * z) + 0.05 * std::sin(4 * x + 3 * z); };
+    auto normalAt = [&](double x, double z) {
+        const double e = 1e-4;
+        const double dx = (height(x + e, z) - height(x - e, z)) / (2 * e), dz = (height(x, z + e) - height(x, z - e)) / (2 * e);
+        return normalize(Vec3{-dx, 1, -dz});
+    };
+    MeshBuilder mb;
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+            auto corner = [&](int ii, int jj) {
+                const double x = 2.0 * jj / n - 1, z = 1 - 2.0 * ii / n;
+                const uint32_t v = mb.vertex({ii, jj, 0}, {x, height(x, z), z});
+                return mb.wedge(v, 0, {double(jj) / n, double(ii) / n}, normalAt(x, z));
+            };
+            const uint32_t a = corner(i, j), b = corner(i, j + 1), c = corner(i + 1, j + 1), d = corner(i + 1, j);
+            mb.triangle(0, {a, b, c});
+            mb.triangle(0, {a, c, d});
+        }
+    asset.mesh = mb.take();
+    return asset;
+}
+
 }  // namespace
 }  // namespace lodbake
 
@@ -1142,7 +1190,7 @@ int main(int argc, char** argv) {
         bool verbose = false;
         double scale = 1;
         cli::ArgParser p("make-samples", "OUTDIR\n\nWrites hemisphere9.glb, wall5.glb, colors.glb, seamball.glb, pbrscene.glb, walker.glb, drum.glb,\n"
-                                         "critter.glb, materials.glb, facets.glb and variants.glb into OUTDIR\n"
+                                         "critter.glb, materials.glb, facets.glb, variants.glb and tiles.glb into OUTDIR\n"
                                          "(created if missing). Output is byte-identical on every run.");
         p.positionals("OUTDIR", [&](const std::string& v) { dirs.push_back(v); });
         p.flag("-v", "print one line per sample", [&] { verbose = true; });
@@ -1170,7 +1218,8 @@ int main(int argc, char** argv) {
                                   {"critter.glb", makeCritter},
                                   {"materials.glb", makeMaterials},
                                   {"facets.glb", makeFacets},
-                                  {"variants.glb", makeVariants}};
+                                  {"variants.glb", makeVariants},
+                                  {"tiles.glb", makeTiles}};
         for (const Sample& s : samples) {
             Asset a = s.make(scale);
             std::string path = (std::filesystem::path(dirs[0]) / s.file).string();

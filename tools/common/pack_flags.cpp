@@ -48,6 +48,9 @@ void addPackFlags(ArgParser& p, PackFlags& a) {
     p.flag("--no-source-texels", "LOD0's page resamples the original's textures at its screen density like every level "
            "(default: it holds the original's texels one to one where they fit --max-size; the report's sourceTexels says)",
            [&o] { o.sourceTexels = false; });
+    p.flag("--no-keep-tiling", "every level gets an atlas page even where all triangles wear one material whose textures repeat "
+           "(default: such levels keep its texture coordinates and one period of it, repeated by the sampler; the report's tiling says)",
+           [&o] { o.keepTiling = false; });
     p.option("--normal-maps", "auto|always|never",
              "bake a normal map: auto = when the input has normal maps and on every coarser level (default auto)",
              [&o](const std::string& v) {

@@ -21,6 +21,7 @@
 #include <cstring>
 #include <filesystem>
 #include <map>
+#include <tuple>
 
 #include <draco/compression/encode.h>
 #include <draco/mesh/mesh.h>
@@ -51,7 +52,7 @@ constexpr const char* kLod = "MSFT_lod";
 constexpr const char* kEmissiveStrength = "KHR_materials_emissive_strength";
 constexpr const char* kUnlit = "KHR_materials_unlit";
 constexpr const char* kLights = "KHR_lights_punctual";
-constexpr int kLinear = 9729, kLinearMipmapLinear = 9987, kClampToEdge = 33071;  // GL enums
+constexpr int kLinear = 9729, kLinearMipmapLinear = 9987, kClampToEdge = 33071, kRepeat = 10497;  // GL enums
 
 using Buffer = BufferBuilder;
 
@@ -79,6 +80,18 @@ void checkLevel(const std::string& path, const LodLevelData& L) {
     if (normalMaps && L.tangents.empty()) throw InvalidInput(path + ": level '" + L.name + "' has a normal map but no tangents");
     for (int m : L.variantMaterial)
         if (m >= int(L.variantMaterials.size())) throw InvalidInput(path + ": level '" + L.name + "' names a missing variant material");
+}
+
+// Draco quantisation bits for a level's UVs: `bits` over one unit of UV, so UVs that tile a
+// repeating texture over a range of R units keep that step (log2 R bits more; at most 30).
+int texcoordBits(const std::vector<float>& uvs, int bits) {
+    float lo = 0, hi = 1;
+    for (float x : uvs) {
+        lo = std::min(lo, x);
+        hi = std::max(hi, x);
+    }
+    const double range = double(hi) - double(lo);
+    return range > 1 ? std::min(30, bits + int(std::ceil(std::log2(range)))) : bits;
 }
 
 // KHR_draco_mesh_compression: the Draco bitstream in a buffer view, accessors without views whose
@@ -120,7 +133,7 @@ json dracoPrimitive(Buffer& b, const LodLevelData& L, const LodChainWriteOptions
     }
     draco::Encoder enc;
     enc.SetAttributeQuantization(draco::GeometryAttribute::POSITION, o.quantPosition);
-    enc.SetAttributeQuantization(draco::GeometryAttribute::TEX_COORD, o.quantTexcoord);
+    enc.SetAttributeQuantization(draco::GeometryAttribute::TEX_COORD, texcoordBits(L.uvs, o.quantTexcoord));
     enc.SetAttributeQuantization(draco::GeometryAttribute::NORMAL, o.quantNormal);
     // Generic attributes: tangents and skin weights (integer joints are never quantised).
     if (tangents || skinned) enc.SetAttributeQuantization(draco::GeometryAttribute::GENERIC, o.quantNormal);
@@ -328,12 +341,14 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
     // for the mip levels it uses.
     const size_t meshBase = meshes.size();
     json samplers = doc.samplers;
-    std::map<std::pair<int, int>, size_t> samplerOf;  // (min, mag) filter -> sampler index
-    auto samplerFor = [&](int minFilter, int magFilter) {
-        const std::pair<int, int> key{minFilter ? minFilter : kLinearMipmapLinear, magFilter ? magFilter : kLinear};
+    std::map<std::tuple<int, int, int>, size_t> samplerOf;  // (min, mag) filter, wrap -> sampler index
+    auto samplerFor = [&](int minFilter, int magFilter, bool repeat) {
+        const std::tuple<int, int, int> key{minFilter ? minFilter : kLinearMipmapLinear, magFilter ? magFilter : kLinear,
+                                            repeat ? kRepeat : kClampToEdge};
         auto it = samplerOf.find(key);
         if (it != samplerOf.end()) return it->second;
-        samplers.push_back({{"magFilter", key.second}, {"minFilter", key.first}, {"wrapS", kClampToEdge}, {"wrapT", kClampToEdge}});
+        const int wrap = std::get<2>(key);
+        samplers.push_back({{"magFilter", std::get<1>(key)}, {"minFilter", std::get<0>(key)}, {"wrapS", wrap}, {"wrapT", wrap}});
         return samplerOf[key] = samplers.size() - 1;
     };
     std::vector<int> levelNodes;
@@ -350,6 +365,7 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
         size_t sampler, texture;
     };
     std::vector<std::vector<WrittenTexture>> writtenTextures(levels.size());
+    std::vector<WrittenTexture> repeatTextures;  // every level's textures of repeating materials (LodMaterial::repeat)
     // With `uniforms` (a part of a split level): the material with those values (material_uniforms.h).
     auto writeMaterial = [&](const LodMaterial& M, const std::string& name, std::vector<WrittenTexture>* written, size_t& imageBytes,
                              const MaterialUniforms* uniforms = nullptr) {
@@ -358,7 +374,8 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
         bool unlit = M.unlit;
         MaterialExtensions materialExt = M.ext;
         if (uniforms) applyUniforms(*uniforms, alphaMode, alphaCutoff, unlit, materialExt);
-        const size_t sampler = samplerFor(M.minFilter, M.magFilter);
+        const size_t sampler = samplerFor(M.minFilter, M.magFilter, M.repeat);
+        if (M.repeat) written = &repeatTextures;  // one period of a material: the same for every level
         // Adds one texture (and its image) of this level; returns the texture index.
         auto addTexture = [&](const Image& image, const std::string& suffix) {
             if (written)

@@ -39,6 +39,7 @@
 #include "lod/level_variants.h"
 #include "lod/rank_choice.h"
 #include "lod/source_texels.h"
+#include "lod/tiled_levels.h"
 #include "lod/vertex_placement.h"
 #include "lodbake/core/errors.h"
 #include "lodbake/core/timing.h"
@@ -605,6 +606,17 @@ void buildLevelMesh(const Asset& asset, const LevelView& lv, const LevelUVs& luv
     splitRoundedSliverCorners(placed, out);
 }
 
+// A tiled level's page (tiled_levels.h): one chart, the tile, its UVs kept as they are.
+LevelAtlas tiledPage(const TilingEligibility& tiling, PackLevelReport& r) {
+    LevelAtlas la;
+    la.atlas.width = r.width = tiling.width;
+    la.atlas.height = r.height = tiling.height;
+    la.atlas.charts = {ChartPlacement{{double(tiling.width), 0, 0, 0, double(tiling.height), 0}}};
+    la.chartSlot = {0};
+    la.charts = r.charts = 1;
+    return la;
+}
+
 // 1. T0 and, with a texture hierarchy, every rank (faces, UV area, UV-to-model scale).
 std::vector<LayoutData> layoutsOf(const Asset& asset, const Multires& mr, bool hierarchy) {
     std::vector<LayoutData> layouts;
@@ -1025,12 +1037,21 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
     io.jpegQuality = options.jpegQuality;
     io.ktx2Encoder = options.ktx2Encoder;
     io.threads = options.threads;
+    // A repeating material keeps its tiling: levels on one baked period of it (tiled_levels.h).
+    const TilingEligibility tiling = options.keepTiling ? tilingEligibility(asset) : TilingEligibility{};
+    const bool tileNormalMap = !options.baseColorOnly && (options.normalMaps == NormalMaps::Always ||
+                                                          (options.normalMaps == NormalMaps::Auto && plan.normalTexture));
+    std::optional<LodMaterial> tile;  // baked at the first tiled level
     res.levels.resize(original ? n - 1 : n);
     for (size_t k = 0; k < n; ++k) {
         PackLevelReport& r = res.reports[k];
         levelCoverage(res, k, options, r);
         const std::vector<uint32_t> eligible = eligibleRanks(mr, layouts, views[k].level, hierarchy, area3D, options, r);
         setTextureSize(mr, layouts, hierarchy, r);
+        r.tiling.note = tiling.reason;
+        std::optional<TiledLevelUVs> tiled;
+        if (tiling.eligible)
+            tiled = tiledLevel(mesh, views[k].positionsOr(mesh), views[k].triangles, views[k].faces, tiling, r.tiling);
         const bool projected = k > 0 && options.projectLevels;
         // Several layouts eligible: the one whose bake shows the least texture deviation (LOD0 on
         // the source texels needs none, unless they do not fit; the original as LOD0 bakes none).
@@ -1040,7 +1061,7 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
             if (options.rankByBake && eligible.size() > 1 && !(original && k == 0))
                 chooseLayoutByBake(sources, mr, layouts, eligible, views[k], k, projected, levelNormalMap, grid, res, options, r);
         };
-        if (k == 0 && options.sourceTexels) {
+        if (k == 0 && options.sourceTexels && !tiled) {
             std::vector<std::pair<int, int>> sizes;
             for (const Image& image : asset.images) sizes.push_back(imageSize(image));
             sourceLayout = sourceTexelLayout(asset, sizes, *layouts[0].ch, r.texelLimit / layouts[0].uvPerUnit);
@@ -1050,7 +1071,7 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
             }
             r.sourceTexelsNote = sourceLayout->reason;
         }
-        if (!(k == 0 && sourceData)) chooseRank();
+        if (!(k == 0 && sourceData) && !tiled) chooseRank();
         auto tStep = Clock::now();
         double cpuStep = processCpuSeconds();
         auto lap = [&](double& wall, double& cpu) {
@@ -1067,7 +1088,14 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
         // LOD0 on the source texels when they fit the page whole, else on the rank's layout.
         bool sourceTexels = k == 0 && sourceData;
         LayoutData* layout = sourceTexels ? &*sourceData : &layouts[r.rank];
-        {  // the level's layout UVs end with its mesh, before the bake
+        if (tiled) {  // the original's texture coordinates on the tile
+            la = tiledPage(tiling, r);
+            if (original && k == 0) continue;
+            LevelUVs luv;
+            luv.uv = std::move(tiled->uv);
+            luv.chart.assign(luv.uv.size(), 0);
+            buildLevelMesh(asset, views[k], luv, la, L);
+        } else {  // the level's layout UVs end with its mesh, before the bake
             LevelUVs luv = projected ? ownCharts(mesh, *layout, views[k], levelUVs(mesh, *layout, views[k], views[k].data))
                                      : levelUVs(mesh, *layout, views[k], views[k].data);
             lap(r.wall.uvs, r.cpu.uvs);
@@ -1099,12 +1127,12 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
             return levelChannels(p, !options.baseColorOnly && (options.normalMaps == NormalMaps::Always ||
                                                                (options.normalMaps == NormalMaps::Auto && (p.normalTexture || k > 0))));
         };
-        const BakeChannels channels = channelsOf(plan);
+        const BakeChannels channels = tiled ? levelChannels(plan, tileNormalMap) : channelsOf(plan);
         const bool normalMaps = channels.normal || channels.clearcoatNormal || channels.anisotropy || variantsNeedTangents(variants, channelsOf);
         if (normalMaps) L.tangents = levelTangents(L);
         // The normal maps' target frames; none without one.
         std::optional<BakeTarget> target;
-        if (normalMaps) target = levelBakeTarget(L, la.atlas.width, la.atlas.height);
+        if (normalMaps && !tiled) target = levelBakeTarget(L, la.atlas.width, la.atlas.height);
         const BakeTarget* targetOrNull = target ? &*target : nullptr;
         lap(r.wall.mesh, r.cpu.mesh);
         const double reach = 1.5 * r.hausdorff + kProjectionSlack * res.diagonal;
@@ -1113,16 +1141,21 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
         const LodLevelData* previous = k > 1 ? &res.levels[k - 1 - (original ? 1 : 0)] : nullptr;
         const bool repeat = projected && previous && reach == previousReach && la.atlas.width == res.reports[k - 1].width &&
                             la.atlas.height == res.reports[k - 1].height && sameLevelMesh(L, *previous);
-        if (projected && !grid && !repeat) grid.emplace(mesh);
+        if (projected && !grid && !repeat && !tiled) grid.emplace(mesh);
         BakeResult baked;
-        if (!repeat)
+        if (tiled && !tile) {
+            baked = bakeTile(asset, tiling, channels, options.threads);
+            tile = levelMaterial(plan, baked, tiling.width, tiling.height, io, "tile");
+            tile->repeat = true;
+            std::tie(tile->minFilter, tile->magFilter) = sourceFilters(asset);  // its texels are the source's
+        } else if (!repeat && !tiled)
             baked = projected ? bakeProjected(sources, *grid, L, front, la.atlas.width, la.atlas.height, reach, res.diagonal, channels,
                                               targetOrNull, options.threads)
                               : bakePage(sources, *layout, la, channels, targetOrNull, options.threads, sourceTexels);
-        previousReach = projected ? reach : -1;
+        previousReach = projected && !tiled ? reach : -1;
         r.bakeSeconds = baked.seconds;
         lap(r.wall.bake, r.cpu.bake);
-        L.material = repeat ? previous->material : levelMaterial(plan, baked, la.atlas.width, la.atlas.height, io, L.name);
+        L.material = tiled ? *tile : repeat ? previous->material : levelMaterial(plan, baked, la.atlas.width, la.atlas.height, io, L.name);
         if (sourceTexels) std::tie(L.material.minFilter, L.material.magFilter) = sourceFilters(asset);
         if (repeat && !variants.empty()) copyLevelVariants(*previous, variants, L, r);
         if (!repeat && !variants.empty())  // the same bake with each variant's sources and channels

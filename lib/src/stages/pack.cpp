@@ -58,6 +58,10 @@ nlohmann::json makeReport(const PackSettings& s, const Asset& asset, const Multi
             levels.back()["sourceTexels"] = r.sourceTexelsNote.empty()
                                                 ? nlohmann::json{{"used", r.sourceTexels}}
                                                 : nlohmann::json{{"used", r.sourceTexels}, {"why", r.sourceTexelsNote}};
+        if (!r.tiling.note.empty())
+            levels.back()["tiling"] = {{"tiled", r.tiling.tiled}, {"why", r.tiling.note}, {"span", r.tiling.span},
+                                       {"rechosenTriangles", r.tiling.rechosen}, {"stretchedTriangles", r.tiling.stretched},
+                                       {"stretchedArea", r.tiling.stretchedArea}};
         if (!r.rankChoice.candidates.empty()) {
             const PackLevelReport::RankChoice& rc = r.rankChoice;
             nlohmann::json candidates = nlohmann::json::array();

@@ -43,6 +43,10 @@ struct LodMaterial {
     // The textures' GL min / mag filters; 0 = the chain's (LINEAR_MIPMAP_LINEAR, LINEAR). A page
     // holding the original's texels one to one keeps the original's filters.
     int minFilter = 0, magFilter = 0;
+    // The textures wrap REPEAT: they hold one period of a repeating material, which the level's
+    // UVs (outside [0,1]) tile; else CLAMP_TO_EDGE (an atlas page). Textures of repeating
+    // materials equal to ones an earlier level wrote are shared across the chain's levels.
+    bool repeat = false;
 };
 
 // One primitive of a level drawn as several (lodbake/bake/draw_split.h): its triangles and the

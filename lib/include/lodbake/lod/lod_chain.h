@@ -84,6 +84,10 @@ struct PackOptions {
     // islands (lod/source_texels.h), where the original allows it (else, and when false, LOD0
     // resamples them at its layout's density like every level).
     bool sourceTexels = true;
+    // Where every triangle wears one material whose textures repeat (lod/tiled_levels.h), the
+    // levels keep its texture coordinates and their pages hold one period of it, repeated by the
+    // sampler, instead of an atlas of the surface.
+    bool keepTiling = true;
     // At most this many primitives (draw calls) per baked level where the input's materials
     // disagree on what glTF cannot vary per texel (ior, attenuation, dispersion, iridescence ior,
     // unlit, alpha mode and cutoff: lodbake/bake/draw_split.h); 0 = as many as keep every
@@ -140,6 +144,18 @@ struct PackLevelReport {
     // LOD0: its page holds the original's texels one to one (PackOptions::sourceTexels), or why not.
     bool sourceTexels = false;
     std::string sourceTexelsNote;
+    // The level keeps the input material's tiling (PackOptions::keepTiling, lod/tiled_levels.h):
+    // its UVs are the original's texture coordinates, its page (width x height) one period of the
+    // material, its sampler repeats. `note` says why (or why not: the chain is not eligible, or the
+    // level's UVs stretch over too much of its area and it takes an atlas page).
+    struct Tiling {
+        bool tiled = false;
+        std::string note;
+        double span = 0;              // extent of the texture coordinates, tiles
+        size_t rechosen = 0;          // triangles that took other wedges of their corners (corners across UV seams)
+        size_t stretched = 0;         // ... still stretched or flipped after that
+        double stretchedArea = 0;     // their share of the level's area
+    } tiling;
     // KHR_materials_variants, per variant of the input: its name, the level's variant material it
     // uses (-1 = the level's default material: the variant changes nothing the level shows; two
     // variants with equal materials share one) and that material's textures (channelNames).
