@@ -502,7 +502,7 @@ Asset makePbrScene(double scale) {
         }
     asset.mesh = mb.take();
     asset.mesh.wedges.uv1 = asset.mesh.wedges.uv0;  // the body's occlusion reads TEXCOORD_1
-    asset.mesh.wedges.tangent = computeWedgeTangents(asset.mesh, 0);
+    asset.mesh.wedges.tangent = computeWedgeTangents(asset.mesh, asset.mesh.wedges.uv0);
     return asset;
 }
 

@@ -44,7 +44,7 @@ std::vector<std::array<Vec2, 3>> ownUVs(const TriMesh& m) {
 
 // The quad itself as the bake's target surface (its frames from computeWedgeTangents).
 BakeTarget ownTarget(const TriMesh& m) {
-    const std::vector<Vec4> t = computeWedgeTangents(m, 0);
+    const std::vector<Vec4> t = computeWedgeTangents(m, m.wedges.uv0);
     BakeTarget target;
     target.uv = ownUVs(m);
     for (size_t f = 0; f < m.triangleCount(); ++f) {
@@ -71,7 +71,7 @@ int addConstantTexture(Asset& a, const uint8_t (&rgb)[3]) {
 
 TEST(Tangents, AlongUAndRightHandedForGltfUVs) {
     const Asset a = unitQuad();
-    for (const Vec4& t : computeWedgeTangents(a.mesh, 0)) {
+    for (const Vec4& t : computeWedgeTangents(a.mesh, a.mesh.wedges.uv0)) {
         EXPECT_NEAR(t.x, 1, 1e-12);
         EXPECT_NEAR(t.y, 0, 1e-12);
         EXPECT_NEAR(t.z, 0, 1e-12);
@@ -81,7 +81,7 @@ TEST(Tangents, AlongUAndRightHandedForGltfUVs) {
 
 TEST(Tangents, MirroredUVsFlipTheHandedness) {
     const Asset a = unitQuad(true);
-    for (const Vec4& t : computeWedgeTangents(a.mesh, 0)) {
+    for (const Vec4& t : computeWedgeTangents(a.mesh, a.mesh.wedges.uv0)) {
         EXPECT_NEAR(t.x, -1, 1e-12);
         EXPECT_EQ(t.w, -1);
     }

@@ -12,6 +12,7 @@
 #include "lodbake/core/parallel.h"
 #include "lodbake/core/tangents.h"
 #include "lodbake/texture/codec.h"
+#include "lodbake/texture/texture_transform.h"
 
 namespace lodbake {
 namespace bake_detail {
@@ -102,7 +103,8 @@ struct BakeSources::Impl {
                     // Anisotropy needs the frame even without a texture (its rotation is relative to it).
                     if (map->texture < 0 && !(map == &m.ext.anisotropy.texture && m.ext.anisotropy.present)) continue;
                     const int set = (map->transform.texCoord >= 0 ? map->transform.texCoord : map->texCoord) == 1 ? 1 : 0;
-                    if (tangents[size_t(set)].empty()) tangents[size_t(set)] = computeWedgeTangents(asset.mesh, set);
+                    if (tangents[size_t(set)].empty())
+                        tangents[size_t(set)] = computeWedgeTangents(asset.mesh, normalMapUVs(asset.mesh, asset.materials, set));
                 }
     }
 };

@@ -59,9 +59,8 @@ std::vector<Vec4> computeTangents(const std::vector<Vec3>& positions, const std:
     return out;
 }
 
-std::vector<Vec4> computeWedgeTangents(const TriMesh& mesh, int texCoord) {
+std::vector<Vec4> computeWedgeTangents(const TriMesh& mesh, const std::vector<Vec2>& uv) {
     const Wedges& W = mesh.wedges;
-    const std::vector<Vec2>& uv = texCoord == 1 ? W.uv1 : W.uv0;
     const size_t n = W.size();
     std::vector<Vec3> positions(n), normals(n);
     for (size_t w = 0; w < n; ++w) positions[w] = mesh.positions[W.vertex[w]];

@@ -264,13 +264,8 @@ BakeResult bakeTile(const Asset& asset, const TilingEligibility& tiling, const B
     m.triangleMaterial = {0, 0};
     target.indices = {3, 2, 1, 3, 1, 0};
     target.tangents = levelTangents(target);
-    // Without TANGENT in the file, viewers derive the original's frames from the texture
-    // coordinates as the textures read them (after the transform; three.js's derivative frames):
-    // those of the tile. With TANGENT, the file's frames follow the stored UVs, as the bake derives
-    // them for the quad.
-    if (asset.mesh.wedges.tangent.empty())
-        for (size_t i = 0; i < 4; ++i)
-            m.wedges.tangent.push_back({target.tangents[4 * i], target.tangents[4 * i + 1], target.tangents[4 * i + 2], target.tangents[4 * i + 3]});
+    // Without TANGENT in the file, the bake takes the original's frames from the UVs as its normal
+    // map reads them (normalMapUVs): the quad's are the tile's, as viewers show the original.
 
     const int size = std::max(tiling.width, tiling.height);
     std::vector<std::array<Vec2, 3>> cornerUV(2);

@@ -105,7 +105,7 @@ RenderScene prepareRenderScene(const Asset& asset, const TriMesh& mesh) {
     }
     if (mesh.wedges.tangent.size() != mesh.wedges.size())
         for (int set = 0; set < 2; ++set)
-            if (normalMapSet[set]) scene.tangents[set] = computeWedgeTangents(mesh, set);
+            if (normalMapSet[set]) scene.tangents[set] = computeWedgeTangents(mesh, normalMapUVs(mesh, asset.materials, set));
     scene.seamEdges = textureSeamEdges(mesh);
     return scene;
 }

@@ -22,10 +22,11 @@ namespace lodbake {
 std::vector<Vec4> computeTangents(const std::vector<Vec3>& positions, const std::vector<Vec3>& normals,
                                   const std::vector<Vec2>& uvs, const std::vector<Tri>& triangles);
 
-// The same for the wedges of `mesh` (a wedge is a glTF vertex) with the UV set `texCoord`
-// (0 or 1): the frames the original's normal maps were authored in when the file has no TANGENT.
+// The same for the wedges of `mesh` (a wedge is a glTF vertex) with texture coordinates `uv`
+// (one per wedge; the UV set as the normal map reads it: texture/texture_transform.h
+// normalMapUVs): the frames the original's normal maps are shown in when the file has no TANGENT.
 // Normals come from the wedges, or from the welded faces when the file has none.
-std::vector<Vec4> computeWedgeTangents(const TriMesh& mesh, int texCoord);
+std::vector<Vec4> computeWedgeTangents(const TriMesh& mesh, const std::vector<Vec2>& uv);
 
 // The tangent frame at a point of a triangle, the one convention the bake (decoding the
 // original's maps, encoding a level's), compare's renderer and the level files share: N is the
