@@ -172,6 +172,23 @@ TEST(SurfaceDistance, ReferenceClosestPointLiesOnTheSurface) {
     EXPECT_NEAR(length(inside - Vec3{1, 1, 1.5}), 0, 1e-12);
 }
 
+// Many queries at once (a walk that starts each search from the previous answer) give each
+// query's own closest point, for any thread count.
+TEST(SurfaceDistance, ReferenceClosestPointsAreEachPointsClosestPoint) {
+    const DistanceReference reference(box({1, 2, 3}));
+    std::vector<Vec3> points;
+    for (int i = 0; i < 9000; ++i)  // a spiral around and through the box: near and far in turn
+        points.push_back({0.5 + 1.5 * std::cos(0.01 * i), 1 + 2.5 * std::sin(0.013 * i), 1.5 + 2 * std::sin(0.003 * i)});
+    const std::vector<Vec3> one = reference.closestPoints(points, 1), two = reference.closestPoints(points, 2);
+    ASSERT_EQ(one.size(), points.size());
+    for (size_t i = 0; i < points.size(); ++i) {
+        EXPECT_NEAR(length(one[i] - points[i]), length(reference.closestPoint(points[i]) - points[i]), 1e-12);
+        EXPECT_EQ(one[i].x, two[i].x);
+        EXPECT_EQ(one[i].y, two[i].y);
+        EXPECT_EQ(one[i].z, two[i].z);
+    }
+}
+
 // A coarse level far from a bumpy original everywhere (every run of samples is "hot"): the
 // refined measure keeps the exhaustive maximum while querying only the samples that the strided
 // ones' distance bound cannot rule out.

@@ -59,24 +59,44 @@ Oriented frameAt(const AtlasChart& chart, const std::vector<Vec2>& hull, double 
     return o;
 }
 
-// True when triangle q[0..2] and the unit cell [x, x+1] x [y, y+1] overlap by more than a hair
-// (separating axes: the two cell axes and the three edge normals).
-bool triangleTouchesCell(const std::array<Vec2, 3>& q, int x, int y) {
-    const double eps = 1e-6;
-    const Vec2 cell[4] = {{double(x), double(y)}, {x + 1.0, double(y)}, {x + 1.0, y + 1.0}, {double(x), y + 1.0}};
-    for (int k = 0; k < 3; ++k) {
-        Vec2 e = q[(k + 1) % 3] - q[k];
-        Vec2 n{-e.y, e.x};
-        double t0 = dot(n, q[0]), t1 = dot(n, q[1]), t2 = dot(n, q[2]);
-        double tMin = std::min({t0, t1, t2}), tMax = std::max({t0, t1, t2});
-        double cMin = 1e300, cMax = -1e300;
-        for (const Vec2& c : cell) { cMin = std::min(cMin, dot(n, c)); cMax = std::max(cMax, dot(n, c)); }
-        double scale = std::sqrt(dot(n, n));
-        if (scale == 0) continue;
-        if (cMax <= tMin + eps * scale || tMax <= cMin + eps * scale) return false;
+// Whether a triangle and a unit cell [x, x+1] x [y, y+1] overlap by more than a hair (separating
+// axes: the three edge normals; the caller visits only cells within the triangle's bounding box).
+// What depends on the triangle alone is computed once, for every cell it is tested against.
+class TriangleCellTest {
+public:
+    explicit TriangleCellTest(const std::array<Vec2, 3>& q) {
+        for (int k = 0; k < 3; ++k) {
+            Axis& a = axes_[size_t(k)];
+            Vec2 e = q[size_t((k + 1) % 3)] - q[size_t(k)];
+            a.n = {-e.y, e.x};
+            const double t0 = dot(a.n, q[0]), t1 = dot(a.n, q[1]), t2 = dot(a.n, q[2]);
+            a.tMin = std::min({t0, t1, t2});
+            a.tMax = std::max({t0, t1, t2});
+            const double scale = std::sqrt(dot(a.n, a.n));
+            a.skip = scale == 0;
+            a.margin = kEps * scale;
+        }
     }
-    return true;
-}
+    bool touches(int x, int y) const {
+        const Vec2 cell[4] = {{double(x), double(y)}, {x + 1.0, double(y)}, {x + 1.0, y + 1.0}, {double(x), y + 1.0}};
+        for (const Axis& a : axes_) {
+            if (a.skip) continue;
+            double cMin = 1e300, cMax = -1e300;
+            for (const Vec2& c : cell) { cMin = std::min(cMin, dot(a.n, c)); cMax = std::max(cMax, dot(a.n, c)); }
+            if (cMax <= a.tMin + a.margin || a.tMax <= cMin + a.margin) return false;
+        }
+        return true;
+    }
+
+private:
+    static constexpr double kEps = 1e-6;
+    struct Axis {
+        Vec2 n;
+        double tMin = 0, tMax = 0, margin = 0;
+        bool skip = false;  // a degenerate edge separates nothing
+    };
+    std::array<Axis, 3> axes_;
+};
 
 }  // namespace
 
@@ -119,9 +139,10 @@ std::vector<uint8_t> chartMask(const Oriented& c, double t, int radius, int& gw,
         int x1 = std::min(gw - 1, int(std::floor(std::max({q[0].x, q[1].x, q[2].x}))));
         int y0 = std::max(0, int(std::floor(std::min({q[0].y, q[1].y, q[2].y}))));
         int y1 = std::min(gh - 1, int(std::floor(std::max({q[0].y, q[1].y, q[2].y}))));
+        const TriangleCellTest test(q);
         for (int y = y0; y <= y1; ++y)
             for (int x = x0; x <= x1; ++x)
-                if (!mask[size_t(y) * size_t(gw) + size_t(x)] && triangleTouchesCell(q, x, y)) mark(x, y);
+                if (!mask[size_t(y) * size_t(gw) + size_t(x)] && test.touches(x, y)) mark(x, y);
     }
     if (rasterCells) *rasterCells = size_t(std::count(mask.begin(), mask.end(), uint8_t(1)));
     // Grow by the gutter radius (a square, separable max filter): two footprints that do not

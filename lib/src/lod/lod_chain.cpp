@@ -658,7 +658,7 @@ void placeVertices(const Asset& asset, LevelView& lv, bool posed, PosedDistanceR
     report.seconds = secondsSince(t0);
 }
 
-constexpr size_t kMeasureStride = 4;  // coarse pass of pack's measure: every 4th sample (DistanceOptions)
+constexpr size_t kMeasureStride = 8;  // coarse pass of pack's measure: every 8th sample (DistanceOptions)
 
 // 2. The measured deviation of each level from the original (LOD0: none), after vertex placement
 // where it applies; for a rigged asset the largest over the bind pose and the sampled poses.

@@ -60,7 +60,7 @@ std::vector<SurfaceSample> areaSamples(const std::vector<Vec3>& positions, const
     for (size_t i = 0; i < count; ++i) {
         const double u = (double(i) + 0.5) / double(count) * total;
         const size_t t = size_t(std::upper_bound(cumulative.begin(), cumulative.end(), u) - cumulative.begin());
-        double a = std::fmod(0.5 + double(i) * 0.7548776662466927, 1.0), b = std::fmod(0.5 + double(i) * 0.5698402909980532, 1.0);
+        double a = fractionalPart(0.5 + double(i) * 0.7548776662466927), b = fractionalPart(0.5 + double(i) * 0.5698402909980532);
         if (a + b > 1) { a = 1 - a; b = 1 - b; }
         out[i] = {uint32_t(std::min(t, triangles.size() - 1)), {1 - a - b, a, b}};
     }
@@ -181,10 +181,10 @@ PlacementResult placeLevelVertices(const TriMesh& original, const DistanceRefere
             }
         });
         const std::vector<SurfaceSample> levelSamples = areaSamples(pos, level.triangles, sampleCount);
-        std::vector<Vec3> onOriginal(levelSamples.size());
-        parallelFor(levelSamples.size(), options.threads, [&](size_t i) {
-            onOriginal[i] = surface.closestPoint(pointOf(pos, level.triangles[levelSamples[i].triangle], levelSamples[i].bary));
-        });
+        std::vector<Vec3> levelPoints(levelSamples.size());
+        for (size_t i = 0; i < levelSamples.size(); ++i)
+            levelPoints[i] = pointOf(pos, level.triangles[levelSamples[i].triangle], levelSamples[i].bary);
+        const std::vector<Vec3> onOriginal = surface.closestPoints(levelPoints, options.threads);
 
         double rms = 0;
         {

@@ -113,8 +113,8 @@ Vec3 samplePoint(const Surface& s, size_t i, size_t n, double offset) {
     if (t >= s.triangles.size()) t = s.triangles.size() - 1;
     // R2 sequence (Roberts 2018) for the point inside the triangle, folded into the triangle.
     const double g = 1.32471795724474602596;
-    double u = std::fmod(0.5 + (i + 1) / g, 1.0);
-    double v = std::fmod(0.5 + (i + 1) / (g * g), 1.0);
+    double u = fractionalPart(0.5 + double(i + 1) / g);
+    double v = fractionalPart(0.5 + double(i + 1) / (g * g));
     if (u + v > 1) {
         u = 1 - u;
         v = 1 - v;
@@ -269,6 +269,16 @@ DistanceReference::DistanceReference(DistanceReference&&) noexcept = default;
 DistanceReference& DistanceReference::operator=(DistanceReference&&) noexcept = default;
 
 Vec3 DistanceReference::closestPoint(Vec3 p) const { return toVec(prepared_->measured.tree.closest_point(toPoint(p))); }
+
+std::vector<Vec3> DistanceReference::closestPoints(const std::vector<Vec3>& points, int threads) const {
+    const Measured& m = prepared_->measured;
+    std::vector<Vec3> out(points.size());
+    parallelFor((points.size() + kChunk - 1) / kChunk, threads, [&](size_t c) {
+        NearestWalk nearest(m.tree, m.triangleSize);
+        for (size_t i = c * kChunk; i < std::min(points.size(), (c + 1) * kChunk); ++i) out[i] = toVec(nearest(toPoint(points[i])));
+    });
+    return out;
+}
 
 GeometricDistance surfaceDistance(const DistanceReference& reference, const TriMesh& b, const DistanceOptions& options) {
     const Measured& ma = reference.prepared().measured;

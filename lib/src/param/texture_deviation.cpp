@@ -141,7 +141,7 @@ TextureDeviation textureDeviation(const TriMesh& mesh, const Level& level, const
             ++out.samples;
         };
         auto r2Point = [&](size_t seq) {
-            return std::array<double, 2>{std::fmod(0.5 + a1 * double(seq + 1), 1.0), std::fmod(0.5 + a2 * double(seq + 1), 1.0)};
+            return std::array<double, 2>{fractionalPart(0.5 + a1 * double(seq + 1)), fractionalPart(0.5 + a2 * double(seq + 1))};
         };
         auto samplePoint = [&](size_t seq, Vec3& p, Vec2& u) {
             const auto [r1, r2] = r2Point(seq);

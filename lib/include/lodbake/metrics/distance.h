@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <vector>
 
 #include "lodbake/core/mesh.h"
 
@@ -72,6 +73,10 @@ public:
 
     // The closest point of `a`'s surface to p (thread-safe).
     Vec3 closestPoint(Vec3 p) const;
+    // The closest point of `a`'s surface to each of `points`, on `threads` threads (0 = all cores;
+    // never changes the result). Consecutive points that lie close together (samples along a
+    // surface) start their search from the previous answer: far cheaper than one closestPoint each.
+    std::vector<Vec3> closestPoints(const std::vector<Vec3>& points, int threads = 0) const;
 
     struct Prepared;
     const Prepared& prepared() const { return *prepared_; }
