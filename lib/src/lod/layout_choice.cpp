@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "lodbake/core/timing.h"
 #include "lod/level_mesh.h"
 #include "lod/page_bake.h"
 #include "lod/rank_choice.h"
@@ -19,8 +18,6 @@ constexpr double kScoredMaxSide = 512;
 
 LayoutChoice chooseLayoutByBake(const BakeSources& sources, std::vector<LayoutData>& layouts, const ChoiceLevel& level,
                                 std::optional<FaceGrid>& grid, const PackResult& res, const PackOptions& options) {
-    const auto t0 = Clock::now();
-    const double cpu0 = processCpuSeconds();
     const Asset& asset = sources.asset();
     const TriMesh& mesh = asset.mesh;
     const LevelView& view = *level.view;
@@ -107,8 +104,6 @@ LayoutChoice chooseLayoutByBake(const BakeSources& sources, std::vector<LayoutDa
     for (const RankCandidate& c : candidates)
         rc.candidates.push_back({c.rank, c.deviation.score, c.deviation.color, c.deviation.normal, c.width, c.height, c.charts});
     rc.reason = choiceReason(candidates, best, rc.byEnergy);
-    rc.seconds = secondsSince(t0);
-    rc.cpuSeconds = processCpuSeconds() - cpu0;
     return choice;
 }
 

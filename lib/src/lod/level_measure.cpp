@@ -24,15 +24,15 @@ GeometricDistance measureLevel(const Asset& asset, const LevelView& lv, bool pos
 }
 
 // Vertex placement of level view `lv` (measured as `d`): kept when the measured Hausdorff
-// distance does not grow, which `d` then holds.
+// distance does not grow, which `d` then holds. `time` receives the placement's seconds.
 void placeVertices(const Asset& asset, LevelView& lv, bool posed, PosedDistanceReference& original,
-                   const DistanceOptions& dopt, GeometricDistance& d, PackLevelReport::Placement& report) {
+                   const DistanceOptions& dopt, GeometricDistance& d, PackLevelReport::Placement& report, PackLevelProfile& time) {
     auto t0 = Clock::now();
     PlacementOptions po;
     po.threads = dopt.threads;
     PlacementResult placed = placeLevelVertices(asset.mesh, original.bind(), *lv.data, po);
-    report = {true, false, d.hausdorff, d.relHausdorff, d.rms, d.relRms, placed.moved, placed.fixed, placed.shortened,
-              placed.rounds, 0, secondsSince(t0)};
+    report = {true, false, d.hausdorff, d.relHausdorff, d.rms, d.relRms, placed.moved, placed.fixed, placed.shortened, placed.rounds};
+    time.placeSeconds = secondsSince(t0);
     if (placed.moved > 0) {
         lv.positions = std::move(placed.positions);
         GeometricDistance after = measureLevel(asset, lv, posed, original, dopt);
@@ -40,16 +40,17 @@ void placeVertices(const Asset& asset, LevelView& lv, bool posed, PosedDistanceR
         if (report.applied) d = after;
         else lv.positions.clear();
     }
-    report.seconds = secondsSince(t0);
+    time.placementSeconds = secondsSince(t0);
 }
 
 }  // namespace
 
 void measureLevels(const Asset& asset, std::vector<LevelView>& views, const PackOptions& options, PackResult& res,
-                   const std::function<void(double)>& progress) {
+                   std::vector<PackLevelProfile>& time, const std::function<void(double)>& progress) {
     const std::vector<PoseSample> poses = samplePoses(asset.rig, options.poses);
     const size_t n = views.size();
     res.reports.resize(n);
+    time.resize(n);
     DistanceOptions dopt;
     dopt.samplesPerSide = options.distanceSamples;
     dopt.threads = options.threads;
@@ -69,7 +70,7 @@ void measureLevels(const Asset& asset, std::vector<LevelView>& views, const Pack
         GeometricDistance d = k > 1 && sameSurface(views[k], views[k - 1]) ? previous : measureLevel(asset, views[k], posed, original, dopt);
         previous = d;
         if (options.vertexPlacement && options.projectLevels && views[k].data)
-            placeVertices(asset, views[k], posed, original, dopt, d, r.placement);
+            placeVertices(asset, views[k], posed, original, dopt, d, r.placement, time[k]);
         r.hausdorff = d.hausdorff;
         r.relHausdorff = d.relHausdorff;
         r.rms = d.rms;

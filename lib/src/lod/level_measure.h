@@ -13,9 +13,9 @@ namespace lodbake::lod_detail {
 
 // Fills res.reports (one per view: source, simplify's deviation, the measured distance and the
 // vertex placement) and moves the vertices of `views` that placement kept. LOD0 measures none; a
-// rigged asset's distance is the largest over the bind pose and the sampled poses. `progress`
-// receives fractions up to 0.3.
+// rigged asset's distance is the largest over the bind pose and the sampled poses. `time` (one
+// per view) receives the placements' seconds; `progress` fractions up to 0.3.
 void measureLevels(const Asset& asset, std::vector<LevelView>& views, const PackOptions& options, PackResult& res,
-                   const std::function<void(double)>& progress);
+                   std::vector<PackLevelProfile>& time, const std::function<void(double)>& progress);
 
 }  // namespace lodbake::lod_detail

@@ -171,6 +171,7 @@ ChainDraws chainDraws(const Asset& asset, const MaterialPlan& plan, const ChainV
 
 PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOptions& options) {
     auto t0 = Clock::now();
+    PackProfile profile;  // where the time went, handed to options.profile
     checkInput(asset, mr);
     const TriMesh& mesh = asset.mesh;
     PackResult res;
@@ -189,9 +190,9 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
     std::vector<LayoutData> layouts = layoutsOf(asset, mr, hierarchy);  // 1
     const auto tMeasure = Clock::now();
     const double cpuMeasure = processCpuSeconds();
-    measureLevels(asset, views, options, res, progress);  // 2
-    res.measureSeconds = secondsSince(tMeasure);
-    res.measureCpuSeconds = processCpuSeconds() - cpuMeasure;
+    measureLevels(asset, views, options, res, profile.levels, progress);  // 2
+    profile.measureSeconds = secondsSince(tMeasure);
+    profile.measureCpuSeconds = processCpuSeconds() - cpuMeasure;
     const LevelPlanInput planned = planInput(asset, mr, views, layouts, res, hierarchy);
     const LevelPlan plan = planLevels(planned, planOptions(options));  // 3
     res.screenCoverage = plan.screenCoverage;
@@ -225,6 +226,7 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
     res.levels.resize(original ? n - 1 : n);
     for (size_t k = 0; k < n; ++k) {
         PackLevelReport& r = res.reports[k];
+        PackLevelProfile& time = profile.levels[k];
         const PlannedLevel& pl = plan.levels[k];
         recordPlan(pl, r);
         const bool projected = k > 0 && options.projectLevels;
@@ -234,8 +236,12 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
                                                                (options.normalMaps == NormalMaps::Auto && (materials.normalTexture || k > 0)));
         auto chooseRank = [&] {
             if (!options.rankByBake || pl.eligibleRanks.size() <= 1 || (original && k == 0)) return;
+            const auto tChoice = Clock::now();
+            const double cpuChoice = processCpuSeconds();
             const ChoiceLevel level{&views[k], k, &pl, r.hausdorff, projected, levelNormalMap};
             LayoutChoice choice = chooseLayoutByBake(sources, layouts, level, grid, res, options);
+            time.rankChoiceSeconds = secondsSince(tChoice);
+            time.rankChoiceCpuSeconds = processCpuSeconds() - cpuChoice;
             r.rank = choice.rank;
             r.textureSize = hierarchyTextureSize(planned.textures, r.rank, pl.texelLimit / layouts[r.rank].uvPerUnit);
             r.rankChoice = std::move(choice.report);
@@ -276,7 +282,7 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
         {  // the level's layout UVs end with its mesh, before the bake
             LevelUVs luv = projected ? ownCharts(mesh, *layout, views[k], levelUVs(mesh, *layout, views[k], views[k].data))
                                      : levelUVs(mesh, *layout, views[k], views[k].data);
-            lap(r.wall.uvs, r.cpu.uvs);
+            lap(time.wall.uvs, time.cpu.uvs);
             la = packLevelPage(*layout, luv, request, options);
             if (request.sourceTexels && la.atlas.texelsPerUnit < 1) {
                 r.sourceTexelsNote = "the original's texture islands do not fit a " + std::to_string(options.maxSize) + " page";
@@ -287,7 +293,7 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
                 la = packLevelPage(*layout, luv, request, options);
             }
             r.sourceTexels = request.sourceTexels;
-            lap(r.wall.page, r.cpu.page);
+            lap(time.wall.page, time.cpu.page);
             recordPage(la, *layout, r);
             r.absorbedIslands = luv.absorbedIslands;
             if (original && k == 0) continue;  // 5: the page only, for LOD1's texel cap
@@ -313,7 +319,7 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
         std::optional<BakeTarget> target;
         if (normalMaps) target = levelBakeTarget(L, la.atlas.width, la.atlas.height);
         const BakeTarget* targetOrNull = target ? &*target : nullptr;
-        lap(r.wall.mesh, r.cpu.mesh);
+        lap(time.wall.mesh, time.cpu.mesh);
         const double reach = projectionReach(r.hausdorff, res.diagonal);
         // A projected level with the previous projected level's mesh, page and reach (and so its
         // channels: every coarser level has the same) bakes the same: its material is copied.
@@ -327,8 +333,8 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
                                               targetOrNull, options.threads)
                               : bakePage(sources, *layout, la, channels, targetOrNull, options.threads, sourceTexels);
         previousReach = projected ? reach : -1;
-        r.bakeSeconds = baked.seconds;
-        lap(r.wall.bake, r.cpu.bake);
+        time.bakeSeconds = baked.seconds;
+        lap(time.wall.bake, time.cpu.bake);
         L.material = repeat ? previous->material : levelMaterial(materials, baked, la.atlas.width, la.atlas.height, io, L.name);
         if (sourceTexels) std::tie(L.material.minFilter, L.material.magFilter) = sourceFilters(asset);
         if (repeat && !variants.empty()) copyLevelVariants(*previous, variants, L, r);
@@ -344,7 +350,7 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
                     return levelMaterial(p, b, la.atlas.width, la.atlas.height, io, name);
                 },
                 L, r);
-        lap(r.wall.material, r.cpu.material);
+        lap(time.wall.material, time.cpu.material);
         r.channels = channelNames(L.material);
         r.triangles = L.indices.size() / 3;
         r.vertices = L.positions.size() / 3;
@@ -354,8 +360,12 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
     // (after every bake: a repeated level compares its mesh with the previous one as baked).
     for (size_t k = original ? 1 : 0; k < n && split.groups.size() > 1; ++k)
         splitLevel(split, triangleGroups[k], draws.selectionOfVariant, res.levels[original ? k - 1 : k], res.reports[k]);
-    if (original) describeOriginal(*res.original, res.reports[0]);
-    res.seconds = secondsSince(t0);
+    if (original) {  // LOD0's report describes the original, which none of the steps made
+        describeOriginal(*res.original, res.reports[0]);
+        profile.levels[0] = {};
+    }
+    profile.seconds = secondsSince(t0);
+    if (options.profile) *options.profile = std::move(profile);
     return res;
 }
 
