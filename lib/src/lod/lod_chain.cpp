@@ -184,7 +184,9 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
     std::vector<LevelView> views = levelViews(asset, mr, repeated);
     const BakeSources sources(asset);  // the original images, decoded once for every level's bake
     const size_t n = views.size();
-    auto progress = [&](double f) { if (options.progress) options.progress(f); };
+    auto progress = [&](double f) {
+        if (options.progress && !options.progress(f)) throw Cancelled(asset.sourcePath + ": pack cancelled");
+    };
 
     const bool hierarchy = options.useTextureHierarchy && !mr.textures.empty();
     std::vector<LayoutData> layouts = layoutsOf(asset, mr, hierarchy);  // 1

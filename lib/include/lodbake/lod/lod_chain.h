@@ -94,7 +94,7 @@ struct PackOptions {
     // Lod0::Original: the input asset the chain was made from (the file simplify read). Its
     // flattened triangles must be the multires original's. Empty with Lod0::Original = an error.
     std::string original;
-    std::function<bool(double)> progress;  // fraction done; may be empty
+    std::function<bool(double)> progress;  // fraction done; return false to cancel (throws Cancelled); may be empty
     PackProfile* profile = nullptr;        // non-null: receives where the time went
 };
 
