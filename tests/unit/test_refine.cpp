@@ -14,39 +14,13 @@
 #include "lodbake/param/parameterize.h"
 #include "lodbake/texture_hierarchy/refine.h"
 #include "lodbake/simplify/simplify.h"
+#include "parameterized_assets.h"
 #include "synthetic_meshes.h"
 
 using namespace lodbake;
 
-namespace {
-
-// hemisphere -> simplify (0.5, 0.1, 0.02) -> parameterize -> applyAtlas: a parameterized asset.
-struct Parameterized {
-    Asset asset;
-    Multires mr;
-};
-
-const Parameterized& hemisphereAsset() {
-    static const Parameterized p = [] {
-        Parameterized r;
-        r.asset.mesh = test::hemisphere(4);
-        r.asset.materials.push_back(Material{});
-        r.asset.materials[0].baseColorFactor = {0.8, 0.4, 0.2, 1};
-        SimplifyOptions so;
-        for (double ratio : {0.5, 0.1, 0.02}) so.levels.push_back({ratio, 0, 0});
-        r.mr = simplify(r.asset.mesh, so).multires;
-        ParameterizeOptions po;
-        po.textureSize = 256;
-        ParameterizeResult pr = parameterize(r.asset.mesh, r.mr, po);
-        BakeOptions bo;
-        bo.size = 64;
-        applyAtlas(r.asset, r.mr, pr, bakeBaseColor(r.asset, pr.cornerUV, bo).image);
-        return r;
-    }();
-    return p;
-}
-
-}  // namespace
+using test::hemisphereAsset;
+using test::Parameterized;
 
 TEST(RefineSplit, PiecesAreDisksInsideTheirParent) {
     const Parameterized& p = hemisphereAsset();

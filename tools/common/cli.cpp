@@ -282,6 +282,7 @@ int exitCodeFor(ErrorKind kind) {
         case ErrorKind::Unsupported: return kBadInput;
         case ErrorKind::Impossible: return kImpossible;
         case ErrorKind::Solver: return kInternal;
+        case ErrorKind::Cancelled: return kInternal;
     }
     return kInternal;
 }

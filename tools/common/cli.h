@@ -10,6 +10,8 @@
 //     required extension)                                                       Unsupported
 //   3 the input is valid but the operation is impossible (the message says why) Impossible
 //   4 internal or solver failure                                                SolverError, any other
+// A Cancelled error (a progress callback returned false) never reaches a tool: their progress
+// printers never cancel; were one to, it is no verdict on the input and takes 4.
 #pragma once
 
 #include <cstdio>

@@ -208,7 +208,7 @@ uint32_t agsphereRegions(const TriMesh& mesh, int depth, std::vector<uint32_t>& 
 AgsphereResult buildAgsphere(const TriMesh& mesh, const AgsphereOptions& options) {
     checkOptions(mesh, options);
     auto progress = [&](double f) {
-        if (options.progress && !options.progress(f)) throw Impossible("cancelled");
+        if (options.progress && !options.progress(f)) throw Cancelled("agsphere-build: cancelled");
     };
     AgsphereResult res;
     res.multires.generator = "agsphere-build";

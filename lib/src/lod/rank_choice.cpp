@@ -1,6 +1,6 @@
 // Texture deviation of candidate layouts against a probe bake (rank_choice.h).
 //
-// Pipeline (driven by lod_chain.cpp's chooseLayoutByBake):
+// Pipeline (driven by chooseLayoutByBake, layout_choice.cpp):
 //   probeLayout (cells and samples) -> the probe bake (the caller's) -> per candidate page:
 //   textureDeviation (bilinear read-back at the samples) -> chooseCandidate -> choiceReason.
 #include "lod/rank_choice.h"

@@ -22,7 +22,7 @@ namespace lodbake::param_detail {
 // step for UVs in [0.5, 1), below the overlap tolerance of the checks) in the first of eight
 // directions, up to eight steps out, that makes the rounded triangle face the right way. Only this
 // face's corner UVs change (cornerUV holds UVs per face corner, nothing is shared); returns the
-// faces nudged. `pack` has its own repair for its indexed float meshes (lod_chain.cpp).
+// faces nudged. `pack` has its own repair for its indexed float meshes (lod/level_mesh.cpp).
 size_t nudgeRoundedSliverCorners(const TriMesh& mesh, const std::vector<int32_t>& faceChart, std::vector<std::array<Vec2, 3>>& cornerUV);
 
 // The fallback for faces no chart map keeps injective: each face in `faces` (ascending) leaves its

@@ -255,7 +255,7 @@ std::string runLevel(Simplifier& s, const PlannedLevel& level, double start, dou
         }
         const SimplifyOptions& o = s.options;
         if (o.progress && !o.progress(std::clamp((start - double(s.mesh.aliveFaces)) / span, 0.0, 1.0)))
-            throw Impossible("simplify: cancelled");
+            throw Cancelled("simplify: cancelled");
     }
     return kRejectReason[0];
 }
@@ -307,7 +307,7 @@ SimplifyResult simplify(const TriMesh& mesh, const SimplifyOptions& options) {
         if (s.settings.posed) raisePosedLevelDeviation(m, *s.settings.posed, int(s.work.size()), s.recorder);
         levelStart = Clock::now();
     }
-    if (options.progress && !options.progress(1.0)) throw Impossible("simplify: cancelled");
+    if (options.progress && !options.progress(1.0)) throw Cancelled("simplify: cancelled");
 
     // 8. Outputs in the input's vertex ids.
     restoreInputIds(m.oldId, s.recorder.out);

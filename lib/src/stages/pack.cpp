@@ -9,15 +9,16 @@ namespace lodbake {
 namespace {
 
 nlohmann::json makeReport(const PackSettings& s, const Asset& asset, const Multires& multires, const PackResult& res,
-                          const PackWriteStats& ws, double loadSeconds, double writeSeconds) {
+                          const PackProfile& time, const PackWriteStats& ws, double loadSeconds, double writeSeconds) {
     const PackOptions& o = s.pack;
     const LodChainWriteOptions& c = s.write.chain;
     nlohmann::json levels = nlohmann::json::array();
     for (size_t k = 0; k < res.reports.size(); ++k) {
         const PackLevelReport& r = res.reports[k];
+        const PackLevelProfile& t = time.levels[k];
         auto cache = [](const VertexCacheStats& v) { return nlohmann::json{{"acmr", v.acmr}, {"atvr", v.atvr}}; };
-        auto steps = [](const PackLevelReport::Steps& t) {
-            return nlohmann::json{{"uvs", t.uvs}, {"page", t.page}, {"mesh", t.mesh}, {"bake", t.bake}, {"material", t.material}};
+        auto steps = [](const PackLevelProfile::Steps& st) {
+            return nlohmann::json{{"uvs", st.uvs}, {"page", st.page}, {"mesh", st.mesh}, {"bake", st.bake}, {"material", st.material}};
         };
         levels.push_back({{"lod", k},
                           {"source", r.source},
@@ -47,9 +48,9 @@ nlohmann::json makeReport(const PackSettings& s, const Asset& asset, const Multi
                           {"screenCoverage", r.coverage},
                           {"maxScreenCoverage", r.maxCoverage},
                           {"switchDistance", r.switchDistance},
-                          {"bakeSeconds", r.bakeSeconds},
-                          {"seconds", steps(r.wall)},
-                          {"cpuSeconds", steps(r.cpu)},
+                          {"bakeSeconds", t.bakeSeconds},
+                          {"seconds", steps(t.wall)},
+                          {"cpuSeconds", steps(t.cpu)},
                           {"channels", r.channels},
                           {"textureRank", r.rank},
                           {"pageSideNeeded", r.sideNeeded},
@@ -69,8 +70,8 @@ nlohmann::json makeReport(const PackSettings& s, const Asset& asset, const Multi
                 candidates.push_back({{"rank", c.rank}, {"score", c.score}, {"baseColorRms", c.baseColor}, {"normalRms", c.normal},
                                       {"width", c.width}, {"height", c.height}, {"charts", c.charts}});
             levels.back()["rankChoice"] = {{"candidates", candidates}, {"chosen", r.rank}, {"byEnergy", rc.byEnergy},
-                                           {"reason", rc.reason}, {"seconds", rc.seconds},
-                                           {"cpuSeconds", rc.cpuSeconds}};
+                                           {"reason", rc.reason}, {"seconds", t.rankChoiceSeconds},
+                                           {"cpuSeconds", t.rankChoiceCpuSeconds}};
         }
         if (!r.splitBy.empty()) levels.back()["splitBy"] = r.splitBy;
         if (!r.variants.empty()) {
@@ -86,7 +87,7 @@ nlohmann::json makeReport(const PackSettings& s, const Asset& asset, const Multi
                                                       {"rms", pl.rms}, {"relRms", pl.relRms}}},
                                           {"movedVertices", pl.moved}, {"fixedVertices", pl.fixed},
                                           {"shortenedSteps", pl.shortened}, {"rounds", pl.rounds},
-                                          {"seconds", pl.seconds}, {"placeSeconds", pl.placeSeconds}};
+                                          {"seconds", t.placementSeconds}, {"placeSeconds", t.placeSeconds}};
         }
     }
     nlohmann::json rep;
@@ -125,11 +126,12 @@ nlohmann::json makeReport(const PackSettings& s, const Asset& asset, const Multi
     warnings.insert(warnings.end(), res.warnings.begin(), res.warnings.end());
     warnings.insert(warnings.end(), ws.warnings.begin(), ws.warnings.end());
     rep["warnings"] = warnings;
-    rep["time"] = {{"load", loadSeconds}, {"pack", res.seconds}, {"measure", res.measureSeconds}, {"measureCpu", res.measureCpuSeconds}, {"write", writeSeconds}};
+    rep["time"] = {{"load", loadSeconds}, {"pack", time.seconds}, {"measure", time.measureSeconds}, {"measureCpu", time.measureCpuSeconds}, {"write", writeSeconds}};
     return rep;
 }
 
-std::string statistics(const PackSettings& s, const PackResult& res, const PackWriteStats& ws, double writeSeconds) {
+std::string statistics(const PackSettings& s, const PackResult& res, const PackProfile& time, const PackWriteStats& ws,
+                       double writeSeconds) {
     std::string out;
     appendf(out, "lod  triangles  page        util   box    gutter  hausdorff(rel)  coverage\n");
     for (size_t k = 0; k < res.reports.size(); ++k) {
@@ -138,7 +140,7 @@ std::string statistics(const PackSettings& s, const PackResult& res, const PackW
                 100 * r.utilisation, 100 * r.boxUtilisation, r.gutter, r.hausdorff, r.relHausdorff, r.coverage);
     }
     appendf(out, "output: %s (%llu bytes), time: pack %.2fs, write %.2fs\n", s.common.output.c_str(),
-            static_cast<unsigned long long>(ws.totalBytes), res.seconds, writeSeconds);
+            static_cast<unsigned long long>(ws.totalBytes), time.seconds, writeSeconds);
     return out;
 }
 
@@ -161,6 +163,8 @@ StageResult runPack(const PackSettings& s) {
     PackOptions opt = s.pack;
     opt.threads = s.common.threads;
     opt.progress = s.common.progress;
+    PackProfile time;
+    opt.profile = &time;
     PackResult res = packLodChain(asset, *multires, opt);
 
     Clock::time_point t1 = Clock::now();
@@ -168,9 +172,9 @@ StageResult runPack(const PackSettings& s) {
     double writeSeconds = secondsSince(t1);
 
     StageResult out;
-    out.report = makeReport(s, asset, *multires, res, ws, loadSeconds, writeSeconds);
+    out.report = makeReport(s, asset, *multires, res, time, ws, loadSeconds, writeSeconds);
     if (!s.common.report.empty()) writeReport(s.common.report, out.report);
-    if (s.common.verbose) out.statistics = statistics(s, res, ws, writeSeconds);
+    if (s.common.verbose) out.statistics = statistics(s, res, time, ws, writeSeconds);
     return out;
 }
 

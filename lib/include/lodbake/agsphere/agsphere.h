@@ -98,7 +98,7 @@ struct AgsphereOptions {
     // boundary vertex (only exactly straight runs lose their middle vertices).
     double boundaryTolerance = 1;
     int threads = 1;  // accepted for the common CLI; the build is single-threaded (results never depend on it)
-    // Progress in [0,1]; return false to cancel (throws Impossible("cancelled")). May be empty.
+    // Progress in [0,1]; return false to cancel (throws Cancelled). May be empty.
     std::function<bool(double)> progress;
 };
 

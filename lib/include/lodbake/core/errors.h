@@ -9,6 +9,8 @@
 //                   (an extensionsRequired entry, a feature), named in the message
 //   Impossible      the input is valid but the operation cannot be done (say why)
 //   SolverError     internal or numerical failure (Ceres did not converge, ...)
+//   Cancelled       a progress callback returned false: the caller stopped the work (not a
+//                   property of the input)
 //
 // Every message is one line and, when a file is involved, starts with the file path.
 #pragma once
@@ -18,7 +20,7 @@
 
 namespace lodbake {
 
-enum class ErrorKind { Usage, IO, InvalidInput, Unsupported, Impossible, Solver };
+enum class ErrorKind { Usage, IO, InvalidInput, Unsupported, Impossible, Solver, Cancelled };
 
 class Error : public std::runtime_error {
 public:
@@ -46,6 +48,9 @@ struct Impossible : Error {
 };
 struct SolverError : Error {
     explicit SolverError(const std::string& m) : Error(ErrorKind::Solver, m) {}
+};
+struct Cancelled : Error {
+    explicit Cancelled(const std::string& m) : Error(ErrorKind::Cancelled, m) {}
 };
 
 // The first line of a library's message, without surrounding blanks or a final period (messages

@@ -23,6 +23,7 @@
 #include "lodbake/texture/codec.h"
 #include "lodbake/gltf/msft_lod.h"
 #include "lodbake/gltf/source_scene.h"
+#include "lodbake/lod/pack_profile.h"
 
 namespace lodbake {
 
@@ -97,7 +98,8 @@ struct PackOptions {
     // Lod0::Original: the input asset the chain was made from (the file simplify read). Its
     // flattened triangles must be the multires original's. Empty with Lod0::Original = an error.
     std::string original;
-    std::function<bool(double)> progress;  // fraction done; may be empty
+    std::function<bool(double)> progress;  // fraction done; return false to cancel (throws Cancelled); may be empty
+    PackProfile* profile = nullptr;        // non-null: receives where the time went
 };
 
 struct PackLevelReport {
@@ -126,19 +128,10 @@ struct PackLevelReport {
         double hausdorff = 0, relHausdorff = 0, rms = 0, relRms = 0;  // before placement
         size_t moved = 0, fixed = 0, shortened = 0;  // vertices moved / held on open edges / steps shortened against flips
         int rounds = 0;               // least-squares rounds run
-        double seconds = 0;           // placement and the measure of the moved level
-        double placeSeconds = 0;      // placement alone
     } placement;
     double coverage = 0;          // MSFT_screencoverage value: the level is used at coverage >= this
     double maxCoverage = 0;       // ... and below this (the next finer level's threshold; LOD0: lod0Coverage)
     double switchDistance = 0;    // camera distance (model units, fovY) at which the next coarser level takes over
-    double bakeSeconds = 0;
-    // Where the level's time went, seconds: layout UVs (and own charts), page search, level mesh
-    // (with tangents), bake, material (the baked channels encoded); wall and process CPU time.
-    struct Steps {
-        double uvs = 0, page = 0, mesh = 0, bake = 0, material = 0;
-    };
-    Steps wall, cpu;
     std::vector<std::string> channels;  // the textures of the level's material (level_material.h channelNames)
     double sideNeeded = 0;        // page side estimate the level needs: sqrt(3D area) x texelLimit / 0.8, capped by maxSize
     // LOD0: its page holds the original's texels one to one (PackOptions::sourceTexels), or why not.
@@ -182,7 +175,6 @@ struct PackLevelReport {
         std::vector<Candidate> candidates;    // T0 first, then the eligible ranks, ascending
         uint32_t byEnergy = 0;                // the rank the energy rule picks (the highest eligible)
         std::string reason;
-        double seconds = 0, cpuSeconds = 0;   // wall and process CPU time of the choice (probe, candidates' pages and bakes)
     } rankChoice;
 };
 
@@ -197,8 +189,6 @@ struct PackResult {
     MorphTargets morph;                     // the asset's morph target names and default weights
     SceneExtras scene;                      // the asset's lights, cameras and extras, written with the chain
     std::vector<std::string> variants;      // the asset's KHR_materials_variants names (levels' variantMaterial index them)
-    double seconds = 0;
-    double measureSeconds = 0, measureCpuSeconds = 0;  // of seconds: the levels' measured deviation (wall, CPU)
 };
 
 // With Lod0::Original, LOD0's page is still packed (the next level's page is held to its texel
@@ -209,23 +199,5 @@ struct PackResult {
 //        `original` whose triangles are not the chain's), IOError (bake temp files / image
 //        encoding), and readSourceScene's errors for `original`.
 PackResult packLodChain(const Asset& asset, const Multires& multires, const PackOptions& options = {});
-
-struct PackWriteOptions {
-    LodChainWriteOptions chain;
-    bool split = false;  // one file per level (PATH stem + ".lodK" + ext) plus PATH stem + ".lods.json"
-};
-
-struct PackWriteStats {
-    std::vector<std::string> files;          // written files (chain or per level, then the manifest)
-    std::vector<uint64_t> levelBytes;        // geometry + image bytes per level
-    std::vector<uint64_t> levelGeometryBytes, levelImageBytes;  // the two parts
-    uint64_t totalBytes = 0;                 // bytes of every written file
-    std::vector<VertexCacheStats> cacheBefore, cacheAfter;  // per level (LodChainWriteStats)
-    std::vector<std::string> warnings;       // the writer's fallbacks
-};
-
-// Writes the chain to `path` (MSFT_lod) or, with split, one file per level and a JSON manifest
-// {"levels": [{"file", "screenCoverage", "triangles"}...], "cutoff": value}.
-PackWriteStats writePackResult(const std::string& path, const PackResult& result, const PackWriteOptions& options);
 
 }  // namespace lodbake

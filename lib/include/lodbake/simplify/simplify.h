@@ -80,7 +80,7 @@ struct SimplifyOptions {
     // Candidate evaluation and simplification pairs run on this many threads (the collapse walk
     // is sequential); results are identical for any value.
     int threads = 1;
-    // Progress in [0,1]; return false to cancel (throws Impossible("cancelled")). May be empty.
+    // Progress in [0,1]; return false to cancel (throws Cancelled). May be empty.
     std::function<bool(double)> progress;
 };
 

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "lodbake/lod/lod_chain.h"
+#include "lodbake/stages/pack_write.h"
 #include "lodbake/stages/stage.h"
 
 namespace lodbake {

@@ -1,0 +1,110 @@
+#include "lod/layout_choice.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "lod/level_mesh.h"
+#include "lod/page_bake.h"
+#include "lod/rank_choice.h"
+
+namespace lodbake::lod_detail {
+namespace {
+
+// Scored pages are packed at half the level's page side, and below this side when that is larger
+// (texels): a 2048 page (LOD0 when the source texels do not fit) is scored at 512 a side.
+constexpr double kScoredMaxSide = 512;
+
+}  // namespace
+
+LayoutChoice chooseLayoutByBake(const BakeSources& sources, std::vector<LayoutData>& layouts, const ChoiceLevel& level,
+                                std::optional<FaceGrid>& grid, const PackResult& res, const PackOptions& options) {
+    const Asset& asset = sources.asset();
+    const TriMesh& mesh = asset.mesh;
+    const LevelView& view = *level.view;
+    const PlannedLevel& planned = *level.plan;
+    const size_t k = level.index;
+    const bool normal = level.normalMap, projected = level.projected;
+    if (!grid) grid.emplace(mesh);
+    BakeChannels channels;  // base colour, and the normal map
+    channels.normal = normal;
+    const double reach = projectionReach(level.hausdorff, res.diagonal);  // the level bake's
+    // The probe: every level triangle in a cell of its own, baked by projection like a coarse level.
+    const std::vector<Vec3>& positions = view.positionsOr(mesh);
+    std::vector<std::array<Vec3, 3>> triangles(view.triangles.size());
+    for (size_t t = 0; t < triangles.size(); ++t)
+        for (size_t j = 0; j < 3; ++j) triangles[t][j] = positions[view.triangles[t][j]];
+    const ProbeLayout probe = probeLayout(triangles);
+    LodLevelData cells;
+    for (size_t i = 0; i < probe.triangles.size(); ++i)
+        for (size_t j = 0; j < 3; ++j) {
+            const Vec3& p = triangles[probe.triangles[i]][j];
+            cells.positions.insert(cells.positions.end(), {float(p.x), float(p.y), float(p.z)});
+            cells.uvs.insert(cells.uvs.end(), {float(probe.uv[i][j].x), float(probe.uv[i][j].y)});
+            cells.indices.push_back(uint32_t(cells.indices.size()));
+        }
+    const BakeTarget probeFrames = objectSpaceTarget(probe.uv);
+    const BakeResult probeBake = bakeProjected(sources, *grid, cells, probe.triangles.size(), probe.side, probe.side, reach,
+                                               res.diagonal, channels, normal ? &probeFrames : nullptr, options.threads);
+    const PageChannels probePage{probe.side, probe.side, &probeBake.pixels, &probeBake.normal};
+
+    // Half the side, or less for a page that needs more than 2 x kScoredMaxSide a side (LOD0 when
+    // the source texels do not fit): scale s of the texel limit, page cap and mip sides, log2(1/s)
+    // mips fewer (the same share of gutters).
+    const double scale = std::min(0.5, kScoredMaxSide / std::max(1.0, planned.sideNeeded));
+    const int fewerMips = int(std::lround(std::log2(1 / scale)));
+    PackOptions half = options;
+    half.maxSize = std::max(16, int(options.maxSize * scale));
+    half.minMipSide = std::max(1, int(options.minMipSide * scale));
+    half.maxMips = std::max(0, options.maxMips - fewerMips);
+    PageRequest request;
+    request.texelLimit = scale * planned.texelLimit;
+    request.coverage = planned.coverage;
+    request.maxCoverage = planned.maxCoverage;
+    request.originalTriangles = k == 0;
+    // The finer level's page at the same scale: a level's page holds no more texels than the
+    // finer one's, a cap that decides many coarse pages' density.
+    if (k > 0) {
+        const PackLevelReport& f = res.reports[k - 1];
+        request.finerPage = std::array<int, 2>{int(std::ceil(f.width * scale)), int(std::ceil(f.height * scale))};
+    }
+    std::vector<RankCandidate> candidates;
+    for (uint32_t rank : planned.eligibleRanks) {
+        LayoutData& lay = layouts[rank];
+        const LevelUVs luv = projected ? ownCharts(mesh, lay, view, levelUVs(mesh, lay, view, view.data))
+                                       : levelUVs(mesh, lay, view, view.data);
+        const LevelAtlas la = packLevelPage(lay, luv, request, half);
+        const int w = la.atlas.width, h = la.atlas.height, size = std::max(w, h);
+        LodLevelData L;
+        buildLevelMesh(asset, view, luv, la, L);
+        std::vector<std::array<Vec2, 3>> pageUV(view.triangles.size()), bakeUV(view.triangles.size());
+        for (size_t t = 0; t < pageUV.size(); ++t)
+            for (size_t j = 0; j < 3; ++j) {
+                const uint32_t v = L.indices[3 * t + j];
+                pageUV[t][j] = {L.uvs[2 * v], L.uvs[2 * v + 1]};
+                bakeUV[t][j] = {pageUV[t][j].x * w / size, pageUV[t][j].y * h / size};
+            }
+        const BakeTarget frames = objectSpaceTarget(std::move(bakeUV));
+        const BakeTarget* framesOrNull = normal ? &frames : nullptr;
+        const BakeResult baked = projected ? bakeProjected(sources, *grid, L, view.triangles.size(), w, h, reach, res.diagonal,
+                                                           channels, framesOrNull, options.threads)
+                                           : bakePage(sources, lay, la, channels, framesOrNull, options.threads, false);
+        RankCandidate c;
+        c.rank = rank;
+        c.deviation = textureDeviation(probe, probePage, PageChannels{w, h, &baked.pixels, &baked.normal}, pageUV);
+        c.width = w;
+        c.height = h;
+        c.charts = la.charts;
+        candidates.push_back(c);
+    }
+    LayoutChoice choice;
+    PackLevelReport::RankChoice& rc = choice.report;
+    rc.byEnergy = planned.rank;
+    const size_t best = chooseCandidate(candidates, rc.byEnergy);
+    choice.rank = candidates[best].rank;
+    for (const RankCandidate& c : candidates)
+        rc.candidates.push_back({c.rank, c.deviation.score, c.deviation.color, c.deviation.normal, c.width, c.height, c.charts});
+    rc.reason = choiceReason(candidates, best, rc.byEnergy);
+    return choice;
+}
+
+}  // namespace lodbake::lod_detail

@@ -1,0 +1,242 @@
+#include "lod/level_page.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "lodbake/bake/bake.h"
+#include "lodbake/chart/level_charts.h"
+#include "lodbake/core/closest_point.h"
+#include "lodbake/core/errors.h"
+#include "lodbake/core/math.h"
+#include "lod/level_islands.h"
+#include "lod/level_plan.h"
+
+namespace lodbake::lod_detail {
+namespace {
+
+void addIslands(const ChartLayout& ch, LayoutData& d) {
+    for (uint32_t i = 0; i < ch.islands.size(); ++i) {
+        const LayoutIsland& isl = ch.islands[i];
+        d.island.emplace(islandKey(isl.vertices), i);
+        d.chartUvArea.push_back(triangleArea(isl.uv[0], isl.uv[1], isl.uv[2]));
+    }
+}
+
+// The layout chart (or island) whose original faces chart c of a level's UVs covers; >= the
+// layout's chartCount + islands for a level's own chart grown from islands (no original faces).
+uint32_t layoutChartOf(const LevelUVs& luv, uint32_t c) { return luv.ownChartArea.empty() ? c : luv.ownChartSource[c]; }
+
+// The UV area chart c of a level's UVs takes: its footprint's, at least.
+double levelChartArea(const LayoutData& L, const LevelUVs& luv, uint32_t c) {
+    const uint32_t source = layoutChartOf(luv, c);
+    const double layout = source < L.ch->chartCount || luv.ownChartArea.empty() ? L.chartUvArea[source] : 0;
+    return luv.ownChartArea.empty() ? layout : std::max(layout, luv.ownChartArea[c]);
+}
+
+}  // namespace
+
+const std::vector<std::vector<uint32_t>>& islandFacesOf(const TriMesh& mesh, LayoutData& d) {
+    if (!d.islandFacesFound) {
+        std::vector<BakeIsland> bake = layoutBakeIslands(mesh, *d.ch);
+        d.islandFaces.reserve(bake.size());
+        for (BakeIsland& b : bake) d.islandFaces.push_back(std::move(b.faces));
+        d.islandFacesFound = true;
+    }
+    return d.islandFaces;
+}
+
+LayoutData layoutData(const Asset& asset, const ChartLayout& ch, uint32_t rank) {
+    const TriMesh& mesh = asset.mesh;
+    if (ch.faceChart.size() != mesh.triangleCount() || ch.cornerUV.size() != mesh.triangleCount())
+        throw InvalidInput(asset.sourcePath + ": chart layout does not match the original mesh");
+    for (uint32_t c : ch.faceChart)
+        if (c >= ch.chartCount) throw InvalidInput(asset.sourcePath + ": chart id out of range");
+    LayoutData d;
+    d.ch = &ch;
+    d.rank = rank;
+    d.chartFaces.resize(ch.chartCount);
+    d.chartUvArea.assign(ch.chartCount, 0);
+    double uvTotal = 0, areaTotal = 0;
+    for (size_t f = 0; f < mesh.triangleCount(); ++f) {
+        uint32_t c = ch.faceChart[f];
+        d.chartFaces[c].push_back(uint32_t(f));
+        double a = triangleArea(ch.cornerUV[f][0], ch.cornerUV[f][1], ch.cornerUV[f][2]);
+        d.chartUvArea[c] += a;
+        uvTotal += a;
+        const Tri& t = mesh.triangles[f];
+        areaTotal += triangleArea(mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]);
+    }
+    if (!(uvTotal > 0) || !(areaTotal > 0)) throw Impossible(asset.sourcePath + ": the chart layout has no area");
+    d.uvPerUnit = std::sqrt(uvTotal / areaTotal);
+    d.lookup = std::make_unique<ChartVertexUV>(mesh, ch);
+    addIslands(ch, d);
+    return d;
+}
+
+std::vector<LayoutData> layoutsOf(const Asset& asset, const Multires& mr, bool hierarchy) {
+    std::vector<LayoutData> layouts;
+    layouts.push_back(layoutData(asset, mr.charts, 0));
+    if (hierarchy)
+        for (size_t j = 0; j < mr.textures.ranks.size(); ++j) layouts.push_back(layoutData(asset, mr.textures.ranks[j], uint32_t(j + 1)));
+    return layouts;
+}
+
+// Every layout (T0 and the hierarchy's ranks): the chart levelTriangleCharts picks (the face's, or
+// one holding all three corners), a corner outside it the UV of the closest point of the chart's
+// surface: the level UVs parameterize writes and guards against folds for that layout. A level
+// triangle with an island's vertex triple takes the island (parameterize's fallback for a level
+// triangle that would fold in its chart).
+LevelUVs levelUVs(const TriMesh& mesh, const LayoutData& L, const LevelView& lv, const Level* level) {
+    const ChartLayout& ch = *L.ch;
+    LevelUVs out;
+    const size_t n = lv.triangles.size();
+    out.chart.resize(n);
+    out.uv.resize(n);
+    if (!level) {  // the original triangles
+        for (size_t t = 0; t < n; ++t) {
+            out.chart[t] = ch.faceChart[lv.faces[t]];
+            out.uv[t] = ch.cornerUV[lv.faces[t]];
+        }
+        return out;
+    }
+    out.chart = levelTriangleCharts(mesh, ch.faceChart, ch.chartCount, *level);
+    std::map<std::pair<uint32_t, uint32_t>, Vec2> projected;
+    for (size_t t = 0; t < n; ++t) {
+        if (!L.island.empty()) {
+            auto isl = L.island.find(islandKey(lv.triangles[t]));
+            if (isl != L.island.end()) {
+                const LayoutIsland& island = ch.islands[isl->second];
+                out.chart[t] = ch.chartCount + isl->second;
+                for (size_t j = 0; j < 3; ++j) out.uv[t][j] = island.uvOf(lv.triangles[t][j]);
+                continue;
+            }
+        }
+        uint32_t c = out.chart[t];
+        for (size_t j = 0; j < 3; ++j) {
+            uint32_t v = lv.triangles[t][j];
+            if (L.lookup->has(v, c)) {
+                out.uv[t][j] = (*L.lookup)(v, c);
+                continue;
+            }
+            auto it = projected.find({c, v});
+            if (it == projected.end()) {
+                Vec2 uv = closestSurfaceUV(mesh, ch.cornerUV, L.chartFaces[c], mesh.positions[v]);
+                it = projected.emplace(std::make_pair(c, v), uv).first;
+            }
+            out.uv[t][j] = it->second;
+        }
+    }
+    return out;
+}
+
+LevelUVs ownCharts(const TriMesh& mesh, const LayoutData& L, const LevelView& lv, LevelUVs luv) {
+    LevelChartSet set = absorbIslands(lv.positionsOr(mesh), lv.triangles, luv.chart, luv.uv, L.ch->chartCount, L.uvPerUnit);
+    LevelUVs out;
+    out.chart = std::move(set.chart);
+    out.uv = std::move(set.uv);
+    out.ownChartArea = std::move(set.uvArea);
+    out.ownChartSource = std::move(set.source);
+    out.absorbedIslands = set.absorbed + set.grouped;
+    return out;
+}
+
+LevelAtlas packLevelAtlas(const LayoutData& L, const LevelUVs& luv, bool original, const AtlasOptions& ao) {
+    const ChartLayout& ch = *L.ch;
+    LevelAtlas la;
+    const bool own = !luv.ownChartArea.empty();
+    la.chartSlot.assign(own ? luv.ownChartArea.size() : L.chartUvArea.size(), -1);
+    std::vector<AtlasChart> charts;
+    for (size_t t = 0; t < luv.chart.size(); ++t) {
+        uint32_t c = luv.chart[t];
+        if (la.chartSlot[c] < 0) {
+            la.chartSlot[c] = int(charts.size());
+            AtlasChart a;
+            a.uvArea = levelChartArea(L, luv, c);
+            a.inPlace = !own && c < L.inPlaceCharts;
+            // A layout chart's footprint includes its original faces: the layout bake reads them,
+            // and around a projected level's triangles they keep the chart's own texels between it
+            // and its neighbours, which mips far below the page's gutter blend. A chart grown
+            // from islands is just its level triangles, added below.
+            const uint32_t source = layoutChartOf(luv, c);
+            if (!own && c >= ch.chartCount) {  // an island: its one triangle
+                const LayoutIsland& isl = ch.islands[c - ch.chartCount];
+                a.points.assign(isl.uv.begin(), isl.uv.end());
+                a.triangles.push_back(isl.uv);
+            } else if (source < ch.chartCount) {
+                for (uint32_t f : L.chartFaces[source]) {
+                    for (const Vec2& p : ch.cornerUV[f]) a.points.push_back(p);
+                    a.triangles.push_back(ch.cornerUV[f]);
+                }
+            }
+            charts.push_back(std::move(a));
+        }
+        if (!original) {
+            AtlasChart& a = charts[size_t(la.chartSlot[c])];
+            std::array<Vec2, 3> tri;
+            for (size_t j = 0; j < 3; ++j) tri[j] = luv.uv[t][j];
+            a.points.insert(a.points.end(), tri.begin(), tri.end());
+            a.triangles.push_back(tri);
+        }
+    }
+    la.charts = charts.size();
+    la.atlas = packAtlas(charts, ao);
+    return la;
+}
+
+LevelAtlas packLevelPage(const LayoutData& lay, const LevelUVs& luv, const PageRequest& request, const PackOptions& options) {
+    const double tMax = request.sourceTexels ? 1.0 : request.texelLimit / lay.uvPerUnit;
+    // At density d (layout units) the smallest coverage samples mip log2(d / (tMax x cov / maxCov)).
+    const double minCoverageRatio = std::max(request.coverage, 1e-12) / request.maxCoverage;
+    auto mipsAt = [&](double d) { return int(std::ceil(std::log2(std::max(1.0, d / (tMax * minCoverageRatio)) - 1e-9))); };
+    int mips = mipsAt(tMax);
+    double usedUv = 0;
+    {
+        std::vector<char> seen(luv.ownChartArea.empty() ? lay.chartUvArea.size() : luv.ownChartArea.size(), 0);
+        for (uint32_t c : luv.chart)
+            if (!seen[c]) { seen[c] = 1; usedUv += levelChartArea(lay, luv, c); }
+    }
+    double side = std::min(double(options.maxSize), std::sqrt(usedUv) * tMax / kPageSideFill);
+    int mipLimit = side > options.minMipSide ? int(std::floor(std::log2(side / options.minMipSide))) : 0;
+    mips = std::clamp(mips, 0, std::min(options.maxMips, mipLimit));
+    AtlasOptions ao;
+    ao.maxTexelsPerUnit = tMax;
+    ao.gutter = 2 << mips;
+    ao.maxSize = options.maxSize;
+    ao.powerOfTwo = options.powerOfTwo;
+    ao.threads = options.threads;
+    ao.texelAligned = request.sourceTexels;
+    LevelAtlas la = packLevelAtlas(lay, luv, request.originalTriangles, ao);
+    for (int m = std::clamp(mipsAt(la.atlas.texelsPerUnit), 0, mips); m < mips; ++m) {
+        AtlasOptions narrow = ao;
+        narrow.gutter = 2 << m;
+        LevelAtlas denser = packLevelAtlas(lay, luv, request.originalTriangles, narrow);
+        if (mipsAt(denser.atlas.texelsPerUnit) > m) continue;
+        mips = m;
+        ao = narrow;
+        la = std::move(denser);
+        break;
+    }
+    for (int tries = 0; request.finerPage && tries < 8; ++tries) {
+        double previous = double((*request.finerPage)[0]) * (*request.finerPage)[1];
+        double now = double(la.atlas.width) * la.atlas.height;
+        if (now <= previous) break;
+        ao.maxTexelsPerUnit = std::min(ao.maxTexelsPerUnit, la.atlas.texelsPerUnit) * std::sqrt(previous / now) * 0.98;
+        la = packLevelAtlas(lay, luv, false, ao);
+    }
+    return la;
+}
+
+void recordPage(const LevelAtlas& la, const LayoutData& lay, PackLevelReport& r) {
+    r.gutter = la.atlas.gutter;
+    r.mips = std::max(0, int(std::log2(std::max(2, r.gutter) / 2)));  // the packer may narrow the gutter
+    r.width = la.atlas.width;
+    r.height = la.atlas.height;
+    r.charts = la.charts;
+    r.utilisation = la.atlas.utilisation;
+    r.boxUtilisation = la.atlas.boxUtilisation;
+    r.rasterUtilisation = la.atlas.rasterUtilisation;
+    r.footprintUtilisation = la.atlas.footprintUtilisation;
+    r.texelsPerUnit = la.atlas.texelsPerUnit * lay.uvPerUnit;
+}
+
+}  // namespace lodbake::lod_detail

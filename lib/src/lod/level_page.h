@@ -1,0 +1,105 @@
+// A level's page: the charts its triangles use, from its layout (T0 or a rank of the texture
+// hierarchy), repacked at the texel density the level can show, with gutters for the mips it uses.
+//
+// Every level triangle takes the layout UVs of its corners (levelUVs); a level baked by
+// projection then takes charts of its own (ownCharts: islands unfolded onto neighbouring charts).
+// The page search (packLevelPage) sizes the gutters for the mips used between the level's largest
+// and smallest coverage and holds a coarser level's page to the finer one's texel count.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "lodbake/atlas/atlas.h"
+#include "lodbake/chart/chart_lookup.h"
+#include "lodbake/core/mesh.h"
+#include "lodbake/core/multires.h"
+#include "lodbake/lod/lod_chain.h"
+#include "lod/level_view.h"
+
+namespace lodbake::lod_detail {
+
+// A chart layout (T0 or a rank layout of the texture hierarchy) with what packing needs of it.
+struct LayoutData {
+    const ChartLayout* ch = nullptr;
+    uint32_t rank = 0;
+    std::vector<std::vector<uint32_t>> chartFaces;
+    std::vector<double> chartUvArea;  // charts, then islands (chart id chartCount + i)
+    double uvPerUnit = 0;  // layout UV units per model unit (area-averaged)
+    std::unique_ptr<ChartVertexUV> lookup;
+    // Level-triangle islands (parameterize's fallback): sorted vertex triple -> island.
+    std::map<std::array<uint32_t, 3>, uint32_t> island;
+    // The original faces each island's bake samples (the charts of its corners): found on the
+    // first page bake that places an island (islandFacesOf), as the original triangles' page
+    // places none and the projected levels' pages take their own.
+    std::vector<std::vector<uint32_t>> islandFaces;
+    bool islandFacesFound = false;
+    uint32_t inPlaceCharts = 0;  // charts [0, n) are the original's texture islands (AtlasChart::inPlace)
+};
+
+// \throw InvalidInput when `ch` does not match asset.mesh; Impossible when it has no area.
+LayoutData layoutData(const Asset& asset, const ChartLayout& ch, uint32_t rank);
+
+// T0 and, with `hierarchy`, every rank (faces, UV area, UV-to-model scale).
+std::vector<LayoutData> layoutsOf(const Asset& asset, const Multires& mr, bool hierarchy);
+
+// The original faces of each of the layout's islands (found once, on the first call).
+const std::vector<std::vector<uint32_t>>& islandFacesOf(const TriMesh& mesh, LayoutData& d);
+
+// The chart and layout UVs of every triangle of a level.
+struct LevelUVs {
+    std::vector<uint32_t> chart;
+    std::vector<std::array<Vec2, 3>> uv;
+    // Non-empty: the charts are the level's own (ownCharts), this is each one's level-triangle UV
+    // area and ownChartSource the layout chart each grew from (>= the layout's chartCount: from an
+    // island). Empty: the ids are the layout's charts and islands.
+    std::vector<double> ownChartArea;
+    std::vector<uint32_t> ownChartSource;
+    size_t absorbedIslands = 0;  // own charts: islands unfolded onto a chart
+};
+
+// The layout UVs of every corner of level `lv` (`level`: its multires level, null for the original
+// triangles).
+LevelUVs levelUVs(const TriMesh& mesh, const LayoutData& L, const LevelView& lv, const Level* level);
+
+// A level baked by projection: islands unfolded onto neighbouring charts (level_islands.h).
+LevelUVs ownCharts(const TriMesh& mesh, const LayoutData& L, const LevelView& lv, LevelUVs luv);
+
+struct LevelAtlas {
+    AtlasResult atlas;
+    std::vector<int> chartSlot;  // original chart id -> index in atlas.charts, -1 if unused
+    size_t charts = 0;
+};
+
+// The level's charts packed with `ao`. `original`: the level is the original triangles, whose
+// charts' faces are its own (no level triangles added to the footprints).
+LevelAtlas packLevelAtlas(const LayoutData& L, const LevelUVs& luv, bool original, const AtlasOptions& ao);
+
+// What a level's page is packed for (the plan's figures for the level, lod/level_plan.h).
+struct PageRequest {
+    double texelLimit = 0;                 // texels per model unit the level can show at its largest coverage
+    double coverage = 0, maxCoverage = 0;  // the level's screen coverage range
+    bool originalTriangles = false;        // the level is the original triangles (LOD0)
+    // Source texels (LOD0): one page texel per layout unit (= per source texel), on whole texels.
+    bool sourceTexels = false;
+    // The next finer level's page (texels; none for LOD0): this page holds no more texels.
+    std::optional<std::array<int, 2>> finerPage;
+};
+
+// The level's page: its charts packed at the density limit (layout units) with gutters for the
+// mips used between its largest and smallest coverage (at most options.maxMips, none for pages
+// below minMipSide). A page held below the density limit (maxSize) is magnified at the largest
+// coverage and uses fewer mips: the gutter is narrowed to the fewest mips that the denser packing
+// it allows still covers. A coarser level never carries more texels than the finer one (packing
+// fewer, larger gutters can come out bigger at the same density): its density is lowered until it
+// does not (at most 8 tries). Reads maxSize, powerOfTwo, maxMips, minMipSide and threads of `options`.
+LevelAtlas packLevelPage(const LayoutData& lay, const LevelUVs& luv, const PageRequest& request, const PackOptions& options);
+
+// The page figures of the report.
+void recordPage(const LevelAtlas& la, const LayoutData& lay, PackLevelReport& r);
+
+}  // namespace lodbake::lod_detail

@@ -1,0 +1,49 @@
+#include "lod/level_view.h"
+
+#include <algorithm>
+
+namespace lodbake::lod_detail {
+
+std::vector<LevelView> levelViews(const Asset& asset, const Multires& mr, std::vector<std::string>& warnings) {
+    std::vector<LevelView> v;
+    LevelView l0;
+    l0.triangles = asset.mesh.triangles;
+    l0.cornerWedges = asset.mesh.cornerWedges;
+    l0.faces.resize(asset.mesh.triangleCount());
+    for (size_t f = 0; f < l0.faces.size(); ++f) l0.faces[f] = uint32_t(f);
+    l0.source = "original";
+    v.push_back(std::move(l0));
+    for (size_t k = 0; k < mr.levels.size(); ++k) {
+        const Level& L = mr.levels[k];
+        if (L.triangles.empty()) continue;
+        if (L.triangles == v.back().triangles)
+            warnings.push_back("LOD" + std::to_string(v.size()) + " (level " + std::to_string(k + 1) + ") repeats LOD" +
+                               std::to_string(v.size() - 1) + ": the same " + std::to_string(L.triangles.size()) +
+                               " triangles (simplify could not make it coarser)");
+        LevelView lv;
+        lv.triangles = L.triangles;
+        lv.cornerWedges = L.cornerWedges;
+        lv.faces = L.faces;
+        lv.source = "level " + std::to_string(k + 1);
+        lv.maxDeviation = L.maxDeviation;
+        lv.level = k + 1;
+        lv.data = &L;
+        v.push_back(std::move(lv));
+    }
+    return v;
+}
+
+TriMesh asTriMesh(const TriMesh& original, const LevelView& lv) {
+    TriMesh m;
+    m.positions = lv.positionsOr(original);
+    m.triangles = lv.triangles;
+    return m;
+}
+
+bool sameSurface(const LevelView& a, const LevelView& b) {
+    auto same = [](Vec3 p, Vec3 q) { return p.x == q.x && p.y == q.y && p.z == q.z; };
+    return a.triangles == b.triangles && a.cornerWedges == b.cornerWedges && a.faces == b.faces &&
+           std::equal(a.positions.begin(), a.positions.end(), b.positions.begin(), b.positions.end(), same);
+}
+
+}  // namespace lodbake::lod_detail
