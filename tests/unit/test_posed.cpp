@@ -155,6 +155,37 @@ TEST(SimplifyPosed, LevelsStayWithinTheirDeviationWhenPosed) {
     }
 }
 
+// A pose repeated (a looping animation's last key) or one that leaves the tube as bound measures
+// nothing new: the figures are those of the poses without it, refined or not.
+TEST(PosedDistance, RepeatedPosesMeasureTheSame) {
+    const Asset a = bentTube();
+    const std::vector<PoseSample> poses = samplePoses(a.rig, {});
+    ASSERT_GE(poses.size(), 2u);
+    std::vector<PoseSample> repeated = poses;
+    repeated.insert(repeated.begin() + 1, poses.back());
+    repeated.push_back(poses[1]);
+    SimplifyOptions so;
+    so.levels = {{0.1, 0, 0}};
+    so.posed = poseWedges(a.rig, a.morph, a.mesh, poses);
+    const SimplifyResult simplified = simplify(a.mesh, so);
+    const Level& L = simplified.multires.levels[0];
+    TriMesh lm = a.mesh;
+    lm.triangles = L.triangles;
+    lm.cornerWedges = L.cornerWedges;
+    for (size_t stride : {size_t(1), size_t(8)}) {
+        DistanceOptions d;
+        d.samplesPerSide = 4000;
+        d.threads = 1;
+        d.refineStride = stride;
+        const GeometricDistance once = posedSurfaceDistance(a.rig, a.morph, a.mesh, lm, poses, d);
+        const GeometricDistance twice = posedSurfaceDistance(a.rig, a.morph, a.mesh, lm, repeated, d);
+        EXPECT_EQ(once.hausdorff, twice.hausdorff) << "stride " << stride;
+        EXPECT_EQ(once.rms, twice.rms) << "stride " << stride;
+        EXPECT_EQ(once.mean, twice.mean) << "stride " << stride;
+        EXPECT_GT(once.hausdorff, surfaceDistance(a.mesh, lm, d).hausdorff) << "stride " << stride;
+    }
+}
+
 // The influence rule's default: with sampled animation poses the posed measure judges a collapse
 // between differently bound vertices, so the tube's blend rings (each bound 0.125 apart in total
 // variation) collapse and a 2% level reaches its target; in the bind pose only, with the rest

@@ -215,11 +215,11 @@ OneSidedDistance oneSidedRefined(const Surface& from, const Measured& to, const 
     std::vector<size_t> hot;
     for (size_t b = 0; b < blocks; ++b)
         if (blockMax[b] >= threshold) hot.push_back(b);
-    // A sample of a run is queried only when it could exceed the coarse maximum: the distance is
-    // 1-Lipschitz, so a strided sample c of the run bounds it by d(c) + |p - c| (with a margin for
-    // rounding). The maximum is the dense one exactly, with far fewer queries where a coarse level
-    // lies far from the original everywhere.
-    const double known = r.max * (1 - 1e-9);
+    // A sample of a run is queried only when it could exceed the coarse maximum or refineFloor: the
+    // distance is 1-Lipschitz, so a strided sample c of the run bounds it by d(c) + |p - c| (with a
+    // margin for rounding). The maximum is the dense one exactly wherever it reaches refineFloor,
+    // with far fewer queries where a coarse level lies far from the original everywhere.
+    const double known = std::max(r.max, o.refineFloor) * (1 - 1e-9);
     std::vector<double> hotMax(hot.size(), 0.0);
     std::vector<size_t> hotQueried(hot.size(), 0);
     parallelFor(hot.size(), o.threads, [&](size_t h) {

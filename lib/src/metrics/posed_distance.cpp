@@ -3,6 +3,7 @@
 #include "lodbake/metrics/posed_distance.h"
 
 #include <algorithm>
+#include <cstring>
 #include <utility>
 
 #include "lodbake/core/errors.h"
@@ -18,11 +19,45 @@ void raise(OneSidedDistance& to, const OneSidedDistance& d) {
     to.rms = std::max(to.rms, d.rms);
 }
 
+// Whether x and y have the same triangles at bit-identical positions: the distance reads nothing else.
+bool sameSurface(const TriMesh& x, const TriMesh& y) {
+    return x.positions.size() == y.positions.size() && x.triangles.size() == y.triangles.size() &&
+           std::memcmp(x.positions.data(), y.positions.data(), x.positions.size() * sizeof(Vec3)) == 0 &&
+           std::memcmp(x.triangles.data(), y.triangles.data(), x.triangles.size() * sizeof(Tri)) == 0;
+}
+
 }  // namespace
 
 PosedDistanceReference::PosedDistanceReference(const Rig& rig, const MorphTargets& morph, const TriMesh& a,
                                                std::vector<PoseSample> poses)
-    : rig_(rig), morph_(morph), a_(a), poses_(std::move(poses)), posed_(poses_.size()), posedTried_(poses_.size(), 0) {}
+    : rig_(rig),
+      morph_(morph),
+      a_(a),
+      poses_(std::move(poses)),
+      posed_(poses_.size()),
+      posedTried_(poses_.size(), 0),
+      posedMeshes_(poses_.size()),
+      sameAs_(poses_.size(), kBindPose) {}
+
+void PosedDistanceReference::prepare(size_t k) {
+    if (posedTried_[k]) return;
+    posedTried_[k] = 1;
+    const PoseSample& s = poses_[k];
+    TriMesh& m = posedMeshes_[k];
+    const TriMesh posed = poseMesh(rig_, morph_, a_, s.animation, s.time);
+    m.positions = posed.positions;
+    m.triangles = posed.triangles;
+    sameAs_[k] = int(k);
+    if (sameSurface(m, a_)) sameAs_[k] = kBindPose;
+    for (size_t j = 0; j < k && sameAs_[k] == int(k); ++j)
+        if (sameAs_[j] == int(j) && sameSurface(m, posedMeshes_[j])) sameAs_[k] = int(j);
+    if (sameAs_[k] != int(k)) return;  // measured through the bind pose or pose sameAs_[k]
+    try {
+        posed_[k].emplace(m);
+    } catch (const Impossible&) {
+        // the pose scales the original to no area: nothing to see there
+    }
+}
 
 const DistanceReference& PosedDistanceReference::bind() {
     if (!bind_) bind_.emplace(a_);
@@ -32,22 +67,30 @@ const DistanceReference& PosedDistanceReference::bind() {
 GeometricDistance PosedDistanceReference::distance(const TriMesh& b, const DistanceOptions& options) {
     GeometricDistance out = surfaceDistance(bind(), b, options);
     if (rig_.empty()) return out;
+    // A pose that puts `a` and `b` where the bind pose or an earlier pose does measures the same
+    // surfaces again: its figures would raise nothing (a higher refineFloor only refines fewer runs).
+    std::vector<TriMesh> posedB(poses_.size());
     for (size_t k = 0; k < poses_.size(); ++k) {
         const PoseSample& s = poses_[k];
-        if (!posedTried_[k]) {
-            posedTried_[k] = 1;
+        prepare(k);
+        const int same = sameAs_[k];
+        if (same != int(k) && (same == kBindPose || posed_[size_t(same)])) {
             try {
-                posed_[k].emplace(poseMesh(rig_, morph_, a_, s.animation, s.time));
+                const TriMesh p = poseMesh(rig_, morph_, b, s.animation, s.time);
+                if (sameSurface(p, same == kBindPose ? b : posedB[size_t(same)])) continue;
+                posedB[k] = p;
             } catch (const Impossible&) {
-                // the pose scales the original to no area: nothing to see there
+                continue;  // the pose scales the level to no area
             }
         }
-        if (!posed_[k]) continue;
+        const std::optional<DistanceReference>& reference = same == kBindPose ? bind_ : posed_[size_t(same)];
+        if (!reference) continue;
         GeometricDistance d;
         DistanceOptions posedOptions = options;  // a pose's runs below the maximum so far need no refining
         posedOptions.refineFloor = std::max(options.refineFloor, out.hausdorff);
         try {
-            d = surfaceDistance(*posed_[k], poseMesh(rig_, morph_, b, s.animation, s.time), posedOptions);
+            if (posedB[k].triangles.empty()) posedB[k] = poseMesh(rig_, morph_, b, s.animation, s.time);
+            d = surfaceDistance(*reference, posedB[k], posedOptions);
         } catch (const Impossible&) {
             continue;  // the pose scales the level to no area
         }

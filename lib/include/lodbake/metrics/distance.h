@@ -27,14 +27,15 @@ struct DistanceOptions {
     // every refineStride-th area sample; then every sample is queried only in the runs of
     // kRefineBlock consecutive samples (neighbours on the surface) whose coarse maximum reaches
     // refineFraction x max(the coarse maximum, refineFloor), and there only where the run's strided
-    // samples do not already bound the distance below the coarse maximum. The maximum is the dense
-    // one wherever the worst regions show in the coarse pass; mean and RMS come from the coarse
-    // samples; `samples` counts the queries.
+    // samples do not already bound the distance below max(the coarse maximum, refineFloor). The
+    // maximum is the dense one wherever the worst regions show in the coarse pass and it reaches
+    // refineFloor (below the floor it may be less); mean and RMS come from the coarse samples;
+    // `samples` counts the queries.
     // 1 = every sample queried (the exact figures of the sampling).
     size_t refineStride = 1;
     double refineFraction = 0.5;
     // A maximum already known to be reached (e.g. another pose's): runs below refineFraction of it
-    // are not refined. surfaceDistance's second side also takes the first side's maximum.
+    // are not refined, samples that cannot reach it are not queried. surfaceDistance's second side also takes the first side's maximum.
     double refineFloor = 0;
 };
 constexpr size_t kRefineBlock = 256;  // samples per refinement run

@@ -20,7 +20,9 @@ GeometricDistance posedSurfaceDistance(const Rig& rig, const MorphTargets& morph
 
 // The original `a` of posedSurfaceDistance prepared once for all levels measured against it: its
 // bind pose and each pose's posed mesh with their nearest-point trees (built on first use, held
-// until the reference is destroyed). Figures are posedSurfaceDistance's exactly.
+// until the reference is destroyed). Figures are posedSurfaceDistance's exactly. A pose that leaves
+// both meshes where the bind pose or an earlier pose put them (a looping animation's last key, a
+// pose of joints that influence nothing) measures what that pose measured: it is not measured again.
 class PosedDistanceReference {
 public:
     // `rig`, `morph` and `a` must outlive the reference.
@@ -38,6 +40,13 @@ private:
     std::optional<DistanceReference> bind_;
     std::vector<std::optional<DistanceReference>> posed_;  // per pose; empty when the pose leaves `a` no area
     std::vector<char> posedTried_;
+    std::vector<TriMesh> posedMeshes_;  // per pose tried, `a` posed (positions and triangles only)
+    // Per pose tried, the bind pose (kBindPose) or the earliest pose that puts `a` exactly where it
+    // does (itself when none does).
+    std::vector<int> sameAs_;
+    static constexpr int kBindPose = -1;
+
+    void prepare(size_t k);
 };
 
 }  // namespace lodbake
