@@ -21,13 +21,17 @@ namespace bake_detail {
 namespace {
 
 constexpr size_t kIslandTreeFrom = 64;  // island texels from which a FaceTree answers them
+// Cosine between an original face's normal and an island's at or below which the face belongs to
+// a sheet facing the other way (about 143 degrees): the two sheets of a thin wall are near 180
+// degrees apart, faces around a crease the island cuts across far less.
+constexpr double kOppositeCos = -0.8;
 
-// The faces of `faces` that face the island's way: geometric normal within 90 degrees of the
-// island triangle's. A coarse triangle lies between the sheets of a thin part (a glass wall's
-// outer and inner surface, the two sides of a lamp shade) or cuts under a surface into what lies
-// behind it; the nearest point can then be on the sheet or part facing the other way, whose
-// texels (and normals) are not what this side shows. All faces when none face its way (a
-// degenerate island, or a level that folded a thin part onto one sheet).
+// The faces of `faces` that face the island's way: geometric normal not opposite the island
+// triangle's (cosine above kOppositeCos). A coarse triangle lies between the sheets of a thin
+// part (a glass wall's outer and inner surface, the two sides of a lamp shade); the nearest point
+// can then be on the sheet behind it, facing the other way, whose texels (and normals) are not
+// what this side shows. All faces when none face its way (a degenerate island, or a level that
+// folded a thin part onto one sheet).
 std::vector<uint32_t> facingFaces(const TriMesh& mesh, const std::vector<uint32_t>& faces, const std::array<Vec3, 3>& tri) {
     const Vec3 n = cross(tri[1] - tri[0], tri[2] - tri[0]);
     std::vector<uint32_t> out;
@@ -35,7 +39,8 @@ std::vector<uint32_t> facingFaces(const TriMesh& mesh, const std::vector<uint32_
     for (uint32_t f : faces) {
         const Tri& t = mesh.triangles[f];
         const Vec3& p0 = mesh.positions[t[0]];
-        if (dot(cross(mesh.positions[t[1]] - p0, mesh.positions[t[2]] - p0), n) > 0) out.push_back(f);
+        const Vec3 nf = cross(mesh.positions[t[1]] - p0, mesh.positions[t[2]] - p0);
+        if (dot(nf, n) > kOppositeCos * length(nf) * length(n)) out.push_back(f);
     }
     return out.empty() ? faces : out;
 }
