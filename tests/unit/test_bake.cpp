@@ -169,6 +169,45 @@ TEST(Bake, IslandSamplesTheClosestSurfacePoint) {
     EXPECT_THROW(bakeBaseColor(a, twoQuadsUV(), o, {none}), InvalidInput);
 }
 
+// A thin wall seen edge-on (the page's texels come from islands only, as a projected level's):
+//   z = 0.1  ------ outer sheet, facing +z, green
+//   z = 0.03 ------ island facing +z  (nearer the inner sheet, reads the outer one)
+//   z = 0.07 ------ island facing -z  (nearer the outer sheet, reads the inner one)
+//   z = 0    ------ inner sheet, facing -z, red
+// An island reads the nearest face that faces its way, not the nearest face.
+TEST(Bake, IslandReadsTheSheetFacingItsWay) {
+    Asset a;
+    TriMesh& m = a.mesh;
+    m.positions = {{0, 0, 0.1}, {1, 0, 0.1}, {1, 1, 0.1}, {0, 1, 0.1}, {0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+    m.triangles = {{0, 1, 2}, {0, 2, 3}, {4, 6, 5}, {4, 7, 6}};
+    m.cornerWedges = m.triangles;
+    m.wedges.vertex = {0, 1, 2, 3, 4, 5, 6, 7};
+    m.triangleMaterial = {0, 0, 1, 1};
+    Material outer, inner;
+    outer.baseColorFactor = {0, 1, 0, 1};
+    inner.baseColorFactor = {1, 0, 0, 1};
+    a.materials = {outer, inner};
+    const std::vector<std::array<Vec2, 3>> offPage(4, {Vec2{-10, -10}, Vec2{-10, -10}, Vec2{-10, -10}});
+    BakeOptions o;
+    o.size = 40;
+    o.fillGaps = false;
+    BakeIsland up, down;
+    up.position = {Vec3{0.2, 0.2, 0.03}, Vec3{0.8, 0.2, 0.03}, Vec3{0.5, 0.8, 0.03}};
+    up.uv = {Vec2{0.05, 0.8}, Vec2{0.45, 0.8}, Vec2{0.25, 0.2}};
+    down.position = {Vec3{0.2, 0.2, 0.07}, Vec3{0.5, 0.8, 0.07}, Vec3{0.8, 0.2, 0.07}};
+    down.uv = {Vec2{0.55, 0.8}, Vec2{0.75, 0.2}, Vec2{0.95, 0.8}};
+    up.faces = down.faces = {0, 1, 2, 3};
+    BakeResult r = bakeBaseColor(a, offPage, o, {up, down});
+    EXPECT_GT(r.islandTexels, 20u);
+    auto px = [&](int x, int y, int c) { return r.pixels[(size_t(y) * 40 + size_t(x)) * 3 + size_t(c)]; };
+    for (int y = 16; y < 28; ++y) {
+        EXPECT_NEAR(px(10, y, 0), 0.0, 1e-6) << y;  // up: green
+        EXPECT_NEAR(px(10, y, 1), 1.0, 1e-6) << y;
+        EXPECT_NEAR(px(30, y, 0), 1.0, 1e-6) << y;  // down: red
+        EXPECT_NEAR(px(30, y, 1), 0.0, 1e-6) << y;
+    }
+}
+
 // A 21 x 21 vertex grid (z = 0) in two charts (left and right halves, 800 faces in all) and two
 // layout islands: a small one across the chart border and one spanning the grid. An island's
 // faces are only those near it, yet the bake's closest-point faces (facesNearTriangle) are the

@@ -21,11 +21,35 @@ namespace bake_detail {
 namespace {
 
 constexpr size_t kIslandTreeFrom = 64;  // island texels from which a FaceTree answers them
+// Cosine between an original face's normal and an island's at or below which the face belongs to
+// a sheet facing the other way (about 143 degrees): the two sheets of a thin wall are near 180
+// degrees apart, faces around a crease the island cuts across far less.
+constexpr double kOppositeCos = -0.8;
+
+// The faces of `faces` that face the island's way: geometric normal not opposite the island
+// triangle's (cosine above kOppositeCos). A coarse triangle lies between the sheets of a thin
+// part (a glass wall's outer and inner surface, the two sides of a lamp shade); the nearest point
+// can then be on the sheet behind it, facing the other way, whose texels (and normals) are not
+// what this side shows. All faces when none face its way (a degenerate island, or a level that
+// folded a thin part onto one sheet).
+std::vector<uint32_t> facingFaces(const TriMesh& mesh, const std::vector<uint32_t>& faces, const std::array<Vec3, 3>& tri) {
+    const Vec3 n = cross(tri[1] - tri[0], tri[2] - tri[0]);
+    std::vector<uint32_t> out;
+    out.reserve(faces.size());
+    for (uint32_t f : faces) {
+        const Tri& t = mesh.triangles[f];
+        const Vec3& p0 = mesh.positions[t[0]];
+        const Vec3 nf = cross(mesh.positions[t[1]] - p0, mesh.positions[t[2]] - p0);
+        if (dot(nf, n) > kOppositeCos * length(nf) * length(n)) out.push_back(f);
+    }
+    return out.empty() ? faces : out;
+}
 
 }  // namespace
 
-// The texels of each island are measured over facesNearTriangle, which holds the closest point of
-// every point X of the island's triangle; the merge is in island order (island_bake.h).
+// The texels of each island are measured over facesNearTriangle of its facing faces, which holds
+// the closest point of every point X of the island's triangle among them; the merge is in island
+// order (island_bake.h).
 void rasterizeIslands(const TriMesh& mesh, const std::vector<BakeIsland>& islands, const Grid& g, double dilation,
                       int threads, std::vector<TexelHit>& hits) {
     for (size_t i = 0; i < islands.size(); ++i)
@@ -56,7 +80,7 @@ void rasterizeIslands(const TriMesh& mesh, const std::vector<BakeIsland>& island
                 found[i].push_back({q.texel, {int32_t(f), q.d, {float(fb[0]), float(fb[1]), float(fb[2])}, int32_t(i)}});
             }
         };
-        std::vector<uint32_t> faces = facesNearTriangle(mesh, isl.faces, isl.position);
+        std::vector<uint32_t> faces = facesNearTriangle(mesh, facingFaces(mesh, isl.faces, isl.position), isl.position);
         if (queries.size() < kIslandTreeFrom) {
             uint32_t f = 0xffffffffu;  // the previous texel's face: the next texel's search bound
             answer(BoxedFaces(mesh, std::move(faces)), [&](const BoxedFaces& near, Vec3 X, std::array<double, 3>& fb) {

@@ -13,9 +13,11 @@
 namespace lodbake::bake_detail {
 
 // Adds the islands' texels to `hits` (the faces' hits, rasterizeTriangles): texel -> point X of
-// the island's 3D triangle -> closest point of its faces. A texel takes the nearest hit, a face's
-// before an island's, the earlier island on ties. Islands are measured on `threads` threads, then
-// merged in island order, so the hits do not depend on the count.
+// the island's 3D triangle -> closest point of those of its faces that face its way (geometric
+// normal less than about 143 degrees from the island's: not a thin wall's other sheet; all of
+// them when none do). A texel takes the nearest hit, a face's before an island's, the earlier
+// island on ties. Islands are measured on `threads` threads, then merged in island order, so the
+// hits do not depend on the count.
 // \throw InvalidInput (an island without faces).
 void rasterizeIslands(const TriMesh& mesh, const std::vector<BakeIsland>& islands, const Grid& g, double dilation,
                       int threads, std::vector<TexelHit>& hits);

@@ -65,7 +65,8 @@ struct BakeTarget {
 
 // A UV triangle of the atlas that is not an original face (parameterize's level islands): each
 // texel it covers maps to a point X of the 3D triangle `position` and shows the original surface
-// at the point of `faces` closest to X (same shading as the original faces).
+// at the point of `faces` closest to X (same shading as the original faces), among the faces that
+// face the triangle's way when there are any (a thin wall's other sheet is not read).
 struct BakeIsland {
     std::array<Vec3, 3> position{};
     std::array<Vec2, 3> uv{};            // glTF convention, like cornerUV
