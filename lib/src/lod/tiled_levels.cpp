@@ -52,19 +52,17 @@ int singleMaterial(const TriMesh& m) {
     return first;
 }
 
-// Twice the signed UV area in the glTF convention (v down): > 0 for a front-facing map.
-double uvArea2(const std::array<Vec2, 3>& t) {
-    return (t[1].x - t[0].x) * (t[0].y - t[2].y) - (t[0].y - t[1].y) * (t[2].x - t[0].x);
-}
+// The signed UV area in the glTF convention (v down): > 0 for a front-facing map.
+double uvArea(const std::array<Vec2, 3>& t) { return -signedArea(t[0], t[1], t[2]); }
 
 double area3(const std::vector<Vec3>& p, const Tri& t) { return triangleArea(p[t[0]], p[t[1]], p[t[2]]); }
 
 // How far a triangle's map departs from the original's: |log(ratio / reference)| of its UV-to-3D
 // area ratio, infinite when it faces the other way or has no area.
 double stretchOf(const std::array<Vec2, 3>& uv, double area, double reference, double orientation) {
-    const double a2 = uvArea2(uv) * orientation;
-    if (!(a2 > 0) || !(area > 0)) return INFINITY;
-    return std::abs(std::log(0.5 * a2 / area / reference));
+    const double a = uvArea(uv) * orientation;
+    if (!(a > 0) || !(area > 0)) return INFINITY;
+    return std::abs(std::log(a / area / reference));
 }
 
 }  // namespace
@@ -133,7 +131,7 @@ TiledLevelUVs tiledLevelUVs(const TriMesh& original, const std::vector<Vec3>& po
     std::vector<std::vector<uint32_t>> wedgesOf(original.vertexCount());
     for (size_t f = 0; f < original.triangleCount(); ++f) {
         const Tri& w = original.cornerWedges[f];
-        uvSum += 0.5 * uvArea2({tileUV(w[0]), tileUV(w[1]), tileUV(w[2])});
+        uvSum += uvArea({tileUV(w[0]), tileUV(w[1]), tileUV(w[2])});
         areaSum += area3(original.positions, original.triangles[f]);
         for (size_t j = 0; j < 3; ++j) {
             std::vector<uint32_t>& of = wedgesOf[original.triangles[f][j]];
@@ -155,7 +153,7 @@ TiledLevelUVs tiledLevelUVs(const TriMesh& original, const std::vector<Vec3>& po
                                        tileUV(original.cornerWedges[f][2])};
         const Vec2 centre = (face[0] + face[1] + face[2]) * (1.0 / 3);
         // The face's own map is the reference (UV density may vary over the original).
-        const double faceUV = 0.5 * uvArea2(face), faceArea = area3(original.positions, original.triangles[f]);
+        const double faceUV = uvArea(face), faceArea = area3(original.positions, original.triangles[f]);
         const bool own = faceUV != 0 && faceArea > 0;
         const double reference = own ? std::abs(faceUV) / faceArea : meanRatio;
         const double orientation = own ? (faceUV < 0 ? -1 : 1) : meanOrientation;
