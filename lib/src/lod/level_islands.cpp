@@ -1,3 +1,4 @@
+// A projected level's own charts (level_islands.h): islands unfolded onto neighbouring charts.
 #include "lod/level_islands.h"
 
 #include <algorithm>

@@ -1,3 +1,4 @@
+// A level's mesh (level_mesh.h): one indexed primitive, back faces, rounded sliver corners.
 #include "lod/level_mesh.h"
 
 #include <array>
