@@ -19,6 +19,7 @@
 #include <unordered_map>
 
 #include "lodbake/core/adjacency.h"
+#include "lodbake/core/grid2d.h"
 
 namespace lodbake {
 namespace {
@@ -53,34 +54,11 @@ struct Bounds2 {
     }
 };
 
-// A uniform grid of about `items` cells over `box`.
-struct Grid {
-    Bounds2 box;
-    int nx = 1, ny = 1;
-    double sx = 1, sy = 1;
-    std::vector<std::vector<uint32_t>> cells;
-    Grid(const Bounds2& b, size_t items) : box(b) {
-        double w = std::max(b.max.x - b.min.x, 1e-300), h = std::max(b.max.y - b.min.y, 1e-300);
-        double n = std::max(1.0, std::sqrt(double(items)));
-        double aspect = w / h;
-        nx = std::clamp(int(std::ceil(n * std::sqrt(aspect))), 1, 1024);
-        ny = std::clamp(int(std::ceil(n / std::sqrt(aspect))), 1, 1024);
-        sx = nx / w;
-        sy = ny / h;
-        cells.resize(size_t(nx) * size_t(ny));
-    }
-    int cx(double x) const { return std::clamp(int((x - box.min.x) * sx), 0, nx - 1); }
-    int cy(double y) const { return std::clamp(int((y - box.min.y) * sy), 0, ny - 1); }
-    template <class F>
-    void visit(Vec2 lo, Vec2 hi, F&& f) const {
-        for (int y = cy(lo.y); y <= cy(hi.y); ++y)
-            for (int x = cx(lo.x); x <= cx(hi.x); ++x) f(cells[size_t(y) * size_t(nx) + size_t(x)]);
-    }
-    void insert(Vec2 lo, Vec2 hi, uint32_t id) {
-        for (int y = cy(lo.y); y <= cy(hi.y); ++y)
-            for (int x = cx(lo.x); x <= cx(hi.x); ++x) cells[size_t(y) * size_t(nx) + size_t(x)].push_back(id);
-    }
-};
+// A grid of about one cell per item over `box` (core/grid2d.h).
+Grid2 gridOver(const Bounds2& box, const std::vector<GridItem2>& items) {
+    const std::array<int, 2> n = Grid2::squareCells(box.min, box.max, items.size());
+    return Grid2(box.min, box.max, n[0], n[1], items);
+}
 
 double loopArea(const PlanarPolygon& poly, const std::vector<uint32_t>& loop) {
     double a = 0;
@@ -223,14 +201,15 @@ bool clipEars(Ring& ring, uint32_t start, std::vector<Tri>& out, const std::func
     if (count < 3) return false;
     const double scale = std::max(box.max.x - box.min.x, box.max.y - box.min.y);
     const double minArea = 1e-14 * scale * scale;
-    Grid grid(box, count);
+    std::vector<GridItem2> nodes;
     std::unordered_map<uint64_t, uint32_t> edges;  // current ring edges (undirected id pairs)
     for (uint32_t i = start;;) {
-        grid.insert(ring.nodes[i].p, ring.nodes[i].p, i);
+        nodes.push_back({i, ring.nodes[i].p, ring.nodes[i].p});
         ++edges[edgeKey(ring.nodes[i].id, ring.nodes[ring.nodes[i].next].id)];
         i = ring.nodes[i].next;
         if (i == start) break;
     }
+    const Grid2 grid = gridOver(box, nodes);
     auto isEar = [&](uint32_t c) {
         const Node& N = ring.nodes[c];
         const Node& P = ring.nodes[N.prev];
@@ -245,7 +224,7 @@ bool clipEars(Ring& ring, uint32_t start, std::vector<Tri>& out, const std::func
         Vec2 lo{std::min({P.p.x, N.p.x, X.p.x}), std::min({P.p.y, N.p.y, X.p.y})};
         Vec2 hi{std::max({P.p.x, N.p.x, X.p.x}), std::max({P.p.y, N.p.y, X.p.y})};
         bool blocked = false;
-        grid.visit(lo, hi, [&](const std::vector<uint32_t>& cell) {
+        grid.visit(lo, hi, [&](const Grid2::Cell& cell) {
             for (uint32_t k : cell) {
                 if (blocked) return;
                 const Node& K = ring.nodes[k];
@@ -311,29 +290,33 @@ bool polygonIsSimple(const PlanarPolygon& poly) {
         }
     for (const Seg& g : s)
         if (g.a == g.b) return false;
-    Grid grid(box, s.size());
+    std::vector<GridItem2> segments;
     for (uint32_t i = 0; i < s.size(); ++i) {
         Vec2 p = poly.points[s[i].a], q = poly.points[s[i].b];
-        grid.insert({std::min(p.x, q.x), std::min(p.y, q.y)}, {std::max(p.x, q.x), std::max(p.y, q.y)}, i);
+        segments.push_back({i, {std::min(p.x, q.x), std::min(p.y, q.y)}, {std::max(p.x, q.x), std::max(p.y, q.y)}});
     }
-    for (const auto& cell : grid.cells)
-        for (size_t x = 0; x < cell.size(); ++x)
-            for (size_t y = x + 1; y < cell.size(); ++y) {
-                const Seg& g = s[cell[x]];
-                const Seg& h = s[cell[y]];
-                Vec2 p1 = poly.points[g.a], p2 = poly.points[g.b], q1 = poly.points[h.a], q2 = poly.points[h.b];
-                int shared = (g.a == h.a) + (g.a == h.b) + (g.b == h.a) + (g.b == h.b);
-                if (shared >= 2) return false;  // repeated segment (or a spike a -> b -> a)
-                if (shared == 1) {
-                    // Meeting at the shared id is fine unless the two segments overlap.
-                    uint32_t common = (g.a == h.a || g.a == h.b) ? g.a : g.b;
-                    Vec2 c = poly.points[common];
-                    Vec2 u = (g.a == common ? p2 : p1) - c, v = (h.a == common ? q2 : q1) - c;
-                    if (cross(u, v) == 0 && dot(u, v) > 0) return false;
-                    continue;
+    const Grid2 grid = gridOver(box, segments);
+    for (int cy = 0; cy < grid.ny(); ++cy)
+        for (int cx = 0; cx < grid.nx(); ++cx) {
+            const Grid2::Cell cell = grid.cell(cx, cy);
+            for (size_t x = 0; x < cell.size(); ++x)
+                for (size_t y = x + 1; y < cell.size(); ++y) {
+                    const Seg& g = s[cell.first[x]];
+                    const Seg& h = s[cell.first[y]];
+                    Vec2 p1 = poly.points[g.a], p2 = poly.points[g.b], q1 = poly.points[h.a], q2 = poly.points[h.b];
+                    int shared = (g.a == h.a) + (g.a == h.b) + (g.b == h.a) + (g.b == h.b);
+                    if (shared >= 2) return false;  // repeated segment (or a spike a -> b -> a)
+                    if (shared == 1) {
+                        // Meeting at the shared id is fine unless the two segments overlap.
+                        uint32_t common = (g.a == h.a || g.a == h.b) ? g.a : g.b;
+                        Vec2 c = poly.points[common];
+                        Vec2 u = (g.a == common ? p2 : p1) - c, v = (h.a == common ? q2 : q1) - c;
+                        if (cross(u, v) == 0 && dot(u, v) > 0) return false;
+                        continue;
+                    }
+                    if (segmentsMeet(p1, p2, q1, q2)) return false;
                 }
-                if (segmentsMeet(p1, p2, q1, q2)) return false;
-            }
+        }
     return true;
 }
 

@@ -91,7 +91,7 @@ BakeResult bakeMaterial(const BakeSources& bs, const std::vector<std::array<Vec2
         throw InvalidInput("bake: width and height must be in [0, size]");
     if (target && (target->normal.size() != target->uv.size() || target->tangent.size() != target->uv.size()))
         throw InvalidInput("bake: target UVs, normals and tangents differ in size");
-    const Grid g{o.size, o.width > 0 ? o.width : o.size, o.height > 0 ? o.height : o.size};
+    const TexelRegion g{o.size, o.width > 0 ? o.width : o.size, o.height > 0 ? o.height : o.size};
     const BakeChannels& ch = o.channels;
     BakeResult res;
 

@@ -23,7 +23,7 @@ bool targetFrame(const BakeTarget* targetOrNull, const TargetHit& th, TangentFra
 
 }  // namespace
 
-std::vector<TargetHit> rasterizeTarget(const BakeTarget& target, const Grid& g) {
+std::vector<TargetHit> rasterizeTarget(const BakeTarget& target, const TexelRegion& g) {
     std::vector<TargetHit> hits(size_t(g.w) * size_t(g.h));
     for (size_t t = 0; t < target.uv.size(); ++t) {
         Vec2 P[3];

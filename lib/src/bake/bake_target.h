@@ -20,9 +20,9 @@ struct TargetHit {
     std::array<float, 3> bary{};
 };
 
-// Per texel of the grid's region, the target triangle it lies in or the nearest within
+// Per texel of the region, the target triangle it lies in or the nearest within
 // target.reach texels (the earlier triangle on ties).
-std::vector<TargetHit> rasterizeTarget(const BakeTarget& target, const Grid& g);
+std::vector<TargetHit> rasterizeTarget(const BakeTarget& target, const TexelRegion& g);
 
 // World normal N expressed in the target's tangent frame at hit th, as an encoded colour; the
 // unperturbed (0, 0, 1) without a target or a hit.

@@ -50,7 +50,7 @@ std::vector<uint32_t> facingFaces(const TriMesh& mesh, const std::vector<uint32_
 // The texels of each island are measured over facesNearTriangle of its facing faces, which holds
 // the closest point of every point X of the island's triangle among them; the merge is in island
 // order (island_bake.h).
-void rasterizeIslands(const TriMesh& mesh, const std::vector<BakeIsland>& islands, const Grid& g, double dilation,
+void rasterizeIslands(const TriMesh& mesh, const std::vector<BakeIsland>& islands, const TexelRegion& g, double dilation,
                       int threads, std::vector<TexelHit>& hits) {
     for (size_t i = 0; i < islands.size(); ++i)
         if (islands[i].faces.empty()) throw InvalidInput("bake: island " + std::to_string(i) + " has no faces to sample");

@@ -19,7 +19,7 @@ namespace lodbake::bake_detail {
 // island on ties. Islands are measured on `threads` threads, then merged in island order, so the
 // hits do not depend on the count.
 // \throw InvalidInput (an island without faces).
-void rasterizeIslands(const TriMesh& mesh, const std::vector<BakeIsland>& islands, const Grid& g, double dilation,
+void rasterizeIslands(const TriMesh& mesh, const std::vector<BakeIsland>& islands, const TexelRegion& g, double dilation,
                       int threads, std::vector<TexelHit>& hits);
 
 // d(original UV)/d(texel x) and /d(texel y) at a texel of island `isl` (UVs scaled by `size`)

@@ -13,7 +13,7 @@ constexpr size_t kRasterRows = 64;
 
 }  // namespace
 
-void rasterizeTriangles(const TriMesh& mesh, const std::vector<std::array<Vec2, 3>>& cornerUV, const Grid& g,
+void rasterizeTriangles(const TriMesh& mesh, const std::vector<std::array<Vec2, 3>>& cornerUV, const TexelRegion& g,
                         double dilation, int threads, std::vector<TexelHit>& hits) {
     hits.assign(size_t(g.w) * size_t(g.h), {});
     parallelChunks(size_t(g.h), kRasterRows, threads, [&](size_t rowBegin, size_t rowEnd, size_t) {

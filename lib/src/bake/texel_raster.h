@@ -25,17 +25,18 @@ struct TexelHit {
     std::array<float, 2> beyond{};  // texel centre minus the closest point (dilated texels), texels
 };
 
-// The baked region: texels [0, w) x [0, h) of the size x size grid cornerUV is scaled to.
-struct Grid {
+// The baked region: texels [0, w) x [0, h) of the size x size texture cornerUV is scaled to. A
+// dense raster of texels, not a bucket grid of items (that is core/grid2d.h).
+struct TexelRegion {
     int size, w, h;
     size_t at(int x, int y) const { return size_t(y) * size_t(w) + size_t(x); }
 };
 
-// Calls fn(x, y, d, bary) for every texel of the grid's region (rows [rowBegin, rowEnd) of it)
+// Calls fn(x, y, d, bary) for every texel of the region (rows [rowBegin, rowEnd) of it)
 // whose centre lies within `dilation` texels of triangle P (texel units); bary: of the closest
 // point of P (core/closest_point.h). Inline: it is the rasterisers' inner loop.
 template <class Fn>
-void forEachTexelNear(const Vec2 (&P)[3], const Grid& g, double dilation, Fn&& fn, int rowBegin = 0, int rowEnd = INT_MAX) {
+void forEachTexelNear(const Vec2 (&P)[3], const TexelRegion& g, double dilation, Fn&& fn, int rowBegin = 0, int rowEnd = INT_MAX) {
     double x0 = std::min({P[0].x, P[1].x, P[2].x}) - dilation, x1 = std::max({P[0].x, P[1].x, P[2].x}) + dilation;
     double y0 = std::min({P[0].y, P[1].y, P[2].y}) - dilation, y1 = std::max({P[0].y, P[1].y, P[2].y}) + dilation;
     int ix0 = std::max(0, int(std::floor(x0))), ix1 = std::min(g.w - 1, int(std::ceil(x1)));
@@ -53,7 +54,7 @@ void forEachTexelNear(const Vec2 (&P)[3], const Grid& g, double dilation, Fn&& f
 // texel within `dilation` texels of a face takes the nearest face (the earlier face on ties), its
 // closest point's barycentrics and the offset from that point to the texel centre. Faces with no
 // UV area are skipped. Rows in bands on `threads` threads; the hits do not depend on the count.
-void rasterizeTriangles(const TriMesh& mesh, const std::vector<std::array<Vec2, 3>>& cornerUV, const Grid& g,
+void rasterizeTriangles(const TriMesh& mesh, const std::vector<std::array<Vec2, 3>>& cornerUV, const TexelRegion& g,
                         double dilation, int threads, std::vector<TexelHit>& hits);
 
 }  // namespace lodbake::bake_detail

@@ -113,8 +113,7 @@ Vec3 perturbedNormal(const ShadeContext& c, const TexelHit& h, const TextureRef&
     const int set = map.transform.texCoord >= 0 ? map.transform.texCoord : map.texCoord;
     TangentFrame frame;
     if (!originalTangentFrame(c, h, set, N, frame)) return N;
-    const double s = map.scale;
-    const Vec3 out = normalize(frame.toWorld({(2.0 * r[0] - 1) * s, (2.0 * r[1] - 1) * s, 2.0 * r[2] - 1}));
+    const Vec3 out = normalize(frame.toWorld(tangentNormalOfTexel(r, map.scale)));
     return length(out) > 0.5 ? out : N;
 }
 

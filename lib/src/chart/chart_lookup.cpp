@@ -1,3 +1,4 @@
+// The UV of each (welded vertex, chart) pair of a chart layout (chart_lookup.h).
 #include "lodbake/chart/chart_lookup.h"
 
 namespace lodbake {

@@ -1,3 +1,4 @@
+// Mesh connectivity over welded triangles (adjacency.h): edges, face neighbours, twins, fans.
 #include "lodbake/core/adjacency.h"
 
 #include <algorithm>

@@ -1,3 +1,4 @@
+// Posing on the CPU (pose.h): node transforms at a time, morph weights, linear blend skinning.
 #include "lodbake/core/pose.h"
 
 #include <algorithm>

@@ -1,3 +1,5 @@
+// The buffer, views and accessors of a glTF being written, and its .glb / .gltf serialisation
+// (gltf_buffer.h).
 #include "gltf/gltf_buffer.h"
 
 #include <algorithm>

@@ -1,3 +1,4 @@
+// Writing a Rig and per-vertex influences into a glTF (rig_write.h).
 #include "gltf/rig_write.h"
 
 #include "gltf/gltf_internal.h"

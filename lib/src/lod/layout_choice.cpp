@@ -1,3 +1,4 @@
+// A level's texture layout chosen by its bake (layout_choice.h).
 #include "lod/layout_choice.h"
 
 #include <algorithm>

@@ -1,3 +1,4 @@
+// A projected level's own charts (level_islands.h): islands unfolded onto neighbouring charts.
 #include "lod/level_islands.h"
 
 #include <algorithm>
@@ -31,7 +32,9 @@ bool overlaps(const UvTri& a, const UvTri& b, double tol) {
 
 uint64_t pairKey(uint32_t a, uint32_t b) { return a < b ? (uint64_t(a) << 32) | b : (uint64_t(b) << 32) | a; }
 
-// The UV triangles of every chart, bucketed by a uniform grid for the overlap tests.
+// The UV triangles of every chart, bucketed by a uniform grid for the overlap tests. Not
+// core/grid2d.h: the triangles arrive while they are unfolded (no box is known in advance), so
+// the cells are hashed, unbounded and kept per chart.
 class ChartGrid {
 public:
     explicit ChartGrid(double cell) : cell_(cell) {}

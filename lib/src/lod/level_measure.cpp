@@ -1,3 +1,4 @@
+// Each level's measured deviation from the original (level_measure.h), after vertex placement.
 #include "lod/level_measure.h"
 
 #include "lodbake/core/pose_samples.h"

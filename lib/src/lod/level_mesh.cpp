@@ -1,3 +1,4 @@
+// A level's mesh (level_mesh.h): one indexed primitive, back faces, rounded sliver corners.
 #include "lod/level_mesh.h"
 
 #include <array>
@@ -11,7 +12,10 @@
 namespace lodbake::lod_detail {
 namespace {
 
-// Twice the signed UV area in the glTF convention (v down): > 0 for a front-facing triangle.
+// Twice the signed UV area in the glTF convention (v down): > 0 for a front-facing triangle. In
+// the point type's own precision: on the float UVs the file stores, the differences round as
+// float, the rounding that can fold a sliver and that this test looks for (core's signedArea,
+// math.h, works in double).
 template <class P>
 double uvArea2(const P& a, const P& b, const P& c) {
     return double(b.x - a.x) * double(a.y - c.y) - double(a.y - b.y) * double(c.x - a.x);

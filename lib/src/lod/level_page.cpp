@@ -1,3 +1,4 @@
+// A level's page (level_page.h): layouts, level UVs, own charts and the page search.
 #include "lod/level_page.h"
 
 #include <algorithm>

@@ -1,3 +1,4 @@
+// The chain's plan (level_plan.h): coverages, texel limits, eligible ranks, page sides.
 #include "lod/level_plan.h"
 
 #include <algorithm>

@@ -1,3 +1,4 @@
+// One level of the chain in terms of the original (level_view.h), and repeated levels.
 #include "lod/level_view.h"
 
 #include <algorithm>

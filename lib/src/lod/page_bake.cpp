@@ -1,3 +1,4 @@
+// A level's page baked from the original (page_bake.h): at the page UVs, or by projection.
 #include "lod/page_bake.h"
 
 #include <algorithm>

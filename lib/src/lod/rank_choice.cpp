@@ -12,8 +12,6 @@
 namespace lodbake::lod_detail {
 namespace {
 
-double area3(const std::array<Vec3, 3>& t) { return 0.5 * length(cross(t[1] - t[0], t[2] - t[0])); }
-
 // Channel values of an RGB page at texel coordinates (x, y) (texel centres at integers),
 // bilinear with clamped borders, as a renderer's magnification filter reads it.
 void bilinear(const std::vector<float>& rgb, int w, int h, double x, double y, double out[3]) {
@@ -50,7 +48,7 @@ ProbeLayout probeLayout(const std::vector<std::array<Vec3, 3>>& triangles, const
         p.uv.push_back({Vec2{x0 * s, y0 * s}, Vec2{(x0 + c) * s, y0 * s}, Vec2{x0 * s, (y0 + c) * s}});
         // The cell's samples stand for the 3D area of the triangles it covers (its stride group).
         double group = 0;
-        for (size_t u = t; u < std::min(n, size_t(t) + stride); ++u) group += area3(triangles[u]);
+        for (size_t u = t; u < std::min(n, size_t(t) + stride); ++u) group += triangleArea(triangles[u][0], triangles[u][1], triangles[u][2]);
         if (!(group > 0)) continue;
         const double weight = group / double(samplesPerCell);
         for (int j = 0; j + 2 <= c; ++j)

@@ -19,16 +19,16 @@ std::vector<const TextureRef*> materialTextureRefs(const Material& m) {
     return refs;
 }
 
-// The texel grid of one material: the largest texture it reads through plain TEXCOORD_0 (0 x 0:
-// none; its faces keep T0 pieces). Textures on another UV set or transformed are resampled by
+// The texels of one material: the size of the largest texture it reads through plain TEXCOORD_0
+// (0 x 0: none; its faces keep T0 pieces). Textures on another UV set or transformed are resampled by
 // the bake as on any level.
-struct MaterialGrid {
+struct MaterialTexels {
     int width = 0, height = 0;
     int image = -1;  // the texture whose texels these are
 };
 
-MaterialGrid materialGrid(const Asset& asset, const Material& m, const std::vector<std::pair<int, int>>& imageSizes) {
-    MaterialGrid g;
+MaterialTexels materialTexels(const Asset& asset, const Material& m, const std::vector<std::pair<int, int>>& imageSizes) {
+    MaterialTexels g;
     for (const TextureRef* r : materialTextureRefs(m)) {
         if (r->texture < 0 || size_t(r->texture) >= asset.textures.size()) continue;
         const int image = asset.textures[size_t(r->texture)].image;
@@ -64,21 +64,21 @@ SourceTexelLayout sourceTexelLayout(const Asset& asset, const std::vector<std::p
         out.reason = "no chart layout for the untextured faces";
         return out;
     }
-    std::vector<MaterialGrid> grids;
-    for (const Material& m : asset.materials) grids.push_back(materialGrid(asset, m, imageSizes));
-    auto gridOf = [&](size_t f) -> const MaterialGrid* {
+    std::vector<MaterialTexels> materialTexelSizes;
+    for (const Material& m : asset.materials) materialTexelSizes.push_back(materialTexels(asset, m, imageSizes));
+    auto texelsOf = [&](size_t f) -> const MaterialTexels* {
         const int32_t m = mesh.triangleMaterial.empty() ? -1 : mesh.triangleMaterial[f];
-        if (m < 0 || size_t(m) >= grids.size() || grids[size_t(m)].width == 0) return nullptr;
-        return &grids[size_t(m)];
+        if (m < 0 || size_t(m) >= materialTexelSizes.size() || materialTexelSizes[size_t(m)].width == 0) return nullptr;
+        return &materialTexelSizes[size_t(m)];
     };
-    // Textured: a face with a texture grid whose UVs cover some area of it. A face whose UVs have
+    // Textured: a face with texels whose UVs cover some area of it. A face whose UVs have
     // none (a palette texture reads one texel per face) covers no texel centre of its own: it
     // shows one colour, which its T0 piece reads at its UV exactly as well.
     const std::vector<Vec2>& uv = mesh.wedges.uv0;
     const bool uvs = uv.size() == mesh.wedges.size() && mesh.cornerWedges.size() == n;
     std::vector<char> textured(n, 0);
     for (size_t f = 0; f < n && uvs; ++f)
-        if (const MaterialGrid* g = gridOf(f)) {
+        if (const MaterialTexels* g = texelsOf(f)) {
             const Vec2 a = uv[mesh.cornerWedges[f][0]], b = uv[mesh.cornerWedges[f][1]], c = uv[mesh.cornerWedges[f][2]];
             textured[f] = std::abs(cross(b - a, c - a)) * g->width * g->height > kMinTexelArea;
         }
@@ -113,12 +113,12 @@ SourceTexelLayout sourceTexelLayout(const Asset& asset, const std::vector<std::p
     std::vector<uint32_t> byImage;
     for (size_t f = 0; f < n; ++f)
         if (textured[f]) byImage.push_back(uint32_t(f));
-    std::stable_sort(byImage.begin(), byImage.end(), [&](uint32_t x, uint32_t y) { return gridOf(x)->image < gridOf(y)->image; });
+    std::stable_sort(byImage.begin(), byImage.end(), [&](uint32_t x, uint32_t y) { return texelsOf(x)->image < texelsOf(y)->image; });
     std::vector<uint32_t> owner;  // per texel of the current texture: a face covering it
     for (size_t i = 0; i < byImage.size(); ++i) {
         const uint32_t f = byImage[i];
-        const MaterialGrid& g = *gridOf(f);
-        if (i == 0 || g.image != gridOf(byImage[i - 1])->image) owner.assign(size_t(g.width) * size_t(g.height), UINT32_MAX);
+        const MaterialTexels& g = *texelsOf(f);
+        if (i == 0 || g.image != texelsOf(byImage[i - 1])->image) owner.assign(size_t(g.width) * size_t(g.height), UINT32_MAX);
         Vec2 P[3];
         for (size_t k = 0; k < 3; ++k) {
             const Vec2 p = uv[mesh.cornerWedges[f][k]];
@@ -143,7 +143,7 @@ SourceTexelLayout sourceTexelLayout(const Asset& asset, const std::vector<std::p
     std::map<int, double> imageTexels;
     for (size_t f = 0; f < n; ++f)
         if (textured[f]) {
-            const MaterialGrid& g = *gridOf(f);
+            const MaterialTexels& g = *texelsOf(f);
             const Vec2 a = uv[mesh.cornerWedges[f][0]], b = uv[mesh.cornerWedges[f][1]], c = uv[mesh.cornerWedges[f][2]];
             imageTexels[g.image] += std::abs(cross(b - a, c - a)) * g.width * g.height;
         }
@@ -157,7 +157,7 @@ SourceTexelLayout sourceTexelLayout(const Asset& asset, const std::vector<std::p
     uint32_t charts = 0;
     for (int pass = 0; pass < 2; ++pass) {
         for (size_t f = 0; f < n; ++f)
-            if (textured[f] && (gridOf(f)->image == mainImage) == (pass == 0)) {
+            if (textured[f] && (texelsOf(f)->image == mainImage) == (pass == 0)) {
                 uint32_t& id = islandOf[findRoot(parent, uint32_t(f))];
                 if (id == UINT32_MAX) id = charts++;
             }
@@ -167,7 +167,7 @@ SourceTexelLayout sourceTexelLayout(const Asset& asset, const std::vector<std::p
         if (!textured[f]) continue;
         const uint32_t id = islandOf[findRoot(parent, uint32_t(f))];
         L.faceChart[f] = id;
-        const MaterialGrid& g = *gridOf(f);
+        const MaterialTexels& g = *texelsOf(f);
         for (size_t k = 0; k < 3; ++k) {
             const Vec2 p = uv[mesh.cornerWedges[f][k]];
             L.cornerUV[f][k] = {p.x * g.width, p.y * g.height};
@@ -195,7 +195,7 @@ SourceTexelLayout sourceTexelLayout(const Asset& asset, const std::vector<std::p
         double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300;
     };
     // The texture's texels face f's UV edges cross per layout unit of the same edge.
-    auto lineDensity = [&](size_t f, const MaterialGrid& g) {
+    auto lineDensity = [&](size_t f, const MaterialTexels& g) {
         double d = 0;
         for (size_t k = 0; k < 3; ++k) {
             const Vec2 e = uv[mesh.cornerWedges[f][(k + 1) % 3]] - uv[mesh.cornerWedges[f][k]];
@@ -211,7 +211,7 @@ SourceTexelLayout sourceTexelLayout(const Asset& asset, const std::vector<std::p
         const int32_t m = pieceMaterial(f);
         Piece& p = pieces[{t0.faceChart[f], m}];
         if (m < 0) {
-            const MaterialGrid* g = gridOf(f);
+            const MaterialTexels* g = texelsOf(f);
             p.lines = p.lines && g && !colours && uvs;
             if (p.lines) p.density = std::max(p.density, lineDensity(f, *g));
         }

@@ -434,7 +434,7 @@ Vec3 shadingNormal(const TriMaterial& mat, const CornerAttributes& at, const Pix
     if (at.textured[kNormal] && at.tangents) {
         float tex[4];
         sampleChannel(mat.tex[kNormal], at.uv[kNormal], p, tex);
-        const Vec3 tn{(2.0 * tex[0] - 1) * mat.normalScale, (2.0 * tex[1] - 1) * mat.normalScale, 2.0 * tex[2] - 1};
+        const Vec3 tn = tangentNormalOfTexel(tex, mat.normalScale);
         TangentFrame frame;
         if (tangentFrameAt(N, {at.tangent[0], at.tangent[1], at.tangent[2]}, {b[0], b[1], b[2]}, frame)) {
             const Vec3 m = normalize(frame.toWorld(tn));

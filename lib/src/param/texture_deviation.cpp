@@ -17,6 +17,7 @@
 #include "lodbake/core/closest_point.h"
 #include "lodbake/core/errors.h"
 #include "lodbake/core/face_tree.h"
+#include "lodbake/core/grid2d.h"
 #include "lodbake/core/parallel.h"
 #include "lodbake/param/parameterize.h"
 
@@ -30,34 +31,18 @@ uint32_t mortonKey(uint32_t x, uint32_t y) {
     return key;
 }
 
-struct UVGrid {
-    int g = 1;
-    std::vector<uint32_t> start, items;
-    int cell(double x) const { return std::clamp(int(x * g), 0, g - 1); }
-};
-
-UVGrid buildGrid(const std::vector<std::array<Vec2, 3>>& uv, const std::vector<char>& use) {
-    UVGrid grid;
-    size_t n = 0;
-    for (char u : use) n += u ? 1 : 0;
-    grid.g = std::clamp(int(std::sqrt(double(n))), 1, 1024);
-    const int g = grid.g;
-    grid.start.assign(size_t(g) * g + 1, 0);
-    auto each = [&](size_t f, auto&& fn) {
+// The used original faces in a grid over the unit square of about one cell per face (faces
+// outside it land in the border cells).
+Grid2 uvGrid(const std::vector<std::array<Vec2, 3>>& uv, const std::vector<char>& use) {
+    std::vector<GridItem2> items;
+    for (size_t f = 0; f < uv.size(); ++f) {
+        if (!use[f]) continue;
         const auto& t = uv[f];
-        int x0 = grid.cell(std::min({t[0].x, t[1].x, t[2].x})), x1 = grid.cell(std::max({t[0].x, t[1].x, t[2].x}));
-        int y0 = grid.cell(std::min({t[0].y, t[1].y, t[2].y})), y1 = grid.cell(std::max({t[0].y, t[1].y, t[2].y}));
-        for (int y = y0; y <= y1; ++y)
-            for (int x = x0; x <= x1; ++x) fn(size_t(y) * size_t(g) + size_t(x));
-    };
-    for (size_t f = 0; f < uv.size(); ++f)
-        if (use[f]) each(f, [&](size_t c) { ++grid.start[c + 1]; });
-    for (size_t c = 1; c < grid.start.size(); ++c) grid.start[c] += grid.start[c - 1];
-    grid.items.resize(grid.start.back());
-    std::vector<uint32_t> fill(grid.start.begin(), grid.start.end() - 1);
-    for (size_t f = 0; f < uv.size(); ++f)
-        if (use[f]) each(f, [&](size_t c) { grid.items[fill[c]++] = uint32_t(f); });
-    return grid;
+        items.push_back({uint32_t(f), {std::min({t[0].x, t[1].x, t[2].x}), std::min({t[0].y, t[1].y, t[2].y})},
+                         {std::max({t[0].x, t[1].x, t[2].x}), std::max({t[0].y, t[1].y, t[2].y})}});
+    }
+    const int g = std::clamp(int(std::sqrt(double(items.size()))), 1, 1024);
+    return Grid2({0, 0}, {1, 1}, g, g, items);
 }
 
 }  // namespace
@@ -76,7 +61,7 @@ TextureDeviation textureDeviation(const TriMesh& mesh, const Level& level, const
         const Tri& t = mesh.triangles[f];
         use[f] = t[0] != t[1] && t[1] != t[2] && t[0] != t[2];
     }
-    const UVGrid grid = buildGrid(layout.cornerUV, use);
+    const Grid2 grid = uvGrid(layout.cornerUV, use);
 
     const std::vector<uint32_t> triChart = levelTriangleCharts(mesh, layout.faceChart, layout.chartCount, level);
     std::map<Tri, size_t> islandOf;
@@ -185,15 +170,13 @@ TextureDeviation textureDeviation(const TriMesh& mesh, const Level& level, const
             double best = 1e300;
             uint32_t bestFace = UINT32_MAX;
             std::array<double, 3> bestW{};
-            const int cx = grid.cell(u.x), cy = grid.cell(u.y);
-            int lastRing = grid.g;  // after the first hit off the chart, one more ring is searched
-            for (int ring = 0; ring < grid.g && ring <= lastRing; ++ring) {
-                for (int y = std::max(0, cy - ring); y <= std::min(grid.g - 1, cy + ring); ++y)
-                    for (int x = std::max(0, cx - ring); x <= std::min(grid.g - 1, cx + ring); ++x) {
+            const int g = grid.nx(), cx = grid.cellX(u.x), cy = grid.cellY(u.y);
+            int lastRing = g;  // after the first hit off the chart, one more ring is searched
+            for (int ring = 0; ring < g && ring <= lastRing; ++ring) {
+                for (int y = std::max(0, cy - ring); y <= std::min(g - 1, cy + ring); ++y)
+                    for (int x = std::max(0, cx - ring); x <= std::min(g - 1, cx + ring); ++x) {
                         if (std::max(std::abs(x - cx), std::abs(y - cy)) != ring) continue;
-                        size_t c = size_t(y) * size_t(grid.g) + size_t(x);
-                        for (uint32_t i = grid.start[c]; i < grid.start[c + 1]; ++i) {
-                            uint32_t f = grid.items[i];
+                        for (uint32_t f : grid.cell(x, y)) {
                             if (layout.faceChart[f] != chart) continue;
                             std::array<double, 3> w{};
                             double d = closestOnTriangle(u, layout.cornerUV[f], w);
@@ -205,7 +188,7 @@ TextureDeviation textureDeviation(const TriMesh& mesh, const Level& level, const
                         }
                     }
                 if (best == 0) break;
-                if (bestFace != UINT32_MAX && lastRing == grid.g) lastRing = ring + 1;
+                if (bestFace != UINT32_MAX && lastRing == g) lastRing = ring + 1;
             }
             if (bestFace == UINT32_MAX) continue;
             if (best > 0) ++out.outside;

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "lodbake/core/grid2d.h"
 #include "lodbake/param/parameterize.h"
 #include "param/uv_check_detail.h"
 
@@ -55,26 +56,17 @@ UVFolds findUVFolds(const std::vector<std::array<Vec2, 3>>& input, double tolera
             hi = {std::max(hi.x, p.x), std::max(hi.y, p.y)};
         }
     }
-    // Grid of about one cell per triangle.
-    const int g = std::clamp(int(std::sqrt(double(n))), 1, 2048);
-    const double w = std::max(hi.x - lo.x, 1e-30), h = std::max(hi.y - lo.y, 1e-30);
-    auto cellX = [&](double x) { return std::clamp(int((x - lo.x) / w * g), 0, g - 1); };
-    auto cellY = [&](double y) { return std::clamp(int((y - lo.y) / h * g), 0, g - 1); };
-    std::vector<uint32_t> count(size_t(g) * g + 1, 0);
-    auto forCells = [&](size_t i, auto&& fn) {
+    // Boxes of the unflipped triangles in a grid of about one cell per triangle: triangles whose
+    // boxes meet share a cell.
+    std::vector<GridItem2> items;
+    for (size_t i = 0; i < n; ++i) {
+        if (r.flipped[i]) continue;
         const auto& t = tris[i];
-        int x0 = cellX(std::min({t[0].x, t[1].x, t[2].x})), x1 = cellX(std::max({t[0].x, t[1].x, t[2].x}));
-        int y0 = cellY(std::min({t[0].y, t[1].y, t[2].y})), y1 = cellY(std::max({t[0].y, t[1].y, t[2].y}));
-        for (int y = y0; y <= y1; ++y)
-            for (int x = x0; x <= x1; ++x) fn(size_t(y) * size_t(g) + size_t(x));
-    };
-    for (size_t i = 0; i < n; ++i)
-        if (!r.flipped[i]) forCells(i, [&](size_t c) { ++count[c + 1]; });
-    for (size_t c = 1; c < count.size(); ++c) count[c] += count[c - 1];
-    std::vector<uint32_t> items(count.back());
-    std::vector<uint32_t> fill(count.begin(), count.end() - 1);
-    for (size_t i = 0; i < n; ++i)
-        if (!r.flipped[i]) forCells(i, [&](size_t c) { items[fill[c]++] = uint32_t(i); });
+        items.push_back({uint32_t(i), {std::min({t[0].x, t[1].x, t[2].x}), std::min({t[0].y, t[1].y, t[2].y})},
+                         {std::max({t[0].x, t[1].x, t[2].x}), std::max({t[0].y, t[1].y, t[2].y})}});
+    }
+    const int g = std::clamp(int(std::sqrt(double(n))), 1, 2048);
+    const Grid2 grid(lo, hi, g, g, items);
     // Boxes with a gap between them hold disjoint triangles, which one of the six edge axes
     // separates by that gap (more than the tolerance asks): the same pairs pass as without it.
     std::vector<std::array<double, 4>> box(n);
@@ -87,12 +79,15 @@ UVFolds findUVFolds(const std::vector<std::array<Vec2, 3>>& input, double tolera
         const auto &a = box[i], &b = box[j];
         return a[2] < b[0] || b[2] < a[0] || a[3] < b[1] || b[3] < a[1];
     };
-    for (size_t c = 0; c + 1 < count.size(); ++c)
-        for (uint32_t a = count[c]; a < count[c + 1]; ++a)
-            for (uint32_t b = a + 1; b < count[c + 1]; ++b) {
-                uint32_t i = std::min(items[a], items[b]), j = std::max(items[a], items[b]);
-                if (!apart(i, j) && interiorsOverlap(tris[i], tris[j], tolerance)) r.overlapping.push_back({i, j});
-            }
+    for (int y = 0; y < g; ++y)
+        for (int x = 0; x < g; ++x) {
+            const Grid2::Cell cell = grid.cell(x, y);
+            for (const uint32_t* a = cell.begin(); a != cell.end(); ++a)
+                for (const uint32_t* b = a + 1; b != cell.end(); ++b) {
+                    uint32_t i = std::min(*a, *b), j = std::max(*a, *b);
+                    if (!apart(i, j) && interiorsOverlap(tris[i], tris[j], tolerance)) r.overlapping.push_back({i, j});
+                }
+        }
     std::sort(r.overlapping.begin(), r.overlapping.end());
     r.overlapping.erase(std::unique(r.overlapping.begin(), r.overlapping.end()), r.overlapping.end());
     return r;

@@ -1,3 +1,4 @@
+// The agsphere-build stage (agsphere_build.h): load, M-AGSphere levels, write, report.
 #include "lodbake/stages/agsphere_build.h"
 
 #include "lodbake/core/parallel.h"

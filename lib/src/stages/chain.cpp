@@ -1,3 +1,4 @@
+// The whole chain in one process (chain.h): each stage run in turn on the previous one's bytes.
 #include "lodbake/stages/chain.h"
 
 #include <filesystem>

@@ -1,3 +1,4 @@
+// The compare stage (compare.h): budgets, geometric and image distance of B from A, the tolerances.
 #include "lodbake/stages/compare.h"
 
 #include <algorithm>

@@ -1,3 +1,5 @@
+// What simplify and agsphere-build share (multires_stage.h): reading a mesh, writing the levels,
+// the report entries both give.
 #include "stages/multires_stage.h"
 
 #include "lodbake/core/errors.h"

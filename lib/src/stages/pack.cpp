@@ -1,3 +1,4 @@
+// The pack stage (pack.h): load, packLodChain(), write the chain (pack_write.h), report.
 #include "lodbake/stages/pack.h"
 
 #include "lodbake/core/errors.h"

@@ -1,3 +1,4 @@
+// Writing a packed LOD chain (pack_write.h): one MSFT_lod file, or a file per level and the manifest.
 #include "lodbake/stages/pack_write.h"
 
 #include <filesystem>

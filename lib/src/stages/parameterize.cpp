@@ -1,3 +1,4 @@
+// The parameterize stage (parameterize.h): load, parameterize(), write, report.
 #include "lodbake/stages/parameterize.h"
 
 #include "lodbake/atlas/atlas_apply.h"

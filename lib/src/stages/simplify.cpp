@@ -1,3 +1,4 @@
+// The simplify stage (simplify.h): load, simplify(), write the levels, report.
 #include "lodbake/stages/simplify.h"
 
 #include "lodbake/core/parallel.h"

@@ -1,3 +1,4 @@
+// What every stage shares (stage.h): loading, atomic writing, progress and the JSON report.
 #include "lodbake/stages/stage.h"
 
 #include <cstdarg>

@@ -1,3 +1,4 @@
+// The texture-refine stage (texture_refine.h): load, the texture hierarchy, write, report.
 #include "lodbake/stages/texture_refine.h"
 
 #include "lodbake/core/errors.h"

@@ -41,4 +41,10 @@ struct TangentFrame {
 };
 bool tangentFrameAt(Vec3 N, const std::array<Vec4, 3>& corners, const std::array<double, 3>& bary, TangentFrame& frame);
 
+// A normal map texel (its first three channels in [0, 1]) as the tangent-space vector it holds:
+// x and y scaled by the map's scale (glTF normalTexture.scale), not normalised.
+inline Vec3 tangentNormalOfTexel(const float* rgb, double scale) {
+    return {(2.0 * rgb[0] - 1) * scale, (2.0 * rgb[1] - 1) * scale, 2.0 * rgb[2] - 1};
+}
+
 }  // namespace lodbake
