@@ -86,6 +86,18 @@ TEST(SourceTexels, MaterialsSharingTexelsKeepTheirOwnCharts) {
     // Both charts in the texture's texels: UV (0.5, 1) -> texel (32, 32).
     EXPECT_EQ(s.layout.cornerUV[2][1].x, 32.0);
     EXPECT_EQ(s.layout.cornerUV[2][1].y, 32.0);
+
+    // A second material that differs only in what glTF keeps per primitive (its ior) shades the
+    // texels alike: the texels are stored once again.
+    Asset b = twoSquares(0);
+    Material refracting = b.materials[0];
+    refracting.ext.ior.present = true;
+    refracting.ext.ior.ior = 1.33;
+    b.materials.push_back(refracting);
+    b.mesh.triangleMaterial = {0, 0, 1, 1};
+    s = sourceTexelLayout(b, {{64, 32}}, t0For(b), 10);
+    EXPECT_EQ(s.islands, 1u);
+    EXPECT_EQ(s.inPlace, 1u);
 }
 
 TEST(SourceTexels, UntexturedAndFlatFacesKeepT0Pieces) {

@@ -7,6 +7,7 @@
 #include <numeric>
 
 #include "lodbake/core/adjacency.h"
+#include "lod/material_equality.h"
 
 namespace lodbake::lod_detail {
 namespace {
@@ -77,13 +78,26 @@ void forCoveredTexels(const TriMesh& mesh, size_t f, const MaterialGrid& g, Fn&&
         }
 }
 
+// Per material: the first material that shades texels as it does (sameTexelShading).
+std::vector<int32_t> shadingClasses(const Asset& asset) {
+    const std::vector<Material>& materials = asset.materials;
+    const std::vector<int> canonical = canonicalTextures(asset.textures);
+    std::vector<int32_t> cls(materials.size());
+    for (size_t m = 0; m < materials.size(); ++m) {
+        cls[m] = int32_t(m);
+        for (size_t j = 0; j < m; ++j)
+            if (cls[j] == int32_t(j) && sameTexelShading(materials[j], materials[m], canonical)) { cls[m] = int32_t(j); break; }
+    }
+    return cls;
+}
+
 // Per island root: whether the island keeps its place on the page (the main texture's islands
-// whose texels no island of another material kept in place before it covers; islands in the order
-// of their first face). Kept islands may share texels only when they are one material's, which
-// the island joining has made one island.
-template <class GridOf>
-std::vector<char> inPlaceIslands(const TriMesh& mesh, const std::vector<char>& textured, GridOf&& gridOf, int mainImage,
-                                 std::vector<uint32_t>& parent) {
+// whose texels no island of another shading class kept in place before it covers; islands in the
+// order of their first face). Kept islands may share texels only when they shade them alike,
+// which the island joining has made one island.
+template <class GridOf, class ClassOf>
+std::vector<char> inPlaceIslands(const TriMesh& mesh, const std::vector<char>& textured, GridOf&& gridOf, ClassOf&& classOf,
+                                 int mainImage, std::vector<uint32_t>& parent) {
     const size_t n = textured.size();
     std::vector<std::vector<uint32_t>> faces(n);  // per root, its faces on the main texture
     std::vector<uint32_t> roots;
@@ -96,9 +110,9 @@ std::vector<char> inPlaceIslands(const TriMesh& mesh, const std::vector<char>& t
     std::vector<char> kept(n, 0);
     if (roots.empty()) return kept;
     const MaterialGrid& g = *gridOf(faces[roots[0]][0]);
-    std::vector<int32_t> material(size_t(g.width) * size_t(g.height), -1);  // per texel: the kept island's
+    std::vector<int32_t> material(size_t(g.width) * size_t(g.height), -1);  // per texel: the kept island's class
     for (uint32_t r : roots) {
-        const int32_t m = mesh.triangleMaterial[faces[r][0]];
+        const int32_t m = classOf(faces[r][0]);
         bool free = true;
         for (uint32_t f : faces[r])
             forCoveredTexels(mesh, f, g, [&](size_t t) { free = free && (material[t] < 0 || material[t] == m); });
@@ -162,14 +176,17 @@ SourceTexelLayout sourceTexelLayout(const Asset& asset, const std::vector<std::p
                     parent[findRoot(parent, f0)] = findRoot(parent, f1);
             }
     }
-    // Islands of one material that cover the same texels of its texture (a texture region shared
-    // by repeated parts or mirrored halves) become one chart: the shared texels are stored once.
-    // Two materials reading the same texels shade them differently (one as base colour, one as
-    // emission), so their islands stay apart and each gets texels of its own.
+    // Islands that cover the same texels of a texture (a texture region shared by repeated parts,
+    // mirrored halves, or materials that differ only per primitive) become one chart when their
+    // materials shade those texels alike: the shared texels are stored once. Materials that read
+    // the same texels differently (one as base colour, one as emission) keep islands apart, each
+    // with texels of its own.
+    const std::vector<int32_t> shading = shadingClasses(asset);
+    auto classOf = [&](uint32_t f) { return shading[size_t(mesh.triangleMaterial[f])]; };
     std::vector<uint32_t> byImage;
     for (size_t f = 0; f < n; ++f)
         if (textured[f]) byImage.push_back(uint32_t(f));
-    auto gridKey = [&](uint32_t f) { return std::make_pair(gridOf(f)->image, mesh.triangleMaterial[f]); };
+    auto gridKey = [&](uint32_t f) { return std::make_pair(gridOf(f)->image, classOf(f)); };
     std::stable_sort(byImage.begin(), byImage.end(), [&](uint32_t x, uint32_t y) { return gridKey(x) < gridKey(y); });
     std::vector<uint32_t> owner;  // per texel of the current texture and material: a face covering it
     for (size_t i = 0; i < byImage.size(); ++i) {
@@ -191,7 +208,7 @@ SourceTexelLayout sourceTexelLayout(const Asset& asset, const std::vector<std::p
             imageTexels[g.image] += std::abs(cross(b - a, c - a)) * g.width * g.height;
         }
     const int mainImage = std::max_element(imageTexels.begin(), imageTexels.end(), [](auto& x, auto& y) { return x.second < y.second; })->first;
-    const std::vector<char> inPlace = inPlaceIslands(mesh, textured, gridOf, mainImage, parent);
+    const std::vector<char> inPlace = inPlaceIslands(mesh, textured, gridOf, classOf, mainImage, parent);
     // Chart ids: the islands kept in place, the other islands (each in the order of its first
     // face), then T0's charts of the untextured faces.
     ChartLayout& L = out.layout;
