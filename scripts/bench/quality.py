@@ -25,6 +25,7 @@ DEFAULT_ASSETS = ["Duck", "Avocado", "CesiumMilkTruck", "2CylinderEngine", "BoxT
 RENDER = os.path.join(common.SOURCE, "scripts/render_three.py")
 WORSE_PSNR_DB = 0.1  # --against: a level whose PSNR drops more than this is flagged worse
 WORSE_SSIM = 0.002   # ... or whose SSIM drops more than this
+ORDER_SLACK_DB = 0.3  # a level may render this much closer than the level before it (bake noise)
 
 
 def add_arguments(p):
@@ -32,8 +33,10 @@ def add_arguments(p):
     p.add_argument("--size", type=int, default=256, help="render side in pixels (default 256)")
     p.add_argument("--chain-flags", default="--lod0-density", help="extra lodbake flags (default --lod0-density; "
                    "write --chain-flags= for none)")
-    p.add_argument("--peers", help="comma-separated subset of gltfpack-npm, gltfpack-debian, blender-decimate, blender-bake "
-                   "(default: gltfpack-npm and the Blender ones installed)")
+    p.add_argument("--peers", help="comma-separated subset of gltfpack-npm, gltfpack-debian, blender-decimate, blender-bake, "
+                   "or none: our levels only (default: gltfpack-npm and the Blender ones installed)")
+    p.add_argument("--chain-timeout", type=float, help="seconds: a chain that takes longer is recorded as failed "
+                   "and left out (default: no limit)")
     p.add_argument("--no-geometry", action="store_true", help="skip compare's Hausdorff distance")
     p.add_argument("--posed", action="store_true", help="animated inputs: posed Hausdorff and IoU of our levels")
 
@@ -56,8 +59,12 @@ def chain(build, src, work, name, args):
     """-> our rows (one per level, files and nodes to render) or an error row."""
     out = os.path.join(work, "%s.%s.lod.glb" % (name, build.label))
     rep = out[:-4] + ".json"
-    p = subprocess.run([build.tool("lodbake"), "-i", src, "-o", out, "--ratio", args.ratio, "--quiet", "--report", rep]
-                       + args.chain_flags.split(), stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    try:
+        p = subprocess.run([build.tool("lodbake"), "-i", src, "-o", out, "--ratio", args.ratio, "--quiet", "--report", rep]
+                           + args.chain_flags.split(), stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+                           timeout=args.chain_timeout)
+    except subprocess.TimeoutExpired:
+        return [{"tool": "lodbake", "build": build.label, "error": "took over %g s (--chain-timeout)" % args.chain_timeout}]
     if p.returncode != 0:
         return [{"tool": "lodbake", "build": build.label, "error": p.stderr.strip()[-300:]}]
     levels = common.read_json(rep)["stages"][-1]["levels"]
@@ -122,6 +129,15 @@ def verdicts(rows):
     return out
 
 
+def level_order(rows, slack=ORDER_SLACK_DB):
+    """Our levels (bin) that render closer than the level before them by more than `slack` dB in
+    three.js: a coarser level should never look better than a finer one."""
+    levels = sorted((r for r in rows if r["tool"] == "lodbake" and r.get("build") == "bin" and r.get("psnr") is not None),
+                    key=lambda r: r["lod"])
+    return [{"lod": b["lod"], "above": round(b["psnr"] - a["psnr"], 3)}
+            for a, b in zip(levels, levels[1:]) if b["psnr"] > a["psnr"] + slack]
+
+
 def rank_agreement(rows, tie=0.1):
     """Whether compare's PBR mode and three.js order our levels (bin) alike: the pairs of levels
     whose PSNRs both renderers separate by more than `tie` dB, and those they order oppositely."""
@@ -147,7 +163,7 @@ def run(args, builds, results):
     inputs = common.Inputs(args.work, builds[0])
     available = common.peers_available()
     if args.peers:
-        wanted = args.peers.split(",")
+        wanted = [] if args.peers == "none" else args.peers.split(",")
     else:
         wanted = ["gltfpack-npm" if "gltfpack-npm" in available else "gltfpack-debian"]
         wanted += [] if args.quick else ["blender-decimate", "blender-bake"]
@@ -199,4 +215,5 @@ def run(args, builds, results):
         flag_regressions(entry["rows"])
         entry["verdicts"] = verdicts(entry["rows"])
         entry["rankAgreement"] = rank_agreement(entry["rows"])
+        entry["outOfOrder"] = level_order(entry["rows"])
         results["assets"].append(entry)

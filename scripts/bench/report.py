@@ -150,6 +150,12 @@ def quality(res):
         opposite = ["%s LOD%d/LOD%d" % (e["name"], a, b) for e in ranked for a, b in e["rankAgreement"]["opposite"]]
         out += ["", "compare's PBR mode orders our levels as three.js does on %d of %d level pairs (ties within 0.1 dB "
                     "left out)%s." % (pairs - len(opposite), pairs, "; opposite: " + ", ".join(opposite) if opposite else "")]
+    ordered = [e for e in res["assets"] if "outOfOrder" in e]
+    if ordered:
+        above = ["%s LOD%d +%.2f dB" % (e["name"], o["lod"], o["above"]) for e in ordered for o in e["outOfOrder"]]
+        out += ["", "No level renders more than 0.3 dB closer than the level before it on %d of %d assets%s." % (
+            len(ordered) - len({e["name"] for e in ordered if e["outOfOrder"]}), len(ordered),
+            "; above the level before: " + ", ".join(above) if above else "")]
     posed = [(e, r) for e in res["assets"] for r in e["rows"] if r.get("posed")]
     if posed:
         out += ["", "| asset | level | build | posed Hausdorff start / middle / end | posed IoU start / middle / end |",

@@ -6,7 +6,8 @@ simplify -> parameterize -> pack on the seamball and hemisphere9 samples (and Du
 (three.js from scripts/node/node_modules, served on 127.0.0.1, no CDN). Checks: every level loads
 without error and renders non-empty; LOD0's PSNR against the original stays above a floor
 measured on this toolchain (pack bakes the base colour only, so PBR assets sit low); coarser
-levels' PSNR and SSIM are finite; the original rendered twice compares as identical (100 dB).
+levels' PSNR and SSIM are finite and no level renders more than LEVEL_ORDER_SLACK closer to the
+original than the level before it; the original rendered twice compares as identical (100 dB).
 Seams: on pbrscene (a normal-mapped dome cut into charts) every level's seam band (the pixels
 within 2 of a texture seam it shows, psnr_seam) stays within SEAM_BAND_MARGIN of the whole
 foreground's PSNR, seams looking no worse than the rest of the surface; at least one level shows
@@ -40,6 +41,7 @@ LOD0_PSNR_MEASURED = {
     "Avocado": 39.02,
     "pbrscene": 31.18,
 }
+LEVEL_ORDER_SLACK = 0.3  # dB: a coarser level may render this much closer than the finer one (bake noise)
 SEAM_BAND_MARGIN = 2.0  # dB: a level's seam band PSNR may sit this far below its foreground PSNR
 MIN_COVERAGE = 0.01  # fraction of non-background pixels a rendered level must reach
 
@@ -151,6 +153,10 @@ class ThreeChain(unittest.TestCase):
             key, psnr = name + ("." + tag[:-1] if tag else ""), levels[tag + "LOD0"]["psnr"]
             floor = LOD0_PSNR_MEASURED[key] - LOD0_PSNR_MARGIN
             self.assertGreaterEqual(psnr, floor, "%s LOD0 PSNR %.2f dB is below its floor %.2f dB" % (key, psnr, floor))
+            chain = [levels[tag + "LOD%d" % k]["psnr"] for k in range(len(levels)) if tag + "LOD%d" % k in levels]
+            for k in range(1, len(chain)):
+                self.assertLessEqual(chain[k], chain[k - 1] + LEVEL_ORDER_SLACK,
+                                     "%s LOD%d renders %.2f dB, closer than LOD%d (%.2f dB)" % (key, k, chain[k], k - 1, chain[k - 1]))
 
     def test_seamball_and_draco(self):
         self.check("seamball", level_count=4)

@@ -67,6 +67,39 @@ TEST(SourceTexels, IslandsInSourceTexels) {
     EXPECT_EQ(s.islands, 1u);
 }
 
+TEST(SourceTexels, MaterialsSharingTexelsKeepTheirOwnCharts) {
+    // Both squares on the same texels, the right one through a second material that shows the
+    // texture as emission: the texels shade differently, so each square is a chart of its own, and
+    // only the first keeps its place on the page (the second would cover the same page texels).
+    Asset a = twoSquares(0);
+    Material glow;
+    glow.emissive.texture = 0;
+    a.materials.push_back(glow);
+    a.mesh.triangleMaterial = {0, 0, 1, 1};
+    SourceTexelLayout s = sourceTexelLayout(a, {{64, 32}}, t0For(a), 10);
+    ASSERT_FALSE(s.layout.empty()) << s.reason;
+    EXPECT_EQ(s.islands, 2u);
+    EXPECT_EQ(s.inPlace, 1u);
+    EXPECT_EQ(s.layout.faceChart[0], 0u);
+    EXPECT_EQ(s.layout.faceChart[2], 1u);
+    EXPECT_EQ(s.layout.faceChart[2], s.layout.faceChart[3]);
+    // Both charts in the texture's texels: UV (0.5, 1) -> texel (32, 32).
+    EXPECT_EQ(s.layout.cornerUV[2][1].x, 32.0);
+    EXPECT_EQ(s.layout.cornerUV[2][1].y, 32.0);
+
+    // A second material that differs only in what glTF keeps per primitive (its ior) shades the
+    // texels alike: the texels are stored once again.
+    Asset b = twoSquares(0);
+    Material refracting = b.materials[0];
+    refracting.ext.ior.present = true;
+    refracting.ext.ior.ior = 1.33;
+    b.materials.push_back(refracting);
+    b.mesh.triangleMaterial = {0, 0, 1, 1};
+    s = sourceTexelLayout(b, {{64, 32}}, t0For(b), 10);
+    EXPECT_EQ(s.islands, 1u);
+    EXPECT_EQ(s.inPlace, 1u);
+}
+
 TEST(SourceTexels, UntexturedAndFlatFacesKeepT0Pieces) {
     Asset a = twoSquares(0.505);
     // The right square reads one texel (a palette): no area, so a T0 piece; it shows one colour,

@@ -4,46 +4,10 @@
 #include <tuple>
 
 #include "lod/level_material.h"
+#include "lod/material_equality.h"
 
 namespace lodbake::lod_detail {
 namespace {
-
-bool sameRef(const TextureRef& a, const TextureRef& b) {
-    const TextureTransform &s = a.transform, &t = b.transform;
-    return std::tie(a.texture, a.texCoord, a.scale, s.present, s.offset.x, s.offset.y, s.rotation, s.scale.x, s.scale.y, s.texCoord) ==
-           std::tie(b.texture, b.texCoord, b.scale, t.present, t.offset.x, t.offset.y, t.rotation, t.scale.x, t.scale.y, t.texCoord);
-}
-
-bool sameVec3(const Vec3& a, const Vec3& b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
-
-// Field by field: the writer's JSON of two materials that compare equal is the same.
-bool sameExtensions(const MaterialExtensions& a, const MaterialExtensions& b) {
-    const ClearcoatExtension &cA = a.clearcoat, &cB = b.clearcoat;
-    const SheenExtension &sA = a.sheen, &sB = b.sheen;
-    const VolumeExtension &vA = a.volume, &vB = b.volume;
-    const SpecularExtension &pA = a.specular, &pB = b.specular;
-    const IridescenceExtension &iA = a.iridescence, &iB = b.iridescence;
-    const AnisotropyExtension &nA = a.anisotropy, &nB = b.anisotropy;
-    const DiffuseTransmissionExtension &dA = a.diffuseTransmission, &dB = b.diffuseTransmission;
-    return cA.present == cB.present && cA.factor == cB.factor && sameRef(cA.texture, cB.texture) && cA.roughnessFactor == cB.roughnessFactor &&
-           sameRef(cA.roughnessTexture, cB.roughnessTexture) && sameRef(cA.normalTexture, cB.normalTexture) &&
-           sA.present == sB.present && sameVec3(sA.colorFactor, sB.colorFactor) && sameRef(sA.colorTexture, sB.colorTexture) &&
-           sA.roughnessFactor == sB.roughnessFactor && sameRef(sA.roughnessTexture, sB.roughnessTexture) &&
-           a.transmission.present == b.transmission.present && a.transmission.factor == b.transmission.factor &&
-           sameRef(a.transmission.texture, b.transmission.texture) &&
-           vA.present == vB.present && vA.thicknessFactor == vB.thicknessFactor && sameRef(vA.thicknessTexture, vB.thicknessTexture) &&
-           vA.attenuationDistance == vB.attenuationDistance && sameVec3(vA.attenuationColor, vB.attenuationColor) &&
-           pA.present == pB.present && pA.factor == pB.factor && sameRef(pA.texture, pB.texture) && sameVec3(pA.colorFactor, pB.colorFactor) &&
-           sameRef(pA.colorTexture, pB.colorTexture) &&
-           a.ior.present == b.ior.present && a.ior.ior == b.ior.ior &&
-           iA.present == iB.present && iA.factor == iB.factor && sameRef(iA.texture, iB.texture) && iA.ior == iB.ior &&
-           iA.thicknessMinimum == iB.thicknessMinimum && iA.thicknessMaximum == iB.thicknessMaximum &&
-           sameRef(iA.thicknessTexture, iB.thicknessTexture) &&
-           nA.present == nB.present && nA.strength == nB.strength && nA.rotation == nB.rotation && sameRef(nA.texture, nB.texture) &&
-           a.dispersion.present == b.dispersion.present && a.dispersion.dispersion == b.dispersion.dispersion &&
-           dA.present == dB.present && dA.factor == dB.factor && sameRef(dA.texture, dB.texture) && sameVec3(dA.colorFactor, dB.colorFactor) &&
-           sameRef(dA.colorTexture, dB.colorTexture);
-}
 
 bool sameImage(const Image& a, const Image& b) { return a.encoded == b.encoded && a.channels == b.channels; }
 

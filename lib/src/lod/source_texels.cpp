@@ -7,6 +7,7 @@
 #include <numeric>
 
 #include "lodbake/core/adjacency.h"
+#include "lod/material_equality.h"
 
 namespace lodbake::lod_detail {
 namespace {
@@ -19,8 +20,8 @@ std::vector<const TextureRef*> materialTextureRefs(const Material& m) {
     return refs;
 }
 
-// The texels of one material: the size of the largest texture it reads through plain TEXCOORD_0
-// (0 x 0: none; its faces keep T0 pieces). Textures on another UV set or transformed are resampled by
+// The texels of one material: the size of the largest texture it reads through plain TEXCOORD_0 (0 x 0:
+// none; its faces keep T0 pieces). Textures on another UV set or transformed are resampled by
 // the bake as on any level.
 struct MaterialTexels {
     int width = 0, height = 0;
@@ -53,6 +54,75 @@ uint32_t findRoot(std::vector<uint32_t>& parent, uint32_t x) {
     return x;
 }
 
+// Calls fn(texel index) for every texel of g whose centre lies in face f's UV triangle, wrapped
+// into the texture; nothing for a face whose UVs span more than four textures (it tiles the
+// texture: no one region of it).
+template <class Fn>
+void forCoveredTexels(const TriMesh& mesh, size_t f, const MaterialTexels& g, Fn&& fn) {
+    Vec2 P[3];
+    for (size_t k = 0; k < 3; ++k) {
+        const Vec2 p = mesh.wedges.uv0[mesh.cornerWedges[f][k]];
+        P[k] = {p.x * g.width, p.y * g.height};
+    }
+    const double x0 = std::min({P[0].x, P[1].x, P[2].x}), x1 = std::max({P[0].x, P[1].x, P[2].x});
+    const double y0 = std::min({P[0].y, P[1].y, P[2].y}), y1 = std::max({P[0].y, P[1].y, P[2].y});
+    if ((x1 - x0) * (y1 - y0) > 4.0 * double(g.width) * double(g.height)) return;
+    const double area = cross(P[1] - P[0], P[2] - P[0]);
+    for (long long ty = (long long)std::ceil(y0 - 0.5); ty + 0.5 <= y1; ++ty)
+        for (long long tx = (long long)std::ceil(x0 - 0.5); tx + 0.5 <= x1; ++tx) {
+            const Vec2 c{double(tx) + 0.5, double(ty) + 0.5};
+            const double w0 = cross(P[1] - c, P[2] - c), w1 = cross(P[2] - c, P[0] - c), w2 = cross(P[0] - c, P[1] - c);
+            if (area > 0 ? (w0 < 0 || w1 < 0 || w2 < 0) : (w0 > 0 || w1 > 0 || w2 > 0)) continue;
+            const long long wx = ((tx % g.width) + g.width) % g.width, wy = ((ty % g.height) + g.height) % g.height;
+            fn(size_t(wy) * size_t(g.width) + size_t(wx));
+        }
+}
+
+// Per material: the first material that shades texels as it does (sameTexelShading).
+std::vector<int32_t> shadingClasses(const Asset& asset) {
+    const std::vector<Material>& materials = asset.materials;
+    const std::vector<int> canonical = canonicalTextures(asset.textures);
+    std::vector<int32_t> cls(materials.size());
+    for (size_t m = 0; m < materials.size(); ++m) {
+        cls[m] = int32_t(m);
+        for (size_t j = 0; j < m; ++j)
+            if (cls[j] == int32_t(j) && sameTexelShading(materials[j], materials[m], canonical)) { cls[m] = int32_t(j); break; }
+    }
+    return cls;
+}
+
+// Per island root: whether the island keeps its place on the page (the main texture's islands
+// whose texels no island of another shading class kept in place before it covers; islands in the
+// order of their first face). Kept islands may share texels only when they shade them alike,
+// which the island joining has made one island.
+template <class TexelsOf, class ClassOf>
+std::vector<char> inPlaceIslands(const TriMesh& mesh, const std::vector<char>& textured, TexelsOf&& texelsOf, ClassOf&& classOf,
+                                 int mainImage, std::vector<uint32_t>& parent) {
+    const size_t n = textured.size();
+    std::vector<std::vector<uint32_t>> faces(n);  // per root, its faces on the main texture
+    std::vector<uint32_t> roots;
+    for (size_t f = 0; f < n; ++f)
+        if (textured[f] && texelsOf(f)->image == mainImage) {
+            const uint32_t r = findRoot(parent, uint32_t(f));
+            if (faces[r].empty()) roots.push_back(r);
+            faces[r].push_back(uint32_t(f));
+        }
+    std::vector<char> kept(n, 0);
+    if (roots.empty()) return kept;
+    const MaterialTexels& g = *texelsOf(faces[roots[0]][0]);
+    std::vector<int32_t> material(size_t(g.width) * size_t(g.height), -1);  // per texel: the kept island's class
+    for (uint32_t r : roots) {
+        const int32_t m = classOf(faces[r][0]);
+        bool free = true;
+        for (uint32_t f : faces[r])
+            forCoveredTexels(mesh, f, g, [&](size_t t) { free = free && (material[t] < 0 || material[t] == m); });
+        if (!free) continue;
+        kept[r] = 1;
+        for (uint32_t f : faces[r]) forCoveredTexels(mesh, f, g, [&](size_t t) { material[t] = m; });
+    }
+    return kept;
+}
+
 }  // namespace
 
 SourceTexelLayout sourceTexelLayout(const Asset& asset, const std::vector<std::pair<int, int>>& imageSizes,
@@ -64,14 +134,14 @@ SourceTexelLayout sourceTexelLayout(const Asset& asset, const std::vector<std::p
         out.reason = "no chart layout for the untextured faces";
         return out;
     }
-    std::vector<MaterialTexels> materialTexelSizes;
-    for (const Material& m : asset.materials) materialTexelSizes.push_back(materialTexels(asset, m, imageSizes));
+    std::vector<MaterialTexels> grids;
+    for (const Material& m : asset.materials) grids.push_back(materialTexels(asset, m, imageSizes));
     auto texelsOf = [&](size_t f) -> const MaterialTexels* {
         const int32_t m = mesh.triangleMaterial.empty() ? -1 : mesh.triangleMaterial[f];
-        if (m < 0 || size_t(m) >= materialTexelSizes.size() || materialTexelSizes[size_t(m)].width == 0) return nullptr;
-        return &materialTexelSizes[size_t(m)];
+        if (m < 0 || size_t(m) >= grids.size() || grids[size_t(m)].width == 0) return nullptr;
+        return &grids[size_t(m)];
     };
-    // Textured: a face with texels whose UVs cover some area of it. A face whose UVs have
+    // Textured: a face with a texture grid whose UVs cover some area of it. A face whose UVs have
     // none (a palette texture reads one texel per face) covers no texel centre of its own: it
     // shows one colour, which its T0 piece reads at its UV exactly as well.
     const std::vector<Vec2>& uv = mesh.wedges.uv0;
@@ -106,38 +176,28 @@ SourceTexelLayout sourceTexelLayout(const Asset& asset, const std::vector<std::p
                     parent[findRoot(parent, f0)] = findRoot(parent, f1);
             }
     }
-    // Islands on one texture that cover the same texels (a texture region shared by repeated
-    // parts, mirrored halves, or by two materials) become one chart: the shared texels are stored
-    // once. A texel is covered when its centre lies in a face's UV triangle (wrapped into the
-    // texture).
+    // Islands that cover the same texels of a texture (a texture region shared by repeated parts,
+    // mirrored halves, or materials that differ only per primitive) become one chart when their
+    // materials shade those texels alike: the shared texels are stored once. Materials that read
+    // the same texels differently (one as base colour, one as emission) keep islands apart, each
+    // with texels of its own.
+    const std::vector<int32_t> shading = shadingClasses(asset);
+    auto classOf = [&](uint32_t f) { return shading[size_t(mesh.triangleMaterial[f])]; };
     std::vector<uint32_t> byImage;
     for (size_t f = 0; f < n; ++f)
         if (textured[f]) byImage.push_back(uint32_t(f));
-    std::stable_sort(byImage.begin(), byImage.end(), [&](uint32_t x, uint32_t y) { return texelsOf(x)->image < texelsOf(y)->image; });
-    std::vector<uint32_t> owner;  // per texel of the current texture: a face covering it
+    auto gridKey = [&](uint32_t f) { return std::make_pair(texelsOf(f)->image, classOf(f)); };
+    std::stable_sort(byImage.begin(), byImage.end(), [&](uint32_t x, uint32_t y) { return gridKey(x) < gridKey(y); });
+    std::vector<uint32_t> owner;  // per texel of the current texture and material: a face covering it
     for (size_t i = 0; i < byImage.size(); ++i) {
         const uint32_t f = byImage[i];
         const MaterialTexels& g = *texelsOf(f);
-        if (i == 0 || g.image != texelsOf(byImage[i - 1])->image) owner.assign(size_t(g.width) * size_t(g.height), UINT32_MAX);
-        Vec2 P[3];
-        for (size_t k = 0; k < 3; ++k) {
-            const Vec2 p = uv[mesh.cornerWedges[f][k]];
-            P[k] = {p.x * g.width, p.y * g.height};
-        }
-        const double x0 = std::min({P[0].x, P[1].x, P[2].x}), x1 = std::max({P[0].x, P[1].x, P[2].x});
-        const double y0 = std::min({P[0].y, P[1].y, P[2].y}), y1 = std::max({P[0].y, P[1].y, P[2].y});
-        if ((x1 - x0) * (y1 - y0) > 4.0 * double(owner.size())) continue;  // tiles the texture: no one region
-        const double area = cross(P[1] - P[0], P[2] - P[0]);
-        for (long long ty = (long long)std::ceil(y0 - 0.5); ty + 0.5 <= y1; ++ty)
-            for (long long tx = (long long)std::ceil(x0 - 0.5); tx + 0.5 <= x1; ++tx) {
-                const Vec2 c{double(tx) + 0.5, double(ty) + 0.5};
-                const double w0 = cross(P[1] - c, P[2] - c), w1 = cross(P[2] - c, P[0] - c), w2 = cross(P[0] - c, P[1] - c);
-                if (area > 0 ? (w0 < 0 || w1 < 0 || w2 < 0) : (w0 > 0 || w1 > 0 || w2 > 0)) continue;
-                const long long wx = ((tx % g.width) + g.width) % g.width, wy = ((ty % g.height) + g.height) % g.height;
-                uint32_t& o = owner[size_t(wy) * size_t(g.width) + size_t(wx)];
-                if (o == UINT32_MAX) o = f;
-                else parent[findRoot(parent, o)] = findRoot(parent, f);
-            }
+        if (i == 0 || gridKey(f) != gridKey(byImage[i - 1])) owner.assign(size_t(g.width) * size_t(g.height), UINT32_MAX);
+        forCoveredTexels(mesh, f, g, [&](size_t texel) {
+            uint32_t& o = owner[texel];
+            if (o == UINT32_MAX) o = f;
+            else parent[findRoot(parent, o)] = findRoot(parent, f);
+        });
     }
     // The texture whose islands cover the most texels: they can keep their places on the page.
     std::map<int, double> imageTexels;
@@ -148,7 +208,8 @@ SourceTexelLayout sourceTexelLayout(const Asset& asset, const std::vector<std::p
             imageTexels[g.image] += std::abs(cross(b - a, c - a)) * g.width * g.height;
         }
     const int mainImage = std::max_element(imageTexels.begin(), imageTexels.end(), [](auto& x, auto& y) { return x.second < y.second; })->first;
-    // Chart ids: the main texture's islands, the other islands (each in the order of its first
+    const std::vector<char> inPlace = inPlaceIslands(mesh, textured, texelsOf, classOf, mainImage, parent);
+    // Chart ids: the islands kept in place, the other islands (each in the order of its first
     // face), then T0's charts of the untextured faces.
     ChartLayout& L = out.layout;
     L.faceChart.assign(n, 0);
@@ -157,7 +218,7 @@ SourceTexelLayout sourceTexelLayout(const Asset& asset, const std::vector<std::p
     uint32_t charts = 0;
     for (int pass = 0; pass < 2; ++pass) {
         for (size_t f = 0; f < n; ++f)
-            if (textured[f] && (texelsOf(f)->image == mainImage) == (pass == 0)) {
+            if (textured[f] && (inPlace[findRoot(parent, uint32_t(f))] != 0) == (pass == 0)) {
                 uint32_t& id = islandOf[findRoot(parent, uint32_t(f))];
                 if (id == UINT32_MAX) id = charts++;
             }
