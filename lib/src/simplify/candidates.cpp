@@ -46,6 +46,16 @@ int64_t deviationBucket(const RuleSettings& settings, double dev) {
     return int64_t(std::floor(std::log(dev / settings.diagonal) / std::log1p(sim)));
 }
 
+// Moves the option that comes first in (quadric term, target input id) order among o[k .. n) to
+// slot k. Keys are distinct (one option per target), so taking options this way visits them in the
+// order a sort gives; the walk below usually stops after one or two, which a sort would order all.
+static void selectNext(Option* o, size_t k, size_t n) {
+    size_t m = k;
+    for (size_t j = k + 1; j < n; ++j)
+        if (o[j].q < o[m].q || (o[j].q == o[m].q && o[j].key < o[m].key)) m = j;
+    if (m != k) std::swap(o[k], o[m]);
+}
+
 // The best collapse of vi: its outgoing half-edges in quadric order, the first valid one whose
 // cost no later option (bounded below by its quadric term) can beat. `prepared`: ringOptions(vi)
 // already filled the scratch.
@@ -70,11 +80,11 @@ static Candidate evaluateVertex(const RuleContext& ctx, EvalScratch& w, uint32_t
     Option* o = w.options.data();
     const size_t n = w.options.size();
     const double noise = 1e-9 * s.diagonal;
-    std::sort(o, o + n, [](const Option& a, const Option& b) { return a.q != b.q ? a.q < b.q : a.key < b.key; });
     Reject last = Reject::Isolated;
     best.reason = Reject::Isolated;
     bool found = false;
     for (size_t k = 0; k < n; ++k) {
+        selectNext(o, k, n);
         if (found && o[k].q >= best.dev) break;  // the cost is at least the quadric term
         const CollapseProfile profile(ctx, vi, w.ring[o[k].k], w.ring, w.fan);
         double dev = 0;

@@ -57,6 +57,14 @@ std::vector<uint8_t> stuckComponents(const CollapseState& s, const CandidateStat
     return stuck;
 }
 
+bool anyPrunable(const CollapseState& s, double limit, uint64_t target) {
+    if (s.aliveFaces <= target) return false;
+    const Components& c = s.components;
+    for (uint32_t comp : c.order)
+        if (!c.pruned[comp]) return c.size[comp] < limit;
+    return false;
+}
+
 bool pruneComponents(CollapseState& s, HierarchyRecorder& rec, double limit, uint64_t target, bool closedOnly,
                      const std::vector<uint8_t>* stuck) {
     const Components& c = s.components;

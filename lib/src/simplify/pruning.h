@@ -22,6 +22,11 @@ void orderByVisualWeight(CollapseState& s);
 // part cannot shrink any further this pass (stuck on its locks, borders or rule 1).
 std::vector<uint8_t> stuckComponents(const CollapseState& s, const CandidateState& c);
 
+// Whether pruneComponents(s, .., limit, target, ..) would look at any component: the live face
+// count is above `target` and the first unpruned component in s.components.order is below `limit`
+// (the walk stops there otherwise). Lets a caller skip what only the pruning reads.
+bool anyPrunable(const CollapseState& s, double limit, uint64_t target);
+
 // Prunes components (closed ones only when closedOnly; with `stuck`, open ones only when stuck) whose size (half box diagonal, model units)
 // is below `limit`, in s.components.order, while the live face count stays at or above `target`
 // and above zero; the walk stops at the first component not below `limit`, so a part is never

@@ -209,9 +209,14 @@ PassResult runPass(Simplifier& s, const PlannedLevel& plan) {
     // c. Components smaller than the limit are pruned, lightest first: closed ones, and by visual
     // weight also open or locked ones that cannot shrink any further (without it those wait until
     // the level is stuck).
+    // (Which components are stuck is only asked when some component is small enough to prune.)
     const bool weighted = s.options.visualWeight;
-    const std::vector<uint8_t> stuck = weighted ? stuckComponents(s.mesh, cs) : std::vector<uint8_t>{};
-    if (pruneComponents(s.mesh, s.recorder, limit, plan.triangles, !weighted, weighted ? &stuck : nullptr)) {
+    bool pruned = false;
+    if (anyPrunable(s.mesh, limit, plan.triangles)) {
+        const std::vector<uint8_t> stuck = weighted ? stuckComponents(s.mesh, cs) : std::vector<uint8_t>{};
+        pruned = pruneComponents(s.mesh, s.recorder, limit, plan.triangles, !weighted, weighted ? &stuck : nullptr);
+    }
+    if (pruned) {
         cs.entries.erase(std::remove_if(cs.entries.begin(), cs.entries.end(),
                                         [&](const PassEntry& e) { return s.mesh.removed[e.vertex] != 0; }),
                          cs.entries.end());
