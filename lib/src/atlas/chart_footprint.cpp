@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "lodbake/core/parallel.h"
 
@@ -98,6 +99,44 @@ private:
     std::array<Axis, 3> axes_;
 };
 
+// Sets every cell within `radius` cells (a square: the max filter along rows, then along columns)
+// of a set cell. Each pass tracks the nearest set cell before and after, so it costs the grid's
+// cells whatever the radius.
+void growByRadius(std::vector<uint8_t>& mask, int gw, int gh, int radius) {
+    constexpr int kFar = std::numeric_limits<int>::max() / 4;
+    std::vector<uint8_t> rows(mask.size(), 0);
+    for (int y = 0; y < gh; ++y) {
+        const uint8_t* in = &mask[size_t(y) * size_t(gw)];
+        uint8_t* out = &rows[size_t(y) * size_t(gw)];
+        for (int x = 0, last = -kFar; x < gw; ++x) {
+            if (in[x]) last = x;
+            out[x] = x - last <= radius;
+        }
+        for (int x = gw - 1, next = kFar; x >= 0; --x) {
+            if (in[x]) next = x;
+            out[x] |= next - x <= radius;
+        }
+    }
+    std::vector<int> near(size_t(gw), -kFar);  // per column: the last set row seen
+    for (int y = 0; y < gh; ++y) {
+        const uint8_t* in = &rows[size_t(y) * size_t(gw)];
+        uint8_t* out = &mask[size_t(y) * size_t(gw)];
+        for (int x = 0; x < gw; ++x) {
+            if (in[x]) near[size_t(x)] = y;
+            out[x] = y - near[size_t(x)] <= radius;
+        }
+    }
+    std::fill(near.begin(), near.end(), kFar);  // per column: the next set row seen
+    for (int y = gh - 1; y >= 0; --y) {
+        const uint8_t* in = &rows[size_t(y) * size_t(gw)];
+        uint8_t* out = &mask[size_t(y) * size_t(gw)];
+        for (int x = 0; x < gw; ++x) {
+            if (in[x]) near[size_t(x)] = y;
+            out[x] |= near[size_t(x)] - y <= radius;
+        }
+    }
+}
+
 }  // namespace
 
 std::vector<Oriented> chartOrientations(const AtlasChart& chart, bool aligned) {
@@ -147,18 +186,7 @@ std::vector<uint8_t> chartMask(const Oriented& c, double t, int radius, int& gw,
     if (rasterCells) *rasterCells = size_t(std::count(mask.begin(), mask.end(), uint8_t(1)));
     // Grow by the gutter radius (a square, separable max filter): two footprints that do not
     // overlap keep their charts 2 * radius texels apart.
-    if (radius > 0) {
-        std::vector<uint8_t> tmp(mask.size(), 0);
-        for (int y = 0; y < gh; ++y)
-            for (int x = 0; x < gw; ++x)
-                if (mask[size_t(y) * size_t(gw) + size_t(x)])
-                    for (int d = std::max(0, x - radius); d <= std::min(gw - 1, x + radius); ++d) tmp[size_t(y) * size_t(gw) + size_t(d)] = 1;
-        std::fill(mask.begin(), mask.end(), uint8_t(0));
-        for (int y = 0; y < gh; ++y)
-            for (int x = 0; x < gw; ++x)
-                if (tmp[size_t(y) * size_t(gw) + size_t(x)])
-                    for (int d = std::max(0, y - radius); d <= std::min(gh - 1, y + radius); ++d) mask[size_t(d) * size_t(gw) + size_t(x)] = 1;
-    }
+    if (radius > 0) growByRadius(mask, gw, gh, radius);
     return mask;
 }
 
@@ -232,7 +260,8 @@ Footprints footprintsAt(const Orientations& charts, double t, int gutter, int sc
             c.footprint = size_t(std::count(fine.begin(), fine.end(), uint8_t(1)));
             auto blocks = [&](ChartFootprints& into, int s) {
                 std::vector<uint8_t> mask = coarsen(fine, into.gw, into.gh, s, into.cw, into.ch);
-                for (int rot = 0; rot < 4; ++rot) into.rot[size_t(rot)] = rotatedFootprint(mask, into.cw, into.ch, rot);
+                // Only the quarter turns the placement tries (texel-aligned charts: none).
+                for (int rot = 0; rot < into.turns; ++rot) into.rot[size_t(rot)] = rotatedFootprint(mask, into.cw, into.ch, rot);
             };
             if (twiceCoarser) {
                 ChartFootprints cc = c;
