@@ -78,14 +78,18 @@ public:
             a.margin = kEps * scale;
         }
     }
-    bool touches(int x, int y) const {
-        const Vec2 cell[4] = {{double(x), double(y)}, {x + 1.0, double(y)}, {x + 1.0, y + 1.0}, {double(x), y + 1.0}};
-        for (const Axis& a : axes_) {
-            if (a.skip) continue;
-            double cMin = 1e300, cMax = -1e300;
-            for (const Vec2& c : cell) { cMin = std::min(cMin, dot(a.n, c)); cMax = std::max(cMax, dot(a.n, c)); }
-            if (cMax <= a.tMin + a.margin || a.tMax <= cMin + a.margin) return false;
+    // The cells of row y in [x0, x1] the triangle overlaps (no axis separates them), as [a, b];
+    // false when none. Along a row each separation test moves one way (the cell's extent on an
+    // axis is monotone in x, in floating point too), so each one cuts the row at one place, found
+    // by bisection: the same cells as testing each one, in a few tests per row.
+    bool span(int y, int x0, int x1, int& a, int& b) const {
+        for (const Axis& ax : axes_) {
+            if (ax.skip) continue;
+            if (!narrow(x0, x1, [&](int x) { return !below(ax, x, y); }) || !narrow(x0, x1, [&](int x) { return !above(ax, x, y); }))
+                return false;
         }
+        a = x0;
+        b = x1;
         return true;
     }
 
@@ -96,6 +100,33 @@ private:
         double tMin = 0, tMax = 0, margin = 0;
         bool skip = false;  // a degenerate edge separates nothing
     };
+    // The cell's extent on the axis: the least and largest projection of its corners.
+    static std::pair<double, double> extent(const Axis& a, int x, int y) {
+        const Vec2 cell[4] = {{double(x), double(y)}, {x + 1.0, double(y)}, {x + 1.0, y + 1.0}, {double(x), y + 1.0}};
+        double cMin = 1e300, cMax = -1e300;
+        for (const Vec2& c : cell) { cMin = std::min(cMin, dot(a.n, c)); cMax = std::max(cMax, dot(a.n, c)); }
+        return {cMin, cMax};
+    }
+    // The axis separates the cell from the triangle: the cell lies below, or above, the triangle's extent.
+    static bool below(const Axis& a, int x, int y) { return extent(a, x, y).second <= a.tMin + a.margin; }
+    static bool above(const Axis& a, int x, int y) { return a.tMax <= extent(a, x, y).first + a.margin; }
+    // [x0, x1] narrowed to where `pass` holds, given that it holds on a prefix or a suffix of the
+    // row; false when nowhere.
+    template <class Pass>
+    static bool narrow(int& x0, int& x1, Pass&& pass) {
+        if (x0 > x1) return false;
+        const bool first = pass(x0), last = pass(x1);
+        if (first && last) return true;
+        if (!first && !last) return false;
+        int lo = x0, hi = x1;  // pass(lo) != pass(hi): bisect to the neighbours where it changes
+        while (hi - lo > 1) {
+            const int mid = lo + (hi - lo) / 2;
+            (pass(mid) == first ? lo : hi) = mid;
+        }
+        if (first) x1 = lo;
+        else x0 = hi;
+        return true;
+    }
     std::array<Axis, 3> axes_;
 };
 
@@ -179,9 +210,8 @@ std::vector<uint8_t> chartMask(const Oriented& c, double t, int radius, int& gw,
         int y0 = std::max(0, int(std::floor(std::min({q[0].y, q[1].y, q[2].y}))));
         int y1 = std::min(gh - 1, int(std::floor(std::max({q[0].y, q[1].y, q[2].y}))));
         const TriangleCellTest test(q);
-        for (int y = y0; y <= y1; ++y)
-            for (int x = x0; x <= x1; ++x)
-                if (!mask[size_t(y) * size_t(gw) + size_t(x)] && test.touches(x, y)) mark(x, y);
+        for (int y = y0, a = 0, b = 0; y <= y1; ++y)
+            if (test.span(y, x0, x1, a, b)) std::fill_n(&mask[size_t(y) * size_t(gw) + size_t(a)], b - a + 1, uint8_t(1));
     }
     if (rasterCells) *rasterCells = size_t(std::count(mask.begin(), mask.end(), uint8_t(1)));
     // Grow by the gutter radius (a square, separable max filter): two footprints that do not
