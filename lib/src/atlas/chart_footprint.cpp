@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "lodbake/core/parallel.h"
 
@@ -77,14 +78,18 @@ public:
             a.margin = kEps * scale;
         }
     }
-    bool touches(int x, int y) const {
-        const Vec2 cell[4] = {{double(x), double(y)}, {x + 1.0, double(y)}, {x + 1.0, y + 1.0}, {double(x), y + 1.0}};
-        for (const Axis& a : axes_) {
-            if (a.skip) continue;
-            double cMin = 1e300, cMax = -1e300;
-            for (const Vec2& c : cell) { cMin = std::min(cMin, dot(a.n, c)); cMax = std::max(cMax, dot(a.n, c)); }
-            if (cMax <= a.tMin + a.margin || a.tMax <= cMin + a.margin) return false;
+    // The cells of row y in [x0, x1] the triangle overlaps (no axis separates them), as [a, b];
+    // false when none. Along a row each separation test moves one way (the cell's extent on an
+    // axis is monotone in x, in floating point too), so each one cuts the row at one place, found
+    // by bisection: the same cells as testing each one, in a few tests per row.
+    bool span(int y, int x0, int x1, int& a, int& b) const {
+        for (const Axis& ax : axes_) {
+            if (ax.skip) continue;
+            if (!narrow(x0, x1, [&](int x) { return !below(ax, x, y); }) || !narrow(x0, x1, [&](int x) { return !above(ax, x, y); }))
+                return false;
         }
+        a = x0;
+        b = x1;
         return true;
     }
 
@@ -95,8 +100,73 @@ private:
         double tMin = 0, tMax = 0, margin = 0;
         bool skip = false;  // a degenerate edge separates nothing
     };
+    // The cell's extent on the axis: the least and largest projection of its corners.
+    static std::pair<double, double> extent(const Axis& a, int x, int y) {
+        const Vec2 cell[4] = {{double(x), double(y)}, {x + 1.0, double(y)}, {x + 1.0, y + 1.0}, {double(x), y + 1.0}};
+        double cMin = 1e300, cMax = -1e300;
+        for (const Vec2& c : cell) { cMin = std::min(cMin, dot(a.n, c)); cMax = std::max(cMax, dot(a.n, c)); }
+        return {cMin, cMax};
+    }
+    // The axis separates the cell from the triangle: the cell lies below, or above, the triangle's extent.
+    static bool below(const Axis& a, int x, int y) { return extent(a, x, y).second <= a.tMin + a.margin; }
+    static bool above(const Axis& a, int x, int y) { return a.tMax <= extent(a, x, y).first + a.margin; }
+    // [x0, x1] narrowed to where `pass` holds, given that it holds on a prefix or a suffix of the
+    // row; false when nowhere.
+    template <class Pass>
+    static bool narrow(int& x0, int& x1, Pass&& pass) {
+        if (x0 > x1) return false;
+        const bool first = pass(x0), last = pass(x1);
+        if (first && last) return true;
+        if (!first && !last) return false;
+        int lo = x0, hi = x1;  // pass(lo) != pass(hi): bisect to the neighbours where it changes
+        while (hi - lo > 1) {
+            const int mid = lo + (hi - lo) / 2;
+            (pass(mid) == first ? lo : hi) = mid;
+        }
+        if (first) x1 = lo;
+        else x0 = hi;
+        return true;
+    }
     std::array<Axis, 3> axes_;
 };
+
+// Sets every cell within `radius` cells (a square: the max filter along rows, then along columns)
+// of a set cell. Each pass tracks the nearest set cell before and after, so it costs the grid's
+// cells whatever the radius.
+void growByRadius(std::vector<uint8_t>& mask, int gw, int gh, int radius) {
+    constexpr int kFar = std::numeric_limits<int>::max() / 4;
+    std::vector<uint8_t> rows(mask.size(), 0);
+    for (int y = 0; y < gh; ++y) {
+        const uint8_t* in = &mask[size_t(y) * size_t(gw)];
+        uint8_t* out = &rows[size_t(y) * size_t(gw)];
+        for (int x = 0, last = -kFar; x < gw; ++x) {
+            if (in[x]) last = x;
+            out[x] = x - last <= radius;
+        }
+        for (int x = gw - 1, next = kFar; x >= 0; --x) {
+            if (in[x]) next = x;
+            out[x] |= next - x <= radius;
+        }
+    }
+    std::vector<int> near(size_t(gw), -kFar);  // per column: the last set row seen
+    for (int y = 0; y < gh; ++y) {
+        const uint8_t* in = &rows[size_t(y) * size_t(gw)];
+        uint8_t* out = &mask[size_t(y) * size_t(gw)];
+        for (int x = 0; x < gw; ++x) {
+            if (in[x]) near[size_t(x)] = y;
+            out[x] = y - near[size_t(x)] <= radius;
+        }
+    }
+    std::fill(near.begin(), near.end(), kFar);  // per column: the next set row seen
+    for (int y = gh - 1; y >= 0; --y) {
+        const uint8_t* in = &rows[size_t(y) * size_t(gw)];
+        uint8_t* out = &mask[size_t(y) * size_t(gw)];
+        for (int x = 0; x < gw; ++x) {
+            if (in[x]) near[size_t(x)] = y;
+            out[x] |= near[size_t(x)] - y <= radius;
+        }
+    }
+}
 
 }  // namespace
 
@@ -140,25 +210,13 @@ std::vector<uint8_t> chartMask(const Oriented& c, double t, int radius, int& gw,
         int y0 = std::max(0, int(std::floor(std::min({q[0].y, q[1].y, q[2].y}))));
         int y1 = std::min(gh - 1, int(std::floor(std::max({q[0].y, q[1].y, q[2].y}))));
         const TriangleCellTest test(q);
-        for (int y = y0; y <= y1; ++y)
-            for (int x = x0; x <= x1; ++x)
-                if (!mask[size_t(y) * size_t(gw) + size_t(x)] && test.touches(x, y)) mark(x, y);
+        for (int y = y0, a = 0, b = 0; y <= y1; ++y)
+            if (test.span(y, x0, x1, a, b)) std::fill_n(&mask[size_t(y) * size_t(gw) + size_t(a)], b - a + 1, uint8_t(1));
     }
     if (rasterCells) *rasterCells = size_t(std::count(mask.begin(), mask.end(), uint8_t(1)));
     // Grow by the gutter radius (a square, separable max filter): two footprints that do not
     // overlap keep their charts 2 * radius texels apart.
-    if (radius > 0) {
-        std::vector<uint8_t> tmp(mask.size(), 0);
-        for (int y = 0; y < gh; ++y)
-            for (int x = 0; x < gw; ++x)
-                if (mask[size_t(y) * size_t(gw) + size_t(x)])
-                    for (int d = std::max(0, x - radius); d <= std::min(gw - 1, x + radius); ++d) tmp[size_t(y) * size_t(gw) + size_t(d)] = 1;
-        std::fill(mask.begin(), mask.end(), uint8_t(0));
-        for (int y = 0; y < gh; ++y)
-            for (int x = 0; x < gw; ++x)
-                if (tmp[size_t(y) * size_t(gw) + size_t(x)])
-                    for (int d = std::max(0, y - radius); d <= std::min(gh - 1, y + radius); ++d) mask[size_t(d) * size_t(gw) + size_t(x)] = 1;
-    }
+    if (radius > 0) growByRadius(mask, gw, gh, radius);
     return mask;
 }
 
@@ -232,7 +290,8 @@ Footprints footprintsAt(const Orientations& charts, double t, int gutter, int sc
             c.footprint = size_t(std::count(fine.begin(), fine.end(), uint8_t(1)));
             auto blocks = [&](ChartFootprints& into, int s) {
                 std::vector<uint8_t> mask = coarsen(fine, into.gw, into.gh, s, into.cw, into.ch);
-                for (int rot = 0; rot < 4; ++rot) into.rot[size_t(rot)] = rotatedFootprint(mask, into.cw, into.ch, rot);
+                // Only the quarter turns the placement tries (texel-aligned charts: none).
+                for (int rot = 0; rot < into.turns; ++rot) into.rot[size_t(rot)] = rotatedFootprint(mask, into.cw, into.ch, rot);
             };
             if (twiceCoarser) {
                 ChartFootprints cc = c;

@@ -69,7 +69,7 @@ struct ChartFootprints {
     int turns = 4;       // the quarter turns tried (Oriented::turns)
     int gw = 0, gh = 0;  // the unrotated texel grid
     int cw = 0, ch = 0;  // ... in blocks
-    std::array<Footprint, 4> rot;
+    std::array<Footprint, 4> rot;  // the first `turns` quarter turns (the rest stay empty)
     size_t raster = 0, footprint = 0;  // texels: conservative raster, and grown by the gutter radius
 };
 

@@ -131,18 +131,22 @@ std::vector<BakeIsland> layoutBakeIslands(const TriMesh& mesh, const ChartLayout
     std::vector<BakeIsland> out;
     if (layout.islands.empty()) return out;
     std::vector<std::vector<uint32_t>> vertexCharts(mesh.vertexCount());
+    std::vector<std::vector<uint32_t>> chartFaces(layout.chartCount);  // ascending ids
     std::vector<uint32_t> unindexed;  // faces with a repeated corner index: FaceGrid leaves them out
     for (uint32_t f = 0; f < mesh.triangleCount(); ++f) {
         const uint32_t c = layout.faceChart.at(f);
         if (c >= layout.chartCount) throw InvalidInput("layout: chart id out of range");
         for (uint32_t v : mesh.triangles[f]) vertexCharts[v].push_back(c);
+        chartFaces[c].push_back(f);
         if (degenerateIndices(mesh.triangles[f])) unindexed.push_back(f);
     }
     // An island samples the faces of every chart that holds one of its corners, but the bake
     // (facesNearTriangle) keeps only those whose box lies within d0 + 2r of the island's centroid
     // c (d0: c's distance to them, r: the largest |corner - c|). A corner lies on such a face, so
     // d0 <= r: the faces within 4r of c hold all it keeps, in the same order (by chart, then id),
-    // and the island's face list stays proportional to its own size, not its charts'.
+    // and the island's face list stays proportional to its own size, not its charts'. Those faces
+    // are the grid's faces in the box around c within 4r (plus the faces the grid leaves out), found
+    // through the grid or by a scan of the charts' faces, whichever visits fewer: the same faces.
     const FaceGrid grid(mesh);
     for (size_t i = 0; i < layout.islands.size(); ++i) {
         const LayoutIsland& isl = layout.islands[i];
@@ -161,15 +165,29 @@ std::vector<BakeIsland> layoutBakeIslands(const TriMesh& mesh, const ChartLayout
         double r = 0;
         for (const Vec3& q : b.position) r = std::max(r, length(q - c));
         const double reach = 4 * r * (1 + 1e-6) + 1e-9 * (1 + length(c));
-        std::vector<uint32_t> near = grid.facesIn(c - Vec3{reach, reach, reach}, c + Vec3{reach, reach, reach});
-        near.insert(near.end(), unindexed.begin(), unindexed.end());
-        for (uint32_t f : near)
-            if (std::binary_search(charts.begin(), charts.end(), layout.faceChart[f]) && boxDistance2(faceBox(mesh, f), c) <= reach * reach)
-                b.faces.push_back(f);
-        std::sort(b.faces.begin(), b.faces.end(), [&](uint32_t x, uint32_t y) {
-            return std::make_pair(layout.faceChart[x], x) < std::make_pair(layout.faceChart[y], y);
-        });
-        b.faces.erase(std::unique(b.faces.begin(), b.faces.end()), b.faces.end());
+        const Vec3 lo = c - Vec3{reach, reach, reach}, hi = c + Vec3{reach, reach, reach};
+        size_t scan = 0;
+        for (uint32_t ch : charts) scan += chartFaces[ch].size();
+        if (scan <= grid.entriesIn(lo, hi)) {
+            for (uint32_t ch : charts)
+                for (uint32_t f : chartFaces[ch]) {
+                    const std::array<double, 6> bx = faceBox(mesh, f);
+                    // FaceGrid::facesIn's test, for the faces it lists
+                    const bool inBox = degenerateIndices(mesh.triangles[f]) ||
+                                       (bx[0] <= hi.x && bx[3] >= lo.x && bx[1] <= hi.y && bx[4] >= lo.y && bx[2] <= hi.z && bx[5] >= lo.z);
+                    if (inBox && boxDistance2(bx, c) <= reach * reach) b.faces.push_back(f);
+                }
+        } else {
+            std::vector<uint32_t> near = grid.facesIn(lo, hi);
+            near.insert(near.end(), unindexed.begin(), unindexed.end());
+            for (uint32_t f : near)
+                if (std::binary_search(charts.begin(), charts.end(), layout.faceChart[f]) && boxDistance2(faceBox(mesh, f), c) <= reach * reach)
+                    b.faces.push_back(f);
+            std::sort(b.faces.begin(), b.faces.end(), [&](uint32_t x, uint32_t y) {
+                return std::make_pair(layout.faceChart[x], x) < std::make_pair(layout.faceChart[y], y);
+            });
+            b.faces.erase(std::unique(b.faces.begin(), b.faces.end()), b.faces.end());
+        }
         if (b.faces.empty()) throw InvalidInput("layout island " + std::to_string(i) + " touches no chart");
         out.push_back(std::move(b));
     }

@@ -207,7 +207,9 @@ LevelAtlas packLevelPage(const LayoutData& lay, const LevelUVs& luv, const PageR
     ao.threads = options.threads;
     ao.texelAligned = request.sourceTexels;
     LevelAtlas la = packLevelAtlas(lay, luv, request.originalTriangles, ao);
-    for (int m = std::clamp(mipsAt(la.atlas.texelsPerUnit), 0, mips); m < mips; ++m) {
+    // Narrower gutters when the density fell short of the limit. Not for the source texels: their
+    // packer narrows the gutter itself, down to 2 texels, so a narrower start repeats its attempts.
+    for (int m = std::clamp(mipsAt(la.atlas.texelsPerUnit), 0, mips); m < mips && !request.sourceTexels; ++m) {
         AtlasOptions narrow = ao;
         narrow.gutter = 2 << m;
         LevelAtlas denser = packLevelAtlas(lay, luv, request.originalTriangles, narrow);
