@@ -11,7 +11,7 @@ import sys
 import unittest
 
 sys.path.insert(0, os.path.dirname(__file__))
-from lodbake_test import BIN, SOURCE, Gltf, assert_no_validator_errors, make_samples, run, skip, work_dir  # noqa: E402
+from lodbake_test import BIN, Gltf, assert_no_validator_errors, make_samples, run, skip, work_dir  # noqa: E402
 
 BUILD = os.path.dirname(os.path.abspath(BIN))
 TOOLS = ["simplify", "agsphere-build", "parameterize", "texture-refine", "pack", "compare", "make-samples", "lodbake"]
