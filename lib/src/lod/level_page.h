@@ -73,6 +73,8 @@ struct LevelAtlas {
     AtlasResult atlas;
     std::vector<int> chartSlot;  // original chart id -> index in atlas.charts, -1 if unused
     size_t charts = 0;
+    // The page at the level's density before its gutters were widened: the coarser levels' cap.
+    std::array<int, 2> capPage{};
 };
 
 // The level's charts packed with `ao`. `original`: the level is the original triangles, whose
@@ -88,6 +90,8 @@ struct PageRequest {
     bool sourceTexels = false;
     // The next finer level's page (texels; none for LOD0): this page holds no more texels.
     std::optional<std::array<int, 2>> finerPage;
+    // Widen the gutter towards the mips of the page's side where that keeps the density.
+    bool widenGutters = false;
 };
 
 // The level's page: its charts packed at the density limit (layout units) with gutters for the
