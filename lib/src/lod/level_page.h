@@ -100,7 +100,9 @@ struct PageRequest {
 // coverage and uses fewer mips: the gutter is narrowed to the fewest mips that the denser packing
 // it allows still covers. A coarser level never carries more texels than the finer one (packing
 // fewer, larger gutters can come out bigger at the same density): its density is lowered until it
-// does not (at most 8 tries). Reads maxSize, powerOfTwo, maxMips, minMipSide and threads of `options`.
+// does not (at most 8 tries). With request.widenGutters the gutter then widens toward the mips of
+// the page's side where that keeps the density (la.capPage: the page before, the coarser levels'
+// cap). Reads maxSize, powerOfTwo, maxMips, minMipSide and threads of `options`.
 LevelAtlas packLevelPage(const LayoutData& lay, const LevelUVs& luv, const PageRequest& request, const PackOptions& options);
 
 // The page figures of the report.
