@@ -82,7 +82,8 @@ void chooseRank(const ChainInputs& in, const LevelWork& w, ChainCarry& carry, co
     const auto tChoice = Clock::now();
     const double cpuChoice = processCpuSeconds();
     const bool normalMap = normalMapWanted(in.options, in.materials.normalTexture || w.k > 0);
-    const ChoiceLevel level{&in.views[w.k], w.k, &pl, w.report.hausdorff, w.projected, normalMap};
+    ChoiceLevel level{&in.views[w.k], w.k, &pl, w.report.hausdorff, w.projected, normalMap};
+    if (w.k > 0) level.finerPage = carry.capPage.value_or(std::array<int, 2>{res.reports[w.k - 1].width, res.reports[w.k - 1].height});
     LayoutChoice choice = chooseLayoutByBake(in.sources, in.layouts, level, carry.grid, res, in.options);
     w.time.rankChoiceSeconds = secondsSince(tChoice);
     w.time.rankChoiceCpuSeconds = processCpuSeconds() - cpuChoice;
@@ -128,10 +129,12 @@ bool placeLevel(const ChainInputs& in, const LevelWork& w, ChainCarry& carry, Pa
     request.maxCoverage = pl.maxCoverage;
     request.originalTriangles = w.k == 0;
     request.sourceTexels = page.sourceTexels;
-    if (w.k > 0) request.finerPage = std::array<int, 2>{res.reports[w.k - 1].width, res.reports[w.k - 1].height};
+    request.widenGutters = true;
+    if (w.k > 0) request.finerPage = carry.capPage.value_or(std::array<int, 2>{res.reports[w.k - 1].width, res.reports[w.k - 1].height});
     if (!request.sourceTexels) page.layout = &in.layouts[r.rank];
     if (tiled) {  // the original's texture coordinates on the tile
         page.la = tiledPage(in.tiling, r);
+        carry.capPage.reset();
         if (w.original && w.k == 0) return false;
         LevelUVs luv;
         luv.uv = std::move(tiled->uv);
@@ -155,6 +158,7 @@ bool placeLevel(const ChainInputs& in, const LevelWork& w, ChainCarry& carry, Pa
     page.sourceTexels = r.sourceTexels = request.sourceTexels;
     clock.lap(w.time.wall.page, w.time.cpu.page);
     recordPage(page.la, *page.layout, r);
+    carry.capPage = page.la.capPage;
     r.absorbedIslands = luv.absorbedIslands;
     if (w.original && w.k == 0) return false;
     buildLevelMesh(in.asset, view, luv, page.la, L);

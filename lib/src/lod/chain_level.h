@@ -48,6 +48,8 @@ struct ChainCarry {
     std::optional<FaceGrid> grid;
     double previousReach = -1;        // the previous level's projection reach (-1: not projected)
     std::optional<LodMaterial> tile;  // the tiled levels' one material, baked at the first of them
+    // The previous level's page before its gutters were widened (texels): the next level's cap.
+    std::optional<std::array<int, 2>> capPage;
 };
 
 // Builds level k after levels 0 .. k-1: its report res.reports[k] (the plan's figures, page,

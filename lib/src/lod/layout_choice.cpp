@@ -65,8 +65,8 @@ LayoutChoice chooseLayoutByBake(const BakeSources& sources, std::vector<LayoutDa
     // The finer level's page at the same scale: a level's page holds no more texels than the
     // finer one's, a cap that decides many coarse pages' density.
     if (k > 0) {
-        const PackLevelReport& f = res.reports[k - 1];
-        request.finerPage = std::array<int, 2>{int(std::ceil(f.width * scale)), int(std::ceil(f.height * scale))};
+        const std::array<int, 2>& f = level.finerPage;
+        request.finerPage = std::array<int, 2>{int(std::ceil(f[0] * scale)), int(std::ceil(f[1] * scale))};
     }
     std::vector<RankCandidate> candidates;
     for (uint32_t rank : planned.eligibleRanks) {

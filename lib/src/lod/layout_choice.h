@@ -24,6 +24,7 @@ struct ChoiceLevel {
     double hausdorff = 0;        // its measured deviation (the projection bake's reach)
     bool projected = false;      // baked by projection (else the original triangles at the layout)
     bool normalMap = false;      // the level gets a normal map: it is compared too
+    std::array<int, 2> finerPage{};  // the finer level's cap page (texels; k > 0)
 };
 
 struct LayoutChoice {

@@ -184,6 +184,52 @@ LevelAtlas packLevelAtlas(const LayoutData& L, const LevelUVs& luv, bool origina
     return la;
 }
 
+namespace {
+
+// Mips a renderer reaches at a page side: up to options.maxMips, down to minMipSide.
+int mipsOfSide(int side, const PackOptions& options) {
+    const int limit = side > options.minMipSide ? int(std::floor(std::log2(double(side) / options.minMipSide))) : 0;
+    return std::min(options.maxMips, limit);
+}
+
+// Grows the page's sides to at least `sides` (empty texels past the charts; placements are
+// in texels): a page with wider gutters is never smaller than the coarser levels' cap.
+void padPage(AtlasResult& a, const std::array<int, 2>& sides) {
+    const int w = std::max(a.width, sides[0]), h = std::max(a.height, sides[1]);
+    const double keep = double(a.width) * a.height / (double(w) * h);
+    a.utilisation *= keep;
+    a.boxUtilisation *= keep;
+    a.rasterUtilisation *= keep;
+    a.footprintUtilisation *= keep;
+    a.width = w;
+    a.height = h;
+}
+
+// A renderer may sample mips below the level's planned range (a small viewport, minification
+// along a grazing view): widest gutters first, a page keeps the widest that packs at the same
+// density and, below LOD0, within the finer level's texels.
+LevelAtlas widenGutters(const LayoutData& lay, const LevelUVs& luv, const PageRequest& request, const PackOptions& options,
+                        const AtlasOptions& ao, LevelAtlas la) {
+    const int mips = std::max(0, int(std::log2(std::max(2, la.atlas.gutter) / 2)));
+    const double density = la.atlas.texelsPerUnit;
+    for (int m = mipsOfSide(std::max(la.atlas.width, la.atlas.height), options); m > mips; --m) {
+        AtlasOptions wide = ao;
+        wide.gutter = 2 << m;
+        wide.maxTexelsPerUnit = density;
+        LevelAtlas candidate = packLevelAtlas(lay, luv, request.originalTriangles, wide);
+        if (candidate.atlas.texelsPerUnit < density * (1 - 1e-9)) continue;
+        padPage(candidate.atlas, la.capPage);
+        if (request.finerPage && double(candidate.atlas.width) * candidate.atlas.height >
+                                     double((*request.finerPage)[0]) * (*request.finerPage)[1])
+            continue;
+        candidate.capPage = la.capPage;
+        return candidate;
+    }
+    return la;
+}
+
+}  // namespace
+
 LevelAtlas packLevelPage(const LayoutData& lay, const LevelUVs& luv, const PageRequest& request, const PackOptions& options) {
     const double tMax = request.sourceTexels ? 1.0 : request.texelLimit / lay.uvPerUnit;
     // At density d (layout units) the smallest coverage samples mip log2(d / (tMax x cov / maxCov)).
@@ -226,6 +272,8 @@ LevelAtlas packLevelPage(const LayoutData& lay, const LevelUVs& luv, const PageR
         ao.maxTexelsPerUnit = std::min(ao.maxTexelsPerUnit, la.atlas.texelsPerUnit) * std::sqrt(previous / now) * 0.98;
         la = packLevelAtlas(lay, luv, false, ao);
     }
+    la.capPage = {la.atlas.width, la.atlas.height};
+    if (request.widenGutters) la = widenGutters(lay, luv, request, options, ao, std::move(la));
     return la;
 }
 

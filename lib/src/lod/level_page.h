@@ -73,6 +73,8 @@ struct LevelAtlas {
     AtlasResult atlas;
     std::vector<int> chartSlot;  // original chart id -> index in atlas.charts, -1 if unused
     size_t charts = 0;
+    // The page at the level's density before its gutters were widened: the coarser levels' cap.
+    std::array<int, 2> capPage{};
 };
 
 // The level's charts packed with `ao`. `original`: the level is the original triangles, whose
@@ -88,6 +90,8 @@ struct PageRequest {
     bool sourceTexels = false;
     // The next finer level's page (texels; none for LOD0): this page holds no more texels.
     std::optional<std::array<int, 2>> finerPage;
+    // Widen the gutter towards the mips of the page's side where that keeps the density.
+    bool widenGutters = false;
 };
 
 // The level's page: its charts packed at the density limit (layout units) with gutters for the
@@ -96,7 +100,9 @@ struct PageRequest {
 // coverage and uses fewer mips: the gutter is narrowed to the fewest mips that the denser packing
 // it allows still covers. A coarser level never carries more texels than the finer one (packing
 // fewer, larger gutters can come out bigger at the same density): its density is lowered until it
-// does not (at most 8 tries). Reads maxSize, powerOfTwo, maxMips, minMipSide and threads of `options`.
+// does not (at most 8 tries). With request.widenGutters the gutter then widens toward the mips of
+// the page's side where that keeps the density (la.capPage: the page before, the coarser levels'
+// cap). Reads maxSize, powerOfTwo, maxMips, minMipSide and threads of `options`.
 LevelAtlas packLevelPage(const LayoutData& lay, const LevelUVs& luv, const PageRequest& request, const PackOptions& options);
 
 // The page figures of the report.

@@ -12,7 +12,7 @@ namespace {
 // Charts copied texel for texel (source texels) extend over their gutter ring up to this many
 // texels: the first mips that average across a border read the original's neighbours; beyond, the
 // pull-push fill (a wider margin costs a closest-point test per texel of every triangle's box).
-constexpr int kMaxChartExtension = 8;
+constexpr int kMaxChartExtension = 16;
 
 }  // namespace
 
