@@ -51,9 +51,24 @@ def loadavg():
         return [float(x) for x in f.read().split()[:3]]
 
 
+def busy_cpu_seconds():
+    """CPU seconds the whole machine has spent busy since boot (every core; /proc/stat)."""
+    with open("/proc/stat") as f:
+        fields = [int(x) for x in f.readline().split()[1:]]
+    idle = fields[3] + (fields[4] if len(fields) > 4 else 0)  # idle + iowait
+    return (sum(fields[:8]) - idle) / os.sysconf("SC_CLK_TCK")
+
+
+def own_cpu_seconds():
+    """CPU seconds of this harness and every child it has waited for."""
+    t = os.times()
+    return t.user + t.system + t.children_user + t.children_system
+
+
 def machine():
     info = {"host": socket.gethostname(), "os": platform.platform(), "cores": os.cpu_count(),
-            "python": platform.python_version(), "loadAverageStart": loadavg()}
+            "python": platform.python_version(), "loadAverageStart": loadavg(),
+            "busyCpuStart": busy_cpu_seconds(), "ownCpuStart": own_cpu_seconds()}
     try:
         with open("/proc/cpuinfo") as f:
             info["cpu"] = next((l.split(":", 1)[1].strip() for l in f if l.startswith("model name")), None)
@@ -290,8 +305,13 @@ def start_results(suite, args, build_list):
 
 
 def finish_results(results, path, started):
-    results["machine"]["loadAverageEnd"] = loadavg()
+    m = results["machine"]
+    m["loadAverageEnd"] = loadavg()
     results["seconds"] = round(time.monotonic() - started, 1)
+    # The load average counts the harness's own runs; what other processes took is the machine's
+    # busy time less the harness's, as a share of one core over the run.
+    other = (busy_cpu_seconds() - m.pop("busyCpuStart")) - (own_cpu_seconds() - m.pop("ownCpuStart"))
+    m["otherCpuShare"] = round(max(0.0, other) / max(results["seconds"], 1e-9), 3)
     os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
     with open(path, "w") as f:
         json.dump(results, f, indent=1, sort_keys=False)

@@ -8,7 +8,7 @@ import sys
 from . import common
 
 TIMED = ("speed", "scale")  # suites whose figures depend on the machine's load
-QUIET_LOAD = 0.5  # 1-minute load average above this (before or after the run): not a quiet machine
+QUIET_LOAD = 0.5  # load average before the run, or share of a core other processes took during it: above, not quiet
 PEER_NAMES = {"gltfpack-debian": "gltfpack (Debian)", "gltfpack-npm": "gltfpack (npm)",
               "blender-decimate": "Blender Decimate", "blender-bake": "Blender bake recipe"}
 
@@ -18,21 +18,28 @@ def fmt(x, spec="%.2f"):
 
 
 def contended(res):
-    """A timed suite run on a machine that was not quiet."""
+    """A timed suite run on a machine that was not quiet: other processes took more than
+    QUIET_LOAD of a core during the run (older results: the load average before or after it)."""
     m = res["machine"]
-    return res["suite"] in TIMED and max(m["loadAverageStart"][0], m.get("loadAverageEnd", [0])[0]) > QUIET_LOAD
+    if res["suite"] not in TIMED:
+        return False
+    if "otherCpuShare" in m:
+        return m["loadAverageStart"][0] > QUIET_LOAD or m["otherCpuShare"] > QUIET_LOAD
+    return max(m["loadAverageStart"][0], m.get("loadAverageEnd", [0])[0]) > QUIET_LOAD
 
 
 def header(res):
     m = res["machine"]
     load = "%.2f → %.2f" % (m["loadAverageStart"][0], m.get("loadAverageEnd", [float("nan")])[0])
+    if "otherCpuShare" in m:
+        load += ", other processes %.2f of a core" % m["otherCpuShare"]
     builds = "; ".join("%s `%s` (%s)" % (b["label"], (b.get("commit") or "?")[:12], b["bin"]) for b in res["builds"])
     lines = ["_%s, %s: %s, %d cores, %s GiB, load average %s; %s; peers: %s._" % (
         res["suite"], res["started"][:16].replace("T", " "), m.get("cpu", "?"), m["cores"], m.get("memoryGiB", "?"), load,
         builds, ", ".join("%s" % v for v in res.get("peers", {}).values()) or "none"),
         "", "`python3 %s`" % " ".join(res["command"])]
     if contended(res):
-        lines += ["", "**Contended machine (load average above %.1f): these timings are not publishable figures; "
+        lines += ["", "**Contended machine (load average or other processes above %.1f of a core): these timings are not publishable figures; "
                       "re-run on a quiet machine.**" % QUIET_LOAD]
     missing = res.get("settings", {}).get("peersMissing")
     if missing:
