@@ -117,6 +117,10 @@ TEST(SourceTexels, UntexturedAndFlatFacesKeepT0Pieces) {
     s = sourceTexelLayout(a, {{64, 32}}, t0For(a), 20);
     EXPECT_NEAR(s.layout.cornerUV[2][1].x, 12.8, 1e-9);  // T0 (1, 0) x 6.4 / 0.5
 
+    // A line of 6 texels stays within one period of the texture: nothing differs for the
+    // coarser levels' cap.
+    EXPECT_TRUE(s.capLayout.empty());
+
     // No texture at all: nothing to copy, and the reason says so.
     a.materials[0].baseColor.texture = -1;
     s = sourceTexelLayout(a, {{64, 32}}, t0For(a), 10);
@@ -135,4 +139,24 @@ TEST(SourceTexels, FiltersAreKeptOnlyWhenEveryTextureAgrees) {
     a.textures.push_back(Texture{0, -1});  // the default sampler
     a.materials.push_back(other);
     EXPECT_EQ(sourceFilters(a), std::make_pair(0, 0));
+}
+
+TEST(SourceTexels, LinesAcrossARepeatingTextureKeepEveryPeriod) {
+    // The right square reads a repeating texture along a line: u 0.1 .. 8.1 at v 0.1, eight
+    // periods of 64 texels (a grid seen along a ledge). Its 512 texels over 0.5 units of T0 width
+    // are 1024 texels per unit, below the level's 2000: the piece takes them all, where a line
+    // within one period is held to 64 texels along its longer side (1 unit). The cap layout, which
+    // the coarser levels' texel cap counts, holds it to those 64.
+    Asset a = twoSquares(0.505);
+    for (uint32_t w : {4u, 7u}) a.mesh.wedges.uv0[w] = {0.1, 0.1};
+    for (uint32_t w : {5u, 6u}) a.mesh.wedges.uv0[w] = {8.1, 0.1};
+    const SourceTexelLayout s = sourceTexelLayout(a, {{64, 32}}, t0For(a), 2000);
+    ASSERT_FALSE(s.layout.empty()) << s.reason;
+    EXPECT_EQ(s.islands, 1u);
+    EXPECT_NEAR(s.layout.cornerUV[2][1].x, 1024.0, 1e-9);  // position (2, 0) -> T0 (1, 0) x 1024
+    ASSERT_FALSE(s.capLayout.empty());
+    EXPECT_NEAR(s.capLayout.cornerUV[2][1].x, 64.0, 1e-9);
+    // The islands are the same charts at the same texels in both.
+    EXPECT_EQ(s.capLayout.faceChart, s.layout.faceChart);
+    EXPECT_EQ(s.capLayout.cornerUV[0][1].x, s.layout.cornerUV[0][1].x);
 }

@@ -93,9 +93,10 @@ void chooseRank(const ChainInputs& in, const LevelWork& w, ChainCarry& carry, co
 }
 
 // 1. LOD0 on the original's texels: their layout (`layout`, which `data` points into) and what
-// packing needs of it; `data` stays empty when the asset has none.
+// packing needs of it; `data` stays empty when the asset has none. `capData`: the same for the
+// layout whose page caps LOD1's texels, when it differs (SourceTexelLayout::capLayout).
 void sourceTexels(const ChainInputs& in, const LevelWork& w, std::optional<SourceTexelLayout>& layout,
-                  std::optional<LayoutData>& data) {
+                  std::optional<LayoutData>& data, std::optional<LayoutData>& capData) {
     std::vector<std::pair<int, int>> sizes;
     for (const Image& image : in.asset.images) sizes.push_back(imageSize(image));
     const PlannedLevel& pl = in.plan.levels[w.k];
@@ -103,6 +104,10 @@ void sourceTexels(const ChainInputs& in, const LevelWork& w, std::optional<Sourc
     if (!layout->layout.empty()) {
         data.emplace(layoutData(in.asset, layout->layout, w.report.rank));
         data->inPlaceCharts = uint32_t(layout->inPlace);
+        if (!layout->capLayout.empty()) {
+            capData.emplace(layoutData(in.asset, layout->capLayout, w.report.rank));
+            capData->inPlaceCharts = uint32_t(layout->inPlace);
+        }
     }
     w.report.sourceTexelsNote = layout->reason;
 }
@@ -112,6 +117,7 @@ struct LevelPage {
     LevelAtlas la;
     LayoutData* layout = nullptr;
     bool sourceTexels = false;  // the page copies the original's texels (LOD0)
+    LayoutData* capLayout = nullptr;  // with source texels: the layout whose page caps LOD1's (none: the page's own)
 };
 
 // 2. The level's page over `layout` (the source texels' at LOD0, when they fit the page whole),
@@ -159,6 +165,8 @@ bool placeLevel(const ChainInputs& in, const LevelWork& w, ChainCarry& carry, Pa
     clock.lap(w.time.wall.page, w.time.cpu.page);
     recordPage(page.la, *page.layout, r);
     carry.capPage = page.la.capPage;
+    if (page.sourceTexels && page.capLayout)
+        carry.capPage = packLevelPage(*page.capLayout, levelUVs(mesh, *page.capLayout, view, view.data), request, in.options).capPage;
     r.absorbedIslands = luv.absorbedIslands;
     if (w.original && w.k == 0) return false;
     buildLevelMesh(in.asset, view, luv, page.la, L);
@@ -246,8 +254,8 @@ void buildLevel(const ChainInputs& in, size_t k, ChainCarry& carry, PackResult& 
 
     // 1. LOD0 on the source texels needs no rank choice, unless they do not fit (placeLevel).
     std::optional<SourceTexelLayout> sourceLayout;
-    std::optional<LayoutData> sourceData;
-    if (k == 0 && in.options.sourceTexels && !tiled) sourceTexels(in, w, sourceLayout, sourceData);
+    std::optional<LayoutData> sourceData, sourceCapData;
+    if (k == 0 && in.options.sourceTexels && !tiled) sourceTexels(in, w, sourceLayout, sourceData, sourceCapData);
     if (!(k == 0 && sourceData) && !tiled) chooseRank(in, w, carry, res);
 
     StepClock clock;
@@ -257,6 +265,7 @@ void buildLevel(const ChainInputs& in, size_t k, ChainCarry& carry, PackResult& 
     LevelPage page;
     page.sourceTexels = k == 0 && sourceData;
     if (page.sourceTexels) page.layout = &*sourceData;
+    if (page.sourceTexels && sourceCapData) page.capLayout = &*sourceCapData;
     if (!placeLevel(in, w, carry, res, tiled, page, clock, L)) return;  // 2
     bakeLevel(in, w, carry, res, tiled.has_value(), page, groups, clock, L);  // 3
 }

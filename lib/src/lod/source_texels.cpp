@@ -239,7 +239,11 @@ SourceTexelLayout sourceTexelLayout(const Asset& asset, const std::vector<std::p
     // constant (no texture, no vertex colours). A constant piece shows one colour and needs no
     // resolution: it is shrunk to kConstantPieceTexels across, so the original's texels keep the
     // page. A piece of a texture's faces whose UVs cover no area (palette texels, strips along a
-    // line) needs no more texels than its UVs cross in the texture: it takes that density.
+    // line) needs no more texels than its UVs cross in the texture: it takes that density, at
+    // most kLinePieceTexels along its longer side while its lines stay within one period of the
+    // texture. A line longer than a period reads a repeating texture (a grid along a ledge): every
+    // repeat shows the period's detail, so such a piece takes the density its UVs cross up to the
+    // level's own.
     const bool colours = !mesh.wedges.color.empty();
     auto pieceMaterial = [&](size_t f) -> int32_t {  // the material of a constant face, else -1
         const int32_t m = mesh.triangleMaterial.empty() ? -1 : mesh.triangleMaterial[f];
@@ -251,8 +255,9 @@ SourceTexelLayout sourceTexelLayout(const Asset& asset, const std::vector<std::p
     struct Piece {
         uint32_t chart = 0;
         double side = 0;     // the longer side of its T0 box, layout units
-        bool lines = true;   // every face reads a texture through UVs that cover no area
-        double density = 0;  // then: the page texels per layout unit its faces' UVs cross
+        bool lines = true;     // every face reads a texture through UVs that cover no area
+        double density = 0;    // then: the page texels per layout unit its faces' UVs cross
+        bool repeats = false;  // and some face's UVs span more than one period of its texture
         double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300;
     };
     // The texture's texels face f's UV edges cross per layout unit of the same edge.
@@ -266,6 +271,11 @@ SourceTexelLayout sourceTexelLayout(const Asset& asset, const std::vector<std::p
         }
         return d;
     };
+    // Whether face f's UVs span more than one texture period in u or v (the texture repeats along them).
+    auto spansPeriod = [&](size_t f) {
+        const Vec2 a = uv[mesh.cornerWedges[f][0]], b = uv[mesh.cornerWedges[f][1]], c = uv[mesh.cornerWedges[f][2]];
+        return std::max({a.x, b.x, c.x}) - std::min({a.x, b.x, c.x}) > 1 || std::max({a.y, b.y, c.y}) - std::min({a.y, b.y, c.y}) > 1;
+    };
     std::map<std::pair<uint32_t, int32_t>, Piece> pieces;  // by (T0 chart, constant material or -1)
     for (size_t f = 0; f < n; ++f) {
         if (textured[f]) continue;
@@ -274,7 +284,10 @@ SourceTexelLayout sourceTexelLayout(const Asset& asset, const std::vector<std::p
         if (m < 0) {
             const MaterialTexels* g = texelsOf(f);
             p.lines = p.lines && g && !colours && uvs;
-            if (p.lines) p.density = std::max(p.density, lineDensity(f, *g));
+            if (p.lines) {
+                p.density = std::max(p.density, lineDensity(f, *g));
+                p.repeats = p.repeats || spansPeriod(f);
+            }
         }
         for (const Vec2& q : t0.cornerUV[f]) {
             p.x0 = std::min(p.x0, q.x); p.x1 = std::max(p.x1, q.x);
@@ -285,20 +298,34 @@ SourceTexelLayout sourceTexelLayout(const Asset& asset, const std::vector<std::p
         p.chart = charts++;
         p.side = std::max(p.x1 - p.x0, p.y1 - p.y0);
     }
-    for (size_t f = 0; f < n; ++f) {
-        if (textured[f]) continue;
+    // The scale of face f's piece; `repeating`: whether a repeating line piece may exceed kLinePieceTexels.
+    auto pieceScale = [&](size_t f, bool repeating) {
         const int32_t m = pieceMaterial(f);
         const Piece& p = pieces[{t0.faceChart[f], m}];
-        L.faceChart[f] = p.chart;
         double scale = t0Texels;
         if (m >= 0 && p.side > 0) scale = std::min(t0Texels, kConstantPieceTexels / p.side);
         if (m < 0 && p.lines && p.side > 0)
-            scale = std::min({t0Texels, kLinePieceTexels / p.side, std::max(kConstantPieceTexels / p.side, p.density)});
+            scale = std::min({t0Texels, repeating && p.repeats ? t0Texels : kLinePieceTexels / p.side,
+                              std::max(kConstantPieceTexels / p.side, p.density)});
+        return scale;
+    };
+    bool repeatingLines = false;
+    for (size_t f = 0; f < n; ++f) {
+        if (textured[f]) continue;
+        L.faceChart[f] = pieces[{t0.faceChart[f], pieceMaterial(f)}].chart;
+        const double scale = pieceScale(f, true);
+        repeatingLines = repeatingLines || scale != pieceScale(f, false);
         for (size_t k = 0; k < 3; ++k) L.cornerUV[f][k] = t0.cornerUV[f][k] * scale;
     }
     L.chartCount = charts;
     L.material = t0.material;
     L.image = t0.image;
+    if (repeatingLines) {
+        out.capLayout = L;
+        for (size_t f = 0; f < n; ++f)
+            if (!textured[f])
+                for (size_t k = 0; k < 3; ++k) out.capLayout.cornerUV[f][k] = t0.cornerUV[f][k] * pieceScale(f, false);
+    }
     return out;
 }
 

@@ -27,6 +27,11 @@ struct SourceTexelLayout {
     std::string reason;  // why not
     size_t islands = 0;  // charts from texture islands (the first ones); the rest are T0 pieces
     size_t inPlace = 0;  // the first islands: the texture with the most texels (AtlasChart::inPlace)
+    // The same charts with every line piece held to the size of one that does not repeat (empty
+    // when no line piece repeats): the texels LOD0 holds for its surface at its density, which the coarser levels'
+    // texel cap counts. A repeating line's copy of every period serves LOD0 alone: coarser levels
+    // resample the sides at their own density whatever their cap.
+    ChartLayout capLayout;
 };
 
 // `imageSizes`: width and height of each Asset::images entry. `t0` is the layout the untextured
