@@ -37,7 +37,8 @@ def add_arguments(p):
                    "or none: our levels only (default: gltfpack-npm and the Blender ones installed)")
     p.add_argument("--chain-timeout", type=float, help="seconds: a chain that takes longer is recorded as failed "
                    "and left out (default: no limit)")
-    p.add_argument("--no-geometry", action="store_true", help="skip compare's Hausdorff distance")
+    p.add_argument("--no-geometry", action="store_true", help="skip compare's Hausdorff distance (its PBR "
+                   "render of our levels still runs)")
     p.add_argument("--posed", action="store_true", help="animated inputs: posed Hausdorff and IoU of our levels")
 
 
@@ -196,12 +197,15 @@ def run(args, builds, results):
         src = entry["file"]
         build_of = {b.label: b for b in builds}
         for r in drawn:
-            if not args.no_geometry:
-                # compare's PBR render beside three.js's, for our levels (rank_agreement).
+            # compare's PBR render beside three.js's, for our levels (rank_agreement), and its
+            # Hausdorff distance unless --no-geometry.
+            if not args.no_geometry or r["tool"] == "lodbake":
                 views = str(args.views) if r["tool"] == "lodbake" else "0"
+                geometry = ["--no-geometry"] if args.no_geometry else ["--samples", "100000"]
                 j = compare(builds[0], src, r["file"], r["lod"] if r["tool"] == "lodbake" else 0,
-                            ["--views", views, "--samples", "100000"])
-                r["relHausdorff"] = j["geometry"]["relHausdorff"] if j else None
+                            ["--views", views] + geometry)
+                if not args.no_geometry:
+                    r["relHausdorff"] = j["geometry"]["relHausdorff"] if j else None
                 if j and r["tool"] == "lodbake":
                     r["comparePbrPsnr"] = j["images"]["pbr"]["psnr"]
             if args.posed and r["tool"] == "lodbake" and common.Gltf(src).json.get("animations"):

@@ -17,8 +17,9 @@ const char* kSynopsis =
     "Compares B with A: triangles, vertices, materials, draw calls, texels, file bytes;\n"
     "two-sided Hausdorff / mean / RMS surface distance (area-weighted samples, AABB tree),\n"
     "absolute and relative to A's bounding-box diagonal; renders of both from the same views\n"
-    "(Fibonacci sphere, 60 deg, framing A's bounding sphere) in unlit base colour, in\n"
-    "Lambert-shaded grey and lit with every PBR material channel (docs/compare.md),\n"
+    "(Fibonacci sphere, 30 deg like a viewer's camera, framing A's bounding sphere) in unlit\n"
+    "base colour, in Lambert-shaded grey and lit with every PBR material channel\n"
+    "(docs/compare.md),\n"
     "with PSNR (over pixels covered by either silhouette, capped at\n"
     "100 dB for identical images), SSIM (luminance, 8x8 windows) and silhouette IoU.\n"
     "Results are identical for any --threads.";

@@ -35,7 +35,10 @@ struct CompareOptions {
     int views = 16;                 // cameras on a Fibonacci sphere around A's bounding sphere
                                     // (centre: A's box centre; radius: farthest vertex from it)
     int resolution = 256;           // square renders, pixels
-    double fovY = 1.0471975511965976;  // radians (60 degrees)
+    // Radians (30 degrees): a viewer's camera (three.js as scripts/render_three.py sets it up,
+    // <model-viewer>); a wider angle puts the camera close enough that near surfaces are seen
+    // at grazing angles no viewer shows, and their texture minification decides the figures.
+    double fovY = 0.5235987755982988;
     int threads = 0;                // 0 = all cores; never changes the result
     bool keepRenders = false;       // keep the renders in the result (for a contact sheet)
 };
