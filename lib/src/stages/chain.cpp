@@ -17,6 +17,10 @@ struct Intermediate {
     std::string path;
     Bytes bytes;
     bool imagesDecoded = false;  // its images were decoded in full by the stage that wrote it or an earlier one
+
+    // Frees the bytes once the next stage has read them: a million-triangle intermediate holds
+    // hundreds of megabytes that would otherwise stay alive under every later stage's peak.
+    void release() { Bytes().swap(bytes); }
 };
 
 struct ChainRun {
@@ -86,6 +90,7 @@ StageResult runChain(const ChainSettings& s) {
     ParameterizeSettings parameterize = s.parameterize;
     parameterize.bakeImage = parameterize.bakeImage && !s.keepIntermediates.empty();
     chain.run("parameterize", parameterize, &multires, &parameterized, runParameterize);
+    multires.release();
     Intermediate* packInput = &parameterized;
     Intermediate refined{chain.intermediatePath(".tex.glb"), {}, true};
     if (s.runTextureRefine) {
@@ -94,6 +99,7 @@ StageResult runChain(const ChainSettings& s) {
         TextureRefineSettings refine = s.textureRefine;
         refine.refine.bakeImages = refine.refine.bakeImages && !s.keepIntermediates.empty();
         chain.run("texture-refine", refine, &parameterized, &refined, runTextureRefine);
+        parameterized.release();
         packInput = &refined;
     }
     PackSettings pack = s.pack;
