@@ -217,3 +217,58 @@ TEST(RenderPbr, IdenticalAssetsGiveTheCap) {
     EXPECT_EQ(r.pbrPerView.size(), 4u);
     EXPECT_TRUE(r.warnings.empty());
 }
+
+// A level of odd side filters each texel's whole footprint: no source texel is dropped, so every
+// level keeps the mean of the image (a dropped column would shift the rest by up to half a texel).
+TEST(RenderPbr, OddSidedMipLevelsKeepEveryTexel) {
+    Asset a = assetOf(facingQuad());
+    std::vector<uint8_t> rgb;
+    for (int y = 0; y < 3; ++y)
+        for (int x = 0; x < 5; ++x) rgb.insert(rgb.end(), {uint8_t(40 * x + 60 * y), uint8_t(200 - 30 * x), uint8_t(90 * y)});
+    a.images.push_back(encodePng(rgb, 5, 3));
+    a.textures.push_back(Texture{0, -1});
+    a.materials[0].metallicRoughness.texture = 0;
+    const RenderScene s = prepareRenderScene(a, a.mesh);
+    ASSERT_EQ(s.dataImages.size(), 1u);
+    const MipImage& mip = s.dataImages[0];
+    ASSERT_EQ(mip.levels.size(), 3u);  // 5x3, 2x1, 1x1
+    EXPECT_EQ(mip.levels[1].width, 2);
+    EXPECT_EQ(mip.levels[1].height, 1);
+    auto mean = [](const MipImage::Level& l, int c) {
+        double sum = 0;
+        for (int i = 0; i < l.width * l.height; ++i) sum += l.rgba[size_t(i) * 4 + size_t(c)];
+        return sum / (l.width * l.height);
+    };
+    for (int c = 0; c < 3; ++c)
+        for (const MipImage::Level& l : mip.levels) EXPECT_NEAR(mean(l, c), mean(mip.levels[0], c), 1e-5);
+}
+
+// KHR_materials_clearcoat: a coat reflects light of its own (a black base shows it), its texture's
+// R scales it (R = 0: no coat), and towards grazing angles its Fresnel hides the base beneath.
+TEST(RenderPbr, ClearcoatReflectsAndHidesTheBaseAtGrazingAngles) {
+    Asset black = assetOf(facingQuad());
+    black.materials[0].baseColorFactor = {0, 0, 0, 1};
+    black.materials[0].roughnessFactor = 1;
+    auto coated = [](Asset a) {
+        ClearcoatExtension& cc = a.materials[0].ext.clearcoat;
+        cc.present = true;
+        cc.factor = 1;
+        cc.roughnessFactor = 0.03;
+        return a;
+    };
+    EXPECT_GT(meanCovered(renderPbr(coated(black))), meanCovered(renderPbr(black)) + 0.02);
+
+    Asset bare = coated(black);
+    bare.materials[0].ext.clearcoat.texture.texture = addFlatTexture(bare, 0, 255, 255);
+    EXPECT_GT(compareImages(renderPbr(bare), renderPbr(black)).psnr, 90);
+
+    Asset white = black;
+    white.materials[0].baseColorFactor = {1, 1, 1, 1};
+    Camera grazing = frontCamera();
+    grazing.eye = {0, -3 * std::sin(1.4), 3 * std::cos(1.4)};  // 80 degrees from the normal
+    const double spread = meanCovered(renderPbr(white, grazing)) - meanCovered(renderPbr(black, grazing));
+    const double coatedSpread =
+        meanCovered(renderPbr(coated(white), grazing)) - meanCovered(renderPbr(coated(black), grazing));
+    EXPECT_GT(spread, 0.05);
+    EXPECT_LT(coatedSpread, 0.9 * spread);
+}

@@ -136,7 +136,10 @@ bool placeLevel(const ChainInputs& in, const LevelWork& w, ChainCarry& carry, Pa
     request.originalTriangles = w.k == 0;
     request.sourceTexels = page.sourceTexels;
     request.widenGutters = true;
-    if (w.k > 0) request.finerPage = carry.capPage.value_or(std::array<int, 2>{res.reports[w.k - 1].width, res.reports[w.k - 1].height});
+    if (w.k > 0) {
+        request.finerPage = carry.capPage.value_or(std::array<int, 2>{res.reports[w.k - 1].width, res.reports[w.k - 1].height});
+        request.finerDensity = res.reports[w.k - 1].texelsPerUnit;
+    }
     if (!request.sourceTexels) page.layout = &in.layouts[r.rank];
     if (tiled) {  // the original's texture coordinates on the tile
         page.la = tiledPage(in.tiling, r);

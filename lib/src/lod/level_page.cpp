@@ -205,23 +205,47 @@ void padPage(AtlasResult& a, const std::array<int, 2>& sides) {
     a.height = h;
 }
 
+// The page of `candidate` grown to the cap page, if it keeps `minDensity` and, below LOD0, the
+// finer level's texels.
+bool keepsPage(LevelAtlas& candidate, const PageRequest& request, const std::array<int, 2>& capPage, double minDensity) {
+    if (candidate.atlas.texelsPerUnit < minDensity * (1 - 1e-9)) return false;
+    padPage(candidate.atlas, capPage);
+    return !request.finerPage || double(candidate.atlas.width) * candidate.atlas.height <=
+                                     double((*request.finerPage)[0]) * (*request.finerPage)[1];
+}
+
 // A renderer may sample mips below the level's planned range (a small viewport, minification
 // along a grazing view): widest gutters first, a page keeps the widest that packs at the same
-// density and, below LOD0, within the finer level's texels.
+// density and, below LOD0, within the finer level's texels. A page denser than the finer level's
+// (the finer one on the original's texels) trades that excess for the gutter: drawn smaller than
+// the finer level, it shows no more of the texture than the finer one does, while its narrower
+// gutters, fewer model units wide, blend neighbouring charts at the mips a small view samples.
 LevelAtlas widenGutters(const LayoutData& lay, const LevelUVs& luv, const PageRequest& request, const PackOptions& options,
                         const AtlasOptions& ao, LevelAtlas la) {
     const int mips = std::max(0, int(std::log2(std::max(2, la.atlas.gutter) / 2)));
     const double density = la.atlas.texelsPerUnit;
+    const double finer = request.finerDensity && *request.finerDensity > 0 ? *request.finerDensity / lay.uvPerUnit : density;
+    const double floor = std::min(density, finer);
     for (int m = mipsOfSide(std::max(la.atlas.width, la.atlas.height), options); m > mips; --m) {
         AtlasOptions wide = ao;
         wide.gutter = 2 << m;
         wide.maxTexelsPerUnit = density;
         LevelAtlas candidate = packLevelAtlas(lay, luv, request.originalTriangles, wide);
-        if (candidate.atlas.texelsPerUnit < density * (1 - 1e-9)) continue;
-        padPage(candidate.atlas, la.capPage);
-        if (request.finerPage && double(candidate.atlas.width) * candidate.atlas.height >
-                                     double((*request.finerPage)[0]) * (*request.finerPage)[1])
-            continue;
+        const double reached = candidate.atlas.texelsPerUnit;
+        const double texels = double(candidate.atlas.width) * candidate.atlas.height;
+        bool kept = keepsPage(candidate, request, la.capPage, density);
+        if (!kept && floor < density) {
+            // The densest page this gutter takes within the finer level's texels, down to its density.
+            double d = std::min(density, reached);
+            if (request.finerPage) {
+                const double finerTexels = double((*request.finerPage)[0]) * (*request.finerPage)[1];
+                if (texels > finerTexels) d *= std::sqrt(finerTexels / texels) * 0.98;
+            }
+            wide.maxTexelsPerUnit = std::max(d, floor);
+            candidate = packLevelAtlas(lay, luv, request.originalTriangles, wide);
+            kept = keepsPage(candidate, request, la.capPage, floor);
+        }
+        if (!kept) continue;
         candidate.capPage = la.capPage;
         return candidate;
     }

@@ -90,6 +90,9 @@ struct PageRequest {
     bool sourceTexels = false;
     // The next finer level's page (texels; none for LOD0): this page holds no more texels.
     std::optional<std::array<int, 2>> finerPage;
+    // The next finer level's density (texels per model unit; none for LOD0): where this page is
+    // denser, widening its gutters may lower it down to this.
+    std::optional<double> finerDensity;
     // Widen the gutter towards the mips of the page's side where that keeps the density.
     bool widenGutters = false;
 };
@@ -101,8 +104,8 @@ struct PageRequest {
 // it allows still covers. A coarser level never carries more texels than the finer one (packing
 // fewer, larger gutters can come out bigger at the same density): its density is lowered until it
 // does not (at most 8 tries). With request.widenGutters the gutter then widens toward the mips of
-// the page's side where that keeps the density (la.capPage: the page before, the coarser levels'
-// cap). Reads maxSize, powerOfTwo, maxMips, minMipSide and threads of `options`.
+// the page's side where that keeps the density, or lowers it no further than the finer level's
+// (request.finerDensity) (la.capPage: the page before, the coarser levels' cap). Reads maxSize, powerOfTwo, maxMips, minMipSide and threads of `options`.
 LevelAtlas packLevelPage(const LayoutData& lay, const LevelUVs& luv, const PageRequest& request, const PackOptions& options);
 
 // The page figures of the report.

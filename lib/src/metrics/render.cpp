@@ -1,7 +1,7 @@
 // The software rasteriser of render.h, laid out as a pipeline:
 //   sphereViews; per triangle: cullBackFace, cornerAttributes, toScreen (toCamera, clipNear,
 //   projection); per sub-triangle: rasterizeTriangle (setupInterpolants, pixel scan with z-test,
-//   shadeBaseColor, Lambert grey or shadePbr); encodeSrgb.
+//   shadeBaseColor, Lambert grey or shadePbr, its clearcoat layer in clearcoat_layer.h); encodeSrgb.
 // Perspective-correct interpolation: 1/z and b_k/z (b = barycentrics of the original triangle)
 // are affine in screen space; their screen gradients give exact UV derivatives for the mip level
 // (trilinear filtering, as in the OpenGL spec's scale factor rho).
@@ -15,6 +15,7 @@
 #include "lodbake/core/tangents.h"
 #include "lodbake/texture/color_space.h"
 #include "lodbake/texture/texture_transform.h"
+#include "metrics/clearcoat_layer.h"
 
 namespace lodbake {
 namespace {
@@ -125,8 +126,8 @@ void sampleTexture(const MipImage& mip, Vec2 uv, Vec2 duvdx, Vec2 duvdy, int wra
     }
 }
 
-// The texture channels of a metallic-roughness material.
-enum Channel { kBaseColor, kMetallicRoughness, kOcclusion, kNormal, kEmissive, kChannels };
+// The texture channels of a metallic-roughness material and its clearcoat.
+enum Channel { kBaseColor, kMetallicRoughness, kOcclusion, kNormal, kEmissive, kCoat, kCoatRoughness, kCoatNormal, kChannels };
 
 // One texture reference of a material, resolved: its decoded pyramid (null: none or undecodable),
 // UV set, transform and wrap modes.
@@ -165,6 +166,7 @@ struct TriMaterial {
     double metallic = 1, roughness = 1;
     double occlusionStrength = 1, normalScale = 1;
     Vec3 emissive{0, 0, 0};  // emissiveFactor x emissiveStrength, linear
+    double coat = 0, coatRoughness = 0, coatNormalScale = 1;  // KHR_materials_clearcoat (coat 0: none)
 };
 
 TriMaterial resolveMaterial(const RenderScene& scene, int32_t m) {
@@ -187,6 +189,15 @@ TriMaterial resolveMaterial(const RenderScene& scene, int32_t m) {
     r.tex[kMetallicRoughness] = resolveTexture(asset, scene.dataImages, mat.metallicRoughness);
     r.tex[kOcclusion] = resolveTexture(asset, scene.dataImages, mat.occlusion);
     r.tex[kNormal] = resolveTexture(asset, scene.dataImages, mat.normal);
+    const ClearcoatExtension& cc = mat.ext.clearcoat;
+    if (cc.present && cc.factor > 0) {
+        r.coat = cc.factor;
+        r.coatRoughness = cc.roughnessFactor;
+        r.coatNormalScale = cc.normalTexture.scale;
+        r.tex[kCoat] = resolveTexture(asset, scene.dataImages, cc.texture);
+        r.tex[kCoatRoughness] = resolveTexture(asset, scene.dataImages, cc.roughnessTexture);
+        r.tex[kCoatNormal] = resolveTexture(asset, scene.dataImages, cc.normalTexture);
+    }
     return r;
 }
 
@@ -239,6 +250,8 @@ struct CornerAttributes {
     Vec3 normal[3];
     bool tangents = false;          // wedge tangents present (normal map)
     Vec4 tangent[3];
+    bool coatTangents = false;      // the same for the clearcoat normal map
+    Vec4 coatTangent[3];
     bool back = false;              // the camera sees the back side (double-sided materials only)
 };
 
@@ -248,6 +261,20 @@ bool cornerUvs(const TriMesh& mesh, const Tri* cw, const TexSlot& s, Vec2 uv[3])
     const std::vector<Vec2>& set = s.texCoord == 1 ? mesh.wedges.uv1 : mesh.wedges.uv0;
     if (set.size() != mesh.wedges.size()) return false;
     for (int k = 0; k < 3; ++k) uv[k] = applyTextureTransform(*s.transform, set[(*cw)[k]]);
+    return true;
+}
+
+// The tangents of corners `cw` for normal map `s`: the mesh's own, else those computed for its UV
+// set; false when there are none.
+bool cornerTangents(const RenderScene& scene, const Tri& cw, const TexSlot& s, Vec4 tangent[3]) {
+    const TriMesh& mesh = *scene.mesh;
+    const std::vector<Vec4>& own = mesh.wedges.tangent;
+    const std::vector<Vec4>& computed = scene.tangents[s.texCoord == 1 ? 1 : 0];
+    const std::vector<Vec4>* tangents = own.size() == mesh.wedges.size() ? &own
+                                        : computed.size() == mesh.wedges.size() ? &computed
+                                                                                : nullptr;
+    if (tangents == nullptr) return false;
+    for (int k = 0; k < 3; ++k) tangent[k] = (*tangents)[cw[k]];
     return true;
 }
 
@@ -274,16 +301,8 @@ CornerAttributes cornerAttributes(const RenderScene& scene, size_t t, const TriM
     at.smooth = cw != nullptr && mesh.wedges.normal.size() == mesh.wedges.size();
     if (at.smooth)
         for (int k = 0; k < 3; ++k) at.normal[k] = mesh.wedges.normal[(*cw)[k]];
-    if (at.textured[kNormal]) {
-        const std::vector<Vec4>& own = mesh.wedges.tangent;
-        const std::vector<Vec4>& computed = scene.tangents[mat.tex[kNormal].texCoord == 1 ? 1 : 0];
-        const std::vector<Vec4>* tangents = own.size() == mesh.wedges.size() ? &own
-                                            : computed.size() == mesh.wedges.size() ? &computed
-                                                                                    : nullptr;
-        at.tangents = tangents != nullptr;
-        if (at.tangents)
-            for (int k = 0; k < 3; ++k) at.tangent[k] = (*tangents)[(*cw)[k]];
-    }
+    if (at.textured[kNormal]) at.tangents = cornerTangents(scene, *cw, mat.tex[kNormal], at.tangent);
+    if (at.textured[kCoatNormal]) at.coatTangents = cornerTangents(scene, *cw, mat.tex[kCoatNormal], at.coatTangent);
     return at;
 }
 
@@ -422,26 +441,48 @@ WorldLights worldLights(const Frame& f) {
 }
 
 // Shading normal at a pixel: interpolated wedge normal (face normal without them), perturbed by
-// the tangent-space normal map (+X along u, +Y up the image, scaled by normalTexture.scale),
+// the tangent-space normal map of `channel` (+X along u, +Y up the image, scaled by `scale`),
 // flipped when the back side is seen.
-Vec3 shadingNormal(const TriMaterial& mat, const CornerAttributes& at, const PixelBary& p) {
+Vec3 shadingNormal(const TriMaterial& mat, const CornerAttributes& at, const PixelBary& p, Channel channel, double scale,
+                   bool tangents, const Vec4 tangent[3]) {
     const Vec3& b = p.bar;
     Vec3 N = at.faceNormal;
     if (at.smooth) {
         Vec3 s = normalize(at.normal[0] * b[0] + at.normal[1] * b[1] + at.normal[2] * b[2]);
         if (length2(s) > 0) N = s;
     }
-    if (at.textured[kNormal] && at.tangents) {
+    if (at.textured[channel] && tangents) {
         float tex[4];
-        sampleChannel(mat.tex[kNormal], at.uv[kNormal], p, tex);
-        const Vec3 tn = tangentNormalOfTexel(tex, mat.normalScale);
+        sampleChannel(mat.tex[channel], at.uv[channel], p, tex);
+        const Vec3 tn = tangentNormalOfTexel(tex, scale);
         TangentFrame frame;
-        if (tangentFrameAt(N, {at.tangent[0], at.tangent[1], at.tangent[2]}, {b[0], b[1], b[2]}, frame)) {
+        if (tangentFrameAt(N, {tangent[0], tangent[1], tangent[2]}, {b[0], b[1], b[2]}, frame)) {
             const Vec3 m = normalize(frame.toWorld(tn));
             if (length2(m) > 0) N = m;
         }
     }
     return at.back ? -N : N;
+}
+
+// The clearcoat layer at a pixel: factor x texture R, roughness factor x texture G, and the coat's
+// own normal (the interpolated normal, perturbed by the clearcoat normal map only).
+metrics_detail::ClearcoatLayer clearcoatAt(const TriMaterial& mat, const CornerAttributes& at, const PixelBary& p) {
+    metrics_detail::ClearcoatLayer layer;
+    layer.coat = mat.coat;
+    double roughness = mat.coatRoughness;
+    float tex[4];
+    if (at.textured[kCoat]) {
+        sampleChannel(mat.tex[kCoat], at.uv[kCoat], p, tex);
+        layer.coat *= tex[0];
+    }
+    if (at.textured[kCoatRoughness]) {
+        sampleChannel(mat.tex[kCoatRoughness], at.uv[kCoatRoughness], p, tex);
+        roughness *= tex[1];
+    }
+    layer.coat = std::clamp(layer.coat, 0.0, 1.0);
+    layer.roughness = std::clamp(roughness, kMinRoughness, 1.0);
+    layer.normal = shadingNormal(mat, at, p, kCoatNormal, mat.coatNormalScale, at.coatTangents, at.coatTangent);
+    return layer;
 }
 
 // Cook-Torrance GGX + Lambert under the camera lights plus occluded ambient and emissive, linear
@@ -480,7 +521,7 @@ bool shadePbr(const TriMaterial& mat, const CornerAttributes& at, const PixelBar
         f0[c] = 0.04 + (base[c] - 0.04) * metallic;
         rgb[c] = occlusion * (base[c] * (1 - metallic) * kAmbientDiffuse + f0[c] * kAmbientSpecular);
     }
-    const Vec3 N = shadingNormal(mat, at, p);
+    const Vec3 N = shadingNormal(mat, at, p, kNormal, mat.normalScale, at.tangents, at.tangent);
     const Vec3 pos = at.pos[0] * p.bar[0] + at.pos[1] * p.bar[1] + at.pos[2] * p.bar[2];
     const Vec3 V = normalize(lights.eye - pos);
     const double nv = std::max(dot(N, V), 1e-4);
@@ -503,7 +544,11 @@ bool shadePbr(const TriMaterial& mat, const CornerAttributes& at, const PixelBar
         }
     }
     const double e[3] = {emissive.x, emissive.y, emissive.z};
-    for (int c = 0; c < 3; ++c) out[c] = static_cast<float>(std::clamp(rgb[c] + e[c], 0.0, 1.0));
+    for (int c = 0; c < 3; ++c) rgb[c] += e[c];
+    if (mat.coat > 0)
+        metrics_detail::addClearcoat(clearcoatAt(mat, at, p), V, lights.toLight, lights.irradiance, kLightCount,
+                                     kAmbientSpecular, occlusion, rgb);
+    for (int c = 0; c < 3; ++c) out[c] = static_cast<float>(std::clamp(rgb[c], 0.0, 1.0));
     return true;
 }
 

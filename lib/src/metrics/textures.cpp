@@ -1,12 +1,15 @@
 // prepareRenderScene (render.h): decodes an asset's images for the rasteriser (texture/codec.h
 // decodes the encoded bytes) and box-filters them into mip pyramids. Colour textures (base colour,
 // emissive) are sRGB by the glTF spec and are converted to linear light; data textures
-// (metallicRoughness, occlusion, normal) are kept as stored. An image used both ways is decoded
-// once and kept in both forms. Also computes the wedge tangents of normal maps when the mesh has none.
+// (metallicRoughness, occlusion, normal, the clearcoat's three) are kept as stored. An image used
+// both ways is decoded once and kept in both forms. Also computes the wedge tangents of normal maps
+// (the base's and the clearcoat's) when the mesh has none.
 #include <algorithm>
 #include <cmath>
 #include <map>
 #include <set>
+#include <utility>
+#include <vector>
 
 #include "lodbake/core/tangents.h"
 #include "lodbake/core/errors.h"
@@ -41,12 +44,53 @@ MipImage::Level toRgba(const DecodedImage& decoded, bool srgb) {
     return out;
 }
 
+// The source texels under each texel of a level `dst` texels wide made from one `src` wide, and
+// their weights: the overlap of the source texel with the footprint [x src/dst, (x + 1) src/dst).
+// An odd side keeps every texel in place (a GPU's generateMipmap blits the whole extent); dropping
+// the last one would stretch the rest by up to half a texel of the smaller level.
+std::vector<std::vector<std::pair<int, float>>> footprints(int src, int dst) {
+    std::vector<std::vector<std::pair<int, float>>> taps(static_cast<size_t>(dst));
+    const double scale = static_cast<double>(src) / dst;
+    for (int x = 0; x < dst; ++x) {
+        const double lo = x * scale, hi = (x + 1) * scale;
+        for (int i = static_cast<int>(std::floor(lo)); i < src && i < hi; ++i) {
+            const double overlap = std::min(hi, i + 1.0) - std::max(lo, static_cast<double>(i));
+            if (overlap > 0) taps[static_cast<size_t>(x)].push_back({i, static_cast<float>(overlap / scale)});
+        }
+    }
+    return taps;
+}
+
+// The next level of `src` with an odd side: each texel the weighted mean of its footprint.
+MipImage::Level halveOdd(const MipImage::Level& src, int width, int height) {
+    MipImage::Level dst;
+    dst.width = width;
+    dst.height = height;
+    dst.rgba.assign(static_cast<size_t>(width) * height * 4, 0.f);
+    const auto tx = footprints(src.width, width), ty = footprints(src.height, height);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            float* out = &dst.rgba[(static_cast<size_t>(y) * width + x) * 4];
+            for (const auto& [j, wy] : ty[static_cast<size_t>(y)])
+                for (const auto& [i, wx] : tx[static_cast<size_t>(x)]) {
+                    const float* in = &src.rgba[(static_cast<size_t>(j) * src.width + i) * 4];
+                    for (int c = 0; c < 4; ++c) out[c] += wx * wy * in[c];
+                }
+        }
+    return dst;
+}
+
 void buildPyramid(MipImage& mip) {
     while (mip.levels.back().width > 1 || mip.levels.back().height > 1) {
         const MipImage::Level& src = mip.levels.back();
+        const int width = std::max(1, src.width / 2), height = std::max(1, src.height / 2);
+        if ((src.width > 1 && src.width % 2) || (src.height > 1 && src.height % 2)) {
+            mip.levels.push_back(halveOdd(src, width, height));
+            continue;
+        }
         MipImage::Level dst;
-        dst.width = std::max(1, src.width / 2);
-        dst.height = std::max(1, src.height / 2);
+        dst.width = width;
+        dst.height = height;
         dst.rgba.resize(static_cast<size_t>(dst.width) * dst.height * 4);
         for (int y = 0; y < dst.height; ++y)
             for (int x = 0; x < dst.width; ++x) {
@@ -61,7 +105,6 @@ void buildPyramid(MipImage& mip) {
         mip.levels.push_back(std::move(dst));
     }
 }
-
 
 }  // namespace
 
@@ -78,13 +121,17 @@ RenderScene prepareRenderScene(const Asset& asset, const TriMesh& mesh) {
     for (int32_t m : materials) {
         if (m < 0 || static_cast<size_t>(m) >= asset.materials.size()) continue;
         const Material& mat = asset.materials[m];
-        for (const TextureRef* r : {&mat.baseColor, &mat.emissive, &mat.metallicRoughness, &mat.occlusion, &mat.normal}) {
+        const ClearcoatExtension& cc = mat.ext.clearcoat;
+        const bool coat = cc.present && cc.factor > 0;
+        for (const TextureRef* r : {&mat.baseColor, &mat.emissive, &mat.metallicRoughness, &mat.occlusion, &mat.normal,
+                                    &cc.texture, &cc.roughnessTexture, &cc.normalTexture}) {
             if (r->texture < 0 || static_cast<size_t>(r->texture) >= asset.textures.size()) continue;
+            if (!coat && (r == &cc.texture || r == &cc.roughnessTexture || r == &cc.normalTexture)) continue;
             int i = asset.textures[r->texture].image;
             if (i < 0 || static_cast<size_t>(i) >= asset.images.size()) continue;
             const bool colour = r == &mat.baseColor || r == &mat.emissive;
             (colour ? used[i].first : used[i].second) = true;
-            if (r == &mat.normal) normalMapSet[textureCoordSet(*r) == 1 ? 1 : 0] = true;
+            if (r == &mat.normal || r == &cc.normalTexture) normalMapSet[textureCoordSet(*r) == 1 ? 1 : 0] = true;
         }
     }
     for (const auto& [i, use] : used) {

@@ -15,9 +15,10 @@
 //              interpolated vertex normals (face normal when the mesh has none). Cook-Torrance
 //              GGX specular (Smith-Schlick G, Schlick Fresnel, F0 = mix(0.04, base, metallic))
 //              plus Lambert diffuse, under two directional lights fixed in camera space (see
-//              kPbrLights in render.cpp) and an occluded ambient term; emissive added; output
-//              clamped to [0,1] and sRGB-encoded. Unlit materials (KHR_materials_unlit) show
-//              their base colour. No image-based lighting, shadows, transmission or clearcoat.
+//              kPbrLights in render.cpp) and an occluded ambient term; emissive added; then the
+//              KHR_materials_clearcoat layer (metrics/clearcoat_layer.h); output clamped to
+//              [0,1] and sRGB-encoded. Unlit materials (KHR_materials_unlit) show their base
+//              colour. No image-based lighting, shadows or transmission.
 // Alpha: MASK materials discard texels below alphaCutoff; BLEND is drawn opaque.
 // Culling: back faces of single-sided materials are culled; double-sided ones are drawn (Pbr:
 // with their normals flipped).
@@ -52,7 +53,8 @@ struct Camera {
 // where the sphere fills the vertical field of view, looking at the centre. Deterministic.
 std::vector<Camera> sphereViews(int count, Vec3 center, double radius, double fovY = 1.0471975511965976);
 
-// A decoded image: linear-light RGBA float, mip pyramid (level 0 = full size, box-filtered down to 1x1).
+// A decoded image: linear-light RGBA float, mip pyramid (level 0 = full size, box-filtered down to
+// 1x1; a level of odd side filters each texel's whole footprint, so no texel shifts).
 struct MipImage {
     struct Level {
         int width = 0, height = 0;
@@ -68,7 +70,7 @@ struct RenderScene {
     const TriMesh* mesh = nullptr;
     // Per Asset::images entry; an empty pyramid when unused or undecodable (sampled as white).
     std::vector<MipImage> images;      // colour: sRGB-decoded to linear (base colour, emissive)
-    std::vector<MipImage> dataImages;  // data, no transfer function (metallicRoughness, occlusion, normal)
+    std::vector<MipImage> dataImages;  // data, no transfer function (metallicRoughness, occlusion, normal, clearcoat)
     // Per wedge, for normal maps on TEXCOORD_0 / TEXCOORD_1 when the mesh has no tangents (empty
     // otherwise): xyz unit tangent along +u, w = handedness (bitangent = cross(N, T) * w).
     std::array<std::vector<Vec4>, 2> tangents;
