@@ -37,6 +37,11 @@ AtlasState atlasState(const TriMesh& mesh, const Multires& multires, const Chart
     return st;
 }
 
+// The largest atlas side parameterize lays charts out on: a textureSize page too small for the
+// charts at one texel each (tens of thousands of charts, as a multi-million-triangle scan has)
+// grows up to it rather than failing.
+constexpr int kMaxAtlasSize = 16384;
+
 // (5) Shelf-packs the charts and the islands made so far; sets the density and fill figures.
 ShelfPackResult packCharts(const std::vector<LocalChart>& charts, const AtlasState& st, double uvArea,
                            const ParameterizeOptions& options, ParameterizeResult& res) {
@@ -50,9 +55,11 @@ ShelfPackResult packCharts(const std::vector<LocalChart>& charts, const AtlasSta
     ShelfPackOptions so;
     so.size = options.textureSize;
     so.gutter = options.gutter;
+    so.maxSize = std::max(options.textureSize, kMaxAtlasSize);
     ShelfPackResult atlas = shelfPack(sets, uvArea + islandArea, so);
     const double d = atlas.texelsPerUnit;
-    const int size = options.textureSize;
+    const int size = atlas.size;
+    res.atlasSize = size;
     res.texelsPerUnit = d;
     res.atlasFill = (uvArea + islandArea) * d * d / (double(size) * size);
     return atlas;

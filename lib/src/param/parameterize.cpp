@@ -72,6 +72,9 @@ ParameterizeResult parameterize(const TriMesh& mesh, const Multires& multires, c
                                    std::to_string(res.flips) + " flipped, " + std::to_string(res.overlaps) +
                                    " overlapping); each now has a chart of its own");
     }
+    if (res.atlasSize > options.textureSize)
+        res.warnings.push_back(std::to_string(res.charts.chartCount) + " charts do not fit a " + std::to_string(options.textureSize) +
+                               " atlas at one texel each; they are laid out on a " + std::to_string(res.atlasSize) + " atlas");
     if (options.progress) options.progress(1.0);
     res.seconds = secondsSince(t0);
     return res;

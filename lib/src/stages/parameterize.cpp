@@ -116,6 +116,7 @@ nlohmann::json makeReport(const ParameterizeSettings& s, const Asset& asset, con
                     {"levelFlips", levelFlips},
                     {"levelFlipsInSolve", param.levelFlips},
                     {"levelOverlaps", levelOverlaps},
+                    {"atlasSize", param.atlasSize},
                     {"texelsPerUnit", param.texelsPerUnit},
                     {"atlasFill", param.atlasFill},
                     {"newWedges", applied.newWedges},

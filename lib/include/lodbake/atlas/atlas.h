@@ -23,6 +23,9 @@ namespace lodbake {
 struct ShelfPackOptions {
     int size = 1024;  // page side, texels (square)
     int gutter = 4;   // texels between items and along the page border
+    // A page that cannot hold the items even at one texel each doubles, up to this side (0: the
+    // page never grows; such items throw).
+    int maxSize = 0;
 };
 
 // Where one item went: its bounding-box minimum `min` (model units) sits at texel (x, y).

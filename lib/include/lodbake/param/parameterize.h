@@ -101,6 +101,8 @@ struct ParameterizeResult {
     std::vector<LevelUV> levels;               // per Multires level (empty when there are no levels)
     size_t floatRepairs = 0;                   // sliver faces whose corner UV moved by a float step (they flipped once rounded)
     size_t crossingIslandsSkipped = 0;         // crossing triangles left on projected UVs (too many for the atlas)
+    int atlasSize = 0;                         // atlas side, texels: textureSize, or larger when the
+                                               // charts need more texels than it has (warnings say so)
     double texelsPerUnit = 0;                  // atlas density (texels per model unit)
     double atlasFill = 0;                      // fraction of the atlas covered by charts (UV area)
     double seconds = 0;
