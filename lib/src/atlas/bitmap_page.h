@@ -75,9 +75,11 @@ public:
                     if (w == hi / 64 && hi % 64 != 63) m &= (uint64_t(1) << (hi % 64 + 1)) - 1;
                     row[w] |= m;
                 }
-                rowFree_[size_t(y + i)] = W_ - setCells(y + i);  // kept charts may overlap
             }
-        for (int i = 0; i < f.h; ++i) rowRun_[size_t(y + i)] = longestFreeRun(y + i);
+        for (int i = 0; i < f.h; ++i) {
+            rowFree_[size_t(y + i)] = W_ - setCells(y + i);  // kept charts may overlap
+            rowRun_[size_t(y + i)] = longestFreeRun(y + i);
+        }
         usedW_ = std::max(usedW_, x + f.w);
         usedH_ = std::max(usedH_, y + f.h);
     }
