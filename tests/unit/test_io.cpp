@@ -816,3 +816,38 @@ TEST(IoAssets, ReadAndRewriteRealAssets) {
         EXPECT_EQ(b.images.size(), a.images.size()) << rel;
     }
 }
+
+// The header check reads a JPEG's size and channels from its frame header: they agree with the
+// full decode's, on every JPEG of the shared assets and on one written here (grey and colour).
+TEST(IoAssets, JpegHeaderCheckAgreesWithDecode) {
+    std::vector<Image> jpegs;
+    for (int channels : {1, 3}) {
+        EncodeOptions o;
+        o.format = ImageFormat::Jpeg;
+        o.channels = channels;
+        std::vector<float> values(size_t(37) * 21 * size_t(channels));
+        for (size_t i = 0; i < values.size(); ++i) values[i] = float(i % 251) / 250.f;
+        jpegs.push_back(encodeImage(values, 37, 21, o, "generated"));
+    }
+    fs::path assets = fs::path(sharedDir()) / "assets";
+    if (fs::exists(assets))
+        for (const auto& entry : fs::recursive_directory_iterator(assets)) {
+            const std::string ext = entry.path().extension().string();
+            if (ext != ".glb" && ext != ".gltf") continue;
+            for (Image& img : readGltf(entry.path().string()).images)
+                if (img.mimeType == "image/jpeg") jpegs.push_back(std::move(img));
+        }
+    for (const Image& jpeg : jpegs) {
+        Asset header, decoded;
+        header.images = {jpeg};
+        decoded.images = {jpeg};
+        header.images[0].width = header.images[0].height = header.images[0].channels = 0;
+        decoded.images[0].width = decoded.images[0].height = decoded.images[0].channels = 0;
+        checkImages(header, ImageCheck::Header);
+        checkImages(decoded, ImageCheck::Decode);
+        EXPECT_EQ(header.images[0].width, decoded.images[0].width) << jpeg.name;
+        EXPECT_EQ(header.images[0].height, decoded.images[0].height) << jpeg.name;
+        EXPECT_EQ(header.images[0].channels, decoded.images[0].channels) << jpeg.name;
+    }
+    EXPECT_GE(jpegs.size(), 2u);
+}

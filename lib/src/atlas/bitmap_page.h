@@ -38,11 +38,12 @@ public:
             bool roomy = true;
             for (int i = f.h - 1; i >= 0 && roomy; --i) roomy = !tooFull(i);
             if (!roomy) continue;
-            int x = 0, hot = 0;  // the footprint row that collided last is tested first
+            int x = 0, hot = 0;  // the footprint row that collided last is tested first, then testOrder
             while (x + f.w <= W_) {
                 int next = -1;
-                for (int k = 0; k < f.h && next < 0; ++k) {
-                    const int i = k == 0 ? hot : k <= hot ? k - 1 : k;
+                for (int k = 0; k <= f.h && next < 0; ++k) {
+                    const int i = k == 0 ? hot : f.testOrder[size_t(k - 1)];
+                    if (k > 0 && i == hot) continue;
                     for (const auto& [a, b] : f.rows[size_t(i)]) {
                         int p = firstSet(y + i, x + a, x + b);
                         if (p < 0) continue;
@@ -74,9 +75,11 @@ public:
                     if (w == hi / 64 && hi % 64 != 63) m &= (uint64_t(1) << (hi % 64 + 1)) - 1;
                     row[w] |= m;
                 }
-                rowFree_[size_t(y + i)] = W_ - setCells(y + i);  // kept charts may overlap
             }
-        for (int i = 0; i < f.h; ++i) rowRun_[size_t(y + i)] = longestFreeRun(y + i);
+        for (int i = 0; i < f.h; ++i) {
+            rowFree_[size_t(y + i)] = W_ - setCells(y + i);  // kept charts may overlap
+            rowRun_[size_t(y + i)] = longestFreeRun(y + i);
+        }
         usedW_ = std::max(usedW_, x + f.w);
         usedH_ = std::max(usedH_, y + f.h);
     }

@@ -50,6 +50,7 @@ struct Footprint {
     std::vector<int> rowLongest;                       // longest run per row
     double centroidRow = 0;                            // mean row of the occupied texels
     int leastCells = 0, leastLongest = 0;              // smallest rowCells and rowLongest
+    std::vector<int> testOrder;                        // rows, longest run first (ties: lower row first)
 };
 
 // The chart rasterised in its oriented frame at density t: cells [pad, pad + ceil(w t)) hold the

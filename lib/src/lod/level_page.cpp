@@ -214,14 +214,26 @@ bool keepsPage(LevelAtlas& candidate, const PageRequest& request, const std::arr
                                      double((*request.finerPage)[0]) * (*request.finerPage)[1];
 }
 
+// What a page was packed with: the options and whether the level's triangles were left out.
+struct PackedWith {
+    AtlasOptions ao;
+    bool original = false;
+    bool same(const AtlasOptions& o, bool orig) const {
+        return orig == original && o.maxTexelsPerUnit == ao.maxTexelsPerUnit && o.gutter == ao.gutter && o.maxSize == ao.maxSize &&
+               o.powerOfTwo == ao.powerOfTwo && o.texelAligned == ao.texelAligned;
+    }
+};
+
 // A renderer may sample mips below the level's planned range (a small viewport, minification
 // along a grazing view): widest gutters first, a page keeps the widest that packs at the same
 // density and, below LOD0, within the finer level's texels. A page denser than the finer level's
 // (the finer one on the original's texels) trades that excess for the gutter: drawn smaller than
 // the finer level, it shows no more of the texture than the finer one does, while its narrower
 // gutters, fewer model units wide, blend neighbouring charts at the mips a small view samples.
+// A candidate packed with what `la` was packed with (`packed`: the packer narrowed the gutter it
+// was given) is `la` itself: the packing is a function of its inputs, so it is not repeated.
 LevelAtlas widenGutters(const LayoutData& lay, const LevelUVs& luv, const PageRequest& request, const PackOptions& options,
-                        const AtlasOptions& ao, LevelAtlas la) {
+                        const AtlasOptions& ao, const PackedWith& packed, LevelAtlas la) {
     const int mips = std::max(0, int(std::log2(std::max(2, la.atlas.gutter) / 2)));
     const double density = la.atlas.texelsPerUnit;
     const double finer = request.finerDensity && *request.finerDensity > 0 ? *request.finerDensity / lay.uvPerUnit : density;
@@ -230,7 +242,7 @@ LevelAtlas widenGutters(const LayoutData& lay, const LevelUVs& luv, const PageRe
         AtlasOptions wide = ao;
         wide.gutter = 2 << m;
         wide.maxTexelsPerUnit = density;
-        LevelAtlas candidate = packLevelAtlas(lay, luv, request.originalTriangles, wide);
+        LevelAtlas candidate = packed.same(wide, request.originalTriangles) ? la : packLevelAtlas(lay, luv, request.originalTriangles, wide);
         const double reached = candidate.atlas.texelsPerUnit;
         const double texels = double(candidate.atlas.width) * candidate.atlas.height;
         bool kept = keepsPage(candidate, request, la.capPage, density);
@@ -277,6 +289,7 @@ LevelAtlas packLevelPage(const LayoutData& lay, const LevelUVs& luv, const PageR
     ao.threads = options.threads;
     ao.texelAligned = request.sourceTexels;
     LevelAtlas la = packLevelAtlas(lay, luv, request.originalTriangles, ao);
+    PackedWith packed{ao, request.originalTriangles};
     // Narrower gutters when the density fell short of the limit. Not for the source texels: their
     // packer narrows the gutter itself, down to 2 texels, so a narrower start repeats its attempts.
     for (int m = std::clamp(mipsAt(la.atlas.texelsPerUnit), 0, mips); m < mips && !request.sourceTexels; ++m) {
@@ -286,6 +299,7 @@ LevelAtlas packLevelPage(const LayoutData& lay, const LevelUVs& luv, const PageR
         if (mipsAt(denser.atlas.texelsPerUnit) > m) continue;
         mips = m;
         ao = narrow;
+        packed.ao = narrow;
         la = std::move(denser);
         break;
     }
@@ -295,9 +309,10 @@ LevelAtlas packLevelPage(const LayoutData& lay, const LevelUVs& luv, const PageR
         if (now <= previous) break;
         ao.maxTexelsPerUnit = std::min(ao.maxTexelsPerUnit, la.atlas.texelsPerUnit) * std::sqrt(previous / now) * 0.98;
         la = packLevelAtlas(lay, luv, false, ao);
+        packed = {ao, false};
     }
     la.capPage = {la.atlas.width, la.atlas.height};
-    if (request.widenGutters) la = widenGutters(lay, luv, request, options, ao, std::move(la));
+    if (request.widenGutters) la = widenGutters(lay, luv, request, options, ao, packed, std::move(la));
     return la;
 }
 

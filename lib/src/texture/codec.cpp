@@ -62,6 +62,35 @@ std::string pngTruncation(const std::vector<unsigned char>& b) {
     }
 }
 
+// Size and channels of a baseline or progressive JPEG from its frame header (the first SOFn
+// segment), as OpenImageIO's reader reports them: one channel for grey, three for colour; false
+// for anything else (four components, a height defined later by a DNL segment, no frame header
+// before the scan), which goes through OpenImageIO. OpenImageIO's open() decodes every scan of a
+// progressive JPEG, so the header check reads the size here.
+bool jpegFrameHeader(const std::vector<unsigned char>& b, int& width, int& height, int& channels) {
+    if (b.size() < 4 || b[0] != 0xFF || b[1] != 0xD8) return false;
+    for (size_t off = 2; off + 4 <= b.size();) {
+        if (b[off] != 0xFF) return false;
+        const unsigned char marker = b[off + 1];
+        if (marker == 0xFF) { ++off; continue; }  // fill byte
+        if (marker == 0x01 || (marker >= 0xD0 && marker <= 0xD7)) { off += 2; continue; }  // no length
+        if (marker == 0xD9 || marker == 0xDA) return false;  // end of image, or a scan before the frame
+        const size_t length = size_t(b[off + 2]) << 8 | b[off + 3];
+        if (length < 2 || off + 2 + length > b.size()) return false;
+        const bool frame = marker >= 0xC0 && marker <= 0xCF && marker != 0xC4 && marker != 0xC8 && marker != 0xCC;
+        if (frame) {
+            if (length < 8) return false;
+            const unsigned char* f = &b[off + 4];  // precision, height, width, components
+            height = int(f[1]) << 8 | f[2];
+            width = int(f[3]) << 8 | f[4];
+            channels = f[5];
+            return width > 0 && height > 0 && (channels == 1 || channels == 3);
+        }
+        off += 2 + length;
+    }
+    return false;
+}
+
 void checkImage(const std::string& path, Image& img, size_t index, ImageCheck check) {
     auto fail = [&](const std::string& problem) {
         throw InvalidInput(path + ": image " + std::to_string(index) + (img.name.empty() ? "" : " '" + img.name + "'") +
@@ -73,6 +102,8 @@ void checkImage(const std::string& path, Image& img, size_t index, ImageCheck ch
         std::string cut = pngTruncation(img.encoded);
         if (!cut.empty()) fail("cannot decode " + kind + ": " + cut);
     }
+    if (check == ImageCheck::Header && img.mimeType == "image/jpeg" && jpegFrameHeader(img.encoded, img.width, img.height, img.channels))
+        return;
     std::string name = img.mimeType == "image/jpeg" ? "image.jpg" : "image.png";
     QuietStderr quiet;
     OIIO::Filesystem::IOMemReader reader(img.encoded.data(), img.encoded.size());
