@@ -1,4 +1,4 @@
-// Unit tests for the atlas packer (lib/src/atlas/atlas.cpp) on charts built in code.
+// Unit tests for the atlas packers (lib/src/atlas/atlas.cpp, shelf_pack.cpp) on charts built in code.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -405,4 +405,30 @@ TEST(PackAtlas, TrialBoundsKeepTheLayoutForAnyThreadCount) {
     const AtlasResult one = packedAlikeOnAnyThreads(charts, o, {2, 4});
     EXPECT_DOUBLE_EQ(one.texelsPerUnit, 256);
     EXPECT_GT(one.utilisation, 0.4);
+}
+
+// The T0 shelf packer: more items than a 64-texel page holds at one texel each (with 4-texel
+// gutters, at most 12 x 12 of them) grow the page up to maxSize, and without maxSize they throw.
+TEST(ShelfPack, ItemsThatDoNotFitAtOneTexelEachGrowThePage) {
+    std::vector<std::vector<Vec2>> squares;
+    for (int i = 0; i < 200; ++i) squares.push_back({{0, 0}, {1, 0}, {1, 1}, {0, 1}});
+    std::vector<const std::vector<Vec2>*> items;
+    for (const auto& s : squares) items.push_back(&s);
+    ShelfPackOptions o;
+    o.size = 64;
+    EXPECT_ANY_THROW(shelfPack(items, 200, o));
+    o.maxSize = 1024;
+    const ShelfPackResult r = shelfPack(items, 200, o);
+    EXPECT_EQ(r.size, 128);
+    ASSERT_EQ(r.items.size(), items.size());
+    for (size_t i = 0; i < items.size(); ++i)
+        for (const Vec2& p : squares[i]) {
+            const Vec2 uv = r.atlasUV(i, p);
+            EXPECT_GT(uv.x, 0);
+            EXPECT_LT(uv.x, 1);
+            EXPECT_GT(uv.y, 0);
+            EXPECT_LT(uv.y, 1);
+        }
+    o.size = 1024;  // a page that holds them keeps its side
+    EXPECT_EQ(shelfPack(items, 200, o).size, 1024);
 }
