@@ -50,7 +50,8 @@ struct ShelfPackResult {
 // Packs the bounding boxes of `items` (point sets in model units; an empty set is a 1-texel box)
 // tallest first, left to right in shelves, at one density for all: it starts where `area`
 // (the items' total area, model units^2; <= 0 counts as 1) fills 70% of the page and shrinks by
-// 5% per attempt until every box fits with its gutters.
+// 5% per attempt until every box fits with its gutters. A page that cannot hold every box at one
+// texel first doubles up to options.maxSize (ShelfPackResult::size is the side used).
 // \pre options.size >= 16, options.gutter >= 0; the pointers are valid.
 // \throw Impossible when nothing fits after 400 attempts.
 ShelfPackResult shelfPack(const std::vector<const std::vector<Vec2>*>& items, double area, const ShelfPackOptions& options);

@@ -113,7 +113,7 @@ struct ParameterizeResult {
 // A chart the solver cannot map, and an original face still folded once the atlas is packed, fall
 // back to single-face charts (res.warnings says so); level triangles that fold fall back to islands.
 // \throw InvalidInput (inconsistent multires), Impossible (no triangles; the charts do not fit
-//        the texture).
+//        a 16384 atlas at one texel each).
 ParameterizeResult parameterize(const TriMesh& mesh, const Multires& multires, const ParameterizeOptions& options = {});
 
 struct UVInjectivity {
