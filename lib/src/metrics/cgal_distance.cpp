@@ -12,6 +12,7 @@
 #include <cmath>
 #include <list>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include <CGAL/AABB_traits.h>
@@ -190,16 +191,15 @@ public:
         if (order_.empty()) return false;
         const std::array<int64_t, 3> c = cellOf(p);
         const int64_t top = (int64_t(1) << kBits) - 1;
-        for (int64_t dx = -1; dx <= 1; ++dx)
-            for (int64_t dy = -1; dy <= 1; ++dy)
-                for (int64_t dz = -1; dz <= 1; ++dz) {
-                    const std::array<int64_t, 3> n{c[0] + dx, c[1] + dy, c[2] + dz};
-                    if (std::min({n[0], n[1], n[2]}) < 0 || std::max({n[0], n[1], n[2]}) > top) continue;
-                    const uint64_t key = keyOf(n);
-                    auto it = std::lower_bound(order_.begin(), order_.end(), std::make_pair(key, uint32_t(0)));
-                    for (; it != order_.end() && it->first == key; ++it)
-                        if (distance_[it->second] + length(p - points_[it->second]) < limit) return true;
-                }
+        for (int k = 0; k < 27; ++k) {  // p's own cell first: its samples are the likeliest to settle it
+            const int64_t dx = (k + 13) % 27 / 9 - 1, dy = (k + 13) % 9 / 3 - 1, dz = (k + 13) % 3 - 1;
+            const std::array<int64_t, 3> n{c[0] + dx, c[1] + dy, c[2] + dz};
+            if (std::min({n[0], n[1], n[2]}) < 0 || std::max({n[0], n[1], n[2]}) > top) continue;
+            const uint64_t key = keyOf(n);
+            auto it = std::lower_bound(order_.begin(), order_.end(), std::make_pair(key, uint32_t(0)));
+            for (; it != order_.end() && it->first == key; ++it)
+                if (distance_[it->second] + length(p - points_[it->second]) < limit) return true;
+        }
         return false;
     }
 
@@ -220,9 +220,9 @@ private:
 };
 
 // The largest distance of `from`'s vertices to `to` where it reaches `coarseMax` (a maximum the
-// area samples reach): a vertex contributes only to the maximum, so one that a coarse sample
-// bounds below coarseMax is not queried. `queried` counts the queries.
-double vertexMaximum(const Surface& from, const Measured& to, const CoarseGrid& grid, double coarseMax, int threads,
+// area samples reach): a vertex contributes only to the maximum, so one that a coarse sample of
+// `grid` (null: none) bounds below coarseMax is not queried. `queried` counts the queries.
+double vertexMaximum(const Surface& from, const Measured& to, const CoarseGrid* grid, double coarseMax, int threads,
                      size_t& queried) {
     const size_t nv = from.vertices.size(), items = (nv + kChunk - 1) / kChunk;
     const double limit = coarseMax * (1 - 1e-9);  // margin for rounding
@@ -231,7 +231,7 @@ double vertexMaximum(const Surface& from, const Measured& to, const CoarseGrid& 
     parallelFor(items, threads, [&](size_t c) {
         for (size_t v = c * kChunk; v < std::min(nv, (c + 1) * kChunk); ++v) {
             const Vec3 p = from.vertices[v];
-            if (grid.boundsBelow(p, limit)) continue;
+            if (grid && grid->boundsBelow(p, limit)) continue;
             itemMax[c] = std::max(itemMax[c], std::sqrt(CGAL::squared_distance(toPoint(p), to.tree.closest_point(toPoint(p)))));
             ++itemQueried[c];
         }
@@ -289,9 +289,14 @@ OneSidedDistance oneSidedRefined(const Surface& from, const Measured& to, const 
     }
     size_t vertexQueries = 0;
     {
-        const double spacing = std::sqrt(from.cumulativeArea.back() / double(std::max<size_t>(1, coarse.size())));
-        const CoarseGrid grid(coarsePoint, coarse, 2 * spacing);
-        r.max = std::max(r.max, vertexMaximum(from, to, grid, r.max, o.threads, vertexQueries));
+        // The grid pays off only when the vertices outnumber a fair share of the coarse samples;
+        // without it every vertex is queried: the maximum is the same either way.
+        std::optional<CoarseGrid> grid;
+        if (4 * from.vertices.size() >= coarse.size()) {
+            const double spacing = std::sqrt(from.cumulativeArea.back() / double(std::max<size_t>(1, coarse.size())));
+            grid.emplace(coarsePoint, coarse, 2 * spacing);
+        }
+        r.max = std::max(r.max, vertexMaximum(from, to, grid ? &*grid : nullptr, r.max, o.threads, vertexQueries));
     }
     const double threshold = o.refineFraction * std::max(r.max, o.refineFloor);
     std::vector<size_t> hot;
@@ -310,20 +315,12 @@ OneSidedDistance oneSidedRefined(const Surface& from, const Measured& to, const 
         for (size_t i = (begin + stride - 1) / stride * stride; i < end; i += stride)
             strided.emplace_back(samplePoint(from, i, n, offset), coarse[i / stride]);
         NearestWalk nearest(to.tree, to.triangleSize);
-        // Whether some strided sample bounds p's distance below `known`: tried outward from the
-        // strided samples beside index i (the likeliest to be near p), stopping at the first.
-        auto boundedBelowKnown = [&](size_t i, Vec3 p) {
-            const size_t m = strided.size(), j0 = std::min((i - begin) / stride, m - 1);
-            for (size_t step = 0; step <= std::max(j0, m - 1 - j0); ++step) {
-                if (j0 + step < m && strided[j0 + step].second + length(p - strided[j0 + step].first) < known) return true;
-                if (step > 0 && step <= j0 && strided[j0 - step].second + length(p - strided[j0 - step].first) < known) return true;
-            }
-            return false;
-        };
         for (size_t i = begin; i < end; ++i) {
             if (i % stride == 0) continue;
             const Vec3 p = samplePoint(from, i, n, offset);
-            if (!strided.empty() && boundedBelowKnown(i, p)) continue;
+            double bound = 1e300;
+            for (const auto& [c, d] : strided) bound = std::min(bound, d + length(p - c));
+            if (bound < known) continue;
             const Point q = toPoint(p);
             hotMax[h] = std::max(hotMax[h], std::sqrt(CGAL::squared_distance(q, nearest(q))));
             ++hotQueried[h];
