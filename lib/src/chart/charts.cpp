@@ -26,8 +26,18 @@ namespace {
 // Shape of a face set: E_region and the normal cone, plus the disk test.
 struct Shape {
     bool disk = false;
-    double energy = 0;      // E_region with lengths relative to the diagonal
+    bool overLimits = false;  // the shape exceeds the ShapeLimits given: the disk test was not run
+    double energy = 0;        // E_region with lengths relative to the diagonal
     double coneDegrees = 0;
+};
+
+// Largest normal cone (degrees) and E_region a face set may have; 0 = no limit.
+struct ShapeLimits {
+    double coneDegrees = 0;
+    double energy = 0;
+    bool exceededBy(const Shape& s) const {
+        return (coneDegrees > 0 && s.coneDegrees > coneDegrees) || (energy > 0 && s.energy > energy);
+    }
 };
 
 Vec3 faceNormalArea(const TriMesh& m, uint32_t f) {
@@ -65,14 +75,22 @@ public:
 
     // Disk test of `faces` and, with wantShape, its normal cone and E_region (lengths relative to
     // `diagonal`, area relative to `totalArea`). A set with an index-degenerate face is no disk.
-    Shape measure(const std::vector<uint32_t>& faces, double totalArea, double diagonal, bool wantShape) {
+    // With wantShape, a shape over `limits` is marked overLimits and skips the fan test (the
+    // costliest part; its set is refused whatever the test says), so `disk` stays false.
+    Shape measure(const std::vector<uint32_t>& faces, double totalArea, double diagonal, bool wantShape,
+                  const ShapeLimits& limits = {}) {
         Shape s;
         if (faces.empty()) return s;
         for (uint32_t f : faces)
             if (degenerateIndices(mesh_.triangles[f])) return s;
         collect(faces);
-        s.disk = singleBoundaryLoop(faces) && connectedWithSingleFans(faces);
-        if (wantShape) regionShape(faces, totalArea, diagonal, s);
+        const bool loop = singleBoundaryLoop(faces);  // also the boundary degrees regionShape reads
+        if (wantShape) {
+            regionShape(faces, totalArea, diagonal, s);
+            s.overLimits = limits.exceededBy(s);
+            if (s.overLimits) return s;
+        }
+        s.disk = loop && connectedWithSingleFans(faces);
         return s;
     }
 
@@ -421,12 +439,10 @@ ChartResult buildCharts(const TriMesh& mesh, const std::vector<uint32_t>& faceRe
             merged.clear();
             std::merge(charts[a].faces.begin(), charts[a].faces.end(), charts[b].faces.begin(), charts[b].faces.end(),
                        std::back_inserter(merged));
-            Shape s = measurer.measure(merged, totalArea, diagonal, true);
-            if (!s.disk) return;
-            if (!relaxed) {
-                if (options.maxNormalConeDegrees > 0 && s.coneDegrees > options.maxNormalConeDegrees) return;
-                if (options.maxRegionEnergy > 0 && s.energy > options.maxRegionEnergy) return;
-            }
+            // The relaxed phase ignores the normal-cone and E_region limits, never the disk rule.
+            const ShapeLimits limits = relaxed ? ShapeLimits{} : ShapeLimits{options.maxNormalConeDegrees, options.maxRegionEnergy};
+            Shape s = measurer.measure(merged, totalArea, diagonal, true, limits);
+            if (s.overLimits || !s.disk) return;
             heap.push({s.energy, a, b, charts[a].version, charts[b].version});
         };
         for (uint32_t c = 0; c < charts.size(); ++c)

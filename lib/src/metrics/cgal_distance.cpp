@@ -8,9 +8,11 @@
 #include "lodbake/metrics/distance.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <list>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include <CGAL/AABB_traits.h>
@@ -164,41 +166,115 @@ OneSidedDistance oneSided(const Surface& from, const Measured& to, const Distanc
 
 // oneSided through a coarse pass then a dense pass over the worst runs of samples
 // (DistanceOptions::refineStride). Runs are fixed by the sample indices alone: deterministic.
+// The coarse pass's samples by place (a uniform grid, cells about the samples' spacing): a bound
+// on the distance of any point from the samples near it, d(c) + |p - c| (the distance to a surface
+// is 1-Lipschitz).
+class CoarseGrid {
+public:
+    CoarseGrid(const std::vector<Vec3>& points, const std::vector<double>& distance, double spacing)
+        : points_(points), distance_(distance) {
+        if (points.empty()) return;
+        lo_ = hi_ = points[0];
+        for (Vec3 p : points) {
+            lo_ = {std::min(lo_.x, p.x), std::min(lo_.y, p.y), std::min(lo_.z, p.z)};
+            hi_ = {std::max(hi_.x, p.x), std::max(hi_.y, p.y), std::max(hi_.z, p.z)};
+        }
+        // Cells coarse enough that every cell coordinate fits kBits bits.
+        const double extent = std::max({hi_.x - lo_.x, hi_.y - lo_.y, hi_.z - lo_.z});
+        cell_ = std::max({spacing, extent / double((1u << kBits) - 2), 1e-300});
+        order_.resize(points.size());
+        for (uint32_t i = 0; i < points.size(); ++i) order_[i] = {keyOf(cellOf(points[i])), i};
+        std::sort(order_.begin(), order_.end());
+    }
+    // Whether a sample in p's cell or the cells around it bounds p's distance below `limit`.
+    bool boundsBelow(Vec3 p, double limit) const {
+        if (order_.empty()) return false;
+        const std::array<int64_t, 3> c = cellOf(p);
+        const int64_t top = (int64_t(1) << kBits) - 1;
+        for (int k = 0; k < 27; ++k) {  // p's own cell first: its samples are the likeliest to settle it
+            const int64_t dx = (k + 13) % 27 / 9 - 1, dy = (k + 13) % 9 / 3 - 1, dz = (k + 13) % 3 - 1;
+            const std::array<int64_t, 3> n{c[0] + dx, c[1] + dy, c[2] + dz};
+            if (std::min({n[0], n[1], n[2]}) < 0 || std::max({n[0], n[1], n[2]}) > top) continue;
+            const uint64_t key = keyOf(n);
+            auto it = std::lower_bound(order_.begin(), order_.end(), std::make_pair(key, uint32_t(0)));
+            for (; it != order_.end() && it->first == key; ++it)
+                if (distance_[it->second] + length(p - points_[it->second]) < limit) return true;
+        }
+        return false;
+    }
+
+private:
+    static constexpr int kBits = 20;
+    std::array<int64_t, 3> cellOf(Vec3 p) const {
+        return {int64_t(std::floor((p.x - lo_.x) / cell_)), int64_t(std::floor((p.y - lo_.y) / cell_)),
+                int64_t(std::floor((p.z - lo_.z) / cell_))};
+    }
+    static uint64_t keyOf(const std::array<int64_t, 3>& c) {
+        return (uint64_t(c[0]) << (2 * kBits)) | (uint64_t(c[1]) << kBits) | uint64_t(c[2]);
+    }
+    const std::vector<Vec3>& points_;
+    const std::vector<double>& distance_;
+    Vec3 lo_{}, hi_{};
+    double cell_ = 1;
+    std::vector<std::pair<uint64_t, uint32_t>> order_;  // (cell key, sample) sorted
+};
+
+// The largest distance of `from`'s vertices to `to` where it reaches `coarseMax` (a maximum the
+// area samples reach): a vertex contributes only to the maximum, so one that a coarse sample of
+// `grid` (null: none) bounds below coarseMax is not queried. `queried` counts the queries.
+double vertexMaximum(const Surface& from, const Measured& to, const CoarseGrid* grid, double coarseMax, int threads,
+                     size_t& queried) {
+    const size_t nv = from.vertices.size(), items = (nv + kChunk - 1) / kChunk;
+    const double limit = coarseMax * (1 - 1e-9);  // margin for rounding
+    std::vector<double> itemMax(items, 0.0);
+    std::vector<size_t> itemQueried(items, 0);
+    parallelFor(items, threads, [&](size_t c) {
+        for (size_t v = c * kChunk; v < std::min(nv, (c + 1) * kChunk); ++v) {
+            const Vec3 p = from.vertices[v];
+            if (grid && grid->boundsBelow(p, limit)) continue;
+            itemMax[c] = std::max(itemMax[c], std::sqrt(CGAL::squared_distance(toPoint(p), to.tree.closest_point(toPoint(p)))));
+            ++itemQueried[c];
+        }
+    });
+    double m = 0;
+    queried = 0;
+    for (size_t c = 0; c < items; ++c) {
+        m = std::max(m, itemMax[c]);
+        queried += itemQueried[c];
+    }
+    return m;
+}
+
 OneSidedDistance oneSidedRefined(const Surface& from, const Measured& to, const DistanceOptions& o) {
-    const size_t n = o.samplesPerSide, stride = o.refineStride, nv = from.vertices.size();
+    const size_t n = o.samplesPerSide, stride = o.refineStride;
     const double offset = std::fmod(0.5 + 0.6180339887498949 * static_cast<double>(o.seed % 1000003), 1.0);
     const size_t blocks = (n + kRefineBlock - 1) / kRefineBlock;
     const size_t blocksPerItem = std::max<size_t>(1, kChunk / kRefineBlock);
     const size_t sampleItems = (blocks + blocksPerItem - 1) / blocksPerItem;
-    const size_t vertexItems = (nv + kChunk - 1) / kChunk;
     struct Partial {
         double max = 0, sum = 0, sum2 = 0;
         size_t count = 0;
     };
-    std::vector<Partial> partial(sampleItems + vertexItems);
+    std::vector<Partial> partial(sampleItems);
     std::vector<double> blockMax(blocks, 0.0);
     std::vector<double> coarse((n + stride - 1) / stride, 0.0);  // distance of every strided sample
-    parallelFor(sampleItems + vertexItems, o.threads, [&](size_t c) {
+    std::vector<Vec3> coarsePoint(coarse.size());                // and where it lies
+    parallelFor(sampleItems, o.threads, [&](size_t c) {
         Partial p;
-        if (c < sampleItems) {
-            for (size_t b = c * blocksPerItem; b < std::min(blocks, (c + 1) * blocksPerItem); ++b) {
-                const size_t first = (b * kRefineBlock + stride - 1) / stride * stride;  // first strided index
-                NearestWalk nearest(to.tree, to.triangleSize);
-                for (size_t i = first; i < std::min(n, (b + 1) * kRefineBlock); i += stride) {
-                    const Point q = toPoint(samplePoint(from, i, n, offset));
-                    const double d = std::sqrt(CGAL::squared_distance(q, nearest(q)));
-                    coarse[i / stride] = d;
-                    blockMax[b] = std::max(blockMax[b], d);
-                    p.sum += d;
-                    p.sum2 += d * d;
-                    ++p.count;
-                }
-                p.max = std::max(p.max, blockMax[b]);
+        for (size_t b = c * blocksPerItem; b < std::min(blocks, (c + 1) * blocksPerItem); ++b) {
+            const size_t first = (b * kRefineBlock + stride - 1) / stride * stride;  // first strided index
+            NearestWalk nearest(to.tree, to.triangleSize);
+            for (size_t i = first; i < std::min(n, (b + 1) * kRefineBlock); i += stride) {
+                coarsePoint[i / stride] = samplePoint(from, i, n, offset);
+                const Point q = toPoint(coarsePoint[i / stride]);
+                const double d = std::sqrt(CGAL::squared_distance(q, nearest(q)));
+                coarse[i / stride] = d;
+                blockMax[b] = std::max(blockMax[b], d);
+                p.sum += d;
+                p.sum2 += d * d;
+                ++p.count;
             }
-        } else {
-            const size_t v0 = (c - sampleItems) * kChunk, v1 = std::min(nv, v0 + kChunk);
-            for (size_t v = v0; v < v1; ++v)
-                p.max = std::max(p.max, std::sqrt(CGAL::squared_distance(toPoint(from.vertices[v]), to.tree.closest_point(toPoint(from.vertices[v])))));
+            p.max = std::max(p.max, blockMax[b]);
         }
         partial[c] = p;
     });
@@ -210,6 +286,17 @@ OneSidedDistance oneSidedRefined(const Surface& from, const Measured& to, const 
         sum += p.sum;
         sum2 += p.sum2;
         count += p.count;
+    }
+    size_t vertexQueries = 0;
+    {
+        // The grid pays off only when the vertices outnumber a fair share of the coarse samples;
+        // without it every vertex is queried: the maximum is the same either way.
+        std::optional<CoarseGrid> grid;
+        if (4 * from.vertices.size() >= coarse.size()) {
+            const double spacing = std::sqrt(from.cumulativeArea.back() / double(std::max<size_t>(1, coarse.size())));
+            grid.emplace(coarsePoint, coarse, 2 * spacing);
+        }
+        r.max = std::max(r.max, vertexMaximum(from, to, grid ? &*grid : nullptr, r.max, o.threads, vertexQueries));
     }
     const double threshold = o.refineFraction * std::max(r.max, o.refineFloor);
     std::vector<size_t> hot;
@@ -244,7 +331,7 @@ OneSidedDistance oneSidedRefined(const Surface& from, const Measured& to, const 
         r.mean = sum / static_cast<double>(count);
         r.rms = std::sqrt(sum2 / static_cast<double>(count));
     }
-    r.samples = count + nv;
+    r.samples = count + vertexQueries;
     for (size_t q : hotQueried) r.samples += q;
     return r;
 }

@@ -358,7 +358,10 @@ void bakeHierarchy(const Asset& asset, const RefineOptions& o, RefineResult& res
     sizes.erase(std::unique(sizes.begin(), sizes.end()), sizes.end());
     std::optional<BakeSources> sources;  // the original images, decoded once for every bake
     if (o.bakeImages) sources.emplace(asset);
-    for (const RankResult& rr : res.ranks)
+    for (const RankResult& rr : res.ranks) {
+        // A layout's islands do not depend on the size: built once for all its bakes.
+        std::vector<BakeIsland> islands;
+        if (sources) islands = layoutBakeIslands(asset.mesh, rr.layout);
         for (int size : sizes) {
             if (rr.rank > 0 && size < o.minRefinedSize && size != sizes.back()) continue;
             RefinedImage img;
@@ -368,7 +371,7 @@ void bakeHierarchy(const Asset& asset, const RefineOptions& o, RefineResult& res
                 BakeOptions bo;
                 bo.size = size;
                 bo.threads = o.param.threads;
-                BakeResult b = bakeBaseColor(*sources, rr.layout.cornerUV, bo, layoutBakeIslands(asset.mesh, rr.layout));
+                BakeResult b = bakeBaseColor(*sources, rr.layout.cornerUV, bo, islands);
                 img.image = std::move(b.image);
                 img.image.name = "lodbake_T" + std::to_string(rr.rank) + "_" + std::to_string(size);
                 img.coveredTexels = b.coveredTexels;
@@ -377,6 +380,7 @@ void bakeHierarchy(const Asset& asset, const RefineOptions& o, RefineResult& res
             res.images.push_back(std::move(img));
             step();
         }
+    }
 }
 
 }  // namespace

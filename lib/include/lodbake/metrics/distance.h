@@ -23,8 +23,9 @@ struct DistanceOptions {
     uint64_t seed = 1;
     // Worker threads for the queries; 0 = all cores. Never changes the result.
     int threads = 0;
-    // Coarse to fine, for a maximum wanted fast: when > 1, a first pass queries every vertex and
-    // every refineStride-th area sample; then every sample is queried only in the runs of
+    // Coarse to fine, for a maximum wanted fast: when > 1, a first pass queries every
+    // refineStride-th area sample, then the vertices that no coarse sample near them bounds below
+    // the coarse maximum (d(c) + |v - c|); then every sample is queried only in the runs of
     // kRefineBlock consecutive samples (neighbours on the surface) whose coarse maximum reaches
     // refineFraction x max(the coarse maximum, refineFloor), and there only where the run's strided
     // samples do not already bound the distance below max(the coarse maximum, refineFloor). The
