@@ -3,6 +3,8 @@
   that stopped it in the report;
 - the output passes Khronos' glTF-Validator with 0 errors;
 - max deviation never decreases as the triangle count decreases;
+- no level goes further from the input than the gross-error bound (0.25 of the diagonal): the
+  12-triangle box keeps its 12 triangles at every level, and the report says why;
 - every base region is an edge-connected set of faces; >= 2 base regions on a closed mesh;
 - where Debian's gltfpack -si 0.02 stops far above the target (seams, materials), simplify
   reaches 2%.
@@ -81,6 +83,22 @@ class SimplifyAssets(unittest.TestCase):
             self.assertEqual(devs, sorted(devs), name)
             for lv in rep["levels"]:
                 self.assertLessEqual(lv["meanDeviation"], lv["maxDeviation"] + 1e-12)
+
+    def test_gross_error_bound(self):
+        for name, (_, rep) in self.results.items():
+            for k, lv in enumerate(rep["levels"]):
+                with self.subTest(asset=name, level=k + 1):
+                    self.assertLessEqual(lv["maxDeviationRelative"], 0.25 + 1e-9)
+                    if "grossError" in lv:
+                        self.assertTrue(lv["stopReason"].startswith("gross error: "), lv["stopReason"])
+                        self.assertEqual(lv["grossError"]["bound"], 0.25)
+                        self.assertGreater(lv["grossError"]["refusedDeviation"], 0.25)
+                        self.assertGreater(lv["triangles"], lv["target"]["triangles"])
+                        self.assertTrue(any(w.startswith("level %d did not reach its target" % (k + 1)) and
+                                            "keeps %d triangles" % lv["triangles"] in w for w in rep["warnings"]))
+        rep = self.results["BoxTextured"][1]
+        self.assertEqual([lv["triangles"] for lv in rep["levels"]], [12, 12, 12])
+        self.assertTrue(all("grossError" in lv for lv in rep["levels"]))
 
     def test_validator(self):
         lt.assert_no_validator_errors(self, [out for out, _ in self.results.values()])

@@ -386,6 +386,7 @@ TEST(Simplify, TwoComponentsAndABowTie) {
     // accepts, leaves the level whole and the grid reaches the target (checked at the end).
     SimplifyOptions o = withLevels({ratio(0.3), count(2)});
     o.visualWeight = false;
+    o.grossError = 0;  // the 2-face level takes the grid further than the gross-error bound
     SimplifyResult r = simplify(m, o);
     ASSERT_EQ(r.multires.levels.size(), 2u);
     EXPECT_EQ(r.multires.levels[0].stopReason, "target");
@@ -633,6 +634,7 @@ TEST(Simplify, StuckSmallPartsArePrunedBeforeALargeOpenSurfaceShrinks) {
     for (uint32_t f : l.faces) EXPECT_TRUE(alive.count(l.faceRegion[f]));
 
     o.visualWeight = false;
+    o.grossError = 0;  // by size the dome shrinks further than the gross-error bound
     const SimplifyResult bySize = simplify(m, o);
     EXPECT_LT(area(bySize.multires.levels[0]), 0.5 * domeArea);
 }

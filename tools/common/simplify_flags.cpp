@@ -33,6 +33,14 @@ void addSimplifyFlags(ArgParser& p, SimplifyFlags& a) {
                  if (!(o.pruneStuckSize >= 0 && o.pruneStuckSize <= 1))
                      throw UsageError("--max-part-removal must be in [0, 1]");
              });
+    p.option("--gross-error", "F",
+             "--ratio and --triangles levels stop before a collapse or a part removal would take them further than "
+             "this fraction of the bounding-box diagonal from the input, and keep the triangles they have; the report "
+             "says so (default " + number(o.grossError) + ", 0 = off)",
+             [&o](const std::string& v) {
+                 o.grossError = parseDouble("--gross-error", v);
+                 if (!(o.grossError >= 0)) throw UsageError("--gross-error must be >= 0");
+             });
     p.flag("--two-sided-cost",
            "cost a collapse also by the new surface's distance to the old one, not only by the vertex deviation "
            "(removed points to the new surface)",

@@ -23,7 +23,7 @@ struct SimplifyFlags {
     SimplifySettings settings;
     std::vector<double> ratios, triangles, maxErrors;  // the level flags, turned into settings.simplify.levels
 };
-// --ratio, --triangles, --max-error, --max-region-cone, --max-part-removal, --two-sided-cost,
+// --ratio, --triangles, --max-error, --max-region-cone, --max-part-removal, --gross-error, --two-sided-cost,
 // --no-visual-weight, --max-influence-change, --pose-samples.
 void addSimplifyFlags(ArgParser& parser, SimplifyFlags& flags);
 // Checks the level flags and sets settings.simplify.levels. \throw UsageError.

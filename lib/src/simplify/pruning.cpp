@@ -3,6 +3,7 @@
 #include "pruning.h"
 
 #include <algorithm>
+#include <limits>
 #include <vector>
 
 namespace lodbake::simplify_detail {
@@ -80,6 +81,17 @@ bool pruneComponents(CollapseState& s, HierarchyRecorder& rec, double limit, uin
         any = true;
     }
     return any;
+}
+
+double nextPrunableSize(const CollapseState& s, uint64_t target, bool closedOnly) {
+    const Components& c = s.components;
+    if (s.aliveFaces <= target) return std::numeric_limits<double>::infinity();
+    for (uint32_t comp : c.order) {
+        if (c.pruned[comp] || (closedOnly && c.open[comp] != 0)) continue;
+        if (s.aliveFaces - c.faces[comp] < std::max<uint64_t>(target, 1)) continue;
+        return c.size[comp];
+    }
+    return std::numeric_limits<double>::infinity();
 }
 
 }  // namespace lodbake::simplify_detail

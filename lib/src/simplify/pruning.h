@@ -36,4 +36,8 @@ bool anyPrunable(const CollapseState& s, double limit, uint64_t target);
 bool pruneComponents(CollapseState& s, HierarchyRecorder& rec, double limit, uint64_t target, bool closedOnly,
                      const std::vector<uint8_t>* stuck = nullptr);
 
+// The size of the first component pruneComponents(s, .., inf, target, closedOnly) would prune
+// (model units); infinity when none.
+double nextPrunableSize(const CollapseState& s, uint64_t target, bool closedOnly);
+
 }  // namespace lodbake::simplify_detail

@@ -17,6 +17,7 @@
 //   collapse_rules   cost, link condition, no flip, rules 1-3 and the normal cone, level targets
 //   candidates       best collapse per vertex, deferral, a pass's candidate list
 //   pruning          removal of small and stuck components
+//   gross_stop       the gross-error bound of triangle-count levels
 //   pairs            the snapshot of a level and its simplification pairs
 
 #include "lodbake/simplify/simplify.h"
@@ -30,6 +31,7 @@
 #include "candidates.h"
 #include "collapse_rules.h"
 #include "collapse_state.h"
+#include "gross_stop.h"
 #include "lodbake/core/errors.h"
 #include "lodbake/core/math.h"
 #include "pairs.h"
@@ -49,6 +51,7 @@ struct Simplifier {
     RuleSettings settings;
     CandidateState candidates;
     HierarchyRecorder recorder;
+    GrossStop gross;  // the level's gross-error bound
     std::vector<EvalScratch> work;  // one per evaluation thread; work[0] also serves the collapse walk
     const SimplifyOptions& options;
 
@@ -148,6 +151,7 @@ size_t walkCandidates(Simplifier& s, const PlannedLevel& plan, double limit) {
         if (cs.touchedPass[vj] == cs.pass) continue;
         if (!plan.hasErrorTarget() && !candidateStale(cs, ctx, vi, c)) {
             // Nothing the candidate depends on changed since it was evaluated: apply it as is.
+            if (!s.gross.allows(m, w, vi, vj, c.dev, cs.pass)) continue;
             applyCandidate(s, vi, c);
             ++applied;
             continue;
@@ -185,6 +189,8 @@ size_t walkCandidates(Simplifier& s, const PlannedLevel& plan, double limit) {
                 continue;
             }
             c.dev = std::max(c.dev, d);
+        } else if (!s.gross.allows(m, w, vi, vj, c.dev, cs.pass)) {
+            continue;  // past the gross-error bound: the level keeps what it has
         }
         // planRegions left the merge groups of this collapse in w.groups (unless it keeps the boundary).
         applyCandidate(s, vi, c, &w.groups);
@@ -212,9 +218,10 @@ PassResult runPass(Simplifier& s, const PlannedLevel& plan) {
     // (Which components are stuck is only asked when some component is small enough to prune.)
     const bool weighted = s.options.visualWeight;
     bool pruned = false;
-    if (anyPrunable(s.mesh, limit, plan.triangles)) {
+    const double partLimit = s.gross.cap(limit);
+    if (anyPrunable(s.mesh, partLimit, plan.triangles)) {
         const std::vector<uint8_t> stuck = weighted ? stuckComponents(s.mesh, cs) : std::vector<uint8_t>{};
-        pruned = pruneComponents(s.mesh, s.recorder, limit, plan.triangles, !weighted, weighted ? &stuck : nullptr);
+        pruned = pruneComponents(s.mesh, s.recorder, partLimit, plan.triangles, !weighted, weighted ? &stuck : nullptr);
     }
     if (pruned) {
         cs.entries.erase(std::remove_if(cs.entries.begin(), cs.entries.end(),
@@ -232,18 +239,28 @@ PassResult runPass(Simplifier& s, const PlannedLevel& plan) {
 // error target; then any component (open or non-manifold ones too, which are stuck on locks) no
 // larger than the error already accepted, so pruning never raises maxDeviation; last, for a
 // triangle target, small parts (options.pruneStuckSize of the diagonal), smallest first, whose
-// size enters maxDeviation. Returns whether anything was pruned.
+// size enters maxDeviation. No part larger than the gross-error bound leaves; one it keeps is
+// recorded as refused. Returns whether anything was pruned.
 bool pruneStuck(Simplifier& s, const PlannedLevel& level) {
     CollapseState& m = s.mesh;
-    return pruneComponents(m, s.recorder, level.error, level.triangles, true) ||
-           pruneComponents(m, s.recorder, std::min(level.error, s.recorder.runningMax * (1 + 1e-9)), level.triangles,
-                           false) ||
-           (!level.hasErrorTarget() &&
-            pruneComponents(m, s.recorder, s.options.pruneStuckSize * m.diagonal, level.triangles, false));
+    GrossStop& g = s.gross;
+    const double stuckSize = level.hasErrorTarget() ? 0 : s.options.pruneStuckSize * m.diagonal;
+    if (pruneComponents(m, s.recorder, g.cap(level.error), level.triangles, true) ||
+        pruneComponents(m, s.recorder, g.cap(std::min(level.error, s.recorder.runningMax * (1 + 1e-9))),
+                        level.triangles, false) ||
+        pruneComponents(m, s.recorder, g.cap(stuckSize), level.triangles, false))
+        return true;
+    for (bool closedOnly : {true, false}) {
+        const double size = nextPrunableSize(m, level.triangles, closedOnly);
+        if (size < (closedOnly ? level.error : stuckSize) && size >= g.bound) g.refusePart(size, s.candidates.pass);
+    }
+    return false;
 }
 
-// Passes until the level's target; returns the stop reason.
-std::string runLevel(Simplifier& s, const PlannedLevel& level, double start, double span) {
+// Passes until the level's target; returns the stop reason (grossStop: the gross-error bound).
+std::string runLevel(Simplifier& s, const PlannedLevel& level, double start, double span, bool& grossStop) {
+    grossStop = false;
+    s.gross.startLevel(level, s.options.grossError, s.mesh.diagonal);
     int idle = 0;
     while (!level.reached(s.mesh.aliveFaces)) {
         PassResult r = runPass(s, level);
@@ -256,7 +273,9 @@ std::string runLevel(Simplifier& s, const PlannedLevel& level, double start, dou
             }
             resolveDeferred(s.candidates, s.context(), s.work, std::numeric_limits<double>::infinity(), level.error,
                             nullptr, nullptr);
-            return summariseStop(s.candidates, s.mesh);
+            // The last pass refused collapses or parts: the bound stopped the level.
+            grossStop = s.gross.refusedIn(s.candidates.pass);
+            return grossStop ? s.gross.reason(s.mesh.diagonal) : summariseStop(s.candidates, s.mesh);
         }
         const SimplifyOptions& o = s.options;
         if (o.progress && !o.progress(std::clamp((start - double(s.mesh.aliveFaces)) / span, 0.0, 1.0)))
@@ -305,10 +324,15 @@ SimplifyResult simplify(const TriMesh& mesh, const SimplifyOptions& options) {
     double start = double(m.faceCount), span = std::max(1.0, start - double(std::min<uint64_t>(finalTarget, m.faceCount)));
     auto levelStart = Clock::now();
     for (const PlannedLevel& level : plan) {
-        std::string stop = runLevel(s, level, start, span);
+        bool grossStop = false;
+        std::string stop = runLevel(s, level, start, span, grossStop);
         auto now = Clock::now();
         snapshotLevel(m, s.regions, s.recorder, level, stop, std::chrono::duration<double>(now - levelStart).count(),
                       int(s.work.size()), s.candidates.pass);
+        if (grossStop) {
+            s.recorder.out.levels.back().grossErrorBound = s.gross.bound;
+            s.recorder.out.levels.back().grossErrorRefused = s.gross.cheapestRefused;
+        }
         if (s.settings.posed) raisePosedLevelDeviation(m, *s.settings.posed, int(s.work.size()), s.recorder);
         levelStart = Clock::now();
     }

@@ -1,6 +1,8 @@
 // The simplify stage (simplify.h): load, simplify(), write the levels, report.
 #include "lodbake/stages/simplify.h"
 
+#include <cstdio>
+
 #include "lodbake/core/parallel.h"
 #include "lodbake/core/timing.h"
 #include "stages/multires_stage.h"
@@ -8,14 +10,32 @@
 namespace lodbake {
 namespace {
 
+// A level the gross-error bound stopped before its target keeps the triangles it had: how many,
+// against what it was asked.
+std::string grossStopWarning(const Level& L, size_t k, size_t inputTriangles) {
+    std::string asked = std::to_string(L.targetTriangles) + " triangles";
+    if (L.targetRatio > 0) {
+        char ratio[32];
+        std::snprintf(ratio, sizeof ratio, "ratio %g = ", L.targetRatio);
+        asked = ratio + asked;
+    }
+    char kept[32];
+    std::snprintf(kept, sizeof kept, "%.3g", inputTriangles ? double(L.triangles.size()) / double(inputTriangles) : 0.0);
+    return "level " + std::to_string(k + 1) + " did not reach its target (" + asked + "): it keeps " +
+           std::to_string(L.triangles.size()) + " triangles (ratio " + kept + "); " + L.stopReason;
+}
+
 // A level that could not get coarser than the previous one repeats it (its stop reason says
-// why): said in the report and on the warning callback (pack's report says it again).
-std::vector<std::string> repeatedLevels(const Asset& asset, const SimplifyResult& r) {
+// why), and a level the gross-error bound stopped keeps more triangles than asked: said in the
+// report and on the warning callback (pack's report says a repeat again).
+std::vector<std::string> levelWarnings(const Asset& asset, const SimplifyResult& r) {
     std::vector<std::string> out;
     for (size_t k = 0; k < r.multires.levels.size(); ++k) {
         const Level& L = r.multires.levels[k];
         const size_t previous = k > 0 ? r.multires.levels[k - 1].triangles.size() : asset.mesh.triangleCount();
-        if (!L.triangles.empty() && L.triangles.size() >= previous)
+        if (L.grossErrorBound > 0)
+            out.push_back(grossStopWarning(L, k, asset.mesh.triangleCount()));
+        else if (!L.triangles.empty() && L.triangles.size() >= previous)
             out.push_back("level " + std::to_string(k + 1) + " is no coarser than " +
                           (k > 0 ? "level " + std::to_string(k) : std::string("the original")) + " (" +
                           std::to_string(L.triangles.size()) + " triangles, target " + std::to_string(L.targetTriangles) +
@@ -38,6 +58,10 @@ nlohmann::json makeReport(const SimplifySettings& s, const Asset& asset, const S
         level["baseRegions"] = L.regionCount;
         level["collapses"] = L.collapseCount;
         level["stopReason"] = L.stopReason;
+        if (L.grossErrorBound > 0) {
+            const double scale = r.diagonal > 0 ? r.diagonal : 1;
+            level["grossError"] = {{"bound", L.grossErrorBound / scale}, {"refusedDeviation", L.grossErrorRefused / scale}};
+        }
         levels.push_back(level);
     }
     nlohmann::json rep;
@@ -80,7 +104,7 @@ StageResult runSimplify(const SimplifySettings& s) {
 
     StageResult out;
     std::vector<std::string> warnings = asset.warnings;  // the loader's, already passed to s.common.warning
-    for (const std::string& w : repeatedLevels(asset, result)) {
+    for (const std::string& w : levelWarnings(asset, result)) {
         if (s.common.warning) s.common.warning(w);
         warnings.push_back(w);
     }

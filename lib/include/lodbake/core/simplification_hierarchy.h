@@ -52,6 +52,11 @@ struct Level {
     double maxDeviation = 0;        // model units; non-decreasing along the levels
     double meanDeviation = 0;       // mean of pair deviations
     double seconds = 0;             // time spent producing this level (report only, not written to files)
+    // When the gross-error bound stopped the level before its triangle target: the bound and the
+    // deviation of the cheapest collapse it refused, model units (report only, not written to
+    // files; the stop reason says it too). 0 = the bound did not stop the level.
+    double grossErrorBound = 0;
+    double grossErrorRefused = 0;
 };
 
 // One half-edge collapse (removed -> kept) and the region updates it made: the entries

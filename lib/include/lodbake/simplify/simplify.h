@@ -45,6 +45,13 @@ struct SimplifyOptions {
     // pinch vertices, rule 1), whole components whose half bounding-box diagonal is below this fraction of the
     // model's diagonal are removed, smallest first; their size enters the level's maxDeviation. 0 disables.
     double pruneStuckSize = 0.2;
+    // Gross-error stop of triangle-count levels (--ratio, --triangles): a collapse, or a part
+    // removal, that would leave the level further than this fraction of the bounding-box diagonal
+    // from the original is refused, and the level keeps the triangles it has (its stop reason and
+    // Level::grossError say so). A far level that is still recognisable deviates well below it; a
+    // tiny asset (a 12-triangle box) would otherwise collapse into a wedge or a tetrahedron. Error
+    // targets (LevelTarget::maxError) set their own bound. 0 disables.
+    double grossError = 0.25;
     // Two-sided cost: besides the removed vertex's distance to the new fan (the thesis's vertex
     // deviation), a collapse costs the new fan's distance to the surface it replaces, sampled at
     // its faces' centroids and new edges' midpoints. Off by default: on the shared assets it wins
