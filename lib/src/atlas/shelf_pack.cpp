@@ -52,13 +52,15 @@ ShelfPackResult shelfPack(const std::vector<const std::vector<Vec2>*>& items, do
     constexpr double kStartFill = 0.7;  // fraction of the page the items' area fills at the start density
     constexpr double kShrink = 0.95;    // density factor per failed attempt
     constexpr int kMaxAttempts = 400;
+    // A page whose last attempt (the smallest density tried) still fails holds the items at no
+    // density: it doubles before any density is tried.
+    auto startDensity = [&](int side) { return std::sqrt(kStartFill * double(side) * side / (area > 0 ? area : 1)); };
+    const double lastFactor = std::pow(kShrink, kMaxAttempts);
     int size = options.size;
     ShelfPackResult res;
-    // At density 0 every item takes one texel and its gutters: a page that does not hold that
-    // holds the items at no density, so it grows before any density is tried.
-    while (size < options.maxSize && !shelvesAt(items, 0, size, options.gutter, res.items)) size *= 2;
+    while (size < options.maxSize && !shelvesAt(items, startDensity(size) * lastFactor, size, options.gutter, res.items)) size *= 2;
     res.size = size;
-    double d = std::sqrt(kStartFill * double(size) * size / (area > 0 ? area : 1));
+    double d = startDensity(size);
     int attempts = 0;
     while (!shelvesAt(items, d, size, options.gutter, res.items)) {
         d *= kShrink;
