@@ -38,8 +38,8 @@ AtlasState atlasState(const TriMesh& mesh, const Multires& multires, const Chart
 }
 
 // The largest atlas side parameterize lays charts out on: a textureSize page too small for the
-// charts at one texel each (tens of thousands of charts, as a multi-million-triangle scan has)
-// grows up to it rather than failing.
+// charts and level islands at any density (tens of thousands of islands, as a multi-million-
+// triangle scan has) grows up to it rather than failing.
 constexpr int kMaxAtlasSize = 16384;
 
 // (5) Shelf-packs the charts and the islands made so far; sets the density and fill figures.

@@ -73,8 +73,9 @@ ParameterizeResult parameterize(const TriMesh& mesh, const Multires& multires, c
                                    " overlapping); each now has a chart of its own");
     }
     if (res.atlasSize > options.textureSize)
-        res.warnings.push_back(std::to_string(res.charts.chartCount) + " charts do not fit a " + std::to_string(options.textureSize) +
-                               " atlas at one texel each; they are laid out on a " + std::to_string(res.atlasSize) + " atlas");
+        res.warnings.push_back(std::to_string(res.charts.chartCount) + " charts and " + std::to_string(res.islands.size()) +
+                               " level islands do not fit a " + std::to_string(options.textureSize) +
+                               " atlas at any density; they are laid out on a " + std::to_string(res.atlasSize) + " atlas");
     if (options.progress) options.progress(1.0);
     res.seconds = secondsSince(t0);
     return res;

@@ -23,7 +23,7 @@ namespace lodbake {
 struct ShelfPackOptions {
     int size = 1024;  // page side, texels (square)
     int gutter = 4;   // texels between items and along the page border
-    // A page that cannot hold the items even at one texel each doubles, up to this side (0: the
+    // A page that cannot hold the items at any density tried doubles, up to this side (0: the
     // page never grows; such items throw).
     int maxSize = 0;
 };
@@ -50,8 +50,8 @@ struct ShelfPackResult {
 // Packs the bounding boxes of `items` (point sets in model units; an empty set is a 1-texel box)
 // tallest first, left to right in shelves, at one density for all: it starts where `area`
 // (the items' total area, model units^2; <= 0 counts as 1) fills 70% of the page and shrinks by
-// 5% per attempt until every box fits with its gutters. A page that cannot hold every box at one
-// texel first doubles up to options.maxSize (ShelfPackResult::size is the side used).
+// 5% per attempt until every box fits with its gutters. A page whose last attempt would still fail
+// first doubles up to options.maxSize (ShelfPackResult::size is the side used).
 // \pre options.size >= 16, options.gutter >= 0; the pointers are valid.
 // \throw Impossible when nothing fits after 400 attempts.
 ShelfPackResult shelfPack(const std::vector<const std::vector<Vec2>*>& items, double area, const ShelfPackOptions& options);

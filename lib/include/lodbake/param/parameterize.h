@@ -112,8 +112,8 @@ struct ParameterizeResult {
 //      With no levels every face starts as its own region.
 // A chart the solver cannot map, and an original face still folded once the atlas is packed, fall
 // back to single-face charts (res.warnings says so); level triangles that fold fall back to islands.
-// \throw InvalidInput (inconsistent multires), Impossible (no triangles; the charts do not fit
-//        a 16384 atlas at one texel each).
+// \throw InvalidInput (inconsistent multires), Impossible (no triangles; the charts and islands
+//        do not fit a 16384 atlas).
 ParameterizeResult parameterize(const TriMesh& mesh, const Multires& multires, const ParameterizeOptions& options = {});
 
 struct UVInjectivity {
