@@ -16,6 +16,7 @@
 #include "lodbake/texture/color_space.h"
 #include "lodbake/texture/texture_transform.h"
 #include "metrics/clearcoat_layer.h"
+#include "metrics/ggx_lobe.h"
 
 namespace lodbake {
 namespace {
@@ -514,8 +515,6 @@ bool shadePbr(const TriMaterial& mat, const CornerAttributes& at, const PixelBar
     }
     metallic = std::clamp(metallic, 0.0, 1.0);
     roughness = std::clamp(roughness, kMinRoughness, 1.0);
-    const double a2 = roughness * roughness * roughness * roughness;  // a = roughness^2
-    const double k = (roughness + 1) * (roughness + 1) / 8;
     double f0[3], rgb[3];
     for (int c = 0; c < 3; ++c) {
         f0[c] = 0.04 + (base[c] - 0.04) * metallic;
@@ -524,21 +523,17 @@ bool shadePbr(const TriMaterial& mat, const CornerAttributes& at, const PixelBar
     const Vec3 N = shadingNormal(mat, at, p, kNormal, mat.normalScale, at.tangents, at.tangent);
     const Vec3 pos = at.pos[0] * p.bar[0] + at.pos[1] * p.bar[1] + at.pos[2] * p.bar[2];
     const Vec3 V = normalize(lights.eye - pos);
-    const double nv = std::max(dot(N, V), 1e-4);
-    const double gv = nv / (nv * (1 - k) + k);
+    const metrics_detail::GgxLobe lobe(roughness, N, V);
     for (size_t i = 0; i < kLightCount; ++i) {
         const Vec3& L = lights.toLight[i];
         const double nl = dot(N, L);
         if (!(nl > 0)) continue;
-        const Vec3 H = normalize(L + V);
-        const double nh = std::max(dot(N, H), 0.0), vh = std::max(dot(V, H), 0.0);
-        const double d = nh * nh * (a2 - 1) + 1;
-        const double D = a2 / (kPi * d * d);
-        const double G = gv * nl / (nl * (1 - k) + k);
+        double vh = 0;
+        const double dg = lobe.dg(N, L, V, nl, vh);
         const double m = 1 - vh, fresnel = m * m * m * m * m;
         for (int c = 0; c < 3; ++c) {
             const double F = f0[c] + (1 - f0[c]) * fresnel;
-            const double specular = D * G * F / (4 * nl * nv);
+            const double specular = dg * F / (4 * nl * lobe.nv);
             const double diffuse = (1 - F) * (1 - metallic) * base[c] / kPi;
             rgb[c] += (diffuse + specular) * lights.irradiance[i] * nl;
         }
