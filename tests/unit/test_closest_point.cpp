@@ -82,3 +82,36 @@ TEST(ClosestPoint, NearFacesAndBoxedSearchMatchTheFullSearch) {
         hint = (f1 * 7 + 3) % uint32_t(m.triangleCount());  // any face, near or not
     }
 }
+
+TEST(ClosestPoint, CoincidentCopiesLeftOutChangeNoAnswer) {
+    // The grid three times over (instances at the same place, as a skinned part instanced per
+    // skeleton flattens), the second copy's corners listed in a turned order: withoutCopies drops
+    // exactly the third copy (same corners, same order), and the closest face, its barycentrics and
+    // the distance over what remains are the full set's for points on and off the surface.
+    TriMesh m = test::grid(6, 6, [](int i, int j) { return 0.2 * std::sin(1.3 * i + 0.4 * j); });
+    const size_t n = m.triangleCount(), vertices = m.positions.size();
+    for (int copy = 1; copy <= 2; ++copy) {
+        for (size_t v = 0; v < vertices; ++v) m.positions.push_back(m.positions[v]);
+        for (size_t f = 0; f < n; ++f) {
+            Tri t = m.triangles[f];
+            for (uint32_t& v : t) v += uint32_t(copy * vertices);
+            if (copy == 1) t = Tri{t[1], t[2], t[0]};
+            m.triangles.push_back(t);
+        }
+    }
+    std::vector<uint32_t> all(m.triangleCount());
+    for (uint32_t f = 0; f < all.size(); ++f) all[f] = f;
+    const std::vector<uint32_t> kept = withoutCopies(m, all);
+    ASSERT_EQ(kept.size(), 2 * n);
+    for (size_t i = 0; i < kept.size(); ++i) EXPECT_EQ(kept[i], uint32_t(i));
+    for (int a = 0; a <= 12; ++a)
+        for (int b = 0; b <= 12; ++b)
+            for (double z : {0.0, 0.7, -0.4}) {
+                const Vec3 p{0.45 * a - 0.2, 0.45 * b - 0.1, z + 0.2 * std::sin(1.3 * 0.45 * a)};
+                uint32_t f0 = 0, f1 = 0;
+                std::array<double, 3> b0{}, b1{};
+                ASSERT_EQ(closestSurfacePoint(m, all, p, f0, b0), closestSurfacePoint(m, kept, p, f1, b1));
+                ASSERT_EQ(f0, f1);
+                ASSERT_EQ(b0, b1);
+            }
+}

@@ -198,6 +198,29 @@ private:
     double extent_ = 0;  // largest |coordinate| of the faces
 };
 
+// `faces` in their order, less every face whose corners lie exactly where an earlier face's do, in
+// the same order (instanced parts that coincide): such a copy measures every point's distance with
+// the same arithmetic as the earlier face and loses every tie to it, so no closest-point answer
+// over the set changes, while a search among k coincident copies costs k times one.
+inline std::vector<uint32_t> withoutCopies(const TriMesh& mesh, const std::vector<uint32_t>& faces) {
+    auto corners = [&](uint32_t f) {
+        const Tri& t = mesh.triangles[f];
+        const Vec3 &a = mesh.positions[t[0]], &b = mesh.positions[t[1]], &c = mesh.positions[t[2]];
+        return std::array<double, 9>{a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y, c.z};
+    };
+    std::vector<std::pair<std::array<double, 9>, size_t>> keyed(faces.size());
+    for (size_t i = 0; i < faces.size(); ++i) keyed[i] = {corners(faces[i]), i};
+    std::sort(keyed.begin(), keyed.end());
+    std::vector<char> copy(faces.size(), 0);
+    for (size_t i = 1; i < keyed.size(); ++i)
+        if (keyed[i].first == keyed[i - 1].first) copy[keyed[i].second] = 1;
+    std::vector<uint32_t> out;
+    out.reserve(faces.size());
+    for (size_t i = 0; i < faces.size(); ++i)
+        if (!copy[i]) out.push_back(faces[i]);
+    return out;
+}
+
 // The faces of `faces` that can hold the closest point of some point of triangle `tri`: those
 // whose bounding box lies within d0 + 2r of the triangle's centroid c, with d0 = the distance from
 // c to `faces` and r = the largest |corner - c|. (For X on the triangle, its closest face f has
