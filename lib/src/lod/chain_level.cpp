@@ -37,10 +37,19 @@ struct StepClock {
     }
 };
 
-// A normal map is baked when asked for always, or, on auto, when the material shows one (every
-// coarser level gets one: it carries the detail the simplified surface lost).
-bool normalMapWanted(const PackOptions& o, bool normalTexture) {
-    return !o.baseColorOnly && (o.normalMaps == NormalMaps::Always || (o.normalMaps == NormalMaps::Auto && normalTexture));
+// A normal map is baked when asked for always, or, on auto, when the material shows one or the
+// level is coarser than the original (`coarser`: the map carries the detail the simplified
+// surface lost; a level that kept the original's surface lost none).
+bool normalMapWanted(const PackOptions& o, bool normalTexture, bool coarser = false) {
+    return !o.baseColorOnly &&
+           (o.normalMaps == NormalMaps::Always || (o.normalMaps == NormalMaps::Auto && (normalTexture || coarser)));
+}
+
+// Whether a bake with `channels` (and the plan's base colour) makes any image: none makes a
+// material of factors only.
+bool bakesAnImage(const MaterialPlan& plan, const BakeChannels& c) {
+    return plan.baseColorTexture || c.alpha || c.orm || c.emissive || c.normal || c.clearcoat || c.clearcoatNormal || c.sheen ||
+           c.specular || c.transmission || c.iridescence || c.diffuseTransmission || c.anisotropy;
 }
 
 // The plan's figures for the level, into its report.
@@ -70,6 +79,7 @@ struct LevelWork {
     size_t k = 0;
     bool original = false;   // Lod0::Original: LOD0 is the input asset, nothing of it is baked
     bool projected = false;  // baked by projection from the original surface (the coarse levels)
+    bool coarser = false;    // its surface is not the original's as the original shades it (level_view.h)
     PackLevelReport& report;
     PackLevelProfile& time;
 };
@@ -81,8 +91,8 @@ void chooseRank(const ChainInputs& in, const LevelWork& w, ChainCarry& carry, co
     if (!in.options.rankByBake || pl.eligibleRanks.size() <= 1 || (w.original && w.k == 0)) return;
     const auto tChoice = Clock::now();
     const double cpuChoice = processCpuSeconds();
-    const bool normalMap = normalMapWanted(in.options, in.materials.normalTexture || w.k > 0);
-    ChoiceLevel level{&in.views[w.k], w.k, &pl, w.report.hausdorff, w.projected, normalMap};
+    const bool normalMap = normalMapWanted(in.options, in.materials.normalTexture, w.coarser);
+    ChoiceLevel level{&in.views[w.k], w.k, &pl, w.report.hausdorff, w.projected, normalMap, in.materials.baseColorTexture};
     if (w.k > 0) level.finerPage = carry.capPage.value_or(std::array<int, 2>{res.reports[w.k - 1].width, res.reports[w.k - 1].height});
     LayoutChoice choice = chooseLayoutByBake(in.sources, in.layouts, level, carry.grid, res, in.options);
     w.time.rankChoiceSeconds = secondsSince(tChoice);
@@ -190,7 +200,7 @@ void bakeLevel(const ChainInputs& in, const LevelWork& w, ChainCarry& carry, Pac
         for (size_t t : backSource) groups.push_back(groups[t]);
     }
     // The level's channels for a material plan: the default's, or a variant's.
-    auto channelsOf = [&](const MaterialPlan& p) { return levelChannels(p, normalMapWanted(options, p.normalTexture || k > 0)); };
+    auto channelsOf = [&](const MaterialPlan& p) { return levelChannels(p, normalMapWanted(options, p.normalTexture, w.coarser)); };
     const BakeChannels channels =
         tiled ? levelChannels(in.materials, normalMapWanted(options, in.materials.normalTexture)) : channelsOf(in.materials);
     const bool normalMaps =
@@ -207,7 +217,8 @@ void bakeLevel(const ChainInputs& in, const LevelWork& w, ChainCarry& carry, Pac
     const LodLevelData* previous = k > 1 ? &res.levels[k - 1 - (w.original ? 1 : 0)] : nullptr;
     const bool repeat = w.projected && previous && reach == carry.previousReach && la.atlas.width == res.reports[k - 1].width &&
                         la.atlas.height == res.reports[k - 1].height && sameLevelMesh(L, *previous);
-    if (w.projected && !carry.grid && !repeat && !tiled) carry.grid.emplace(in.asset.mesh);
+    const bool bakes = !repeat && !tiled && bakesAnImage(in.materials, channels);  // else factors only
+    if (w.projected && !carry.grid && (bakes || (!repeat && !tiled && !in.variants.empty()))) carry.grid.emplace(in.asset.mesh);
     auto bake = [&](const BakeSources& s, const BakeChannels& c) {
         return w.projected ? bakeProjected(s, *carry.grid, L, front, la.atlas.width, la.atlas.height, reach, res.diagonal, c,
                                            targetOrNull, options.threads)
@@ -219,7 +230,7 @@ void bakeLevel(const ChainInputs& in, const LevelWork& w, ChainCarry& carry, Pac
         carry.tile = levelMaterial(in.materials, baked, in.tiling.width, in.tiling.height, in.images, "tile");
         carry.tile->repeat = true;
         std::tie(carry.tile->minFilter, carry.tile->magFilter) = sourceFilters(in.asset);  // its texels are the source's
-    } else if (!repeat && !tiled)
+    } else if (bakes)
         baked = bake(in.sources, channels);
     carry.previousReach = w.projected && !tiled ? reach : -1;
     w.time.bakeSeconds = baked.seconds;
@@ -249,7 +260,8 @@ void buildLevel(const ChainInputs& in, size_t k, ChainCarry& carry, PackResult& 
     const TriMesh& mesh = in.asset.mesh;
     const LevelView& view = in.views[k];
     const bool original = in.options.lod0 == Lod0::Original;
-    const LevelWork w{k, original, k > 0 && in.options.projectLevels, res.reports[k], time};
+    const bool coarser = k > 0 && !showsOriginalSurface(mesh, view);
+    const LevelWork w{k, original, k > 0 && in.options.projectLevels, coarser, res.reports[k], time};
     recordPlan(in.plan.levels[k], w.report);
     w.report.tiling.note = in.tiling.reason;
     std::optional<TiledLevelUVs> tiled;

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 #include "lod/level_mesh.h"
 #include "lod/page_bake.h"
@@ -15,6 +16,18 @@ namespace {
 // (texels): a 2048 page (LOD0 when the source texels do not fit) is scored at 512 a side.
 constexpr double kScoredMaxSide = 512;
 
+// The choice between pages that would all bake one colour: every candidate deviates 0, so the
+// energy rule's pick stands (the candidates are listed unscored: no page).
+LayoutChoice unscoredChoice(const PlannedLevel& planned) {
+    LayoutChoice choice;
+    PackLevelReport::RankChoice& rc = choice.report;
+    choice.rank = rc.byEnergy = planned.rank;
+    for (uint32_t rank : planned.eligibleRanks) rc.candidates.push_back({rank, 0, 0, 0, 0, 0, 0});
+    rc.reason = (planned.rank == 0 ? std::string("T0") : "rank " + std::to_string(planned.rank)) +
+                ", the energy rule's pick: no image to compare (a constant base colour, no normal map)";
+    return choice;
+}
+
 }  // namespace
 
 LayoutChoice chooseLayoutByBake(const BakeSources& sources, std::vector<LayoutData>& layouts, const ChoiceLevel& level,
@@ -25,6 +38,7 @@ LayoutChoice chooseLayoutByBake(const BakeSources& sources, std::vector<LayoutDa
     const PlannedLevel& planned = *level.plan;
     const size_t k = level.index;
     const bool normal = level.normalMap, projected = level.projected;
+    if (!level.colorTexture && !normal) return unscoredChoice(planned);
     if (!grid) grid.emplace(mesh);
     BakeChannels channels;  // base colour, and the normal map
     channels.normal = normal;

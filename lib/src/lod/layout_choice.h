@@ -24,6 +24,7 @@ struct ChoiceLevel {
     double hausdorff = 0;        // its measured deviation (the projection bake's reach)
     bool projected = false;      // baked by projection (else the original triangles at the layout)
     bool normalMap = false;      // the level gets a normal map: it is compared too
+    bool colorTexture = true;    // its base colour varies (a texture); else it is one factor, alike on every page
     std::array<int, 2> finerPage{};  // the finer level's cap page (texels; k > 0)
 };
 
@@ -39,7 +40,9 @@ struct LayoutChoice {
 // candidates differently than full size would, their scores lie within chooseCandidate's margin.
 // `res` holds the finer levels' reports (their pages cap this one's) and the diagonal. The probe
 // and the projected bakes search the original through `grid` (built here when missing). The same
-// for any thread count: each bake is, and the read-back runs in order.
+// for any thread count: each bake is, and the read-back runs in order. A level with neither a
+// varying base colour nor a normal map has nothing to compare: every candidate deviates 0, none is
+// packed or baked, and the energy rule's pick stands.
 LayoutChoice chooseLayoutByBake(const BakeSources& sources, std::vector<LayoutData>& layouts, const ChoiceLevel& level,
                                 std::optional<FaceGrid>& grid, const PackResult& res, const PackOptions& options);
 

@@ -47,4 +47,17 @@ bool sameSurface(const LevelView& a, const LevelView& b) {
            std::equal(a.positions.begin(), a.positions.end(), b.positions.begin(), b.positions.end(), same);
 }
 
+bool showsOriginalSurface(const TriMesh& original, const LevelView& lv) {
+    if (!lv.positions.empty() || lv.triangles != original.triangles || lv.faces.size() != original.triangleCount()) return false;
+    for (size_t t = 0; t < lv.faces.size(); ++t)
+        if (lv.faces[t] != t) return false;
+    const std::vector<Vec3>& normal = original.wedges.normal;
+    if (normal.empty()) return true;  // normals from the same triangles
+    auto same = [](Vec3 p, Vec3 q) { return p.x == q.x && p.y == q.y && p.z == q.z; };
+    for (size_t t = 0; t < lv.triangles.size(); ++t)
+        for (size_t j = 0; j < 3; ++j)
+            if (!same(normal[lv.cornerWedges[t][j]], normal[original.cornerWedges[t][j]])) return false;
+    return true;
+}
+
 }  // namespace lodbake::lod_detail

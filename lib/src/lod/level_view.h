@@ -34,4 +34,9 @@ TriMesh asTriMesh(const TriMesh& original, const LevelView& lv);
 // same positions (a level simplify could not make coarser, unmoved by vertex placement).
 bool sameSurface(const LevelView& a, const LevelView& b);
 
+// The level shades as the original does: it is the original's triangles, each of the same face,
+// unmoved, whose corners carry the original corners' normals (their wedges may be the level's own
+// copies). A normal map baked for it would be flat.
+bool showsOriginalSurface(const TriMesh& original, const LevelView& lv);
+
 }  // namespace lodbake::lod_detail
