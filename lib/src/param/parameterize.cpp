@@ -53,6 +53,10 @@ ParameterizeResult parameterize(const TriMesh& mesh, const Multires& multires, c
     std::vector<LocalChart> charts = localCharts(mesh, multires, res.charts, FaceGrid(mesh), radius);  // (2)
     solveCharts(charts, options, res);                                         // (3)
     splitFailedCharts(mesh, options, charts, res);                             // (3b)
+    if (!options.layout) {
+        res.seconds = secondsSince(t0);
+        return res;
+    }
     double chartUvArea = measureCharts(charts, res);                           // (4)
     for (LocalChart& c : charts) alignChart(c.uv);
     // (5)-(7), then the LOD0 fallback: original faces still folded in the packed atlas (a chart

@@ -32,13 +32,10 @@ uint32_t countRegions(const std::vector<uint32_t>& faceRegion) {
     return uint32_t(std::unique(reps.begin(), reps.end()) - reps.begin());
 }
 
-// The rank-j layout: parameterize over levels 1..last with `charts` (faceRegion form) as the last
-// level's regions and chart merging disabled.
-// `badParents` receives the parent charts (ids of `parentChart`) whose pieces came out worse than
-// the parent: summed E above parentE[p] (r = 1), or a piece left at its Tutte map.
-ChartLayout rankLayout(const TriMesh& mesh, const Multires& mr, uint32_t last, const std::vector<uint32_t>& charts,
-                       const RefineOptions& o, const std::vector<uint32_t>& parentChart, const std::vector<ChartEnergy>& parentE,
-                       RankResult& rr, std::vector<uint32_t>& badParents) {
+// parameterize over levels 1..last with `charts` (faceRegion form) as the last level's regions and
+// chart merging disabled; `layout` false stops once the charts are solved.
+ParameterizeResult parameterizeRank(const TriMesh& mesh, const Multires& mr, uint32_t last, const std::vector<uint32_t>& charts,
+                                    const RefineOptions& o, bool layout, RankResult& rr) {
     // Levels 1..last keep their pairs and triangles (guarded by the solver); for last = 0 a level
     // without geometry carries the charts.
     Multires sub;
@@ -53,13 +50,16 @@ ChartLayout rankLayout(const TriMesh& mesh, const Multires& mr, uint32_t last, c
     po.charts.maxCharts = 0;
     po.charts.maxRegionEnergy = 1e-300;  // refuse every merge: the split charts are final
     po.progress = nullptr;
+    po.layout = layout;
     ParameterizeResult pr = parameterize(mesh, sub, po);
-    rr.chartFlips = pr.flips;
-    rr.chartOverlaps = pr.overlaps;
-    rr.levelFlipsInSolve = pr.levelFlips;
-    rr.parameterizeSeconds = pr.seconds;
-    rr.methods.clear();
-    for (const ChartReport& c : pr.chartReports) ++rr.methods[c.method];
+    rr.parameterizeSeconds += pr.seconds;
+    return pr;
+}
+
+// The parent charts (ids of `parentChart`) whose pieces in `pr` came out worse than the parent:
+// summed E above parentE[p] (r = 1), or a piece left at its Tutte map.
+std::vector<uint32_t> worseParents(const TriMesh& mesh, const ParameterizeResult& pr, const RefineOptions& o,
+                                   const std::vector<uint32_t>& parentChart, const std::vector<ChartEnergy>& parentE) {
     const double r = (512.0 * 512.0) / (double(o.param.textureSize) * o.param.textureSize);
     std::vector<double> childE(parentE.size(), 0);
     std::vector<char> tutte(parentE.size(), 0), counted(pr.charts.chartCount, 0);
@@ -71,9 +71,22 @@ ChartLayout rankLayout(const TriMesh& mesh, const Multires& mr, uint32_t last, c
         const ChartReport& cr = pr.chartReports[size_t(c)];
         if (cr.method == "tutte" && o.param.solve.maxIterations > 0) tutte[parentChart[f]] = 1;
     }
-    badParents.clear();
+    std::vector<uint32_t> bad;
     for (uint32_t p = 0; p < parentE.size(); ++p)
-        if (tutte[p] || childE[p] > parentE[p].E) badParents.push_back(p);
+        if (tutte[p] || childE[p] > parentE[p].E) bad.push_back(p);
+    return bad;
+}
+
+// The rank-j layout of `charts`: parameterizeRank with the atlas.
+// \throw SolverError when UV triangles of the original stay flipped or overlapping.
+ChartLayout rankLayout(const TriMesh& mesh, const Multires& mr, uint32_t last, const std::vector<uint32_t>& charts,
+                       const RefineOptions& o, RankResult& rr) {
+    ParameterizeResult pr = parameterizeRank(mesh, mr, last, charts, o, true, rr);
+    rr.chartFlips = pr.flips;
+    rr.chartOverlaps = pr.overlaps;
+    rr.levelFlipsInSolve = pr.levelFlips;
+    rr.methods.clear();
+    for (const ChartReport& c : pr.chartReports) ++rr.methods[c.method];
     if (pr.flips > 0 || pr.overlaps > 0)
         throw SolverError("rank " + std::to_string(rr.rank) + ": " + std::to_string(pr.flips) + " flipped and " +
                           std::to_string(pr.overlaps) + " overlapping UV triangles");
@@ -300,7 +313,9 @@ void keepLevelTrianglesWhole(const TriMesh& mesh, const Multires& mr, const Char
 }
 
 // Parameterises the candidate's charts; parents whose pieces came out worse than the parent are
-// split again, finer (twice as many pieces) for two rounds and then not at all.
+// split again, finer (twice as many pieces) for two rounds and then not at all. Only the charts'
+// solves decide a re-split, so the rounds before the last solve without an atlas; the last one's
+// solves come from the candidate's solve cache and its atlas is the rank's layout.
 // `parentIsT0`: the parent is rank 0 (T0 itself), whose measure `base` has.
 void solveRankLayout(const TriMesh& mesh, const Multires& mr, const ChartLayout& parent, bool parentIsT0, const RefineOptions& o,
                      const ChartEnergyOptions& eo, BaseMeasures& base, std::vector<uint32_t>& per, SplitCandidate& cand,
@@ -308,14 +323,16 @@ void solveRankLayout(const TriMesh& mesh, const Multires& mr, const ChartLayout&
     // The parent layout's own energy per chart over the levels this rank serves.
     const std::vector<ChartEnergy> parentE =
         parentIsT0 ? base.upTo(cand.level).chartEnergies : measureLayout(mesh, mr, parent, cand.level, eo).chartEnergies;
-    std::vector<uint32_t> bad;
-    for (int attempt = 0;; ++attempt) {
-        rr.layout = rankLayout(mesh, mr, rr.lastLevel, cand.charts, o, parent.faceChart, parentE, rr, bad);
-        if (bad.empty() || attempt == 3) break;
+    rr.parameterizeSeconds = 0;
+    for (int attempt = 0; attempt < 3; ++attempt) {
+        const ParameterizeResult solved = parameterizeRank(mesh, mr, rr.lastLevel, cand.charts, o, false, rr);
+        const std::vector<uint32_t> bad = worseParents(mesh, solved, o, parent.faceChart, parentE);
+        if (bad.empty()) break;
         for (uint32_t p : bad) per[p] = attempt < 2 ? per[p] * 2 : 1;
         cand.charts = splitCharts(mesh, parent.faceChart, parent.chartCount, cand.regions, per, cand.count, &cand.memo);
         ++rr.resplits;
     }
+    rr.layout = rankLayout(mesh, mr, rr.lastLevel, cand.charts, o, rr);
     for (uint32_t p : per) rr.unsplit += p == 1 ? 1 : 0;
 }
 

@@ -44,6 +44,12 @@ struct ParameterizeOptions {
     bool crossingIslands = true;
     std::function<bool(double)> progress;  // fraction done; may be empty
     std::shared_ptr<ChartSolveCache> solveCache;  // may be empty (every chart solved)
+    // false: stop once the charts are solved and failed charts split (step 3b): the result has the
+    // charts, each chart's solve (ChartReport: initial and final E, method, start, iterations) and
+    // the solve totals, and no atlas (cornerUV, levels, islands empty; no stretch figures). Those
+    // solves are the full run's: the atlas fallbacks after them carve faces into charts of their
+    // own and leave every solved chart's report as it is.
+    bool layout = true;
 };
 
 struct ChartReport {
