@@ -36,8 +36,11 @@ void placeVertices(const Asset& asset, LevelView& lv, bool posed, PosedDistanceR
     time.placeSeconds = secondsSince(t0);
     if (placed.moved > 0) {
         lv.positions = std::move(placed.positions);
-        GeometricDistance after = measureLevel(asset, lv, posed, original, dopt);
-        report.applied = after.hausdorff <= d.hausdorff;
+        // Only a kept placement needs its figures: the measure stops once it exceeds d's Hausdorff.
+        DistanceOptions bounded = dopt;
+        bounded.stopAbove = d.hausdorff;
+        GeometricDistance after = measureLevel(asset, lv, posed, original, bounded);
+        report.applied = !after.stopped && after.hausdorff <= d.hausdorff;
         if (report.applied) d = after;
         else lv.positions.clear();
     }

@@ -66,7 +66,7 @@ const DistanceReference& PosedDistanceReference::bind() {
 
 GeometricDistance PosedDistanceReference::distance(const TriMesh& b, const DistanceOptions& options) {
     GeometricDistance out = surfaceDistance(bind(), b, options);
-    if (rig_.empty()) return out;
+    if (rig_.empty() || out.stopped) return out;
     // A pose that puts `a` and `b` where the bind pose or an earlier pose does measures the same
     // surfaces again: its figures would raise nothing (a higher refineFloor only refines fewer runs).
     std::vector<TriMesh> posedB(poses_.size());
@@ -99,6 +99,10 @@ GeometricDistance PosedDistanceReference::distance(const TriMesh& b, const Dista
         out.hausdorff = std::max(out.hausdorff, d.hausdorff);
         out.mean = std::max(out.mean, d.mean);
         out.rms = std::max(out.rms, d.rms);
+        if (d.stopped) {  // the poses after it could only raise the figures
+            out.stopped = true;
+            break;
+        }
     }
     const double diag = out.diagonal;
     out.relHausdorff = diag > 0 ? out.hausdorff / diag : 0;

@@ -14,7 +14,8 @@ namespace lodbake {
 // a and b are asset.mesh or its levels, their corner wedges index the same wedge arrays); returns
 // the bind-pose figures with hausdorff, mean and rms (and their one-sided parts) raised to the
 // largest over the poses. The relative figures stay relative to a's bind-pose diagonal. A pose
-// that flattens either mesh to no area is skipped.
+// that flattens either mesh to no area is skipped. With DistanceOptions::stopAbove, measuring stops
+// at the first pose (the bind pose first) whose distance exceeds it (GeometricDistance::stopped).
 GeometricDistance posedSurfaceDistance(const Rig& rig, const MorphTargets& morph, const TriMesh& a, const TriMesh& b,
                                        const std::vector<PoseSample>& poses, const DistanceOptions& options = {});
 
