@@ -218,6 +218,18 @@ TEST(PosedDistance, BoundedMeasureStopsExactlyAboveTheBound) {
             EXPECT_EQ(g.rms, full.rms);
         }
     }
+    // Taken a pose at a time: running figures never above the full ones, the full ones at the end.
+    PosedDistanceReference reference(a.rig, a.morph, a.mesh, poses);
+    PosedDistanceReference::Measure m = reference.measure(lm);
+    size_t steps = 0;
+    for (; !m.done(); ++steps) {
+        m.step(d);
+        EXPECT_LE(m.figures().hausdorff, full.hausdorff);
+    }
+    EXPECT_EQ(steps, poses.size() + 1);
+    EXPECT_EQ(m.figures().hausdorff, full.hausdorff);
+    EXPECT_EQ(m.figures().rms, full.rms);
+    EXPECT_EQ(m.figures().relMean, full.relMean);
 }
 
 // The influence rule's default: with sampled animation poses the posed measure judges a collapse
