@@ -214,6 +214,33 @@ TEST(SurfaceDistance, RefinedMaximumIsTheExhaustiveOneWithFewerQueries) {
     EXPECT_LT(10 * (r.aToB.samples + r.bToA.samples), 6 * (e.aToB.samples + e.bToA.samples));
 }
 
+// A measure bounded by stopAbove stops exactly when the full Hausdorff distance exceeds the bound
+// (whatever the threads), and otherwise gives the full figures.
+TEST(SurfaceDistance, BoundedMeasureStopsExactlyAboveTheBound) {
+    const TriMesh a = square(0), b = square(0.25);
+    for (size_t stride : {size_t(1), size_t(8)}) {
+        DistanceOptions o{20000};
+        o.refineStride = stride;
+        const GeometricDistance full = surfaceDistance(a, b, o);
+        EXPECT_FALSE(full.stopped);
+        for (double bound : {0.0, 0.5 * full.hausdorff, full.hausdorff, 2 * full.hausdorff})
+            for (int threads : {1, 3}) {
+                DistanceOptions bounded = o;
+                bounded.stopAbove = bound;
+                bounded.threads = threads;
+                const GeometricDistance d = surfaceDistance(a, b, bounded);
+                EXPECT_EQ(d.stopped, full.hausdorff > bound) << "bound " << bound;
+                if (d.stopped) {
+                    EXPECT_GT(d.hausdorff, bound);
+                } else {
+                    EXPECT_EQ(d.hausdorff, full.hausdorff);
+                    EXPECT_EQ(d.rms, full.rms);
+                    EXPECT_EQ(d.mean, full.mean);
+                }
+            }
+    }
+}
+
 // --- rendering and image metrics ----------------------------------------------------------
 
 TEST(Render, SquareSeenFromAboveCoversTheCentre) {

@@ -186,6 +186,52 @@ TEST(PosedDistance, RepeatedPosesMeasureTheSame) {
     }
 }
 
+// A posed measure bounded by stopAbove stops at the first pose above the bound, exactly when the
+// full figures' Hausdorff distance exceeds it; below, it gives the full figures.
+TEST(PosedDistance, BoundedMeasureStopsExactlyAboveTheBound) {
+    const Asset a = bentTube();
+    const std::vector<PoseSample> poses = samplePoses(a.rig, {});
+    SimplifyOptions so;
+    so.levels = {{0.1, 0, 0}};
+    so.posed = poseWedges(a.rig, a.morph, a.mesh, poses);
+    const SimplifyResult simplified = simplify(a.mesh, so);
+    const Level& L = simplified.multires.levels[0];
+    TriMesh lm = a.mesh;
+    lm.triangles = L.triangles;
+    lm.cornerWedges = L.cornerWedges;
+    DistanceOptions d;
+    d.samplesPerSide = 4000;
+    d.refineStride = 8;
+    d.threads = 1;
+    const GeometricDistance full = posedSurfaceDistance(a.rig, a.morph, a.mesh, lm, poses, d);
+    const double bind = surfaceDistance(a.mesh, lm, d).hausdorff;
+    ASSERT_GT(full.hausdorff, bind);
+    for (double bound : {0.5 * bind, 0.5 * (bind + full.hausdorff), full.hausdorff}) {
+        DistanceOptions bounded = d;
+        bounded.stopAbove = bound;
+        const GeometricDistance g = posedSurfaceDistance(a.rig, a.morph, a.mesh, lm, poses, bounded);
+        EXPECT_EQ(g.stopped, full.hausdorff > bound) << "bound " << bound;
+        if (g.stopped) {
+            EXPECT_GT(g.hausdorff, bound);
+        } else {
+            EXPECT_EQ(g.hausdorff, full.hausdorff);
+            EXPECT_EQ(g.rms, full.rms);
+        }
+    }
+    // Taken a pose at a time: running figures never above the full ones, the full ones at the end.
+    PosedDistanceReference reference(a.rig, a.morph, a.mesh, poses);
+    PosedDistanceReference::Measure m = reference.measure(lm);
+    size_t steps = 0;
+    for (; !m.done(); ++steps) {
+        m.step(d);
+        EXPECT_LE(m.figures().hausdorff, full.hausdorff);
+    }
+    EXPECT_EQ(steps, poses.size() + 1);
+    EXPECT_EQ(m.figures().hausdorff, full.hausdorff);
+    EXPECT_EQ(m.figures().rms, full.rms);
+    EXPECT_EQ(m.figures().relMean, full.relMean);
+}
+
 // The influence rule's default: with sampled animation poses the posed measure judges a collapse
 // between differently bound vertices, so the tube's blend rings (each bound 0.125 apart in total
 // variation) collapse and a 2% level reaches its target; in the bind pose only, with the rest

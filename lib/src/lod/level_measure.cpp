@@ -7,41 +7,72 @@
 #include "lodbake/metrics/posed_distance.h"
 #include "lod/vertex_placement.h"
 
+#include <optional>
+
 namespace lodbake::lod_detail {
 namespace {
 
 constexpr size_t kMeasureStride = 8;  // coarse pass of pack's measure: every 8th sample (DistanceOptions)
 
-// The measured deviation of a level view from the original; for a rigged asset the largest over
-// the bind pose and the sampled poses (posed through the wedges its corners keep).
-GeometricDistance measureLevel(const Asset& asset, const LevelView& lv, bool posed, PosedDistanceReference& original,
-                               const DistanceOptions& dopt) {
+// A level view as the measure reads it: for a rigged asset posed through the wedges its corners keep.
+TriMesh measuredMesh(const Asset& asset, const LevelView& lv, bool posed) {
     TriMesh level = asTriMesh(asset.mesh, lv);
     if (posed) {
         level.wedges = asset.mesh.wedges;
         level.cornerWedges = lv.cornerWedges;
     }
-    return original.distance(level, dopt);
+    return level;
 }
 
-// Vertex placement of level view `lv` (measured as `d`): kept when the measured Hausdorff
-// distance does not grow, which `d` then holds. `time` receives the placement's seconds.
-void placeVertices(const Asset& asset, LevelView& lv, bool posed, PosedDistanceReference& original,
-                   const DistanceOptions& dopt, GeometricDistance& d, PackLevelReport::Placement& report, PackLevelProfile& time) {
+// Whether the level measured by `after` deviates no more than measured by `before` (full
+// Hausdorff distances, the largest over the bind pose and the sampled poses), measuring only what
+// decides it: the side behind is measured a pose further, and a side's last poses stop once it
+// passes the other's full figure. When it returns true `after` is done, otherwise `before`.
+bool noWorse(PosedDistanceReference::Measure& after, PosedDistanceReference::Measure& before, const DistanceOptions& dopt) {
+    for (;;) {
+        const double a = after.figures().hausdorff, b = before.figures().hausdorff;
+        if (after.done() && a <= b) return true;
+        if (before.done() && a > b) return false;
+        DistanceOptions bounded = dopt;
+        if (before.done() || (!after.done() && a < b)) {
+            if (before.done()) bounded.stopAbove = b;
+            after.step(bounded);
+        } else {
+            if (after.done()) bounded.stopAbove = a;
+            before.step(bounded);
+        }
+    }
+}
+
+// Vertex placement of level view `lv`, kept when the measured Hausdorff distance does not grow.
+// `before` is the level's measure as simplify left it (done when the level was measured already).
+// Returns the level's figures: after placement when kept, else before's (then done). `time`
+// receives the placement's seconds.
+GeometricDistance placeVertices(const Asset& asset, LevelView& lv, bool posed, PosedDistanceReference& original,
+                                const DistanceOptions& dopt, PosedDistanceReference::Measure& before,
+                                PackLevelReport::Placement& report, PackLevelProfile& time) {
     auto t0 = Clock::now();
     PlacementOptions po;
     po.threads = dopt.threads;
     PlacementResult placed = placeLevelVertices(asset.mesh, original.bind(), *lv.data, po);
-    report = {true, false, d.hausdorff, d.relHausdorff, d.rms, d.relRms, placed.moved, placed.fixed, placed.shortened, placed.rounds};
     time.placeSeconds = secondsSince(t0);
+    bool applied = false;
+    GeometricDistance d;
     if (placed.moved > 0) {
         lv.positions = std::move(placed.positions);
-        GeometricDistance after = measureLevel(asset, lv, posed, original, dopt);
-        report.applied = after.hausdorff <= d.hausdorff;
-        if (report.applied) d = after;
+        const TriMesh moved = measuredMesh(asset, lv, posed);
+        PosedDistanceReference::Measure after = original.measure(moved);
+        applied = noWorse(after, before, dopt);
+        if (applied) d = after.figures();
         else lv.positions.clear();
     }
+    while (!applied && !before.done()) before.step(dopt);
+    if (!applied) d = before.figures();
+    // Kept: the figures before it measured only until they reached those after it (a lower bound).
+    const GeometricDistance& b = before.figures();
+    report = {true, applied, b.hausdorff, b.relHausdorff, b.rms, b.relRms, placed.moved, placed.fixed, placed.shortened, placed.rounds};
     time.placementSeconds = secondsSince(t0);
+    return d;
 }
 
 }  // namespace
@@ -61,17 +92,26 @@ void measureLevels(const Asset& asset, std::vector<LevelView>& views, const Pack
     // The original's trees, built once for every level and placement and freed before the bakes.
     PosedDistanceReference original(asset.rig, asset.morph, asset.mesh, poses);
     const bool posed = !poses.empty();
-    GeometricDistance previous;  // level k - 1's, before vertex placement
+    // Level k - 1's figures before vertex placement, when measured in full.
+    std::optional<GeometricDistance> previous;
     for (size_t k = 0; k < n; ++k) {
         PackLevelReport& r = res.reports[k];
         r.source = views[k].source;
         r.maxDeviation = views[k].maxDeviation;
         if (k == 0) continue;
         // A level that repeats the one before it (unmoved) measures the same.
-        GeometricDistance d = k > 1 && sameSurface(views[k], views[k - 1]) ? previous : measureLevel(asset, views[k], posed, original, dopt);
-        previous = d;
-        if (options.vertexPlacement && options.projectLevels && views[k].data)
-            placeVertices(asset, views[k], posed, original, dopt, d, r.placement, time[k]);
+        const TriMesh level = measuredMesh(asset, views[k], posed);
+        PosedDistanceReference::Measure before =
+            k > 1 && previous && sameSurface(views[k], views[k - 1]) ? PosedDistanceReference::Measure(*previous) : original.measure(level);
+        GeometricDistance d;
+        if (options.vertexPlacement && options.projectLevels && views[k].data) {
+            d = placeVertices(asset, views[k], posed, original, dopt, before, r.placement, time[k]);
+        } else {
+            while (!before.done()) before.step(dopt);
+            d = before.figures();
+        }
+        previous.reset();
+        if (before.done() && !before.figures().stopped) previous = before.figures();
         r.hausdorff = d.hausdorff;
         r.relHausdorff = d.relHausdorff;
         r.rms = d.rms;

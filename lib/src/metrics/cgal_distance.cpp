@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <list>
 #include <memory>
@@ -36,6 +37,21 @@ using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
 constexpr size_t kChunk = 4096;  // queries per parallel work item (fixed: results never depend on threads)
 
 Point toPoint(Vec3 p) { return Point(p.x, p.y, p.z); }
+
+// DistanceOptions::stopAbove seen across the work items of one measure: set by the first distance
+// above the bound, after which items do no more work (their figures are partial and unused).
+class StopAbove {
+public:
+    explicit StopAbove(double bound) : bound_(bound) {}
+    void see(double d) {
+        if (d > bound_) hit_.store(true, std::memory_order_relaxed);
+    }
+    bool hit() const { return hit_.load(std::memory_order_relaxed); }
+
+private:
+    double bound_;
+    std::atomic<bool> hit_{false};
+};
 
 // Non-degenerate triangles of a mesh, as CGAL triangles, with their areas.
 struct Surface {
@@ -125,7 +141,7 @@ Vec3 samplePoint(const Surface& s, size_t i, size_t n, double offset) {
     return a + (b - a) * u + (c - a) * v;
 }
 
-OneSidedDistance oneSided(const Surface& from, const Measured& to, const DistanceOptions& o) {
+OneSidedDistance oneSided(const Surface& from, const Measured& to, const DistanceOptions& o, StopAbove& stop) {
     const size_t n = o.samplesPerSide;
     const size_t total = n + from.vertices.size();
     const double offset = std::fmod(0.5 + 0.6180339887498949 * static_cast<double>(o.seed % 1000003), 1.0);
@@ -136,12 +152,14 @@ OneSidedDistance oneSided(const Surface& from, const Measured& to, const Distanc
     std::vector<Partial> partial(chunks);
     parallelFor(chunks, o.threads, [&](size_t c) {
         Partial p;
+        if (stop.hit()) return;
         size_t end = std::min(total, (c + 1) * kChunk);
         NearestWalk nearest(to.tree, to.triangleSize);
         for (size_t i = c * kChunk; i < end; ++i) {
             const Point q = toPoint(i < n ? samplePoint(from, i, n, offset) : from.vertices[i - n]);
             double d = std::sqrt(CGAL::squared_distance(q, nearest(q)));
             p.max = std::max(p.max, d);
+            stop.see(d);
             if (i < n) {
                 p.sum += d;
                 p.sum2 += d * d;
@@ -223,16 +241,18 @@ private:
 // area samples reach): a vertex contributes only to the maximum, so one that a coarse sample of
 // `grid` (null: none) bounds below coarseMax is not queried. `queried` counts the queries.
 double vertexMaximum(const Surface& from, const Measured& to, const CoarseGrid* grid, double coarseMax, int threads,
-                     size_t& queried) {
+                     StopAbove& stop, size_t& queried) {
     const size_t nv = from.vertices.size(), items = (nv + kChunk - 1) / kChunk;
     const double limit = coarseMax * (1 - 1e-9);  // margin for rounding
     std::vector<double> itemMax(items, 0.0);
     std::vector<size_t> itemQueried(items, 0);
     parallelFor(items, threads, [&](size_t c) {
-        for (size_t v = c * kChunk; v < std::min(nv, (c + 1) * kChunk); ++v) {
+        for (size_t v = c * kChunk; v < std::min(nv, (c + 1) * kChunk) && !stop.hit(); ++v) {
             const Vec3 p = from.vertices[v];
             if (grid && grid->boundsBelow(p, limit)) continue;
-            itemMax[c] = std::max(itemMax[c], std::sqrt(CGAL::squared_distance(toPoint(p), to.tree.closest_point(toPoint(p)))));
+            const double d = std::sqrt(CGAL::squared_distance(toPoint(p), to.tree.closest_point(toPoint(p))));
+            itemMax[c] = std::max(itemMax[c], d);
+            stop.see(d);
             ++itemQueried[c];
         }
     });
@@ -245,7 +265,7 @@ double vertexMaximum(const Surface& from, const Measured& to, const CoarseGrid* 
     return m;
 }
 
-OneSidedDistance oneSidedRefined(const Surface& from, const Measured& to, const DistanceOptions& o) {
+OneSidedDistance oneSidedRefined(const Surface& from, const Measured& to, const DistanceOptions& o, StopAbove& stop) {
     const size_t n = o.samplesPerSide, stride = o.refineStride;
     const double offset = std::fmod(0.5 + 0.6180339887498949 * static_cast<double>(o.seed % 1000003), 1.0);
     const size_t blocks = (n + kRefineBlock - 1) / kRefineBlock;
@@ -261,7 +281,7 @@ OneSidedDistance oneSidedRefined(const Surface& from, const Measured& to, const 
     std::vector<Vec3> coarsePoint(coarse.size());                // and where it lies
     parallelFor(sampleItems, o.threads, [&](size_t c) {
         Partial p;
-        for (size_t b = c * blocksPerItem; b < std::min(blocks, (c + 1) * blocksPerItem); ++b) {
+        for (size_t b = c * blocksPerItem; b < std::min(blocks, (c + 1) * blocksPerItem) && !stop.hit(); ++b) {
             const size_t first = (b * kRefineBlock + stride - 1) / stride * stride;  // first strided index
             NearestWalk nearest(to.tree, to.triangleSize);
             for (size_t i = first; i < std::min(n, (b + 1) * kRefineBlock); i += stride) {
@@ -270,6 +290,7 @@ OneSidedDistance oneSidedRefined(const Surface& from, const Measured& to, const 
                 const double d = std::sqrt(CGAL::squared_distance(q, nearest(q)));
                 coarse[i / stride] = d;
                 blockMax[b] = std::max(blockMax[b], d);
+                stop.see(d);
                 p.sum += d;
                 p.sum2 += d * d;
                 ++p.count;
@@ -288,6 +309,7 @@ OneSidedDistance oneSidedRefined(const Surface& from, const Measured& to, const 
         count += p.count;
     }
     size_t vertexQueries = 0;
+    if (stop.hit()) return r;
     {
         // The grid pays off only when the vertices outnumber a fair share of the coarse samples;
         // without it every vertex is queried: the maximum is the same either way.
@@ -296,8 +318,9 @@ OneSidedDistance oneSidedRefined(const Surface& from, const Measured& to, const 
             const double spacing = std::sqrt(from.cumulativeArea.back() / double(std::max<size_t>(1, coarse.size())));
             grid.emplace(coarsePoint, coarse, 2 * spacing);
         }
-        r.max = std::max(r.max, vertexMaximum(from, to, grid ? &*grid : nullptr, r.max, o.threads, vertexQueries));
+        r.max = std::max(r.max, vertexMaximum(from, to, grid ? &*grid : nullptr, r.max, o.threads, stop, vertexQueries));
     }
+    if (stop.hit()) return r;
     const double threshold = o.refineFraction * std::max(r.max, o.refineFloor);
     std::vector<size_t> hot;
     for (size_t b = 0; b < blocks; ++b)
@@ -310,6 +333,7 @@ OneSidedDistance oneSidedRefined(const Surface& from, const Measured& to, const 
     std::vector<double> hotMax(hot.size(), 0.0);
     std::vector<size_t> hotQueried(hot.size(), 0);
     parallelFor(hot.size(), o.threads, [&](size_t h) {
+        if (stop.hit()) return;
         const size_t b = hot[h], begin = b * kRefineBlock, end = std::min(n, begin + kRefineBlock);
         std::vector<std::pair<Vec3, double>> strided;  // the run's strided samples and their distances
         for (size_t i = (begin + stride - 1) / stride * stride; i < end; i += stride)
@@ -322,7 +346,9 @@ OneSidedDistance oneSidedRefined(const Surface& from, const Measured& to, const 
             for (const auto& [c, d] : strided) bound = std::min(bound, d + length(p - c));
             if (bound < known) continue;
             const Point q = toPoint(p);
-            hotMax[h] = std::max(hotMax[h], std::sqrt(CGAL::squared_distance(q, nearest(q))));
+            const double d = std::sqrt(CGAL::squared_distance(q, nearest(q)));
+            hotMax[h] = std::max(hotMax[h], d);
+            stop.see(d);
             ++hotQueried[h];
         }
     });
@@ -336,8 +362,8 @@ OneSidedDistance oneSidedRefined(const Surface& from, const Measured& to, const 
     return r;
 }
 
-OneSidedDistance measureSide(const Surface& from, const Measured& to, const DistanceOptions& o) {
-    return o.refineStride > 1 && o.samplesPerSide > 0 ? oneSidedRefined(from, to, o) : oneSided(from, to, o);
+OneSidedDistance measureSide(const Surface& from, const Measured& to, const DistanceOptions& o, StopAbove& stop) {
+    return o.refineStride > 1 && o.samplesPerSide > 0 ? oneSidedRefined(from, to, o, stop) : oneSided(from, to, o, stop);
 }
 
 }  // namespace
@@ -373,10 +399,14 @@ GeometricDistance surfaceDistance(const DistanceReference& reference, const TriM
     if (mb.surface.triangles.empty()) throw Impossible("second mesh has no triangle with non-zero area");
 
     GeometricDistance r;
-    r.aToB = measureSide(ma.surface, mb, options);
-    DistanceOptions second = options;
-    second.refineFloor = std::max(options.refineFloor, r.aToB.max);
-    r.bToA = measureSide(mb.surface, ma, second);
+    StopAbove stop(options.stopAbove);
+    r.aToB = measureSide(ma.surface, mb, options, stop);
+    if (!stop.hit()) {
+        DistanceOptions second = options;
+        second.refineFloor = std::max(options.refineFloor, r.aToB.max);
+        r.bToA = measureSide(mb.surface, ma, second, stop);
+    }
+    r.stopped = stop.hit();
     r.hausdorff = std::max(r.aToB.max, r.bToA.max);
     r.mean = 0.5 * (r.aToB.mean + r.bToA.mean);
     r.rms = std::sqrt(0.5 * (r.aToB.rms * r.aToB.rms + r.bToA.rms * r.bToA.rms));

@@ -65,46 +65,64 @@ const DistanceReference& PosedDistanceReference::bind() {
 }
 
 GeometricDistance PosedDistanceReference::distance(const TriMesh& b, const DistanceOptions& options) {
-    GeometricDistance out = surfaceDistance(bind(), b, options);
-    if (rig_.empty()) return out;
+    Measure m(*this, b);
+    while (!m.done()) m.step(options);
+    return m.figures();
+}
+
+PosedDistanceReference::Measure PosedDistanceReference::measure(const TriMesh& b) { return Measure(*this, b); }
+
+bool PosedDistanceReference::Measure::done() const {
+    return !ref_ || out_.stopped || next_ > (ref_->rig_.empty() ? 0 : ref_->poses_.size());
+}
+
+void PosedDistanceReference::Measure::raiseBy(const GeometricDistance& d) {
+    raise(out_.aToB, d.aToB);
+    raise(out_.bToA, d.bToA);
+    out_.hausdorff = std::max(out_.hausdorff, d.hausdorff);
+    out_.mean = std::max(out_.mean, d.mean);
+    out_.rms = std::max(out_.rms, d.rms);
+    out_.stopped = d.stopped;
+    const double diag = out_.diagonal;
+    out_.relHausdorff = diag > 0 ? out_.hausdorff / diag : 0;
+    out_.relMean = diag > 0 ? out_.mean / diag : 0;
+    out_.relRms = diag > 0 ? out_.rms / diag : 0;
+}
+
+void PosedDistanceReference::Measure::step(const DistanceOptions& options) {
+    PosedDistanceReference& r = *ref_;
+    if (next_++ == 0) {
+        out_ = surfaceDistance(r.bind(), *b_, options);
+        if (!r.rig_.empty()) posedB_.resize(r.poses_.size());
+        return;
+    }
     // A pose that puts `a` and `b` where the bind pose or an earlier pose does measures the same
     // surfaces again: its figures would raise nothing (a higher refineFloor only refines fewer runs).
-    std::vector<TriMesh> posedB(poses_.size());
-    for (size_t k = 0; k < poses_.size(); ++k) {
-        const PoseSample& s = poses_[k];
-        prepare(k);
-        const int same = sameAs_[k];
-        if (same != int(k) && (same == kBindPose || posed_[size_t(same)])) {
-            try {
-                const TriMesh p = poseMesh(rig_, morph_, b, s.animation, s.time);
-                if (sameSurface(p, same == kBindPose ? b : posedB[size_t(same)])) continue;
-                posedB[k] = p;
-            } catch (const Impossible&) {
-                continue;  // the pose scales the level to no area
-            }
-        }
-        const std::optional<DistanceReference>& reference = same == kBindPose ? bind_ : posed_[size_t(same)];
-        if (!reference) continue;
-        GeometricDistance d;
-        DistanceOptions posedOptions = options;  // a pose's runs below the maximum so far need no refining
-        posedOptions.refineFloor = std::max(options.refineFloor, out.hausdorff);
+    const size_t k = next_ - 2;
+    const PoseSample& s = r.poses_[k];
+    r.prepare(k);
+    const int same = r.sameAs_[k];
+    if (same != int(k) && (same == kBindPose || r.posed_[size_t(same)])) {
         try {
-            if (posedB[k].triangles.empty()) posedB[k] = poseMesh(rig_, morph_, b, s.animation, s.time);
-            d = surfaceDistance(*reference, posedB[k], posedOptions);
+            const TriMesh p = poseMesh(r.rig_, r.morph_, *b_, s.animation, s.time);
+            if (sameSurface(p, same == kBindPose ? *b_ : posedB_[size_t(same)])) return;
+            posedB_[k] = p;
         } catch (const Impossible&) {
-            continue;  // the pose scales the level to no area
+            return;  // the pose scales the level to no area
         }
-        raise(out.aToB, d.aToB);
-        raise(out.bToA, d.bToA);
-        out.hausdorff = std::max(out.hausdorff, d.hausdorff);
-        out.mean = std::max(out.mean, d.mean);
-        out.rms = std::max(out.rms, d.rms);
     }
-    const double diag = out.diagonal;
-    out.relHausdorff = diag > 0 ? out.hausdorff / diag : 0;
-    out.relMean = diag > 0 ? out.mean / diag : 0;
-    out.relRms = diag > 0 ? out.rms / diag : 0;
-    return out;
+    const std::optional<DistanceReference>& reference = same == kBindPose ? r.bind_ : r.posed_[size_t(same)];
+    if (!reference) return;
+    GeometricDistance d;
+    DistanceOptions posedOptions = options;  // a pose's runs below the maximum so far need no refining
+    posedOptions.refineFloor = std::max(options.refineFloor, out_.hausdorff);
+    try {
+        if (posedB_[k].triangles.empty()) posedB_[k] = poseMesh(r.rig_, r.morph_, *b_, s.animation, s.time);
+        d = surfaceDistance(*reference, posedB_[k], posedOptions);
+    } catch (const Impossible&) {
+        return;  // the pose scales the level to no area
+    }
+    raiseBy(d);
 }
 
 GeometricDistance posedSurfaceDistance(const Rig& rig, const MorphTargets& morph, const TriMesh& a, const TriMesh& b,

@@ -125,7 +125,8 @@ struct PackLevelReport {
     // what moved.
     struct Placement {
         bool tried = false, applied = false;
-        double hausdorff = 0, relHausdorff = 0, rms = 0, relRms = 0;  // before placement
+        // Before placement; when it was kept, measured only until they reached the figures after it.
+        double hausdorff = 0, relHausdorff = 0, rms = 0, relRms = 0;
         size_t moved = 0, fixed = 0, shortened = 0;  // vertices moved / held on open edges / steps shortened against flips
         int rounds = 0;               // least-squares rounds run
     } placement;

@@ -14,7 +14,7 @@ struct PackLevelProfile {
     };
     Steps wall, cpu;
     double bakeSeconds = 0;          // the page bake itself (BakeResult::seconds; 0 for a level that copies the previous one's)
-    double placementSeconds = 0;     // vertex placement and the measure of the moved level (projected coarse levels)
+    double placementSeconds = 0;     // vertex placement and the measures that decide it (projected coarse levels)
     double placeSeconds = 0;         // ... placement alone
     double rankChoiceSeconds = 0, rankChoiceCpuSeconds = 0;  // the layout chosen by the bake (probe, candidates' pages and bakes)
 };

@@ -7,6 +7,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -38,6 +39,11 @@ struct DistanceOptions {
     // A maximum already known to be reached (e.g. another pose's): runs below refineFraction of it
     // are not refined, samples that cannot reach it are not queried. surfaceDistance's second side also takes the first side's maximum.
     double refineFloor = 0;
+    // A bound the caller only compares the Hausdorff distance with: measuring stops as soon as a
+    // distance above it is found (GeometricDistance::stopped). The figures are then partial; only
+    // hausdorff > stopAbove holds. Measuring stops exactly when the full figures' hausdorff would
+    // exceed stopAbove, so an unstopped measure's figures are the full ones, whatever `threads` is.
+    double stopAbove = std::numeric_limits<double>::infinity();
 };
 constexpr size_t kRefineBlock = 256;  // samples per refinement run
 
@@ -57,6 +63,7 @@ struct GeometricDistance {
     double rms = 0;         // sqrt of the mean of the two one-sided mean squares
     double diagonal = 0;    // A's bounding-box diagonal (the unit of the relative figures)
     double relHausdorff = 0, relMean = 0, relRms = 0;  // absolute / diagonal (0 if diagonal == 0)
+    bool stopped = false;   // a distance above DistanceOptions::stopAbove was found: figures partial
 };
 
 // \pre a and b each have at least one triangle with non-zero area.

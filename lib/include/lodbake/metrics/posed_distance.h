@@ -14,7 +14,8 @@ namespace lodbake {
 // a and b are asset.mesh or its levels, their corner wedges index the same wedge arrays); returns
 // the bind-pose figures with hausdorff, mean and rms (and their one-sided parts) raised to the
 // largest over the poses. The relative figures stay relative to a's bind-pose diagonal. A pose
-// that flattens either mesh to no area is skipped.
+// that flattens either mesh to no area is skipped. With DistanceOptions::stopAbove, measuring stops
+// at the first pose (the bind pose first) whose distance exceeds it (GeometricDistance::stopped).
 GeometricDistance posedSurfaceDistance(const Rig& rig, const MorphTargets& morph, const TriMesh& a, const TriMesh& b,
                                        const std::vector<PoseSample>& poses, const DistanceOptions& options = {});
 
@@ -25,10 +26,13 @@ GeometricDistance posedSurfaceDistance(const Rig& rig, const MorphTargets& morph
 // pose of joints that influence nothing) measures what that pose measured: it is not measured again.
 class PosedDistanceReference {
 public:
+    class Measure;
     // `rig`, `morph` and `a` must outlive the reference.
     PosedDistanceReference(const Rig& rig, const MorphTargets& morph, const TriMesh& a, std::vector<PoseSample> poses);
 
     GeometricDistance distance(const TriMesh& b, const DistanceOptions& options = {});
+    // distance(b) taken one pose at a time (Measure::step); `b` must outlive the measure.
+    Measure measure(const TriMesh& b);
     // The bind pose's reference.
     const DistanceReference& bind();
 
@@ -47,6 +51,28 @@ private:
     static constexpr int kBindPose = -1;
 
     void prepare(size_t k);
+};
+
+// A posed measure of one mesh taken one pose at a time, the bind pose first: its running figures
+// are the largest over the poses measured so far (each no more than the full figures), and
+// distance()'s exactly once done() with every step given the same options but for stopAbove.
+class PosedDistanceReference::Measure {
+public:
+    Measure(PosedDistanceReference& reference, const TriMesh& b) : ref_(&reference), b_(&b) {}
+    // A measure taken already: done, with these figures.
+    explicit Measure(const GeometricDistance& figures) : out_(figures) {}
+    bool done() const;
+    // Measures the next pose. A step stopped by options.stopAbove ends the measure (figures().stopped).
+    void step(const DistanceOptions& options);
+    const GeometricDistance& figures() const { return out_; }
+
+private:
+    PosedDistanceReference* ref_ = nullptr;  // null: taken already
+    const TriMesh* b_ = nullptr;
+    size_t next_ = 0;  // 0: the bind pose; k + 1: pose k
+    std::vector<TriMesh> posedB_;
+    GeometricDistance out_;
+    void raiseBy(const GeometricDistance& d);
 };
 
 }  // namespace lodbake
