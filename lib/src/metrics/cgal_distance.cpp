@@ -21,6 +21,7 @@
 #include <CGAL/AABB_triangle_primitive.h>
 #include <CGAL/Simple_cartesian.h>
 
+#include "lodbake/core/closest_point.h"
 #include "lodbake/core/errors.h"
 #include "lodbake/core/parallel.h"
 
@@ -56,6 +57,7 @@ private:
 // Non-degenerate triangles of a mesh, as CGAL triangles, with their areas.
 struct Surface {
     TriangleList triangles;
+    std::vector<uint32_t> faces;         // the mesh face of each triangle
     std::vector<double> cumulativeArea;  // inclusive prefix sums
     std::vector<Vec3> vertices;          // referenced welded positions
 };
@@ -72,6 +74,7 @@ Surface collectSurface(const TriMesh& m) {
         Triangle tri(toPoint(a), toPoint(b), toPoint(c));
         if (tri.is_degenerate()) continue;
         s.triangles.push_back(tri);
+        s.faces.push_back(uint32_t(&t - m.triangles.data()));
         total += area;
         s.cumulativeArea.push_back(total);
     }
@@ -83,15 +86,26 @@ Surface collectSurface(const TriMesh& m) {
 Vec3 toVec(const Point& p) { return {p.x(), p.y(), p.z()}; }
 
 // A surface with its nearest-point tree, built before any parallel query (the lazy build is not
-// thread-safe). The tree refers to `surface.triangles`, which never moves after construction.
+// thread-safe). Samples are drawn from every triangle of `surface`; the tree holds them less
+// coincident copies (withoutCopies: a copy's points are its original's, so no nearest distance
+// changes, while k copies would cost a query k times the work), in `distinct` when there are copies.
+// It refers to `surface.triangles` or `distinct`, which never move after construction.
 struct Measured {
     Surface surface;
+    TriangleList distinct;
     Tree tree;
     double triangleSize = 0;  // square root of the mean triangle area
     explicit Measured(const TriMesh& m) : surface(collectSurface(m)) {
         if (surface.triangles.empty()) return;
         triangleSize = std::sqrt(surface.cumulativeArea.back() / double(surface.triangles.size()));
-        tree.rebuild(surface.triangles.begin(), surface.triangles.end());
+        const std::vector<uint32_t> kept = withoutCopies(m, surface.faces);
+        if (kept.size() < surface.faces.size())
+            for (uint32_t f : kept) {
+                const Tri& t = m.triangles[f];
+                distinct.emplace_back(toPoint(m.positions[t[0]]), toPoint(m.positions[t[1]]), toPoint(m.positions[t[2]]));
+            }
+        const TriangleList& held = kept.size() < surface.faces.size() ? distinct : surface.triangles;
+        tree.rebuild(held.begin(), held.end());
         tree.accelerate_distance_queries();
         tree.squared_distance(surface.triangles[0].vertex(0));
     }

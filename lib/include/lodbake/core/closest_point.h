@@ -8,6 +8,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <vector>
 
 #include "lodbake/core/math.h"
@@ -208,12 +209,29 @@ inline std::vector<uint32_t> withoutCopies(const TriMesh& mesh, const std::vecto
         const Vec3 &a = mesh.positions[t[0]], &b = mesh.positions[t[1]], &c = mesh.positions[t[2]];
         return std::array<double, 9>{a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y, c.z};
     };
-    std::vector<std::pair<std::array<double, 9>, size_t>> keyed(faces.size());
-    for (size_t i = 0; i < faces.size(); ++i) keyed[i] = {corners(faces[i]), i};
-    std::sort(keyed.begin(), keyed.end());
+    // Grouped by a hash of the corners (16 bytes a face, so a million-face surface stays cheap),
+    // then compared exactly within a group.
+    std::vector<std::pair<uint64_t, size_t>> hashed(faces.size());
+    for (size_t i = 0; i < faces.size(); ++i) {
+        uint64_t h = 1469598103934665603ull;
+        for (double x : corners(faces[i])) {
+            uint64_t bits = 0;
+            std::memcpy(&bits, &x, sizeof bits);
+            h = (h ^ bits) * 1099511628211ull;
+        }
+        hashed[i] = {h, i};
+    }
+    std::sort(hashed.begin(), hashed.end());
     std::vector<char> copy(faces.size(), 0);
-    for (size_t i = 1; i < keyed.size(); ++i)
-        if (keyed[i].first == keyed[i - 1].first) copy[keyed[i].second] = 1;
+    for (size_t g = 0; g < hashed.size();) {
+        size_t e = g + 1;
+        while (e < hashed.size() && hashed[e].first == hashed[g].first) ++e;
+        for (size_t i = g + 1; i < e; ++i)  // earlier positions first within the group
+            for (size_t j = g; j < i && !copy[hashed[i].second]; ++j)
+                if (!copy[hashed[j].second] && corners(faces[hashed[j].second]) == corners(faces[hashed[i].second]))
+                    copy[hashed[i].second] = 1;
+        g = e;
+    }
     std::vector<uint32_t> out;
     out.reserve(faces.size());
     for (size_t i = 0; i < faces.size(); ++i)
