@@ -220,6 +220,7 @@ std::optional<Packing> packBitmap(const Footprints& fp, const std::vector<size_t
 
 std::optional<Packing> packBitmap(const Orientations& charts, const std::vector<size_t>& order, double t,
                                   int gutter, int binW, int binH, int scale, int threads) {
+    if (!footprintsFit(charts, t, gutter, scale, binW, binH)) return std::nullopt;
     return packBitmap(footprintsAt(charts, t, gutter, scale, threads), order, binW, binH);
 }
 
@@ -466,15 +467,21 @@ PagePick packFreeSize(const Orientations& turned, const std::vector<Oriented>& c
     // take memory in proportion to tMax^2 for nothing.
     // Large pages with many trials: ranked on a twice coarser grid first (see kRankFromScale).
     const bool ranked = (scale >= kRankFromScale || std::sqrt(a) >= kRankFromSide) && trials.size() > kRankFromTrials;
+    // A trial whose strip some chart cannot lie in fails: it is not packed, and when every trial
+    // fails the footprints are not rasterised (the ranking picks among failures alone).
+    auto sidesFit = [&](const Trial& tr, int s) { return footprintsFit(turned, tMax, gutter, s, tr.width, maxSize); };
+    const bool anyFits = std::any_of(trials.begin(), trials.end(), [&](const Trial& tr) { return sidesFit(tr, scale); });
     Footprints coarse;
-    const Footprints fp = trials.empty() ? Footprints{} : footprintsAt(turned, tMax, gutter, scale, threads, ranked ? &coarse : nullptr);
+    const Footprints fp = !anyFits ? Footprints{} : footprintsAt(turned, tMax, gutter, scale, threads, ranked ? &coarse : nullptr);
     std::vector<std::optional<Packing>> packed(trials.size());
     std::vector<size_t> fine(trials.size());
     std::iota(fine.begin(), fine.end(), size_t(0));
-    if (ranked) {
+    if (!anyFits) fine.clear();
+    if (ranked && anyFits) {
         std::vector<double> cost(trials.size(), 1e300);
         CostBound rank(maxSize, 1e300, kRankSlack);
         parallelFor(trials.size(), threads, [&](size_t i) {
+            if (!sidesFit(trials[i], coarse.scale)) return;
             if (auto p = packBitmap(coarse, orders[trials[i].order], trials[i].width, maxSize, trials[i].rule, &rank))
                 cost[i] = pageCost(p->width, p->height, maxSize);
         });
@@ -483,7 +490,7 @@ PagePick packFreeSize(const Orientations& turned, const std::vector<Oriented>& c
     CostBound bound(maxSize);
     parallelFor(fine.size(), threads, [&](size_t k) {
         const Trial& tr = trials[fine[k]];
-        packed[fine[k]] = packBitmap(fp, orders[tr.order], tr.width, maxSize, tr.rule, &bound);
+        if (sidesFit(tr, scale)) packed[fine[k]] = packBitmap(fp, orders[tr.order], tr.width, maxSize, tr.rule, &bound);
     });
     auto keepIfSmaller = [&](std::optional<Packing>& p) {
         if (!p) return false;
@@ -542,6 +549,7 @@ PagePick packInPlace(const std::vector<AtlasChart>& input, const Orientations& t
     PagePick pick;
     // Kept charts need no block grid (their offset is 0, which every mip divides): whole texels
     // let islands a few texels apart keep their places.
+    if (!footprintsFit(turned, 1.0, gutter, 1, maxSize, maxSize)) return pick;
     const Footprints fp = footprintsAt(turned, 1.0, gutter, 1, threads);
     std::vector<std::array<int, 2>> cells(turned.size(), {-1, -1});
     std::vector<size_t> inPlaceFirst;
