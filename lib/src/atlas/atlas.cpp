@@ -303,6 +303,13 @@ double paddedArea(const std::vector<Oriented>& charts, double t, int gutter) {
     return a;
 }
 
+// The gutter the search starts from: halved while the gutters take more than half of the padded
+// area (many small charts), where they cost more than the mips they protect.
+int narrowedGutter(const std::vector<Oriented>& charts, double t, int gutter) {
+    while (gutter > 2 && paddedArea(charts, t, gutter) > 2 * paddedArea(charts, t, 0)) gutter /= 2;
+    return gutter;
+}
+
 // False when the charts cannot fit a binW x binH page at density t: a chart's rectangle is
 // longer than the page in either quarter turn, or their coverage exceeds the page many times
 // over (the slack allows for charts whose triangles overlap in UV). Footprints are rasterised
@@ -610,12 +617,8 @@ AtlasResult packAtlas(const std::vector<AtlasChart>& input, const AtlasOptions& 
     }
     const std::vector<std::vector<size_t>> orders = chartOrders(charts);
     const int maxSize = std::max(8, options.maxSize);
-    int gutter = std::max(0, options.gutter);
     const double tMax = options.maxTexelsPerUnit;
-
-    // Gutters wider than the charts they separate (many small charts) cost more than the mips
-    // they protect: narrow them until they take at most half of the padded area.
-    while (gutter > 2 && paddedArea(charts, tMax, gutter) > 2 * paddedArea(charts, tMax, 0)) gutter /= 2;
+    int gutter = narrowedGutter(charts, tMax, std::max(0, options.gutter));
 
     // 2-3. Page and density; narrower gutters while the charts do not fit even at minimal size
     // (texel-aligned: while they do not fit at the density limit, which they must keep, down to
@@ -653,6 +656,13 @@ AtlasResult packAtlas(const std::vector<AtlasChart>& input, const AtlasOptions& 
     // 4. Placements and utilisation.
     placeCharts(turned, charts, pick.best->second, res.texelsPerUnit, gutter, res);
     return res;
+}
+
+int atlasStartGutter(const std::vector<AtlasChart>& input, const AtlasOptions& options) {
+    std::vector<Oriented> charts;
+    charts.reserve(input.size());
+    for (const AtlasChart& c : input) charts.push_back(chartOrientations(c, options.texelAligned)[0]);
+    return narrowedGutter(charts, options.maxTexelsPerUnit, std::max(0, options.gutter));
 }
 
 }  // namespace lodbake
