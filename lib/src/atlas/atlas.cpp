@@ -516,8 +516,15 @@ PagePick packFreeSize(const Orientations& turned, const std::vector<Oriented>& c
         improveOrder(fp, ranked ? &coarse : nullptr, orders[trials[winner].order], trials[winner].width, maxSize, trials[winner].rule, threads, bestArea,
                      keepIfSmaller);
     if (!pick.best) {
-        pick.best = exact ? fitAt(turned, orders[0], threads, tMax, gutter, maxSize, maxSize)
-                          : densestFit(turned, orders[0], threads, tMax, gutter, maxSize, maxSize);
+        // The fit at tMax on the search grid packs the trials' footprints (texel-aligned charts
+        // take the same grid on any page): they are not rasterised again.
+        const bool sameGrid = anyFits && scale == searchScale(maxSize, turned) && mayFit(charts, tMax, maxSize, maxSize);
+        if (exact && sameGrid && footprintsFit(turned, tMax, gutter, scale, maxSize, maxSize)) {
+            if (auto p = packBitmap(fp, orders[0], maxSize, maxSize)) pick.best = std::make_pair(tMax, std::move(*p));
+        } else {
+            pick.best = exact ? fitAt(turned, orders[0], threads, tMax, gutter, maxSize, maxSize)
+                              : densestFit(turned, orders[0], threads, tMax, gutter, maxSize, maxSize);
+        }
         if (pick.best) { pick.width = pick.best->second.width; pick.height = pick.best->second.height; }
     }
     return pick;
