@@ -494,10 +494,17 @@ PagePick packFreeSize(const Orientations& turned, const std::vector<Oriented>& c
         });
         fine = nearBest(cost, rank.limit());
     }
+    // Run (not picked) strip widths nearest the padded side first: their pages are usually the
+    // smallest, and a small bound found early stops the other trials sooner. The winner is the
+    // same in any run order (CostBound).
+    std::vector<size_t> run = fine;
+    std::stable_sort(run.begin(), run.end(), [&](size_t x, size_t y) {
+        return std::abs(trials[x].width - std::sqrt(a)) < std::abs(trials[y].width - std::sqrt(a));
+    });
     CostBound bound(maxSize);
-    parallelFor(fine.size(), threads, [&](size_t k) {
-        const Trial& tr = trials[fine[k]];
-        if (sidesFit(tr, scale)) packed[fine[k]] = packBitmap(fp, orders[tr.order], tr.width, maxSize, tr.rule, &bound);
+    parallelFor(run.size(), threads, [&](size_t k) {
+        const Trial& tr = trials[run[k]];
+        if (sidesFit(tr, scale)) packed[run[k]] = packBitmap(fp, orders[tr.order], tr.width, maxSize, tr.rule, &bound);
     });
     auto keepIfSmaller = [&](std::optional<Packing>& p) {
         if (!p) return false;
