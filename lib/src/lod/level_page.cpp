@@ -231,7 +231,7 @@ public:
     PackedPages(const LayoutData& lay, const LevelUVs& luv) : lay_(lay), luv_(luv) {}
 
     LevelAtlas pack(bool original, const AtlasOptions& ao) {
-        for (Entry& e : entries_)
+        for (const Entry& e : entries_)
             if (e.original == original && sameButGutter(e.ao, ao) && sameStart(e, ao)) return e.la;
         LevelAtlas la;
         std::vector<AtlasChart> charts = levelAtlasCharts(lay_, luv_, original, la);
