@@ -220,6 +220,7 @@ std::optional<Packing> packBitmap(const Footprints& fp, const std::vector<size_t
 
 std::optional<Packing> packBitmap(const Orientations& charts, const std::vector<size_t>& order, double t,
                                   int gutter, int binW, int binH, int scale, int threads) {
+    if (!footprintsFit(charts, t, gutter, scale, binW, binH)) return std::nullopt;
     return packBitmap(footprintsAt(charts, t, gutter, scale, threads), order, binW, binH);
 }
 
@@ -300,6 +301,13 @@ double paddedArea(const std::vector<Oriented>& charts, double t, int gutter) {
     double a = 0;
     for (const Oriented& c : charts) a += double(texels(c.w, t) + gutter) * double(texels(c.h, t) + gutter);
     return a;
+}
+
+// The gutter the search starts from: halved while the gutters take more than half of the padded
+// area (many small charts), where they cost more than the mips they protect.
+int narrowedGutter(const std::vector<Oriented>& charts, double t, int gutter) {
+    while (gutter > 2 && paddedArea(charts, t, gutter) > 2 * paddedArea(charts, t, 0)) gutter /= 2;
+    return gutter;
 }
 
 // False when the charts cannot fit a binW x binH page at density t: a chart's rectangle is
@@ -466,24 +474,37 @@ PagePick packFreeSize(const Orientations& turned, const std::vector<Oriented>& c
     // take memory in proportion to tMax^2 for nothing.
     // Large pages with many trials: ranked on a twice coarser grid first (see kRankFromScale).
     const bool ranked = (scale >= kRankFromScale || std::sqrt(a) >= kRankFromSide) && trials.size() > kRankFromTrials;
+    // A trial whose strip some chart cannot lie in fails: it is not packed, and when every trial
+    // fails the footprints are not rasterised (the ranking picks among failures alone).
+    auto sidesFit = [&](const Trial& tr, int s) { return footprintsFit(turned, tMax, gutter, s, tr.width, maxSize); };
+    const bool anyFits = std::any_of(trials.begin(), trials.end(), [&](const Trial& tr) { return sidesFit(tr, scale); });
     Footprints coarse;
-    const Footprints fp = trials.empty() ? Footprints{} : footprintsAt(turned, tMax, gutter, scale, threads, ranked ? &coarse : nullptr);
+    const Footprints fp = !anyFits ? Footprints{} : footprintsAt(turned, tMax, gutter, scale, threads, ranked ? &coarse : nullptr);
     std::vector<std::optional<Packing>> packed(trials.size());
     std::vector<size_t> fine(trials.size());
     std::iota(fine.begin(), fine.end(), size_t(0));
-    if (ranked) {
+    if (!anyFits) fine.clear();
+    if (ranked && anyFits) {
         std::vector<double> cost(trials.size(), 1e300);
         CostBound rank(maxSize, 1e300, kRankSlack);
         parallelFor(trials.size(), threads, [&](size_t i) {
+            if (!sidesFit(trials[i], coarse.scale)) return;
             if (auto p = packBitmap(coarse, orders[trials[i].order], trials[i].width, maxSize, trials[i].rule, &rank))
                 cost[i] = pageCost(p->width, p->height, maxSize);
         });
         fine = nearBest(cost, rank.limit());
     }
+    // Run (not picked) strip widths nearest the padded side first: their pages are usually the
+    // smallest, and a small bound found early stops the other trials sooner. The winner is the
+    // same in any run order (CostBound).
+    std::vector<size_t> run = fine;
+    std::stable_sort(run.begin(), run.end(), [&](size_t x, size_t y) {
+        return std::abs(trials[x].width - std::sqrt(a)) < std::abs(trials[y].width - std::sqrt(a));
+    });
     CostBound bound(maxSize);
-    parallelFor(fine.size(), threads, [&](size_t k) {
-        const Trial& tr = trials[fine[k]];
-        packed[fine[k]] = packBitmap(fp, orders[tr.order], tr.width, maxSize, tr.rule, &bound);
+    parallelFor(run.size(), threads, [&](size_t k) {
+        const Trial& tr = trials[run[k]];
+        if (sidesFit(tr, scale)) packed[run[k]] = packBitmap(fp, orders[tr.order], tr.width, maxSize, tr.rule, &bound);
     });
     auto keepIfSmaller = [&](std::optional<Packing>& p) {
         if (!p) return false;
@@ -502,8 +523,15 @@ PagePick packFreeSize(const Orientations& turned, const std::vector<Oriented>& c
         improveOrder(fp, ranked ? &coarse : nullptr, orders[trials[winner].order], trials[winner].width, maxSize, trials[winner].rule, threads, bestArea,
                      keepIfSmaller);
     if (!pick.best) {
-        pick.best = exact ? fitAt(turned, orders[0], threads, tMax, gutter, maxSize, maxSize)
-                          : densestFit(turned, orders[0], threads, tMax, gutter, maxSize, maxSize);
+        // The fit at tMax on the search grid packs the trials' footprints (texel-aligned charts
+        // take the same grid on any page): they are not rasterised again.
+        const bool sameGrid = anyFits && scale == searchScale(maxSize, turned) && mayFit(charts, tMax, maxSize, maxSize);
+        if (exact && sameGrid && footprintsFit(turned, tMax, gutter, scale, maxSize, maxSize)) {
+            if (auto p = packBitmap(fp, orders[0], maxSize, maxSize)) pick.best = std::make_pair(tMax, std::move(*p));
+        } else {
+            pick.best = exact ? fitAt(turned, orders[0], threads, tMax, gutter, maxSize, maxSize)
+                              : densestFit(turned, orders[0], threads, tMax, gutter, maxSize, maxSize);
+        }
         if (pick.best) { pick.width = pick.best->second.width; pick.height = pick.best->second.height; }
     }
     return pick;
@@ -542,6 +570,7 @@ PagePick packInPlace(const std::vector<AtlasChart>& input, const Orientations& t
     PagePick pick;
     // Kept charts need no block grid (their offset is 0, which every mip divides): whole texels
     // let islands a few texels apart keep their places.
+    if (!footprintsFit(turned, 1.0, gutter, 1, maxSize, maxSize)) return pick;
     const Footprints fp = footprintsAt(turned, 1.0, gutter, 1, threads);
     std::vector<std::array<int, 2>> cells(turned.size(), {-1, -1});
     std::vector<size_t> inPlaceFirst;
@@ -602,12 +631,8 @@ AtlasResult packAtlas(const std::vector<AtlasChart>& input, const AtlasOptions& 
     }
     const std::vector<std::vector<size_t>> orders = chartOrders(charts);
     const int maxSize = std::max(8, options.maxSize);
-    int gutter = std::max(0, options.gutter);
     const double tMax = options.maxTexelsPerUnit;
-
-    // Gutters wider than the charts they separate (many small charts) cost more than the mips
-    // they protect: narrow them until they take at most half of the padded area.
-    while (gutter > 2 && paddedArea(charts, tMax, gutter) > 2 * paddedArea(charts, tMax, 0)) gutter /= 2;
+    int gutter = narrowedGutter(charts, tMax, std::max(0, options.gutter));
 
     // 2-3. Page and density; narrower gutters while the charts do not fit even at minimal size
     // (texel-aligned: while they do not fit at the density limit, which they must keep, down to
@@ -645,6 +670,13 @@ AtlasResult packAtlas(const std::vector<AtlasChart>& input, const AtlasOptions& 
     // 4. Placements and utilisation.
     placeCharts(turned, charts, pick.best->second, res.texelsPerUnit, gutter, res);
     return res;
+}
+
+int atlasStartGutter(const std::vector<AtlasChart>& input, const AtlasOptions& options) {
+    std::vector<Oriented> charts;
+    charts.reserve(input.size());
+    for (const AtlasChart& c : input) charts.push_back(chartOrientations(c, options.texelAligned)[0]);
+    return narrowedGutter(charts, options.maxTexelsPerUnit, std::max(0, options.gutter));
 }
 
 }  // namespace lodbake

@@ -311,4 +311,19 @@ Footprints footprintsAt(const Orientations& charts, double t, int gutter, int sc
     return fp;
 }
 
+bool footprintsFit(const Orientations& charts, double t, int gutter, int scale, int binW, int binH) {
+    const int radius = (gutter + 1) / 2;
+    const int pageW = (binW + 2 * radius) / scale, pageH = (binH + 2 * radius) / scale;  // BitmapPage's sides
+    auto blocks = [&](double extent) { return (texels(extent, t) + 2 * radius + scale - 1) / scale; };  // chartMask, coarsen
+    for (const std::vector<Oriented>& chart : charts) {
+        bool fits = false;
+        for (const Oriented& o : chart) {
+            const int w = blocks(o.w), h = blocks(o.h);
+            fits = fits || (w <= pageW && h <= pageH) || (o.turns > 1 && h <= pageW && w <= pageH);
+        }
+        if (!fits) return false;
+    }
+    return true;
+}
+
 }  // namespace lodbake::atlas_detail

@@ -87,4 +87,10 @@ using Orientations = std::vector<std::vector<Oriented>>;  // per chart: the orie
 // `twiceCoarser`, when given, receives the same at scale 2 * scale (from the same rasterisation).
 Footprints footprintsAt(const Orientations& charts, double t, int gutter, int scale, int threads, Footprints* twiceCoarser = nullptr);
 
+// Whether every chart has an orientation and quarter turn whose footprint (density t, grown by the
+// gutter radius, in blocks of `scale` texels, as footprintsAt makes it) lies within the bitmap of a
+// binW x binH page. When not, packing there fails wherever the other charts go: this tells so from
+// the charts' extents, before any rasterisation.
+bool footprintsFit(const Orientations& charts, double t, int gutter, int scale, int binW, int binH);
+
 }  // namespace lodbake::atlas_detail

@@ -141,9 +141,11 @@ LevelUVs ownCharts(const TriMesh& mesh, const LayoutData& L, const LevelView& lv
     return out;
 }
 
-LevelAtlas packLevelAtlas(const LayoutData& L, const LevelUVs& luv, bool original, const AtlasOptions& ao) {
+namespace {
+
+// The level's charts as packAtlas takes them; la.chartSlot and la.charts say where each went.
+std::vector<AtlasChart> levelAtlasCharts(const LayoutData& L, const LevelUVs& luv, bool original, LevelAtlas& la) {
     const ChartLayout& ch = *L.ch;
-    LevelAtlas la;
     const bool own = !luv.ownChartArea.empty();
     la.chartSlot.assign(own ? luv.ownChartArea.size() : L.chartUvArea.size(), -1);
     std::vector<AtlasChart> charts;
@@ -180,7 +182,14 @@ LevelAtlas packLevelAtlas(const LayoutData& L, const LevelUVs& luv, bool origina
         }
     }
     la.charts = charts.size();
-    la.atlas = packAtlas(charts, ao);
+    return charts;
+}
+
+}  // namespace
+
+LevelAtlas packLevelAtlas(const LayoutData& L, const LevelUVs& luv, bool original, const AtlasOptions& ao) {
+    LevelAtlas la;
+    la.atlas = packAtlas(levelAtlasCharts(L, luv, original, la), ao);
     return la;
 }
 
@@ -214,14 +223,45 @@ bool keepsPage(LevelAtlas& candidate, const PageRequest& request, const std::arr
                                      double((*request.finerPage)[0]) * (*request.finerPage)[1];
 }
 
-// What a page was packed with: the options and whether the level's triangles were left out.
-struct PackedWith {
-    AtlasOptions ao;
-    bool original = false;
-    bool same(const AtlasOptions& o, bool orig) const {
-        return orig == original && o.maxTexelsPerUnit == ao.maxTexelsPerUnit && o.gutter == ao.gutter && o.maxSize == ao.maxSize &&
-               o.powerOfTwo == ao.powerOfTwo && o.texelAligned == ao.texelAligned;
+// The pages packed for one level's charts, by what they were packed with. Packing is a function
+// of its inputs, and packAtlas's of the gutter its search starts from (atlasStartGutter): a page
+// asked for again, or with a gutter that starts the same search, is the one packed before.
+class PackedPages {
+public:
+    PackedPages(const LayoutData& lay, const LevelUVs& luv) : lay_(lay), luv_(luv) {}
+
+    LevelAtlas pack(bool original, const AtlasOptions& ao) {
+        for (const Entry& e : entries_)
+            if (e.original == original && sameButGutter(e.ao, ao) && sameStart(e, ao)) return e.la;
+        LevelAtlas la;
+        std::vector<AtlasChart> charts = levelAtlasCharts(lay_, luv_, original, la);
+        la.atlas = packAtlas(charts, ao);
+        const int start = ao.texelAligned ? ao.gutter : atlasStartGutter(charts, ao);
+        entries_.push_back({ao, original, start, la});
+        return la;
     }
+
+private:
+    struct Entry {
+        AtlasOptions ao;
+        bool original = false;
+        int start = 0;  // the gutter the search started from
+        LevelAtlas la;
+    };
+    static bool sameButGutter(const AtlasOptions& a, const AtlasOptions& b) {
+        return a.maxTexelsPerUnit == b.maxTexelsPerUnit && a.maxSize == b.maxSize && a.powerOfTwo == b.powerOfTwo &&
+               a.texelAligned == b.texelAligned;
+    }
+    bool sameStart(const Entry& e, const AtlasOptions& ao) const {
+        if (e.ao.gutter == ao.gutter) return true;
+        if (ao.texelAligned) return false;
+        LevelAtlas slots;
+        return atlasStartGutter(levelAtlasCharts(lay_, luv_, e.original, slots), ao) == e.start;
+    }
+
+    const LayoutData& lay_;
+    const LevelUVs& luv_;
+    std::vector<Entry> entries_;
 };
 
 // A renderer may sample mips below the level's planned range (a small viewport, minification
@@ -230,10 +270,8 @@ struct PackedWith {
 // (the finer one on the original's texels) trades that excess for the gutter: drawn smaller than
 // the finer level, it shows no more of the texture than the finer one does, while its narrower
 // gutters, fewer model units wide, blend neighbouring charts at the mips a small view samples.
-// A candidate packed with what `la` was packed with (`packed`: the packer narrowed the gutter it
-// was given) is `la` itself: the packing is a function of its inputs, so it is not repeated.
-LevelAtlas widenGutters(const LayoutData& lay, const LevelUVs& luv, const PageRequest& request, const PackOptions& options,
-                        const AtlasOptions& ao, const PackedWith& packed, LevelAtlas la) {
+LevelAtlas widenGutters(const LayoutData& lay, const PageRequest& request, const PackOptions& options, const AtlasOptions& ao,
+                        PackedPages& pages, LevelAtlas la) {
     const int mips = std::max(0, int(std::log2(std::max(2, la.atlas.gutter) / 2)));
     const double density = la.atlas.texelsPerUnit;
     const double finer = request.finerDensity && *request.finerDensity > 0 ? *request.finerDensity / lay.uvPerUnit : density;
@@ -242,7 +280,7 @@ LevelAtlas widenGutters(const LayoutData& lay, const LevelUVs& luv, const PageRe
         AtlasOptions wide = ao;
         wide.gutter = 2 << m;
         wide.maxTexelsPerUnit = density;
-        LevelAtlas candidate = packed.same(wide, request.originalTriangles) ? la : packLevelAtlas(lay, luv, request.originalTriangles, wide);
+        LevelAtlas candidate = pages.pack(request.originalTriangles, wide);
         const double reached = candidate.atlas.texelsPerUnit;
         const double texels = double(candidate.atlas.width) * candidate.atlas.height;
         bool kept = keepsPage(candidate, request, la.capPage, density);
@@ -254,7 +292,7 @@ LevelAtlas widenGutters(const LayoutData& lay, const LevelUVs& luv, const PageRe
                 if (texels > finerTexels) d *= std::sqrt(finerTexels / texels) * 0.98;
             }
             wide.maxTexelsPerUnit = std::max(d, floor);
-            candidate = packLevelAtlas(lay, luv, request.originalTriangles, wide);
+            candidate = pages.pack(request.originalTriangles, wide);
             kept = keepsPage(candidate, request, la.capPage, floor);
         }
         if (!kept) continue;
@@ -288,18 +326,17 @@ LevelAtlas packLevelPage(const LayoutData& lay, const LevelUVs& luv, const PageR
     ao.powerOfTwo = options.powerOfTwo;
     ao.threads = options.threads;
     ao.texelAligned = request.sourceTexels;
-    LevelAtlas la = packLevelAtlas(lay, luv, request.originalTriangles, ao);
-    PackedWith packed{ao, request.originalTriangles};
+    PackedPages pages(lay, luv);
+    LevelAtlas la = pages.pack(request.originalTriangles, ao);
     // Narrower gutters when the density fell short of the limit. Not for the source texels: their
     // packer narrows the gutter itself, down to 2 texels, so a narrower start repeats its attempts.
     for (int m = std::clamp(mipsAt(la.atlas.texelsPerUnit), 0, mips); m < mips && !request.sourceTexels; ++m) {
         AtlasOptions narrow = ao;
         narrow.gutter = 2 << m;
-        LevelAtlas denser = packLevelAtlas(lay, luv, request.originalTriangles, narrow);
+        LevelAtlas denser = pages.pack(request.originalTriangles, narrow);
         if (mipsAt(denser.atlas.texelsPerUnit) > m) continue;
         mips = m;
         ao = narrow;
-        packed.ao = narrow;
         la = std::move(denser);
         break;
     }
@@ -308,11 +345,10 @@ LevelAtlas packLevelPage(const LayoutData& lay, const LevelUVs& luv, const PageR
         double now = double(la.atlas.width) * la.atlas.height;
         if (now <= previous) break;
         ao.maxTexelsPerUnit = std::min(ao.maxTexelsPerUnit, la.atlas.texelsPerUnit) * std::sqrt(previous / now) * 0.98;
-        la = packLevelAtlas(lay, luv, false, ao);
-        packed = {ao, false};
+        la = pages.pack(false, ao);
     }
     la.capPage = {la.atlas.width, la.atlas.height};
-    if (request.widenGutters) la = widenGutters(lay, luv, request, options, ao, packed, std::move(la));
+    if (request.widenGutters) la = widenGutters(lay, request, options, ao, pages, std::move(la));
     return la;
 }
 

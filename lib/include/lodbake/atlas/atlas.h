@@ -111,4 +111,10 @@ struct AtlasResult {
 // fit in maxSize x maxSize.
 AtlasResult packAtlas(const std::vector<AtlasChart>& charts, const AtlasOptions& options);
 
+// The gutter packAtlas's search starts from: options.gutter, halved while the gutters take more
+// than half of the charts' padded area at the density limit. Unless options.texelAligned (whose
+// in-place fallback starts from options.gutter itself), packAtlas returns the same result for two
+// options that differ in the gutter alone when this is the same for both.
+int atlasStartGutter(const std::vector<AtlasChart>& charts, const AtlasOptions& options);
+
 }  // namespace lodbake
