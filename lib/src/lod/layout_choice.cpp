@@ -76,6 +76,7 @@ LayoutChoice chooseLayoutByBake(const BakeSources& sources, std::vector<LayoutDa
     request.coverage = planned.coverage;
     request.maxCoverage = planned.maxCoverage;
     request.originalTriangles = k == 0;
+    request.startNearCap = true;  // scored, not kept
     // The finer level's page at the same scale: a level's page holds no more texels than the
     // finer one's, a cap that decides many coarse pages' density.
     if (k > 0) {

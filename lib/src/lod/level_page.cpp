@@ -195,6 +195,13 @@ LevelAtlas packLevelAtlas(const LayoutData& L, const LevelUVs& luv, bool origina
 
 namespace {
 
+// A level page whose limit's page is estimated above this many times the finer page starts its
+// search at the finer page's size (packLevelPage).
+constexpr double kCappedStart = 4;
+
+// The texels of the finer level's page (the request's cap).
+double finerTexels(const PageRequest& request) { return double((*request.finerPage)[0]) * (*request.finerPage)[1]; }
+
 // Mips a renderer reaches at a page side: up to options.maxMips, down to minMipSide.
 int mipsOfSide(int side, const PackOptions& options) {
     const int limit = side > options.minMipSide ? int(std::floor(std::log2(double(side) / options.minMipSide))) : 0;
@@ -219,8 +226,7 @@ void padPage(AtlasResult& a, const std::array<int, 2>& sides) {
 bool keepsPage(LevelAtlas& candidate, const PageRequest& request, const std::array<int, 2>& capPage, double minDensity) {
     if (candidate.atlas.texelsPerUnit < minDensity * (1 - 1e-9)) return false;
     padPage(candidate.atlas, capPage);
-    return !request.finerPage || double(candidate.atlas.width) * candidate.atlas.height <=
-                                     double((*request.finerPage)[0]) * (*request.finerPage)[1];
+    return !request.finerPage || double(candidate.atlas.width) * candidate.atlas.height <= finerTexels(request);
 }
 
 // The pages packed for one level's charts, by what they were packed with. Packing is a function
@@ -287,10 +293,7 @@ LevelAtlas widenGutters(const LayoutData& lay, const PageRequest& request, const
         if (!kept && floor < density) {
             // The densest page this gutter takes within the finer level's texels, down to its density.
             double d = std::min(density, reached);
-            if (request.finerPage) {
-                const double finerTexels = double((*request.finerPage)[0]) * (*request.finerPage)[1];
-                if (texels > finerTexels) d *= std::sqrt(finerTexels / texels) * 0.98;
-            }
+            if (request.finerPage && texels > finerTexels(request)) d *= std::sqrt(finerTexels(request) / texels) * 0.98;
             wide.maxTexelsPerUnit = std::max(d, floor);
             candidate = pages.pack(request.originalTriangles, wide);
             kept = keepsPage(candidate, request, la.capPage, floor);
@@ -326,11 +329,20 @@ LevelAtlas packLevelPage(const LayoutData& lay, const LevelUVs& luv, const PageR
     ao.powerOfTwo = options.powerOfTwo;
     ao.threads = options.threads;
     ao.texelAligned = request.sourceTexels;
+    // Below LOD0 the page holds no more texels than the finer level's. When the limit's page
+    // (estimated from the charts' coverage) fits the page cap but is many times the finer page,
+    // the search may start at the density the estimate fits into the finer page
+    // (request.startNearCap): the loop below would otherwise pack that large page only to shrink
+    // it. The gutter stays the limit's.
+    const bool capped = request.startNearCap && request.finerPage && !request.sourceTexels &&
+                        std::sqrt(usedUv) * tMax / kPageSideFill < options.maxSize &&
+                        usedUv * std::pow(tMax / kPageSideFill, 2) > kCappedStart * finerTexels(request);
+    if (capped) ao.maxTexelsPerUnit = std::sqrt(finerTexels(request) / usedUv) * kPageSideFill;
     PackedPages pages(lay, luv);
     LevelAtlas la = pages.pack(request.originalTriangles, ao);
     // Narrower gutters when the density fell short of the limit. Not for the source texels: their
     // packer narrows the gutter itself, down to 2 texels, so a narrower start repeats its attempts.
-    for (int m = std::clamp(mipsAt(la.atlas.texelsPerUnit), 0, mips); m < mips && !request.sourceTexels; ++m) {
+    for (int m = std::clamp(mipsAt(la.atlas.texelsPerUnit), 0, mips); m < mips && !request.sourceTexels && !capped; ++m) {
         AtlasOptions narrow = ao;
         narrow.gutter = 2 << m;
         LevelAtlas denser = pages.pack(request.originalTriangles, narrow);
@@ -341,7 +353,7 @@ LevelAtlas packLevelPage(const LayoutData& lay, const LevelUVs& luv, const PageR
         break;
     }
     for (int tries = 0; request.finerPage && tries < 8; ++tries) {
-        double previous = double((*request.finerPage)[0]) * (*request.finerPage)[1];
+        double previous = finerTexels(request);
         double now = double(la.atlas.width) * la.atlas.height;
         if (now <= previous) break;
         ao.maxTexelsPerUnit = std::min(ao.maxTexelsPerUnit, la.atlas.texelsPerUnit) * std::sqrt(previous / now) * 0.98;

@@ -95,6 +95,11 @@ struct PageRequest {
     std::optional<double> finerDensity;
     // Widen the gutter towards the mips of the page's side where that keeps the density.
     bool widenGutters = false;
+    // With a finer page far smaller than the limit's page: start at the density estimated to fit
+    // the finer page rather than pack the limit's page only to shrink it. The page may differ from
+    // the one shrunk from the limit (a few percent of density either way): for pages that are
+    // compared, not kept (the rank choice's).
+    bool startNearCap = false;
 };
 
 // The level's page: its charts packed at the density limit (layout units) with gutters for the
