@@ -78,7 +78,8 @@ std::vector<uint32_t> worseParents(const TriMesh& mesh, const ParameterizeResult
 }
 
 // The rank-j layout of `charts`: parameterizeRank with the atlas.
-// \throw SolverError when UV triangles of the original stay flipped or overlapping.
+// \throw SolverError when UV triangles of the original stay flipped or overlapping, Impossible
+// when the charts do not fit the texture at any density.
 ChartLayout rankLayout(const TriMesh& mesh, const Multires& mr, uint32_t last, const std::vector<uint32_t>& charts,
                        const RefineOptions& o, RankResult& rr) {
     ParameterizeResult pr = parameterizeRank(mesh, mr, last, charts, o, true, rr);
@@ -90,6 +91,11 @@ ChartLayout rankLayout(const TriMesh& mesh, const Multires& mr, uint32_t last, c
     if (pr.flips > 0 || pr.overlaps > 0)
         throw SolverError("rank " + std::to_string(rr.rank) + ": " + std::to_string(pr.flips) + " flipped and " +
                           std::to_string(pr.overlaps) + " overlapping UV triangles");
+    // parameterize lays out charts too many for the texture on a larger atlas (valid input must
+    // not fail), but a rank only refines T0: such a rank ends the hierarchy.
+    if (pr.atlasSize > o.param.textureSize)
+        throw Impossible(std::to_string(pr.charts.chartCount) + " charts and " + std::to_string(pr.islands.size()) +
+                         " level islands do not fit a " + std::to_string(o.param.textureSize) + " atlas at any density");
     ChartLayout lay;
     lay.chartCount = pr.charts.chartCount;
     lay.faceChart.resize(mesh.triangleCount());
