@@ -60,4 +60,10 @@ TEST(LevelView, MovedFewerOrReshadedLevelsDoNot) {
     LevelView reshaded = keptLevel(m);
     m.wedges.normal[6] = normalize(Vec3{0, 1, 1});  // the copy of corner 2 bends
     EXPECT_FALSE(showsOriginalSurface(m, reshaded));
+
+    // Without normals viewers draw the original flat; the level's own normals need the map.
+    TriMesh flat = square();
+    const LevelView kept = keptLevel(flat);
+    flat.wedges.normal.clear();
+    EXPECT_FALSE(showsOriginalSurface(flat, kept));
 }

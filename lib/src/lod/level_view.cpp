@@ -51,8 +51,10 @@ bool showsOriginalSurface(const TriMesh& original, const LevelView& lv) {
     if (!lv.positions.empty() || lv.triangles != original.triangles || lv.faces.size() != original.triangleCount()) return false;
     for (size_t t = 0; t < lv.faces.size(); ++t)
         if (lv.faces[t] != t) return false;
+    // An original without normals is drawn flat by viewers, while a level carries normals of its
+    // own: its normal map carries that faceting.
     const std::vector<Vec3>& normal = original.wedges.normal;
-    if (normal.empty()) return true;  // normals from the same triangles
+    if (normal.empty()) return false;
     auto same = [](Vec3 p, Vec3 q) { return p.x == q.x && p.y == q.y && p.z == q.z; };
     for (size_t t = 0; t < lv.triangles.size(); ++t)
         for (size_t j = 0; j < 3; ++j)

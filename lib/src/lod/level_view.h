@@ -36,7 +36,8 @@ bool sameSurface(const LevelView& a, const LevelView& b);
 
 // The level shades as the original does: it is the original's triangles, each of the same face,
 // unmoved, whose corners carry the original corners' normals (their wedges may be the level's own
-// copies). A normal map baked for it would be flat.
+// copies). A normal map baked for it would be flat. Not a level of an original without normals,
+// which viewers draw flat-shaded.
 bool showsOriginalSurface(const TriMesh& original, const LevelView& lv);
 
 }  // namespace lodbake::lod_detail
