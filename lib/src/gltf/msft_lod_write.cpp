@@ -628,10 +628,12 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
     root["nodes"] = nodes;
     root["meshes"] = meshes;
     root["materials"] = materials;
-    root["textures"] = textures;
-    root["images"] = images;
+    // Levels of factors only (no channel varies over the surface) have no texture: glTF forbids
+    // empty arrays, and a sampler no texture uses is left out too.
+    if (!textures.empty()) root["textures"] = textures;
+    if (!images.empty()) root["images"] = images;
     // Linear-mipmap-linear minification: the gutters are sized for the mip levels this uses.
-    if (!samplers.empty()) root["samplers"] = samplers;
+    if (!samplers.empty() && !textures.empty()) root["samplers"] = samplers;
     std::filesystem::path dir = std::filesystem::path(path).parent_path();
     for (const auto& [file, img] : sideImages) {
         writeFileAtomic((dir / file).string(), std::string(img->encoded.begin(), img->encoded.end()));
