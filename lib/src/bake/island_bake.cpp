@@ -80,8 +80,10 @@ void rasterizeIslands(const TriMesh& mesh, const std::vector<BakeIsland>& island
                 found[i].push_back({q.texel, {int32_t(f), q.d, {float(fb[0]), float(fb[1]), float(fb[2])}, int32_t(i)}});
             }
         };
-        const std::vector<uint32_t> facing = withoutCopies(mesh, facingFaces(mesh, isl.faces, isl.position));
-        std::vector<uint32_t> faces = facesNearTriangle(mesh, facing, isl.position);
+        // Copies are dropped after the nearness filter, which keeps or drops a face's copies with it
+        // (same box, same distance), so the set is the same and the hashing sees far fewer faces.
+        std::vector<uint32_t> faces =
+            withoutCopies(mesh, facesNearTriangle(mesh, facingFaces(mesh, isl.faces, isl.position), isl.position));
         if (queries.size() < kIslandTreeFrom) {
             uint32_t f = 0xffffffffu;  // the previous texel's face: the next texel's search bound
             answer(BoxedFaces(mesh, std::move(faces)), [&](const BoxedFaces& near, Vec3 X, std::array<double, 3>& fb) {
