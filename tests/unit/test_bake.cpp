@@ -1,14 +1,18 @@
 // Unit tests for the bake (lib/src/bake/): base colour of faces and islands on two flat quads,
-// regions of the page, thread counts, shared sources, vertex colours, and the faces a layout's
-// islands sample. The channels beyond base colour: test_material_bake.cpp.
+// regions of the page, thread counts, shared sources, vertex colours, the faces a layout's
+// islands sample, and those a projected island samples. The channels beyond base colour:
+// test_material_bake.cpp.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <random>
 
 #include "lodbake/bake/bake.h"
 #include "lodbake/core/closest_point.h"
 #include "lodbake/core/errors.h"
+#include "lodbake/core/face_grid.h"
+#include "synthetic_meshes.h"
 
 using namespace lodbake;
 
@@ -239,4 +243,50 @@ TEST(Bake, LayoutIslandFacesAreTheNearOnesOfTheirCharts) {
         std::stable_sort(all.begin(), all.end(), [&](uint32_t a, uint32_t b) { return layout.faceChart[a] < layout.faceChart[b]; });
         EXPECT_EQ(facesNearTriangle(m, isl.faces, isl.position), facesNearTriangle(m, all, isl.position));
     }
+}
+
+// projectedIslandFaces finds around the island what the bake keeps of every face in the box:
+// facesNearTriangle of the faces facing the island's way (cosine above -0.8), all of them when
+// none does. A thin wall (a sphere inside a slightly larger one, wound inward) puts faces facing
+// both ways near every island; boxes from the island's own to the whole model, degenerate islands
+// (no normal: every face kept) and boxes that hold no face at all.
+TEST(ProjectedIslandFaces, SameFacesAsTheBakesFilterOfTheWholeBox) {
+    TriMesh mesh = test::sphere(4);
+    TriMesh inner = test::sphere(4);
+    for (Tri& t : inner.triangles) std::swap(t[1], t[2]);
+    test::append(mesh, inner, 0.97, {0, 0, 0});
+    const FaceGrid grid(mesh);
+    auto expected = [&](const std::array<Vec3, 3>& tri, Vec3 lo, Vec3 hi) {
+        const std::vector<uint32_t> box = grid.facesIn(lo, hi);
+        const Vec3 n = cross(tri[1] - tri[0], tri[2] - tri[0]);
+        std::vector<uint32_t> facing;
+        for (uint32_t f : box) {
+            const Tri& t = mesh.triangles[f];
+            const Vec3 nf = cross(mesh.positions[t[1]] - mesh.positions[t[0]], mesh.positions[t[2]] - mesh.positions[t[0]]);
+            if (dot(nf, n) > -0.8 * length(nf) * length(n)) facing.push_back(f);
+        }
+        return facesNearTriangle(mesh, facing.empty() ? box : facing, tri);
+    };
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> u(-1, 1), radius(0.9, 1.05), size(0.001, 0.3);
+    int checked = 0;
+    for (int i = 0; i < 300; ++i) {
+        const Vec3 centre = normalize(Vec3{u(rng), u(rng), u(rng)}) * radius(rng);
+        const double s = size(rng);
+        std::array<Vec3, 3> tri;
+        for (Vec3& p : tri) p = centre + Vec3{u(rng), u(rng), u(rng)} * s;
+        if (i % 10 == 0) tri[2] = (tri[0] + tri[1]) * 0.5;  // degenerate: no normal
+        if (i % 7 == 0) std::swap(tri[1], tri[2]);           // facing inward
+        Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+        for (const Vec3& p : tri)
+            for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], p[a]), hi[a] = std::max(hi[a], p[a]);
+        const double reach = (i % 3 == 0 ? 0.0 : i % 3 == 1 ? 0.05 : 2.0) + (i % 50 == 0 ? 10.0 : 0.0);
+        lo = lo - Vec3{reach, reach, reach};
+        hi = hi + Vec3{reach, reach, reach};
+        if (i % 25 == 0) lo = hi = Vec3{5, 5, 5};  // a box beside the model: no face
+        const std::vector<uint32_t> want = expected(tri, lo, hi);
+        EXPECT_EQ(projectedIslandFaces(mesh, grid, tri, lo, hi), want) << "island " << i;
+        checked += !want.empty();
+    }
+    EXPECT_GT(checked, 200);
 }

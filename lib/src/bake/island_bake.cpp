@@ -26,22 +26,28 @@ constexpr size_t kIslandTreeFrom = 64;  // island texels from which a FaceTree a
 // degrees apart, faces around a crease the island cuts across far less.
 constexpr double kOppositeCos = -0.8;
 
-// The faces of `faces` that face the island's way: geometric normal not opposite the island
-// triangle's (cosine above kOppositeCos). A coarse triangle lies between the sheets of a thin
-// part (a glass wall's outer and inner surface, the two sides of a lamp shade); the nearest point
-// can then be on the sheet behind it, facing the other way, whose texels (and normals) are not
-// what this side shows. All faces when none face its way (a degenerate island, or a level that
-// folded a thin part onto one sheet).
+// Whether original face f faces the way of an island whose (unnormalised) normal is n: its
+// geometric normal not opposite n (cosine above kOppositeCos). A coarse triangle lies between the
+// sheets of a thin part (a glass wall's outer and inner surface, the two sides of a lamp shade);
+// the nearest point can then be on the sheet behind it, facing the other way, whose texels (and
+// normals) are not what this side shows.
+bool facesIslandWay(const TriMesh& mesh, uint32_t f, Vec3 n) {
+    const Tri& t = mesh.triangles[f];
+    const Vec3& p0 = mesh.positions[t[0]];
+    const Vec3 nf = cross(mesh.positions[t[1]] - p0, mesh.positions[t[2]] - p0);
+    return dot(nf, n) > kOppositeCos * length(nf) * length(n);
+}
+
+Vec3 islandNormal(const std::array<Vec3, 3>& tri) { return cross(tri[1] - tri[0], tri[2] - tri[0]); }
+
+// The faces of `faces` that face the island's way; all of them when none do (a degenerate island,
+// or a level that folded a thin part onto one sheet).
 std::vector<uint32_t> facingFaces(const TriMesh& mesh, const std::vector<uint32_t>& faces, const std::array<Vec3, 3>& tri) {
-    const Vec3 n = cross(tri[1] - tri[0], tri[2] - tri[0]);
+    const Vec3 n = islandNormal(tri);
     std::vector<uint32_t> out;
     out.reserve(faces.size());
-    for (uint32_t f : faces) {
-        const Tri& t = mesh.triangles[f];
-        const Vec3& p0 = mesh.positions[t[0]];
-        const Vec3 nf = cross(mesh.positions[t[1]] - p0, mesh.positions[t[2]] - p0);
-        if (dot(nf, n) > kOppositeCos * length(nf) * length(n)) out.push_back(f);
-    }
+    for (uint32_t f : faces)
+        if (facesIslandWay(mesh, f, n)) out.push_back(f);
     return out.empty() ? faces : out;
 }
 
@@ -193,6 +199,53 @@ std::vector<BakeIsland> layoutBakeIslands(const TriMesh& mesh, const ChartLayout
         }
         if (b.faces.empty()) throw InvalidInput("layout island " + std::to_string(i) + " touches no chart");
         out.push_back(std::move(b));
+    }
+    return out;
+}
+
+// The bake keeps, of an island's faces S, facesNearTriangle(facingFaces(S)): the faces whose box
+// lies within d0 + 2r of the triangle's centroid c, d0 being c's distance to the facing faces.
+// Those are found around c instead of over S: d0 from cubes around c that double until the
+// nearest facing face of S found lies inside the cube (every nearer face's box then overlaps it)
+// or the cube holds all of S, then the faces of S in the cube of half-side d0 + 2r. Same faces,
+// same order (ascending ids, as facesIn lists S), same arithmetic for d0.
+std::vector<uint32_t> projectedIslandFaces(const TriMesh& mesh, const FaceGrid& grid, const std::array<Vec3, 3>& tri, Vec3 lo,
+                                           Vec3 hi) {
+    const Vec3 n = bake_detail::islandNormal(tri);
+    const Vec3 c = (tri[0] + tri[1] + tri[2]) * (1.0 / 3);
+    double r = 0;
+    for (const Vec3& q : tri) r = std::max(r, length(q - c));
+    auto inS = [&](const std::array<double, 6>& bx) {  // FaceGrid::facesIn's test for [lo, hi]
+        return bx[0] <= hi.x && bx[3] >= lo.x && bx[1] <= hi.y && bx[4] >= lo.y && bx[2] <= hi.z && bx[5] >= lo.z;
+    };
+    auto distance2 = [&](uint32_t f) {  // BoxedFaces' arithmetic
+        const Tri& t = mesh.triangles[f];
+        const auto b = closestOnTriangle(c, mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]);
+        const Vec3 q = mesh.positions[t[0]] * b[0] + mesh.positions[t[1]] * b[1] + mesh.positions[t[2]] * b[2];
+        return length2(q - c);
+    };
+    const double scale = 1e-9 * (1 + std::abs(c.x) + std::abs(c.y) + std::abs(c.z));
+    double facing = 1e300, any = 1e300;  // squared distances from c to S's facing faces, to all of S
+    for (double rho = std::max(r, scale);; rho *= 2) {
+        bool covers = true;
+        for (int a = 0; a < 3; ++a) covers = covers && c[a] - rho <= lo[a] && c[a] + rho >= hi[a];
+        facing = any = 1e300;
+        for (uint32_t f : grid.facesIn(c - Vec3{rho, rho, rho}, c + Vec3{rho, rho, rho})) {
+            if (!inS(faceBox(mesh, f))) continue;
+            const double d = distance2(f);
+            any = std::min(any, d);
+            if (bake_detail::facesIslandWay(mesh, f, n)) facing = std::min(facing, d);
+        }
+        if (covers || (facing < 1e300 && std::sqrt(facing) * (1 + 1e-6) + scale <= rho)) break;
+    }
+    const bool allFaces = !(facing < 1e300);  // no face of S faces the island's way: facingFaces keeps all
+    const double d0 = allFaces ? any : facing;
+    if (!(d0 < 1e300)) return {};
+    const double reach = (std::sqrt(d0) + 2 * r) * (1 + 1e-9) + 1e-12;
+    std::vector<uint32_t> out;
+    for (uint32_t f : grid.facesIn(c - Vec3{reach, reach, reach}, c + Vec3{reach, reach, reach})) {
+        const std::array<double, 6> bx = faceBox(mesh, f);
+        if (inS(bx) && boxDistance2(bx, c) <= reach * reach && (allFaces || bake_detail::facesIslandWay(mesh, f, n))) out.push_back(f);
     }
     return out;
 }

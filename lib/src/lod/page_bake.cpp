@@ -86,7 +86,8 @@ BakeResult bakeProjected(const BakeSources& sources, const FaceGrid& grid, const
         }
         // A sampled deviation can fall short of the true one: widen the search until it finds faces.
         for (double grow = reach; ; grow *= 4) {
-            b.faces = grid.facesIn(lo - Vec3{grow - reach, grow - reach, grow - reach}, hi + Vec3{grow - reach, grow - reach, grow - reach});
+            b.faces = projectedIslandFaces(asset.mesh, grid, b.position, lo - Vec3{grow - reach, grow - reach, grow - reach},
+                                           hi + Vec3{grow - reach, grow - reach, grow - reach});
             if (!b.faces.empty() || grow > 4 * diagonal) break;
         }
     });

@@ -10,6 +10,8 @@
 
 namespace lodbake {
 
+class FaceGrid;
+
 // The channels a bake produces (MaterialPlan decides which the chain needs). Base colour is
 // always baked.
 struct BakeChannels {
@@ -78,6 +80,12 @@ struct BakeIsland {
 // closest point of the island (the bake's facesNearTriangle keeps no others).
 // \throw InvalidInput (an island touching no chart).
 std::vector<BakeIsland> layoutBakeIslands(const TriMesh& mesh, const ChartLayout& layout);
+
+// The faces of `grid` (built over `mesh`) overlapping box [lo, hi] that the bake keeps for an
+// island on triangle `tri`, in the bake's order: a projected island's faces, found at the cost of
+// the faces near the triangle rather than of the box's (empty when the box holds none).
+std::vector<uint32_t> projectedIslandFaces(const TriMesh& mesh, const FaceGrid& grid, const std::array<Vec3, 3>& tri, Vec3 lo,
+                                           Vec3 hi);
 
 struct BakeResult {
     Image image;                 // PNG, RGB 8-bit sRGB, width x height (empty without encodePng)
