@@ -205,36 +205,51 @@ std::vector<BakeIsland> layoutBakeIslands(const TriMesh& mesh, const ChartLayout
 
 // The bake keeps, of an island's faces S, facesNearTriangle(facingFaces(S)): the faces whose box
 // lies within d0 + 2r of the triangle's centroid c, d0 being c's distance to the facing faces.
-// Those are found around c instead of over S: d0 from cubes around c that double until the
+// Those are found around c instead of over all of S: d0 from cubes around c that double until the
 // nearest facing face of S found lies inside the cube (every nearer face's box then overlaps it)
-// or the cube holds all of S, then the faces of S in the cube of half-side d0 + 2r. Same faces,
-// same order (ascending ids, as facesIn lists S), same arithmetic for d0.
+// or the cube holds [lo, hi], then the faces of S in the cube of half-side d0 + 2r. Each cube is
+// queried clipped to [lo, hi]: a face box meeting both boxes meets their intersection (boxes meet
+// axis by axis, and intervals that meet pairwise share a point), so a query lists exactly the
+// faces of S in the cube, at no more cost than S's own query. Same faces, same order (ascending
+// ids, as facesIn lists S), same arithmetic for d0.
 std::vector<uint32_t> projectedIslandFaces(const TriMesh& mesh, const FaceGrid& grid, const std::array<Vec3, 3>& tri, Vec3 lo,
                                            Vec3 hi) {
     const Vec3 n = bake_detail::islandNormal(tri);
     const Vec3 c = (tri[0] + tri[1] + tri[2]) * (1.0 / 3);
     double r = 0;
     for (const Vec3& q : tri) r = std::max(r, length(q - c));
-    auto inS = [&](const std::array<double, 6>& bx) {  // FaceGrid::facesIn's test for [lo, hi]
-        return bx[0] <= hi.x && bx[3] >= lo.x && bx[1] <= hi.y && bx[4] >= lo.y && bx[2] <= hi.z && bx[5] >= lo.z;
-    };
     auto distance2 = [&](uint32_t f) {  // BoxedFaces' arithmetic
         const Tri& t = mesh.triangles[f];
         const auto b = closestOnTriangle(c, mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]);
         const Vec3 q = mesh.positions[t[0]] * b[0] + mesh.positions[t[1]] * b[1] + mesh.positions[t[2]] * b[2];
         return length2(q - c);
     };
+    // The cube of half-side h around c, clipped to [lo, hi]; false when they do not meet.
+    auto clipped = [&](double h, Vec3& qlo, Vec3& qhi) {
+        bool meets = true;
+        for (int a = 0; a < 3; ++a) {
+            qlo[a] = std::max(c[a] - h, lo[a]);
+            qhi[a] = std::min(c[a] + h, hi[a]);
+            meets = meets && qlo[a] <= qhi[a];
+        }
+        return meets;
+    };
     const double scale = 1e-9 * (1 + std::abs(c.x) + std::abs(c.y) + std::abs(c.z));
     double facing = 1e300, any = 1e300;  // squared distances from c to S's facing faces, to all of S
+    std::vector<uint32_t> listed;        // the last query's faces
+    Vec3 qlo{}, qhi{};
     for (double rho = std::max(r, scale);; rho *= 2) {
         bool covers = true;
         for (int a = 0; a < 3; ++a) covers = covers && c[a] - rho <= lo[a] && c[a] + rho >= hi[a];
+        listed = clipped(rho, qlo, qhi) ? grid.facesIn(qlo, qhi) : std::vector<uint32_t>{};
         facing = any = 1e300;
-        for (uint32_t f : grid.facesIn(c - Vec3{rho, rho, rho}, c + Vec3{rho, rho, rho})) {
-            if (!inS(faceBox(mesh, f))) continue;
+        for (uint32_t f : listed) {
+            const bool way = bake_detail::facesIslandWay(mesh, f, n);
+            const double bound = way ? std::max(facing, any) : any;  // a box farther than both minima changes neither
+            if (boxDistance2(faceBox(mesh, f), c) > bound) continue;
             const double d = distance2(f);
             any = std::min(any, d);
-            if (bake_detail::facesIslandWay(mesh, f, n)) facing = std::min(facing, d);
+            if (way) facing = std::min(facing, d);
         }
         if (covers || (facing < 1e300 && std::sqrt(facing) * (1 + 1e-6) + scale <= rho)) break;
     }
@@ -242,11 +257,14 @@ std::vector<uint32_t> projectedIslandFaces(const TriMesh& mesh, const FaceGrid& 
     const double d0 = allFaces ? any : facing;
     if (!(d0 < 1e300)) return {};
     const double reach = (std::sqrt(d0) + 2 * r) * (1 + 1e-9) + 1e-12;
+    Vec3 flo, fhi;
+    clipped(reach, flo, fhi);
+    bool inListed = true;  // the last query's box holds the final one: its faces are the candidates
+    for (int a = 0; a < 3; ++a) inListed = inListed && qlo[a] <= flo[a] && fhi[a] <= qhi[a];
     std::vector<uint32_t> out;
-    for (uint32_t f : grid.facesIn(c - Vec3{reach, reach, reach}, c + Vec3{reach, reach, reach})) {
-        const std::array<double, 6> bx = faceBox(mesh, f);
-        if (inS(bx) && boxDistance2(bx, c) <= reach * reach && (allFaces || bake_detail::facesIslandWay(mesh, f, n))) out.push_back(f);
-    }
+    for (uint32_t f : inListed ? listed : grid.facesIn(flo, fhi))
+        if (boxDistance2(faceBox(mesh, f), c) <= reach * reach && (allFaces || bake_detail::facesIslandWay(mesh, f, n)))
+            out.push_back(f);
     return out;
 }
 
