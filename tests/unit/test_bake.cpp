@@ -11,6 +11,7 @@
 #include "lodbake/bake/bake.h"
 #include "lodbake/core/closest_point.h"
 #include "lodbake/core/errors.h"
+#include "bake/island_bake.h"
 #include "lodbake/core/face_grid.h"
 #include "synthetic_meshes.h"
 
@@ -245,16 +246,18 @@ TEST(Bake, LayoutIslandFacesAreTheNearOnesOfTheirCharts) {
     }
 }
 
-// projectedIslandFaces finds around the island what the bake keeps of every face in the box:
+// projectedIslandNear and nearFaces find around the island what the bake keeps of every face in
+// the box:
 // facesNearTriangle of the faces facing the island's way (cosine above -0.8), all of them when
 // none does. A thin wall (a sphere inside a slightly larger one, wound inward) puts faces facing
 // both ways near every island; boxes from the island's own to the whole model, degenerate islands
 // (no normal: every face kept) and boxes that hold no face at all.
-TEST(ProjectedIslandFaces, SameFacesAsTheBakesFilterOfTheWholeBox) {
+TEST(ProjectedIslandNear, SameFacesAndClosestPointsAsTheBakesFilterOfTheWholeBox) {
     TriMesh mesh = test::sphere(4);
     TriMesh inner = test::sphere(4);
     for (Tri& t : inner.triangles) std::swap(t[1], t[2]);
     test::append(mesh, inner, 0.97, {0, 0, 0});
+    test::append(mesh, test::sphere(4), 1.0, {0, 0, 0});  // coincident copies of the outer sheet
     const FaceGrid grid(mesh);
     auto expected = [&](const std::array<Vec3, 3>& tri, Vec3 lo, Vec3 hi) {
         const std::vector<uint32_t> box = grid.facesIn(lo, hi);
@@ -285,8 +288,28 @@ TEST(ProjectedIslandFaces, SameFacesAsTheBakesFilterOfTheWholeBox) {
         hi = hi + Vec3{reach, reach, reach};
         if (i % 25 == 0) lo = hi = Vec3{5, 5, 5};  // a box beside the model: no face
         const std::vector<uint32_t> want = expected(tri, lo, hi);
-        EXPECT_EQ(projectedIslandFaces(mesh, grid, tri, lo, hi), want) << "island " << i;
-        checked += !want.empty();
+        IslandNear near;
+        ASSERT_EQ(projectedIslandNear(mesh, grid, tri, lo, hi, near), !want.empty()) << "island " << i;
+        if (want.empty()) continue;
+        const std::vector<uint32_t> listed = nearFaces(mesh, near, tri);
+        EXPECT_EQ(listed, want) << "island " << i;
+        ++checked;
+        // Each point of the triangle and just beyond its edges (a dilated texel) finds the face and
+        // barycentrics a scan of the list finds, ties (shared edges, the copies) included.
+        const BoxedFaces boxed(mesh, listed);
+        const Vec3 n = cross(tri[1] - tri[0], tri[2] - tri[0]);
+        std::uniform_real_distribution<double> w(-0.1, 1.1);
+        for (int k = 0; k < 20; ++k) {
+            const double a = w(rng), b = w(rng) * (1 - a);
+            const Vec3 X = k == 0 ? mesh.positions[mesh.triangles[listed[0]][0]] : tri[0] * a + tri[1] * b + tri[2] * (1 - a - b);
+            uint32_t wantFace = 0, face = 0;
+            std::array<double, 3> wantBary{}, bary{};
+            boxed.closest(X, ~0u, wantFace, wantBary);
+            ASSERT_TRUE(bake_detail::closestNearFace(mesh, near, n, X, k % 2 ? 1e-6 : 0.05, face, bary));
+            EXPECT_EQ(face, wantFace) << "island " << i << " point " << k;
+            EXPECT_EQ(bary, wantBary);
+        }
     }
     EXPECT_GT(checked, 200);
 }
+

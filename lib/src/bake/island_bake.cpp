@@ -21,6 +21,12 @@ namespace bake_detail {
 namespace {
 
 constexpr size_t kIslandTreeFrom = 64;  // island texels from which a FaceTree answers them
+// Grid entries a texel's own lookup (closestNearFace) scans, about: below a listing's entries
+// (nearEntries) per texel, an island's texels are looked up one by one instead of listed.
+constexpr size_t kLookupEntries = 512;
+// Grid entries up to which a projected island's box is listed whole (one query) rather than
+// described and searched around the island (several queries, each a part of the box's).
+constexpr size_t kListEntries = 1024;
 // Cosine between an original face's normal and an island's at or below which the face belongs to
 // a sheet facing the other way (about 143 degrees): the two sheets of a thin wall are near 180
 // degrees apart, faces around a crease the island cuts across far less.
@@ -53,13 +59,78 @@ std::vector<uint32_t> facingFaces(const TriMesh& mesh, const std::vector<uint32_
 
 }  // namespace
 
+bool clipToBox(Vec3 c, double h, Vec3 lo, Vec3 hi, Vec3& qlo, Vec3& qhi) {
+    bool meets = true;
+    for (int a = 0; a < 3; ++a) {
+        qlo[a] = std::max(c[a] - h, lo[a]);
+        qhi[a] = std::min(c[a] + h, hi[a]);
+        meets = meets && qlo[a] <= qhi[a];
+    }
+    return meets;
+}
+
+double faceDistance2(const TriMesh& mesh, uint32_t f, Vec3 p, std::array<double, 3>* bary) {
+    const Tri& t = mesh.triangles[f];
+    const auto b = closestOnTriangle(p, mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]);
+    const Vec3 q = mesh.positions[t[0]] * b[0] + mesh.positions[t[1]] * b[1] + mesh.positions[t[2]] * b[2];
+    if (bary) *bary = b;
+    return length2(q - p);
+}
+
+size_t nearEntries(const IslandNear& near) {
+    Vec3 lo, hi;
+    return clipToBox(near.centre, near.reach, near.lo, near.hi, lo, hi) ? near.grid->entriesIn(lo, hi) : 0;
+}
+
+bool boxFarther(const std::array<double, 6>& box, Vec3 p, double best2, double margin) {
+    if (!(best2 < 1e300)) return false;
+    const double bound = std::sqrt(best2) + margin;
+    return boxDistance2(box, p) > bound * bound;
+}
+
+bool inNear(const TriMesh& mesh, const IslandNear& near, Vec3 n, uint32_t f) {
+    const std::array<double, 6> bx = faceBox(mesh, f);
+    return boxDistance2(bx, near.centre) <= near.reach * near.reach && (near.allFaces || facesIslandWay(mesh, f, n));
+}
+
+// Cubes around p doubling from `start`, each clipped to the described region (the box [lo, hi]
+// and the cube of half-side reach around the centre: a face of the set meets both), until the
+// closest face found lies inside the cube: every face as close has its box inside it too, and the
+// cube's faces come in ascending ids, so the first closest is the first of the whole set.
+bool closestNearFace(const TriMesh& mesh, const IslandNear& near, Vec3 n, Vec3 p, double start, uint32_t& face,
+                     std::array<double, 3>& bary) {
+    Vec3 lo, hi;
+    if (!clipToBox(near.centre, near.reach, near.lo, near.hi, lo, hi)) return false;
+    const double scale = 1e-9 * (1 + std::abs(p.x) + std::abs(p.y) + std::abs(p.z));
+    for (double rho = std::max(start, scale);; rho *= 2) {
+        bool covers = true;
+        for (int a = 0; a < 3; ++a) covers = covers && p[a] - rho <= lo[a] && p[a] + rho >= hi[a];
+        Vec3 qlo, qhi;
+        double best = 1e300;
+        if (clipToBox(p, rho, lo, hi, qlo, qhi))
+            for (uint32_t f : near.grid->facesIn(qlo, qhi)) {
+                if (boxFarther(faceBox(mesh, f), p, best, scale) || !inNear(mesh, near, n, f)) continue;
+                std::array<double, 3> b;
+                const double d = faceDistance2(mesh, f, p, &b);
+                if (d < best) {
+                    best = d;
+                    face = f;
+                    bary = b;
+                }
+            }
+        if (best < 1e300 && (covers || std::sqrt(best) * (1 + 1e-6) + scale <= rho)) return true;
+        if (covers) return false;
+    }
+}
+
 // The texels of each island are measured over facesNearTriangle of its facing faces, which holds
 // the closest point of every point X of the island's triangle among them; the merge is in island
 // order (island_bake.h).
 void rasterizeIslands(const TriMesh& mesh, const std::vector<BakeIsland>& islands, const TexelRegion& g, double dilation,
                       int threads, std::vector<TexelHit>& hits) {
     for (size_t i = 0; i < islands.size(); ++i)
-        if (islands[i].faces.empty()) throw InvalidInput("bake: island " + std::to_string(i) + " has no faces to sample");
+        if (islands[i].faces.empty() && !islands[i].near.grid)
+            throw InvalidInput("bake: island " + std::to_string(i) + " has no faces to sample");
     std::vector<std::vector<std::pair<size_t, TexelHit>>> found(islands.size());
     parallelFor(islands.size(), threads, [&](size_t i) {
         const BakeIsland& isl = islands[i];
@@ -86,10 +157,25 @@ void rasterizeIslands(const TriMesh& mesh, const std::vector<BakeIsland>& island
                 found[i].push_back({q.texel, {int32_t(f), q.d, {float(fb[0]), float(fb[1]), float(fb[2])}, int32_t(i)}});
             }
         };
+        if (isl.near.grid && queries.size() * kLookupEntries < nearEntries(isl.near)) {
+            // Few texels for the faces listed: each looked up around itself, starting from a cell
+            // of the grid or the previous texel's distance (only a speed choice: the answer is the
+            // list's).
+            const Vec3 n = islandNormal(isl.position);
+            double start = isl.near.grid->cellSide();
+            answer(isl.near, [&](const IslandNear& near, Vec3 X, std::array<double, 3>& fb) {
+                uint32_t f = 0;
+                closestNearFace(mesh, near, n, X, start, f, fb);
+                start = std::max(isl.near.grid->cellSide(), 1.25 * std::sqrt(faceDistance2(mesh, f, X, nullptr)));
+                return f;
+            });
+            return;
+        }
         // Copies are dropped after the nearness filter, which keeps or drops a face's copies with it
         // (same box, same distance), so the set is the same and the hashing sees far fewer faces.
         std::vector<uint32_t> faces =
-            withoutCopies(mesh, facesNearTriangle(mesh, facingFaces(mesh, isl.faces, isl.position), isl.position));
+            isl.near.grid ? withoutCopies(mesh, nearFaces(mesh, isl.near, isl.position))
+                          : withoutCopies(mesh, facesNearTriangle(mesh, facingFaces(mesh, isl.faces, isl.position), isl.position));
         if (queries.size() < kIslandTreeFrom) {
             uint32_t f = 0xffffffffu;  // the previous texel's face: the next texel's search bound
             answer(BoxedFaces(mesh, std::move(faces)), [&](const BoxedFaces& near, Vec3 X, std::array<double, 3>& fb) {
@@ -205,66 +291,60 @@ std::vector<BakeIsland> layoutBakeIslands(const TriMesh& mesh, const ChartLayout
 
 // The bake keeps, of an island's faces S, facesNearTriangle(facingFaces(S)): the faces whose box
 // lies within d0 + 2r of the triangle's centroid c, d0 being c's distance to the facing faces.
-// Those are found around c instead of over all of S: d0 from cubes around c that double until the
+// d0 is found around c instead of over all of S: from cubes around c that double until the
 // nearest facing face of S found lies inside the cube (every nearer face's box then overlaps it)
-// or the cube holds [lo, hi], then the faces of S in the cube of half-side d0 + 2r. Each cube is
-// queried clipped to [lo, hi]: a face box meeting both boxes meets their intersection (boxes meet
-// axis by axis, and intervals that meet pairwise share a point), so a query lists exactly the
-// faces of S in the cube, at no more cost than S's own query. Same faces, same order (ascending
-// ids, as facesIn lists S), same arithmetic for d0.
-std::vector<uint32_t> projectedIslandFaces(const TriMesh& mesh, const FaceGrid& grid, const std::array<Vec3, 3>& tri, Vec3 lo,
-                                           Vec3 hi) {
+// or the cube holds [lo, hi]. Each cube is queried clipped to [lo, hi] (bake_detail::clipToBox):
+// a face box meeting both boxes meets their intersection (boxes meet axis by axis, and intervals
+// that meet pairwise share a point), so a query lists exactly the faces of S in the cube, at no
+// more cost than S's own query. Same arithmetic for d0 as facesNearTriangle's.
+bool projectedIslandNear(const TriMesh& mesh, const FaceGrid& grid, const std::array<Vec3, 3>& tri, Vec3 lo, Vec3 hi,
+                         IslandNear& near) {
     const Vec3 n = bake_detail::islandNormal(tri);
     const Vec3 c = (tri[0] + tri[1] + tri[2]) * (1.0 / 3);
     double r = 0;
     for (const Vec3& q : tri) r = std::max(r, length(q - c));
-    auto distance2 = [&](uint32_t f) {  // BoxedFaces' arithmetic
-        const Tri& t = mesh.triangles[f];
-        const auto b = closestOnTriangle(c, mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]);
-        const Vec3 q = mesh.positions[t[0]] * b[0] + mesh.positions[t[1]] * b[1] + mesh.positions[t[2]] * b[2];
-        return length2(q - c);
-    };
-    // The cube of half-side h around c, clipped to [lo, hi]; false when they do not meet.
-    auto clipped = [&](double h, Vec3& qlo, Vec3& qhi) {
-        bool meets = true;
-        for (int a = 0; a < 3; ++a) {
-            qlo[a] = std::max(c[a] - h, lo[a]);
-            qhi[a] = std::min(c[a] + h, hi[a]);
-            meets = meets && qlo[a] <= qhi[a];
-        }
-        return meets;
-    };
     const double scale = 1e-9 * (1 + std::abs(c.x) + std::abs(c.y) + std::abs(c.z));
     double facing = 1e300, any = 1e300;  // squared distances from c to S's facing faces, to all of S
-    std::vector<uint32_t> listed;        // the last query's faces
-    Vec3 qlo{}, qhi{};
     for (double rho = std::max(r, scale);; rho *= 2) {
         bool covers = true;
         for (int a = 0; a < 3; ++a) covers = covers && c[a] - rho <= lo[a] && c[a] + rho >= hi[a];
-        listed = clipped(rho, qlo, qhi) ? grid.facesIn(qlo, qhi) : std::vector<uint32_t>{};
+        Vec3 qlo, qhi;
         facing = any = 1e300;
-        for (uint32_t f : listed) {
-            const bool way = bake_detail::facesIslandWay(mesh, f, n);
-            const double bound = way ? std::max(facing, any) : any;  // a box farther than both minima changes neither
-            if (boxDistance2(faceBox(mesh, f), c) > bound) continue;
-            const double d = distance2(f);
-            any = std::min(any, d);
-            if (way) facing = std::min(facing, d);
-        }
+        if (bake_detail::clipToBox(c, rho, lo, hi, qlo, qhi))
+            for (uint32_t f : grid.facesIn(qlo, qhi)) {
+                const bool way = bake_detail::facesIslandWay(mesh, f, n);
+                // any <= facing: a box farther than the face's minimum changes neither
+                if (bake_detail::boxFarther(faceBox(mesh, f), c, way ? facing : any, scale)) continue;
+                const double d = bake_detail::faceDistance2(mesh, f, c, nullptr);
+                any = std::min(any, d);
+                if (way) facing = std::min(facing, d);
+            }
         if (covers || (facing < 1e300 && std::sqrt(facing) * (1 + 1e-6) + scale <= rho)) break;
     }
-    const bool allFaces = !(facing < 1e300);  // no face of S faces the island's way: facingFaces keeps all
-    const double d0 = allFaces ? any : facing;
-    if (!(d0 < 1e300)) return {};
-    const double reach = (std::sqrt(d0) + 2 * r) * (1 + 1e-9) + 1e-12;
-    Vec3 flo, fhi;
-    clipped(reach, flo, fhi);
-    bool inListed = true;  // the last query's box holds the final one: its faces are the candidates
-    for (int a = 0; a < 3; ++a) inListed = inListed && qlo[a] <= flo[a] && fhi[a] <= qhi[a];
+    near.allFaces = !(facing < 1e300);  // no face of S faces the island's way: facingFaces keeps all
+    const double d0 = near.allFaces ? any : facing;
+    if (!(d0 < 1e300)) return false;
+    near.grid = &grid;
+    near.lo = lo;
+    near.hi = hi;
+    near.centre = c;
+    near.reach = (std::sqrt(d0) + 2 * r) * (1 + 1e-9) + 1e-12;
+    return true;
+}
+
+bool projectedIslandFaces(const TriMesh& mesh, const FaceGrid& grid, Vec3 lo, Vec3 hi, BakeIsland& island) {
+    if (grid.entriesIn(lo, hi) > bake_detail::kListEntries) return projectedIslandNear(mesh, grid, island.position, lo, hi, island.near);
+    island.faces = grid.facesIn(lo, hi);
+    return !island.faces.empty();
+}
+
+std::vector<uint32_t> nearFaces(const TriMesh& mesh, const IslandNear& near, const std::array<Vec3, 3>& tri) {
+    const Vec3 n = bake_detail::islandNormal(tri);
+    Vec3 qlo, qhi;
     std::vector<uint32_t> out;
-    for (uint32_t f : inListed ? listed : grid.facesIn(flo, fhi))
-        if (boxDistance2(faceBox(mesh, f), c) <= reach * reach && (allFaces || bake_detail::facesIslandWay(mesh, f, n)))
-            out.push_back(f);
+    if (!bake_detail::clipToBox(near.centre, near.reach, near.lo, near.hi, qlo, qhi)) return out;
+    for (uint32_t f : near.grid->facesIn(qlo, qhi))
+        if (bake_detail::inNear(mesh, near, n, f)) out.push_back(f);
     return out;
 }
 

@@ -86,9 +86,8 @@ BakeResult bakeProjected(const BakeSources& sources, const FaceGrid& grid, const
         }
         // A sampled deviation can fall short of the true one: widen the search until it finds faces.
         for (double grow = reach; ; grow *= 4) {
-            b.faces = projectedIslandFaces(asset.mesh, grid, b.position, lo - Vec3{grow - reach, grow - reach, grow - reach},
-                                           hi + Vec3{grow - reach, grow - reach, grow - reach});
-            if (!b.faces.empty() || grow > 4 * diagonal) break;
+            const Vec3 g{grow - reach, grow - reach, grow - reach};
+            if (projectedIslandFaces(asset.mesh, grid, lo - g, hi + g, b) || grow > 4 * diagonal) break;
         }
     });
     const std::vector<std::array<Vec2, 3>> offPage(asset.mesh.triangleCount(), {Vec2{-10, -10}, Vec2{-10, -10}, Vec2{-10, -10}});

@@ -65,6 +65,17 @@ struct BakeTarget {
     double reach = 4;
 };
 
+// The original faces a projected island samples, described rather than listed (projectedIslandNear):
+// the faces of `grid` whose boxes meet [lo, hi] and lie within `reach` of `centre`, those facing
+// the island's way unless allFaces. A texel's closest point among them is then found around the
+// texel, at the cost of the faces near it, rather than among a list of every one.
+struct IslandNear {
+    const FaceGrid* grid = nullptr;
+    Vec3 lo{}, hi{}, centre{};
+    double reach = 0;
+    bool allFaces = false;
+};
+
 // A UV triangle of the atlas that is not an original face (parameterize's level islands): each
 // texel it covers maps to a point X of the 3D triangle `position` and shows the original surface
 // at the point of `faces` closest to X (same shading as the original faces), among the faces that
@@ -72,7 +83,8 @@ struct BakeTarget {
 struct BakeIsland {
     std::array<Vec3, 3> position{};
     std::array<Vec2, 3> uv{};            // glTF convention, like cornerUV
-    std::vector<uint32_t> faces;         // original faces to sample (non-empty)
+    std::vector<uint32_t> faces;         // original faces to sample (non-empty unless near.grid is set)
+    IslandNear near;                     // with a grid: the faces, described (faces unused)
 };
 
 // The level-triangle islands of a chart layout as the bake takes them: the layout's UVs, and as
@@ -81,11 +93,18 @@ struct BakeIsland {
 // \throw InvalidInput (an island touching no chart).
 std::vector<BakeIsland> layoutBakeIslands(const TriMesh& mesh, const ChartLayout& layout);
 
-// The faces of `grid` (built over `mesh`) overlapping box [lo, hi] that the bake keeps for an
-// island on triangle `tri`, in the bake's order: a projected island's faces, found at the cost of
-// the faces near the triangle rather than of the box's (empty when the box holds none).
-std::vector<uint32_t> projectedIslandFaces(const TriMesh& mesh, const FaceGrid& grid, const std::array<Vec3, 3>& tri, Vec3 lo,
-                                           Vec3 hi);
+// The faces of `grid` (built over `mesh`) meeting box [lo, hi] that the bake keeps for an island
+// on triangle `tri`, described (IslandNear); false when the box holds none. Found at the cost of
+// the faces near the triangle rather than of the box's.
+bool projectedIslandNear(const TriMesh& mesh, const FaceGrid& grid, const std::array<Vec3, 3>& tri, Vec3 lo, Vec3 hi,
+                         IslandNear& near);
+// A projected island's faces among those of `grid` meeting box [lo, hi]: listed (island.faces)
+// when the box holds few, described (projectedIslandNear) when it holds many; false when it holds
+// none.
+bool projectedIslandFaces(const TriMesh& mesh, const FaceGrid& grid, Vec3 lo, Vec3 hi, BakeIsland& island);
+// The faces `near` describes for an island on `tri`, ascending: what the bake's filter keeps of
+// the faces meeting [near.lo, near.hi].
+std::vector<uint32_t> nearFaces(const TriMesh& mesh, const IslandNear& near, const std::array<Vec3, 3>& tri);
 
 struct BakeResult {
     Image image;                 // PNG, RGB 8-bit sRGB, width x height (empty without encodePng)

@@ -20,6 +20,8 @@ public:
     // The cell entries facesIn(lo, hi) scans (a face counts once per cell it is listed in): its
     // cost, found in time proportional to the cells of the box.
     size_t entriesIn(Vec3 lo, Vec3 hi) const;
+    // The cells' side: about a face's size.
+    double cellSide() const { return cell_; }
 
 private:
     Vec3 origin_{};
