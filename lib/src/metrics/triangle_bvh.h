@@ -1,12 +1,14 @@
 // Closest points on a set of CGAL triangles (private to cgal_distance.cpp, the one translation unit
-// that includes CGAL): a bounding volume hierarchy searched nearest box first.
+// that includes CGAL): a bounding volume hierarchy of float boxes, searched nearest box first.
 //
-// The answer is canonical: of the points CGAL's Construct_projected_point_3 gives for the triangles,
-// the one at the least squared distance from the query, ties going to the triangle of the highest
-// rank (setTieRanks). Boxes only prune triangles certainly farther than the best point found (each box is
-// widened by 1e-9 of the coordinates' scale, far beyond rounding of a projection), so the answer
-// does not depend on the tree's shape, the visiting order, a starting bound or the thread count;
-// it is CGAL's AABB_tree::closest_point's wherever that one has no rounding-level tie to break.
+// The answer is canonical: of the points CGAL's Construct_projected_point_3 gives for the
+// triangles, the one at the least squared distance from the query, ties going to the triangle of
+// the highest rank (setTieRanks). Boxes only prune triangles certainly farther than the best point
+// found (each box is widened by 1e-9 of the coordinates' scale, far beyond the rounding of a
+// projection), so the answer does not depend on the tree's shape, the visiting order, a starting
+// bound or the thread count. Ranked in the order CGAL's AABB tree visits the triangles, it is that
+// tree's closest_point (the last of equally close points it visits); they could differ only where
+// CGAL's search keeps its starting hint or skips a box by a rounding error.
 #pragma once
 
 #include <algorithm>
@@ -37,7 +39,7 @@ public:
         for (size_t k = 0; k < input_.size(); ++k) tieRank_[k] = rank[input_[k]];
     }
 
-    // The closest point to q. `bound2` (optional) is a squared distance that some point of the
+    // The closest point to q (the tree must hold a triangle). `bound2` (optional) is a squared distance that some point of the
     // triangles is known to lie within (a nearby query's answer, measured from q): it only prunes.
     Point closest(const Point& q, double bound2 = std::numeric_limits<double>::infinity()) const {
         Point best(0, 0, 0);
@@ -81,13 +83,13 @@ private:
         bool found = false;
         double best2 = limit2;
         uint32_t bestRank = 0;
-        uint32_t stack[64];
+        uint32_t stack[64];  // median splits: the depth is below log2 of the triangle count
         double stackD2[64];
         int top = 0;
         uint32_t node = 0;
         double nodeD2 = boxDistance2(nodes_[0].box, q);
         for (;;) {
-            if (nodeD2 <= best2) {
+            if (nodeD2 <= best2) {  // else farther than the best point: nothing in it can win
                 const Node& n = nodes_[node];
                 if (n.count > 0) {
                     for (uint32_t t = n.first; t < n.first + n.count; ++t) {
