@@ -86,3 +86,34 @@ TEST(FaceGrid, FacesInListsEveryOverlappingFaceOnceAscending) {
         EXPECT_GE(grid.entriesIn(lo, hi), expected.size());
     }
 }
+
+// closestIn answers closestSurfacePoint over facesIn's list of the same box, bit for bit, ties
+// included (points on vertices and edge midpoints of a bumpy grid), and says whether the box holds
+// a face at all.
+TEST(FaceGrid, ClosestInIsTheScanOfFacesIn) {
+    const TriMesh mesh = test::grid(50, 40, [](int i, int j) { return 0.3 * std::sin(0.4 * i) * std::cos(0.3 * j); });
+    const FaceGrid grid(mesh);
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> u(-5, 55), h(-2, 2), r(0.01, 4);
+    std::vector<Vec3> points;
+    for (int i = 0; i < 400; ++i) points.push_back({u(rng), u(rng), h(rng)});
+    for (uint32_t v = 0; v < mesh.vertexCount(); v += 5) points.push_back(mesh.positions[v]);
+    for (uint32_t f = 0; f < mesh.triangleCount(); f += 7) {
+        const Tri& t = mesh.triangles[f];
+        points.push_back((mesh.positions[t[0]] + mesh.positions[t[1]]) * 0.5);
+    }
+    for (const Vec3& p : points) {
+        const double half = r(rng);
+        const Vec3 lo = p - Vec3{half, half, half}, hi = p + Vec3{half, half, half};
+        const std::vector<uint32_t> listed = grid.facesIn(lo, hi);
+        uint32_t scanFace = UINT32_MAX, face = UINT32_MAX;
+        std::array<double, 3> scanBary{}, bary{};
+        const double scan = closestSurfacePoint(mesh, listed, p, scanFace, scanBary);
+        bool any = false;
+        const double d = grid.closestIn(mesh, lo, hi, p, face, bary, any);
+        EXPECT_EQ(any, !listed.empty());
+        EXPECT_EQ(d, scan);
+        EXPECT_EQ(face, scanFace);
+        for (size_t k = 0; k < 3; ++k) EXPECT_EQ(bary[k], scanBary[k]);
+    }
+}

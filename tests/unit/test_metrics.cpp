@@ -2,6 +2,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
+
+// CGAL's own AABB tree is the oracle of DistanceReference's closest points.
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/AABB_triangle_primitive.h>
+#include <CGAL/Simple_cartesian.h>
 
 #include "lodbake/core/errors.h"
 #include "lodbake/metrics/compare.h"
@@ -238,6 +245,53 @@ TEST(SurfaceDistance, BoundedMeasureStopsExactlyAboveTheBound) {
                     EXPECT_EQ(d.mean, full.mean);
                 }
             }
+    }
+}
+
+// DistanceReference's closest points are those of CGAL's AABB tree over the same triangles, bit
+// for bit, ties included: points above a flat grid's vertices and edges are equally close to
+// several faces (whose projections can differ in the last bit), and points of a bumpy grid; with
+// and without `near` points (good ones, the answers themselves, and far ones), on 1 and 3 threads.
+TEST(SurfaceDistance, ClosestPointsAreCgalTreesTiesIncluded) {
+    using K = CGAL::Simple_cartesian<double>;
+    using Triangles = std::vector<K::Triangle_3>;
+    using Tree = CGAL::AABB_tree<CGAL::AABB_traits<K, CGAL::AABB_triangle_primitive<K, Triangles::const_iterator>>>;
+    for (bool flat : {true, false}) {
+        const TriMesh mesh = test::grid(40, 30, [&](int i, int j) { return flat ? 0.0 : 0.3 * std::sin(0.4 * i) * std::cos(0.3 * j); });
+        Triangles triangles;
+        for (const Tri& t : mesh.triangles) {
+            const Vec3 &a = mesh.positions[t[0]], &b = mesh.positions[t[1]], &c = mesh.positions[t[2]];
+            triangles.emplace_back(K::Point_3(a.x, a.y, a.z), K::Point_3(b.x, b.y, b.z), K::Point_3(c.x, c.y, c.z));
+        }
+        const Tree tree(triangles.begin(), triangles.end());
+        std::mt19937 rng(3);
+        std::uniform_real_distribution<double> u(-3, 43), h(-2, 2);
+        std::vector<Vec3> points;
+        for (int i = 0; i < 2000; ++i) points.push_back({u(rng), u(rng), h(rng)});
+        for (uint32_t v = 0; v < mesh.vertexCount(); v += 3) points.push_back(mesh.positions[v] + Vec3{0.1, -0.05, 0.7});
+        for (uint32_t f = 0; f < mesh.triangleCount(); f += 2) {
+            const Tri& t = mesh.triangles[f];
+            points.push_back((mesh.positions[t[0]] + mesh.positions[t[1]]) * 0.5 + Vec3{0, 0, 0.37});
+            points.push_back((mesh.positions[t[1]] + mesh.positions[t[2]]) * 0.5 + Vec3{0.01, 0, 1.3});
+        }
+        const DistanceReference reference(mesh);
+        const std::vector<Vec3> answers = reference.closestPoints(points, 1);
+        std::vector<Vec3> far(points.size(), mesh.positions[0]);
+        for (size_t i = 0; i < points.size(); i += 2) far[i] = Vec3{std::nan(""), 0, 0};
+        for (const std::vector<Vec3>& near : {std::vector<Vec3>{}, answers, far})
+            for (int threads : {1, 3}) {
+                const std::vector<Vec3> got = reference.closestPoints(points, threads, near);
+                for (size_t i = 0; i < points.size(); ++i) {
+                    const K::Point_3 c = tree.closest_point(K::Point_3(points[i].x, points[i].y, points[i].z));
+                    ASSERT_EQ(got[i].x, c.x()) << i;
+                    ASSERT_EQ(got[i].y, c.y()) << i;
+                    ASSERT_EQ(got[i].z, c.z()) << i;
+                }
+            }
+        const Vec3 one = reference.closestPoint(points[5]);
+        EXPECT_EQ(one.x, answers[5].x);
+        EXPECT_EQ(one.y, answers[5].y);
+        EXPECT_EQ(one.z, answers[5].z);
     }
 }
 

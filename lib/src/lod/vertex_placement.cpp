@@ -67,24 +67,33 @@ std::vector<SurfaceSample> areaSamples(const std::vector<Vec3>& positions, const
     return out;
 }
 
-// The closest point of `mesh`'s faces to p through its grid: the search box grows from r until the
-// best face found lies within it (then no face outside the box can be closer). Returns the squared
+Vec3 pointOf(const std::vector<Vec3>& positions, const Tri& t, const std::array<double, 3>& b) {
+    return positions[t[0]] * b[0] + positions[t[1]] * b[1] + positions[t[2]] * b[2];
+}
+
+// The closest point of `mesh`'s faces to p through its grid, as closestSurfacePoint over them all
+// finds it (the first closest face by id): the search box grows from half-side r until the best
+// face found lies within it (then no face outside the box can be as close). A face `hint` (a
+// nearby query's answer; UINT32_MAX for none) no farther than `hintReach` sizes the box at once: it
+// lies in a box of its distance (widened by `margin`, far past rounding). Returns the squared
 // distance (1e300 when the mesh has no faces).
-double closestThroughGrid(const TriMesh& mesh, const FaceGrid& grid, Vec3 p, double r, double limit, uint32_t& face,
-                          std::array<double, 3>& bary) {
+double closestThroughGrid(const TriMesh& mesh, const FaceGrid& grid, Vec3 p, double r, double limit, uint32_t hint,
+                          double hintReach, double margin, uint32_t& face, std::array<double, 3>& bary) {
+    if (hint != UINT32_MAX) {
+        const Tri& t = mesh.triangles[hint];
+        const auto w = closestOnTriangle(p, mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]);
+        const double rh = length(pointOf(mesh.positions, t, w) - p) * (1 + 1e-9) + margin;
+        if (rh <= hintReach) r = rh;
+    }
     for (;; r *= 2) {
-        const std::vector<uint32_t> faces = grid.facesIn(p - Vec3{r, r, r}, p + Vec3{r, r, r});
-        if (!faces.empty()) {
-            const double d = closestSurfacePoint(mesh, faces, p, face, bary);
+        bool any = false;
+        const double d = grid.closestIn(mesh, p - Vec3{r, r, r}, p + Vec3{r, r, r}, p, face, bary, any);
+        if (any) {
             if (d <= r * r || r > limit) return d;
         } else if (r > limit) {
             return 1e300;
         }
     }
-}
-
-Vec3 pointOf(const std::vector<Vec3>& positions, const Tri& t, const std::array<double, 3>& b) {
-    return positions[t[0]] * b[0] + positions[t[1]] * b[1] + positions[t[2]] * b[2];
 }
 
 }  // namespace
@@ -150,6 +159,11 @@ PlacementResult placeLevelVertices(const TriMesh& original, const DistanceRefere
         originalPoints[i] = pointOf(original.positions, original.triangles[originalSamples[i].triangle], originalSamples[i].bary);
 
     std::vector<char> movedEver(nv, 0);
+    // Each original sample's closest point on the level (face, barycentrics), kept round to round.
+    std::vector<std::pair<uint32_t, std::array<double, 3>>> onLevel(originalPoints.size(), {UINT32_MAX, {}});
+    // The level's samples of the previous round and their closest points on the original.
+    std::vector<SurfaceSample> previousSamples;
+    std::vector<Vec3> previousOnOriginal;
     for (int round = 0; round < options.rounds; ++round) {
         // The level as it stands: its area, samples on it, closest points both ways.
         TriMesh current;
@@ -169,14 +183,22 @@ PlacementResult placeLevelVertices(const TriMesh& original, const DistanceRefere
             for (uint32_t t = 0; t < nt; ++t) all[t] = t;
             currentFaces = std::make_unique<BoxedFaces>(current, std::move(all));
         }
-        std::vector<std::pair<uint32_t, std::array<double, 3>>> onLevel(originalPoints.size(), {UINT32_MAX, {}});
+        double margin = 0;  // 1e-9 of the level's coordinates
+        for (uint32_t v : verts) margin = std::max({margin, std::abs(pos[v].x), std::abs(pos[v].y), std::abs(pos[v].z)});
+        margin *= 1e-9;
         parallelChunks(originalPoints.size(), 256, options.threads, [&](size_t begin, size_t end, size_t) {
             uint32_t hint = UINT32_MAX;
             for (size_t i = begin; i < end; ++i) {
                 uint32_t f = 0;
                 std::array<double, 3> b{};
-                const double d = currentGrid ? closestThroughGrid(current, *currentGrid, originalPoints[i], reach, 4 * diagonal, f, b)
+                // The sample's face of the previous round (the level moved little), else the
+                // previous sample's when it lies near.
+                const uint32_t last = onLevel[i].first;
+                const double d = currentGrid ? closestThroughGrid(current, *currentGrid, originalPoints[i], reach, 4 * diagonal,
+                                                                  last != UINT32_MAX ? last : hint, last != UINT32_MAX ? 1e300 : 2 * reach,
+                                                                  margin, f, b)
                                              : currentFaces->closest(originalPoints[i], hint, f, b);
+                onLevel[i] = {UINT32_MAX, {}};
                 if (d < 1e300) onLevel[i] = {f, b}, hint = f;
             }
         });
@@ -184,7 +206,12 @@ PlacementResult placeLevelVertices(const TriMesh& original, const DistanceRefere
         std::vector<Vec3> levelPoints(levelSamples.size());
         for (size_t i = 0; i < levelSamples.size(); ++i)
             levelPoints[i] = pointOf(pos, level.triangles[levelSamples[i].triangle], levelSamples[i].bary);
-        const std::vector<Vec3> onOriginal = surface.closestPoints(levelPoints, options.threads);
+        // Round to round a sample that stays on its triangle moves little: its previous answer
+        // bounds its search.
+        std::vector<Vec3> near(levelPoints.size(), Vec3{std::nan(""), 0, 0});
+        for (size_t i = 0; i < levelSamples.size() && i < previousSamples.size(); ++i)
+            if (previousSamples[i].triangle == levelSamples[i].triangle) near[i] = previousOnOriginal[i];
+        std::vector<Vec3> onOriginal = surface.closestPoints(levelPoints, options.threads, near);
 
         double rms = 0;
         {
@@ -251,6 +278,8 @@ PlacementResult placeLevelVertices(const TriMesh& original, const DistanceRefere
         const double levelWeight = levelArea / double(std::max<size_t>(1, levelSamples.size()));
         for (size_t i = 0; i < levelSamples.size(); ++i)
             addTerm(combinationOf(level.triangles[levelSamples[i].triangle], levelSamples[i].bary), onOriginal[i], levelWeight);
+        previousSamples = levelSamples;
+        previousOnOriginal = std::move(onOriginal);
         const double anchorWeight = options.damping * levelArea / double(nv);
         for (size_t i = 0; i < nv; ++i) {
             if (fixed[i]) continue;

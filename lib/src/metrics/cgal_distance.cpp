@@ -11,8 +11,10 @@
 #include <array>
 #include <atomic>
 #include <cmath>
+#include <limits>
 #include <list>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <vector>
 
@@ -24,6 +26,7 @@
 #include "lodbake/core/closest_point.h"
 #include "lodbake/core/errors.h"
 #include "lodbake/core/parallel.h"
+#include "metrics/triangle_bvh.h"
 
 namespace lodbake {
 namespace {
@@ -32,8 +35,7 @@ using Kernel = CGAL::Simple_cartesian<double>;
 using Point = Kernel::Point_3;
 using Triangle = Kernel::Triangle_3;
 using TriangleList = std::vector<Triangle>;
-using Primitive = CGAL::AABB_triangle_primitive<Kernel, TriangleList::const_iterator>;
-using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
+using Tree = distance_detail::TriangleBvh;
 
 constexpr size_t kChunk = 4096;  // queries per parallel work item (fixed: results never depend on threads)
 
@@ -94,10 +96,9 @@ struct Measured {
     Surface surface;
     TriangleList distinct;
     Tree tree;
-    double triangleSize = 0;  // square root of the mean triangle area
+    const TriangleList& held() const { return distinct.empty() ? surface.triangles : distinct; }
     explicit Measured(const TriMesh& m) : surface(collectSurface(m)) {
         if (surface.triangles.empty()) return;
-        triangleSize = std::sqrt(surface.cumulativeArea.back() / double(surface.triangles.size()));
         const std::vector<uint32_t> kept = withoutCopies(m, surface.faces);
         if (kept.size() < surface.faces.size())
             for (uint32_t f : kept) {
@@ -105,35 +106,31 @@ struct Measured {
                 distinct.emplace_back(toPoint(m.positions[t[0]]), toPoint(m.positions[t[1]]), toPoint(m.positions[t[2]]));
             }
         const TriangleList& held = kept.size() < surface.faces.size() ? distinct : surface.triangles;
-        tree.rebuild(held.begin(), held.end());
-        tree.accelerate_distance_queries();
-        tree.squared_distance(surface.triangles[0].vertex(0));
+        tree = Tree(held);
     }
 };
 
-// Nearest points of consecutive queries on `to`. The previous answer c0 (for q0) bounds the next
-// one's distance by |q - q0| + |q0 - c0|; the tree's own start (its nearest vertex) by about the
-// distance plus a triangle's size. The previous answer starts the search when q lies within half
-// its distance or a triangle's size of q0, the nearest vertex otherwise (consecutive samples spread
-// over one large triangle of a coarse level are far apart). The answer is the closest point either
-// way.
+// Nearest points of consecutive queries on `to`: the previous answer c0, |q - c0| away, bounds
+// the search of the next (samples along a surface lie close together). The bound only prunes: the
+// answer is the tree's canonical closest point either way.
 class NearestWalk {
 public:
-    NearestWalk(const Tree& tree, double triangleSize) : tree_(tree), size2_(triangleSize * triangleSize) {}
-    Point operator()(const Point& q) {
-        const bool near = hinted_ && CGAL::squared_distance(q, q0_) <= std::max(0.25 * d0_, size2_);
-        c0_ = near ? tree_.closest_point(q, c0_) : tree_.closest_point(q);
-        q0_ = q;
-        d0_ = CGAL::squared_distance(q, c0_);
-        hinted_ = true;
-        return c0_;
+    explicit NearestWalk(const Tree& tree) : tree_(tree) {}
+    Point operator()(const Point& q) { return next(q, hinted_ ? CGAL::squared_distance(q, c0_) : kFar); }
+    // ... with `hint`, a point of the surface near q, as a second bound.
+    Point operator()(const Point& q, const Point& hint) {
+        return next(q, std::min(CGAL::squared_distance(q, hint), hinted_ ? CGAL::squared_distance(q, c0_) : kFar));
     }
 
 private:
+    static constexpr double kFar = std::numeric_limits<double>::infinity();
+    Point next(const Point& q, double bound2) {
+        c0_ = tree_.closest(q, bound2);
+        hinted_ = true;
+        return c0_;
+    }
     const Tree& tree_;
-    double size2_;  // squared typical triangle size of the tree's surface
-    Point q0_, c0_;
-    double d0_ = 0;
+    Point c0_{0, 0, 0};
     bool hinted_ = false;
 };
 
@@ -168,7 +165,7 @@ OneSidedDistance oneSided(const Surface& from, const Measured& to, const Distanc
         Partial p;
         if (stop.hit()) return;
         size_t end = std::min(total, (c + 1) * kChunk);
-        NearestWalk nearest(to.tree, to.triangleSize);
+        NearestWalk nearest(to.tree);
         for (size_t i = c * kChunk; i < end; ++i) {
             const Point q = toPoint(i < n ? samplePoint(from, i, n, offset) : from.vertices[i - n]);
             double d = std::sqrt(CGAL::squared_distance(q, nearest(q)));
@@ -264,7 +261,7 @@ double vertexMaximum(const Surface& from, const Measured& to, const CoarseGrid* 
         for (size_t v = c * kChunk; v < std::min(nv, (c + 1) * kChunk) && !stop.hit(); ++v) {
             const Vec3 p = from.vertices[v];
             if (grid && grid->boundsBelow(p, limit)) continue;
-            const double d = std::sqrt(CGAL::squared_distance(toPoint(p), to.tree.closest_point(toPoint(p))));
+            const double d = std::sqrt(CGAL::squared_distance(toPoint(p), to.tree.closest(toPoint(p))));
             itemMax[c] = std::max(itemMax[c], d);
             stop.see(d);
             ++itemQueried[c];
@@ -297,7 +294,7 @@ OneSidedDistance oneSidedRefined(const Surface& from, const Measured& to, const 
         Partial p;
         for (size_t b = c * blocksPerItem; b < std::min(blocks, (c + 1) * blocksPerItem) && !stop.hit(); ++b) {
             const size_t first = (b * kRefineBlock + stride - 1) / stride * stride;  // first strided index
-            NearestWalk nearest(to.tree, to.triangleSize);
+            NearestWalk nearest(to.tree);
             for (size_t i = first; i < std::min(n, (b + 1) * kRefineBlock); i += stride) {
                 coarsePoint[i / stride] = samplePoint(from, i, n, offset);
                 const Point q = toPoint(coarsePoint[i / stride]);
@@ -352,7 +349,7 @@ OneSidedDistance oneSidedRefined(const Surface& from, const Measured& to, const 
         std::vector<std::pair<Vec3, double>> strided;  // the run's strided samples and their distances
         for (size_t i = (begin + stride - 1) / stride * stride; i < end; i += stride)
             strided.emplace_back(samplePoint(from, i, n, offset), coarse[i / stride]);
-        NearestWalk nearest(to.tree, to.triangleSize);
+        NearestWalk nearest(to.tree);
         for (size_t i = begin; i < end; ++i) {
             if (i % stride == 0) continue;
             const Vec3 p = samplePoint(from, i, n, offset);
@@ -382,10 +379,44 @@ OneSidedDistance measureSide(const Surface& from, const Measured& to, const Dist
 
 }  // namespace
 
+using CgalPrimitive = CGAL::AABB_triangle_primitive<Kernel, TriangleList::const_iterator>;
+using CgalTree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, CgalPrimitive>>;
+
+// Traversal traits that visit every primitive of a CGAL tree, numbering them in visiting order.
+struct VisitAll {
+    const Triangle* first;
+    std::vector<uint32_t>& rank;
+    uint32_t next = 0;
+    bool go_further() const { return true; }
+    void intersection(const Point&, const CgalPrimitive& p) { rank[size_t(&*p.id() - first)] = next++; }
+    template <class Node>
+    bool do_intersect(const Point&, const Node&) const { return true; }
+};
+
+// The order in which CGAL's AABB tree over `triangles` visits them (its primitives' order after
+// its build; only the build runs, no query). Of equally close points, that tree's closest_point
+// returns the last one it visits (a point replaces the best so far unless it is farther), so the
+// triangles ranked by this order break ties as it does: the closest points are that tree's.
+std::vector<uint32_t> cgalVisitRanks(const TriangleList& triangles) {
+    std::vector<uint32_t> rank(triangles.size(), 0);
+    if (triangles.empty()) return rank;
+    const CgalTree tree(triangles.begin(), triangles.end());
+    VisitAll visit{triangles.data(), rank};
+    tree.traversal(Point(0, 0, 0), visit);
+    return rank;
+}
+
 struct DistanceReference::Prepared {
     Measured measured;
     double diagonal = 0;
     explicit Prepared(const TriMesh& a) : measured(a), diagonal(bounds(a).diagonal()) {}
+    // closestPoint(s) answer points, not only distances: their ties are broken as CGAL's tree
+    // over the same triangles breaks them, ranked before the first query.
+    std::once_flag ranked;
+    const Tree& rankedTree() {
+        std::call_once(ranked, [&] { measured.tree.setTieRanks(cgalVisitRanks(measured.held())); });
+        return measured.tree;
+    }
 };
 
 DistanceReference::DistanceReference(const TriMesh& a) : prepared_(std::make_unique<Prepared>(a)) {
@@ -395,14 +426,17 @@ DistanceReference::~DistanceReference() = default;
 DistanceReference::DistanceReference(DistanceReference&&) noexcept = default;
 DistanceReference& DistanceReference::operator=(DistanceReference&&) noexcept = default;
 
-Vec3 DistanceReference::closestPoint(Vec3 p) const { return toVec(prepared_->measured.tree.closest_point(toPoint(p))); }
+Vec3 DistanceReference::closestPoint(Vec3 p) const { return toVec(prepared_->rankedTree().closest(toPoint(p))); }
 
-std::vector<Vec3> DistanceReference::closestPoints(const std::vector<Vec3>& points, int threads) const {
-    const Measured& m = prepared_->measured;
+std::vector<Vec3> DistanceReference::closestPoints(const std::vector<Vec3>& points, int threads, const std::vector<Vec3>& near) const {
+    const Tree& tree = prepared_->rankedTree();
     std::vector<Vec3> out(points.size());
     parallelFor((points.size() + kChunk - 1) / kChunk, threads, [&](size_t c) {
-        NearestWalk nearest(m.tree, m.triangleSize);
-        for (size_t i = c * kChunk; i < std::min(points.size(), (c + 1) * kChunk); ++i) out[i] = toVec(nearest(toPoint(points[i])));
+        NearestWalk nearest(tree);
+        for (size_t i = c * kChunk; i < std::min(points.size(), (c + 1) * kChunk); ++i) {
+            const Point q = toPoint(points[i]);
+            out[i] = toVec(i < near.size() && !std::isnan(near[i].x) ? nearest(q, toPoint(near[i])) : nearest(q));
+        }
     });
     return out;
 }

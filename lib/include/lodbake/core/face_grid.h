@@ -17,6 +17,10 @@ public:
     explicit FaceGrid(const TriMesh& mesh, double cellsPerFace = 1.0);
     // Ids of every face whose bounding box overlaps box [lo, hi], ascending.
     std::vector<uint32_t> facesIn(Vec3 lo, Vec3 hi) const;
+    // closestSurfacePoint(mesh, facesIn(lo, hi), p, face, bary) without the list (mesh: the one the
+    // grid was built over): the squared distance to the first closest face by id, 1e300 when none
+    // is at a finite distance; `any` tells whether the box holds a face at all.
+    double closestIn(const TriMesh& mesh, Vec3 lo, Vec3 hi, Vec3 p, uint32_t& face, std::array<double, 3>& bary, bool& any) const;
     // The cell entries facesIn(lo, hi) scans (a face counts once per cell it is listed in): its
     // cost, found in time proportional to the cells of the box.
     size_t entriesIn(Vec3 lo, Vec3 hi) const;

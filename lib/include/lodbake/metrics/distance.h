@@ -85,7 +85,9 @@ public:
     // The closest point of `a`'s surface to each of `points`, on `threads` threads (0 = all cores;
     // never changes the result). Consecutive points that lie close together (samples along a
     // surface) start their search from the previous answer: far cheaper than one closestPoint each.
-    std::vector<Vec3> closestPoints(const std::vector<Vec3>& points, int threads = 0) const;
+    // near[i], when given and not NaN, is a point of the surface near points[i] (an earlier
+    // answer for a point close by): it bounds the search, never changing the answer.
+    std::vector<Vec3> closestPoints(const std::vector<Vec3>& points, int threads = 0, const std::vector<Vec3>& near = {}) const;
 
     struct Prepared;
     const Prepared& prepared() const { return *prepared_; }

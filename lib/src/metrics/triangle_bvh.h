@@ -1,0 +1,199 @@
+// Closest points on a set of CGAL triangles (private to cgal_distance.cpp, the one translation unit
+// that includes CGAL): a bounding volume hierarchy of float boxes, searched nearest box first.
+//
+// The answer is canonical: of the points CGAL's Construct_projected_point_3 gives for the
+// triangles, the one at the least squared distance from the query, ties going to the triangle of
+// the highest rank (setTieRanks). Boxes only prune triangles certainly farther than the best point
+// found (each box is widened by 1e-9 of the coordinates' scale, far beyond the rounding of a
+// projection), so the answer does not depend on the tree's shape, the visiting order, a starting
+// bound or the thread count. Ranked in the order CGAL's AABB tree visits the triangles, it is that
+// tree's closest_point (the last of equally close points it visits); they could differ only where
+// CGAL's search keeps its starting hint or skips a box by a rounding error.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include <CGAL/Simple_cartesian.h>
+
+namespace lodbake::distance_detail {
+
+class TriangleBvh {
+public:
+    using Kernel = CGAL::Simple_cartesian<double>;
+    using Point = Kernel::Point_3;
+    using Triangle = Kernel::Triangle_3;
+
+    TriangleBvh() = default;
+    explicit TriangleBvh(const std::vector<Triangle>& triangles) { build(triangles); }
+
+    bool empty() const { return triangles_.empty(); }
+
+    // Which of equally close points closest() returns: the one of the triangle with the highest
+    // rank (rank[i] for input triangle i; by default i itself).
+    void setTieRanks(const std::vector<uint32_t>& rank) {
+        for (size_t k = 0; k < input_.size(); ++k) tieRank_[k] = rank[input_[k]];
+    }
+
+    // The closest point to q (the tree must hold a triangle). `bound2` (optional) is a squared distance that some point of the
+    // triangles is known to lie within (a nearby query's answer, measured from q): it only prunes.
+    Point closest(const Point& q, double bound2 = std::numeric_limits<double>::infinity()) const {
+        Point best(0, 0, 0);
+        // The bound widened past rounding: the point it came from is no projection of q.
+        if (search(q, bound2 * (1 + 1e-9) + tiny2_, best)) return best;
+        search(q, std::numeric_limits<double>::infinity(), best);
+        return best;
+    }
+
+private:
+    struct Box {
+        std::array<float, 3> lo, hi;
+    };
+    struct Node {
+        Box box;
+        uint32_t first = 0;  // leaf: its first triangle; inner: its second child (the first follows it)
+        uint32_t count = 0;  // leaf: its triangles; inner: 0
+    };
+    static constexpr uint32_t kLeaf = 4;
+
+    std::vector<Triangle> triangles_;  // in leaf order
+    std::vector<Box> boxes_;           // each triangle's widened box
+    std::vector<uint32_t> input_;      // each triangle's index in the input
+    std::vector<uint32_t> tieRank_;    // of equally close points, the one of the highest rank wins
+    std::vector<Node> nodes_;
+    double tiny2_ = 0;                 // squared widening
+
+    // Lower bound of the squared distance from q to anything inside box b.
+    static double boxDistance2(const Box& b, const Point& q) {
+        double d2 = 0;
+        const double p[3] = {q.x(), q.y(), q.z()};
+        for (int a = 0; a < 3; ++a) {
+            const double lo = double(b.lo[size_t(a)]), hi = double(b.hi[size_t(a)]);
+            const double e = p[a] < lo ? lo - p[a] : (p[a] > hi ? p[a] - hi : 0.0);
+            d2 += e * e;
+        }
+        return d2;
+    }
+
+    bool search(const Point& q, double limit2, Point& best) const {
+        bool found = false;
+        double best2 = limit2;
+        uint32_t bestRank = 0;
+        uint32_t stack[64];  // median splits: the depth is below log2 of the triangle count
+        double stackD2[64];
+        int top = 0;
+        uint32_t node = 0;
+        double nodeD2 = boxDistance2(nodes_[0].box, q);
+        for (;;) {
+            if (nodeD2 <= best2) {  // else farther than the best point: nothing in it can win
+                const Node& n = nodes_[node];
+                if (n.count > 0) {
+                    for (uint32_t t = n.first; t < n.first + n.count; ++t) {
+                        if (boxDistance2(boxes_[t], q) > best2) continue;
+                        const Point p = Kernel().construct_projected_point_3_object()(triangles_[t], q);
+                        const double d2 = CGAL::squared_distance(q, p);
+                        if (d2 < best2 || (d2 == best2 && (!found || tieRank_[t] > bestRank))) {
+                            best2 = d2;
+                            best = p;
+                            bestRank = tieRank_[t];
+                            found = true;
+                        }
+                    }
+                } else {
+                    const uint32_t a = node + 1, b = n.first;
+                    const double da = boxDistance2(nodes_[a].box, q), db = boxDistance2(nodes_[b].box, q);
+                    const bool aFirst = da <= db;
+                    stack[top] = aFirst ? b : a;
+                    stackD2[top++] = aFirst ? db : da;
+                    node = aFirst ? a : b;
+                    nodeD2 = aFirst ? da : db;
+                    continue;
+                }
+            }
+            if (top == 0) break;
+            --top;
+            node = stack[top];
+            nodeD2 = stackD2[top];
+        }
+        return found;
+    }
+
+    void build(const std::vector<Triangle>& triangles) {
+        const size_t n = triangles.size();
+        if (n == 0) return;
+        double scale = 0;
+        std::vector<std::array<double, 6>> box(n);
+        std::vector<std::array<double, 3>> centre(n);
+        for (size_t t = 0; t < n; ++t) {
+            std::array<double, 6> b{};
+            for (int a = 0; a < 3; ++a) {
+                const double x = triangles[t].vertex(0)[a], y = triangles[t].vertex(1)[a], z = triangles[t].vertex(2)[a];
+                b[size_t(a)] = std::min({x, y, z});
+                b[size_t(a) + 3] = std::max({x, y, z});
+                centre[t][size_t(a)] = 0.5 * (b[size_t(a)] + b[size_t(a) + 3]);
+                scale = std::max({scale, std::abs(b[size_t(a)]), std::abs(b[size_t(a) + 3])});
+            }
+            box[t] = b;
+        }
+        const double widen = 1e-9 * scale;
+        tiny2_ = widen * widen;
+        auto toBox = [&](const std::array<double, 6>& b) {
+            Box f;
+            for (size_t a = 0; a < 3; ++a) {
+                f.lo[a] = std::nextafter(float(b[a] - widen), -std::numeric_limits<float>::infinity());
+                f.hi[a] = std::nextafter(float(b[a + 3] + widen), std::numeric_limits<float>::infinity());
+            }
+            return f;
+        };
+        std::vector<uint32_t> order(n);
+        for (uint32_t t = 0; t < n; ++t) order[t] = t;
+        nodes_.reserve(2 * n / kLeaf + 2);
+        // Median splits along the longest side of the centres' box, nodes in depth-first order.
+        auto node = [&](auto&& self, uint32_t begin, uint32_t end) -> uint32_t {
+            const uint32_t index = uint32_t(nodes_.size());
+            nodes_.emplace_back();
+            std::array<double, 6> b{1e300, 1e300, 1e300, -1e300, -1e300, -1e300}, c = b;
+            for (uint32_t i = begin; i < end; ++i) {
+                const uint32_t t = order[i];
+                for (size_t a = 0; a < 3; ++a) {
+                    b[a] = std::min(b[a], box[t][a]);
+                    b[a + 3] = std::max(b[a + 3], box[t][a + 3]);
+                    c[a] = std::min(c[a], centre[t][a]);
+                    c[a + 3] = std::max(c[a + 3], centre[t][a]);
+                }
+            }
+            nodes_[index].box = toBox(b);
+            if (end - begin <= kLeaf) {
+                nodes_[index].first = begin;
+                nodes_[index].count = end - begin;
+                return index;
+            }
+            size_t axis = 0;
+            for (size_t a = 1; a < 3; ++a)
+                if (c[a + 3] - c[a] > c[axis + 3] - c[axis]) axis = a;
+            const uint32_t mid = begin + (end - begin) / 2;
+            std::nth_element(order.begin() + begin, order.begin() + mid, order.begin() + end, [&](uint32_t x, uint32_t y) {
+                return centre[x][axis] < centre[y][axis] || (centre[x][axis] == centre[y][axis] && x < y);
+            });
+            self(self, begin, mid);  // the first child follows its parent
+            const uint32_t second = self(self, mid, end);
+            nodes_[index].first = second;
+            return index;
+        };
+        node(node, 0, uint32_t(n));
+        triangles_.reserve(n);
+        boxes_.reserve(n);
+        for (uint32_t t : order) {
+            triangles_.push_back(triangles[t]);
+            boxes_.push_back(toBox(box[t]));
+        }
+        input_ = order;
+        tieRank_ = order;
+    }
+};
+
+}  // namespace lodbake::distance_detail
