@@ -17,6 +17,7 @@
 #include "lodbake/param/chart_uv.h"
 #include "param/chart_energy_terms.h"
 #include "param/solver_output.h"
+#include "param/solver_threads.h"
 #include "param/sparse_solver.h"
 
 namespace lodbake {
@@ -183,6 +184,7 @@ void silenceSolverOutput() {
 ChartSolveResult optimizeChartUV(const ChartMesh& chart, const std::vector<ChartPair>& pairs,
                                  const std::vector<Vec2>& initial, const ChartSolveOptions& options) {
     silenceSolverOutput();
+    keepSolverThreadsSerial();
     ChartSolveResult res;
     res.uv = initial;
     res.before = chartEnergy(chart, pairs, initial, options.energy);

@@ -18,6 +18,7 @@
 #include "lodbake/core/errors.h"
 #include "lodbake/param/chart_uv.h"
 #include "param/solver_output.h"
+#include "param/solver_threads.h"
 
 namespace lodbake {
 namespace {
@@ -136,6 +137,7 @@ std::vector<Vec2> lscmEmbedding(const ChartMesh& chart) {
         }
         Eigen::VectorXd x;
         silenceSolverOutput();  // CHOLMOD's warnings (a matrix not positive definite) are the result's
+        keepSolverThreadsSerial();
         const bool solved = 2 * long(m) >= kSupernodalFrom
                                 ? solveNormal<Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>>>(AtA, b, x)
                                 : solveNormal<Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>>(AtA, b, x);
