@@ -51,7 +51,14 @@ struct Footprint {
     double centroidRow = 0;                            // mean row of the occupied texels
     int leastCells = 0, leastLongest = 0;              // smallest rowCells and rowLongest
     std::vector<int> testOrder;                        // rows, longest run first (ties: lower row first)
+    // A rectangle of occupied cells inside the footprint (the largest by area, at most
+    // kCoreRows rows): rows [coreTop, coreTop + coreRows), columns [coreA, coreB]; coreRows 0: none.
+    int coreTop = 0, coreRows = 0, coreA = 0, coreB = -1;
 };
+
+// The most rows a footprint's core rectangle spans (BitmapPage keeps the union of up to this many
+// consecutive rows).
+constexpr int kCoreRows = 16;
 
 // The chart rasterised in its oriented frame at density t: cells [pad, pad + ceil(w t)) hold the
 // chart, pad = radius cells on each side hold its half of the gutter.
