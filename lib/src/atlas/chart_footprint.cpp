@@ -255,6 +255,26 @@ std::vector<uint8_t> chartMask(const Oriented& c, double t, int radius, int& gw,
     return mask;
 }
 
+std::array<double, 6> placementFor(const Oriented& c, const Slot& s, double t, int radius) {
+    // Grid coordinates before the turn: q = (A . uv + a, B . uv + b).
+    const double A[3] = {t * c.c, t * c.s, radius - t * c.minX};
+    const double B[3] = {-t * c.s, t * c.c, radius - t * c.minY};
+    std::array<double, 6> m{};
+    for (int k = 0; k < 3; ++k) {
+        double x = A[k], y = B[k], cx = k == 2 ? 1 : 0;  // constants carry the grid offsets
+        double rx = x, ry = y;
+        switch (s.rotation) {
+            case 1: rx = s.gh * cx - y; ry = x; break;
+            case 2: rx = s.gw * cx - x; ry = s.gh * cx - y; break;
+            case 3: rx = y; ry = s.gw * cx - x; break;
+            default: break;
+        }
+        m[size_t(k)] = rx + (k == 2 ? s.x : 0);
+        m[size_t(3 + k)] = ry + (k == 2 ? s.y : 0);
+    }
+    return m;
+}
+
 Footprint rotatedFootprint(const std::vector<uint8_t>& mask, int gw, int gh, int rotation) {
     Footprint f;
     f.w = rotation % 2 ? gh : gw;
@@ -315,32 +335,53 @@ std::vector<uint8_t> coarsen(const std::vector<uint8_t>& mask, int gw, int gh, i
     return out;
 }
 
-Footprints footprintsAt(const Orientations& charts, double t, int gutter, int scale, int threads, Footprints* twiceCoarser) {
-    const int radius = (gutter + 1) / 2;
+namespace {
+
+// A chart's footprints in one orientation on the search grid of fp (ChartFootprints), and in
+// `twiceCoarser`, when given, on the grid twice as coarse (from the same rasterisation).
+ChartFootprints orientedFootprints(const Oriented& o, const Footprints& fp, ChartFootprints* twiceCoarser) {
+    ChartFootprints c;
+    c.turns = o.turns;
+    std::vector<uint8_t> fine = chartMask(o, fp.t, fp.radius, c.gw, c.gh, &c.raster);
+    c.footprint = size_t(std::count(fine.begin(), fine.end(), uint8_t(1)));
+    auto blocks = [&](ChartFootprints& into, int s) {
+        std::vector<uint8_t> mask = coarsen(fine, into.gw, into.gh, s, into.cw, into.ch);
+        // Only the quarter turns the placement tries (texel-aligned charts: none).
+        for (int rot = 0; rot < into.turns; ++rot) into.rot[size_t(rot)] = rotatedFootprint(mask, into.cw, into.ch, rot);
+    };
+    if (twiceCoarser) {
+        *twiceCoarser = c;
+        blocks(*twiceCoarser, 2 * fp.scale);
+    }
+    blocks(c, fp.scale);
+    return c;
+}
+
+}  // namespace
+
+Footprints noFootprints(size_t charts, double t, int gutter, int scale) {
     Footprints fp;
     fp.t = t;
     fp.scale = scale;
-    fp.radius = radius;
-    fp.charts.resize(charts.size());
-    if (twiceCoarser) *twiceCoarser = fp, twiceCoarser->scale = 2 * scale;
+    fp.radius = (gutter + 1) / 2;
+    fp.charts.resize(charts);
+    return fp;
+}
+
+void addFootprints(const Orientations& charts, const std::vector<size_t>& which, Footprints& fp, int threads) {
+    parallelFor(which.size(), threads, [&](size_t k) {  // each chart into its own slot
+        for (const Oriented& o : charts[which[k]]) fp.charts[which[k]].push_back(orientedFootprints(o, fp, nullptr));
+    });
+}
+
+Footprints footprintsAt(const Orientations& charts, double t, int gutter, int scale, int threads, Footprints* twiceCoarser) {
+    Footprints fp = noFootprints(charts.size(), t, gutter, scale);
+    if (twiceCoarser) *twiceCoarser = noFootprints(charts.size(), t, gutter, 2 * scale);
     parallelFor(charts.size(), threads, [&](size_t i) {  // each chart into its own slot
         for (const Oriented& o : charts[i]) {
-            ChartFootprints c;
-            c.turns = o.turns;
-            std::vector<uint8_t> fine = chartMask(o, t, radius, c.gw, c.gh, &c.raster);
-            c.footprint = size_t(std::count(fine.begin(), fine.end(), uint8_t(1)));
-            auto blocks = [&](ChartFootprints& into, int s) {
-                std::vector<uint8_t> mask = coarsen(fine, into.gw, into.gh, s, into.cw, into.ch);
-                // Only the quarter turns the placement tries (texel-aligned charts: none).
-                for (int rot = 0; rot < into.turns; ++rot) into.rot[size_t(rot)] = rotatedFootprint(mask, into.cw, into.ch, rot);
-            };
-            if (twiceCoarser) {
-                ChartFootprints cc = c;
-                blocks(cc, 2 * scale);
-                twiceCoarser->charts[i].push_back(std::move(cc));
-            }
-            blocks(c, scale);
-            fp.charts[i].push_back(std::move(c));
+            ChartFootprints coarse;
+            fp.charts[i].push_back(orientedFootprints(o, fp, twiceCoarser ? &coarse : nullptr));
+            if (twiceCoarser) twiceCoarser->charts[i].push_back(std::move(coarse));
         }
     });
     return fp;
