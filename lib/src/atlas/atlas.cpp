@@ -26,7 +26,8 @@
 //      no gutter along the page border (the samplers clamp to the edge); the search skips rows
 //      whose longest free run is shorter than the chart's row needs (past every position a page
 //      row too full for any of the chart's rows rules out), and jumps over a whole occupied
-//      stretch on a collision;
+//      stretch on a collision, first testing the footprint's core rectangle against the union of
+//      its rows (a set texel there is a collision, and the union's stretches are the longest);
 //   4. placeCharts: the affine UV -> texel map of each chart (placementFor); utilisation figures.
 #include "lodbake/atlas/atlas.h"
 
@@ -46,12 +47,6 @@ namespace lodbake {
 namespace {
 
 using namespace atlas_detail;
-
-struct Slot {
-    int x = 0, y = 0, rotation = 0;
-    size_t orientation = 0;  // index into the chart's orientations
-    int gw = 0, gh = 0;  // the unrotated grid
-};
 
 struct Packing {
     std::vector<Slot> slots;  // per chart
@@ -144,23 +139,23 @@ struct PackState {
     Packing packing;
 };
 
-// `prefix`, when given, receives the state before each chart of `order` is placed; `from`, when
-// given, is such a state of an order that agrees with `order` on its first `fromIndex` charts:
-// the packing resumes there (the same charts placed the same way). `inPlace`, when given, holds
-// per chart a cell its first orientation takes, unturned, when it lies on the page ({-1, -1}:
-// none); such charts come first in `order` and may overlap each other (AtlasChart::inPlace).
-std::optional<Packing> packBitmap(const Footprints& fp, const std::vector<size_t>& order, int binW, int binH,
-                                  Placement placement = Placement::TopEdge, CostBound* bound = nullptr,
-                                  std::vector<PackState>* prefix = nullptr, const PackState* from = nullptr, size_t fromIndex = 0,
-                                  const std::vector<std::array<int, 2>>* inPlace = nullptr) {
+// A packing's start: the empty page.
+PackState emptyPack(const Footprints& fp, int binW, int binH) {
+    PackState state{BitmapPage((binW + 2 * fp.radius) / fp.scale, (binH + 2 * fp.radius) / fp.scale), Packing{}};
+    state.packing.slots.resize(fp.charts.size());
+    return state;
+}
+
+// Places the charts order[first, last) into `state`; false when one finds no place (or, with a
+// bound, costs too much). See packBitmap for `prefix` and `inPlace`.
+bool packSteps(const Footprints& fp, const std::vector<size_t>& order, size_t first, size_t last, PackState& state, Placement placement,
+               CostBound* bound, std::vector<PackState>* prefix, const std::vector<std::array<int, 2>>* inPlace) {
     const int scale = fp.scale, r = fp.radius;
-    PackState state = from ? *from : PackState{BitmapPage((binW + 2 * r) / scale, (binH + 2 * r) / scale), Packing{}};
     BitmapPage& page = state.page;
     Packing& p = state.packing;
     // The page's cost when the bitmap's used part is w x h blocks.
     auto costOf = [&](int w, int h) { return pageCost(std::max(1, w * scale - 2 * r), std::max(1, h * scale - 2 * r), bound->maxSize()); };
-    if (!from) p.slots.resize(fp.charts.size());
-    for (size_t step = from ? fromIndex : 0; step < order.size(); ++step) {
+    for (size_t step = first; step < last; ++step) {
         if (prefix) prefix->push_back(state);
         const size_t i = order[step];
         Slot& s = p.slots[i];
@@ -170,7 +165,7 @@ std::optional<Packing> packBitmap(const Footprints& fp, const std::vector<size_t
         if (bound && placement == Placement::TopEdge) {
             const double b = bound->limit();
             int lo = page.usedHeight(), hi = page.height();  // the highest top edge within the bound
-            if (costOf(page.usedWidth(), lo) > b) return std::nullopt;
+            if (costOf(page.usedWidth(), lo) > b) return false;
             while (lo < hi) {
                 const int mid = lo + (hi - lo + 1) / 2;
                 if (costOf(page.usedWidth(), mid) > b) hi = mid - 1;
@@ -194,14 +189,14 @@ std::optional<Packing> packBitmap(const Footprints& fp, const std::vector<size_t
                     s.x = x; s.y = y; s.rotation = rot; s.orientation = v;
                 }
             }
-        if (bestKey == firstLimit) return std::nullopt;
+        if (bestKey == firstLimit) return false;
         const ChartFootprints& c = fp.charts[i][s.orientation];
         s.gw = c.gw;
         s.gh = c.gh;
         p.rasterTexels += c.raster;
         p.footprintTexels += c.footprint;
         page.place(c.rot[size_t(s.rotation)], s.x, s.y);
-        if (bound && costOf(page.usedWidth(), page.usedHeight()) > bound->limit()) return std::nullopt;
+        if (bound && costOf(page.usedWidth(), page.usedHeight()) > bound->limit()) return false;
         // Back to texels: the chart's grid turns inside its block-rounded footprint.
         int fw = c.cw * scale, fh = c.ch * scale;
         s.x *= scale;
@@ -212,16 +207,46 @@ std::optional<Packing> packBitmap(const Footprints& fp, const std::vector<size_t
         s.x -= r;  // page coordinates: the bitmap starts `radius` texels before the page
         s.y -= r;
     }
-    p.width = std::max(1, page.usedWidth() * scale - 2 * r);
-    p.height = std::max(1, page.usedHeight() * scale - 2 * r);
-    if (bound) bound->offer(pageCost(p.width, p.height, bound->maxSize()));
-    return p;
+    return true;
 }
 
+// The packing of every chart placed in `state`: its page size (offered to the bound).
+Packing packed(const Footprints& fp, PackState& state, CostBound* bound) {
+    Packing& p = state.packing;
+    p.width = std::max(1, state.page.usedWidth() * fp.scale - 2 * fp.radius);
+    p.height = std::max(1, state.page.usedHeight() * fp.scale - 2 * fp.radius);
+    if (bound) bound->offer(pageCost(p.width, p.height, bound->maxSize()));
+    return std::move(p);
+}
+
+// `prefix`, when given, receives the state before each chart of `order` is placed; `from`, when
+// given, is such a state of an order that agrees with `order` on its first `fromIndex` charts:
+// the packing resumes there (the same charts placed the same way). `inPlace`, when given, holds
+// per chart a cell its first orientation takes, unturned, when it lies on the page ({-1, -1}:
+// none); such charts come first in `order` and may overlap each other (AtlasChart::inPlace).
+std::optional<Packing> packBitmap(const Footprints& fp, const std::vector<size_t>& order, int binW, int binH,
+                                  Placement placement = Placement::TopEdge, CostBound* bound = nullptr,
+                                  std::vector<PackState>* prefix = nullptr, const PackState* from = nullptr, size_t fromIndex = 0,
+                                  const std::vector<std::array<int, 2>>* inPlace = nullptr) {
+    PackState state = from ? *from : emptyPack(fp, binW, binH);
+    if (!packSteps(fp, order, from ? fromIndex : 0, order.size(), state, placement, bound, prefix, inPlace)) return std::nullopt;
+    return packed(fp, state, bound);
+}
+
+// The same at density t from the charts: their footprints are rasterised in the packing order, in
+// batches that double, so a packing that fails at a chart has not rasterised most of the charts
+// after it (on pages the charts overfill, the large ones first fail early).
 std::optional<Packing> packBitmap(const Orientations& charts, const std::vector<size_t>& order, double t,
                                   int gutter, int binW, int binH, int scale, int threads) {
     if (!footprintsFit(charts, t, gutter, scale, binW, binH)) return std::nullopt;
-    return packBitmap(footprintsAt(charts, t, gutter, scale, threads), order, binW, binH);
+    Footprints fp = noFootprints(charts.size(), t, gutter, scale);
+    PackState state = emptyPack(fp, binW, binH);
+    for (size_t first = 0, batch = size_t(8 * std::max(1, threads)); first < order.size(); first += batch, batch *= 2) {
+        const size_t last = std::min(order.size(), first + batch);
+        addFootprints(charts, std::vector<size_t>(order.begin() + long(first), order.begin() + long(last)), fp, threads);
+        if (!packSteps(fp, order, first, last, state, Placement::TopEdge, nullptr, nullptr, nullptr)) return std::nullopt;
+    }
+    return packed(fp, state, nullptr);
 }
 
 // The trials worth packing on the search grid after a coarse ranking: those whose coarse cost is
@@ -370,28 +395,6 @@ std::optional<std::pair<double, Packing>> densestFit(const Orientations& charts,
         else hi = mid;
     }
     return std::make_pair(std::max(lo, 1e-12), *loPack);
-}
-
-// The affine UV -> page map of a chart: oriented frame, grid (density t, gutter radius), quarter
-// turn, page offset.
-std::array<double, 6> placementFor(const Oriented& c, const Slot& s, double t, int radius) {
-    // Grid coordinates before the turn: q = (A . uv + a, B . uv + b).
-    const double A[3] = {t * c.c, t * c.s, radius - t * c.minX};
-    const double B[3] = {-t * c.s, t * c.c, radius - t * c.minY};
-    std::array<double, 6> m{};
-    for (int k = 0; k < 3; ++k) {
-        double x = A[k], y = B[k], cx = k == 2 ? 1 : 0;  // constants carry the grid offsets
-        double rx = x, ry = y;
-        switch (s.rotation) {
-            case 1: rx = s.gh * cx - y; ry = x; break;
-            case 2: rx = s.gw * cx - x; ry = s.gh * cx - y; break;
-            case 3: rx = y; ry = s.gw * cx - x; break;
-            default: break;
-        }
-        m[size_t(k)] = rx + (k == 2 ? s.x : 0);
-        m[size_t(3 + k)] = ry + (k == 2 ? s.y : 0);
-    }
-    return m;
 }
 
 // The chart orders tried: largest rectangle first (ties: longest side), longest side first and

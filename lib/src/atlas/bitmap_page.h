@@ -1,5 +1,7 @@
 // The page of packAtlas as one bit per texel, with per-row free counts and longest free runs: the
-// lowest free position of a chart footprint (bottom-left fill), and placing it.
+// lowest free position of a chart footprint (bottom-left fill), and placing it. The unions of
+// 2, 4, 8... consecutive rows (a sparse table) test a footprint's core rectangle against a stretch
+// of rows at once.
 #pragma once
 
 #include <algorithm>
@@ -16,7 +18,7 @@ class BitmapPage {
 public:
     BitmapPage(int width, int height)
         : W_(width), H_(height), words_((size_t(width) + 63) / 64), bits_(words_ * size_t(height), 0),
-          rowFree_(size_t(height), width), rowRun_(size_t(height), width) {}
+          unions_(kUnionLevels * words_ * size_t(height), 0), rowFree_(size_t(height), width), rowRun_(size_t(height), width) {}
 
     // The lowest position (smallest y + key, then smallest x) with y + key below `limit`.
     bool find(const Footprint& f, double key, double limit, int& outX, int& outY) const {
@@ -38,21 +40,28 @@ public:
             bool roomy = true;
             for (int i = f.h - 1; i >= 0 && roomy; --i) roomy = !tooFull(i);
             if (!roomy) continue;
+            // The core rectangle first: it meets a set texel of any of its rows wherever one of the
+            // footprint's rows there does, and on the rows' union its collisions jump furthest.
+            const Rows core = f.coreRows > 1 ? rowsUnion(y + f.coreTop, f.coreRows) : Rows{};
             int x = 0, hot = 0;  // the footprint row that collided last is tested first, then testOrder
             while (x + f.w <= W_) {
                 int next = -1;
+                // Every shift that keeps a run over the first set texel p it meets, or starts it
+                // inside the set stretch from p, collides: the run starts at the stretch's end at least.
+                auto collides = [&](Rows rows, int a, int b) {
+                    const int p = firstSet(rows, x + a, x + b);
+                    if (p >= 0) next = std::max(x + 1, firstClear(rows, p) - a);
+                    return p >= 0;
+                };
+                if (core.a) collides(core, f.coreA, f.coreB);
                 for (int k = 0; k <= f.h && next < 0; ++k) {
                     const int i = k == 0 ? hot : f.testOrder[size_t(k - 1)];
                     if (k > 0 && i == hot) continue;
-                    for (const auto& [a, b] : f.rows[size_t(i)]) {
-                        int p = firstSet(y + i, x + a, x + b);
-                        if (p < 0) continue;
-                        // Every shift that keeps this run over p, or starts it inside the set
-                        // stretch from p, collides: the run starts at the stretch's end at least.
-                        next = std::max(x + 1, firstClear(y + i, p) - a);
-                        hot = i;
-                        break;
-                    }
+                    for (const auto& [a, b] : f.rows[size_t(i)])
+                        if (collides(row(y + i), a, b)) {
+                            hot = i;
+                            break;
+                        }
                 }
                 if (next < 0) { outX = x; outY = y; return true; }
                 x = next;
@@ -80,6 +89,16 @@ public:
             rowFree_[size_t(y + i)] = W_ - setCells(y + i);  // kept charts may overlap
             rowRun_[size_t(y + i)] = longestFreeRun(y + i);
         }
+        // The unions of 2^k rows from s that include a changed row, each from two of half as many.
+        for (int k = 1; k <= kUnionLevels; ++k) {
+            const int n = 1 << k, half = n / 2;
+            for (int s = std::max(0, y - n + 1); s <= std::min(H_ - n, y + f.h - 1); ++s) {
+                uint64_t* out = unions_.data() + unionAt(k, s);
+                const uint64_t* lo = level(k - 1, s);
+                const uint64_t* hi = level(k - 1, s + half);
+                for (size_t w = 0; w < words_; ++w) out[w] = lo[w] | hi[w];
+            }
+        }
         usedW_ = std::max(usedW_, x + f.w);
         usedH_ = std::max(usedH_, y + f.h);
     }
@@ -88,12 +107,38 @@ public:
     int height() const { return H_; }
 
 private:
+    // Union levels kept: 2^1 ... 2^kUnionLevels rows, enough for any core (kCoreRows rows).
+    static constexpr int kUnionLevels = [] {
+        int k = 0;
+        while ((2 << k) <= kCoreRows) ++k;
+        return k;
+    }();
+    // One row of the page, or the union of two (of 2^k rows each, which may overlap): a texel is
+    // set when it is set in either.
+    struct Rows {
+        const uint64_t* a = nullptr;
+        const uint64_t* b = nullptr;
+    };
+
     int W_, H_;
     size_t words_;
     std::vector<uint64_t> bits_;
+    std::vector<uint64_t> unions_;  // level k (1...kUnionLevels), row s: the union of rows [s, s + 2^k)
     std::vector<int> rowFree_;
     std::vector<int> rowRun_;  // longest run of free texels per row
     int usedW_ = 0, usedH_ = 0;
+
+    // Level k >= 1 of the unions at row s, in unions_.
+    size_t unionAt(int k, int s) const { return (size_t(k - 1) * size_t(H_) + size_t(s)) * words_; }
+    // Row s (k = 0), or the union of rows [s, s + 2^k).
+    const uint64_t* level(int k, int s) const { return k == 0 ? bits_.data() + size_t(s) * words_ : unions_.data() + unionAt(k, s); }
+    Rows row(int y) const { return {level(0, y), level(0, y)}; }
+    // Rows [s, s + n), 1 <= n <= kCoreRows, as the union of two 2^k-row unions (k = floor(log2 n)).
+    Rows rowsUnion(int s, int n) const {
+        int k = 0;
+        while ((2 << k) <= n) ++k;
+        return {level(k, s), level(k, s + n - (1 << k))};
+    }
 
     int setCells(int y) const {
         const uint64_t* row = bits_.data() + size_t(y) * words_;
@@ -125,22 +170,20 @@ private:
         return std::max(best, run);
     }
 
-    // The first clear bit at or after a in row y (the row's width when there is none).
-    int firstClear(int y, int a) const {
-        const uint64_t* row = bits_.data() + size_t(y) * words_;
+    // The first clear bit at or after a in the rows (the page's width when there is none).
+    int firstClear(Rows r, int a) const {
         for (size_t w = size_t(a) / 64; w < words_; ++w) {
-            uint64_t m = ~row[w];
+            uint64_t m = ~(r.a[w] | r.b[w]);
             if (w == size_t(a) / 64) m &= ~uint64_t(0) << (a % 64);
             if (m) return std::min(W_, int(w * 64) + __builtin_ctzll(m));
         }
         return W_;
     }
 
-    // The first set bit in [a, b] of row y, or -1.
-    int firstSet(int y, int a, int b) const {
-        const uint64_t* row = bits_.data() + size_t(y) * words_;
+    // The first set bit in [a, b] of the rows, or -1.
+    int firstSet(Rows r, int a, int b) const {
         for (int w = a / 64; w <= b / 64; ++w) {
-            uint64_t m = row[w];
+            uint64_t m = r.a[w] | r.b[w];
             if (w == a / 64) m &= ~uint64_t(0) << (a % 64);
             if (w == b / 64 && b % 64 != 63) m &= (uint64_t(1) << (b % 64 + 1)) - 1;
             if (m) return w * 64 + __builtin_ctzll(m);

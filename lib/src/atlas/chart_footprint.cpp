@@ -77,6 +77,8 @@ public:
             const double scale = std::sqrt(dot(a.n, a.n));
             a.skip = scale == 0;
             a.margin = kEps * scale;
+            a.lowX = a.n.x < 0 ? 1 : 0;
+            a.lowY = a.n.y < 0 ? 1 : 0;
         }
     }
     // The cells of row y in [x0, x1] the triangle overlaps (no axis separates them), as [a, b];
@@ -100,17 +102,16 @@ private:
         Vec2 n;
         double tMin = 0, tMax = 0, margin = 0;
         bool skip = false;  // a degenerate edge separates nothing
+        int lowX = 0, lowY = 0;  // the cell corner with the least projection, from (x, y)
     };
-    // The cell's extent on the axis: the least and largest projection of its corners.
-    static std::pair<double, double> extent(const Axis& a, int x, int y) {
-        const Vec2 cell[4] = {{double(x), double(y)}, {x + 1.0, double(y)}, {x + 1.0, y + 1.0}, {double(x), y + 1.0}};
-        double cMin = 1e300, cMax = -1e300;
-        for (const Vec2& c : cell) { cMin = std::min(cMin, dot(a.n, c)); cMax = std::max(cMax, dot(a.n, c)); }
-        return {cMin, cMax};
-    }
+    // The cell's extent on the axis: the least and largest projection of its corners. Those are
+    // the corners the normal's signs pick (the opposite ones): products and sums round
+    // monotonically, so no other corner's rounded projection lies beyond theirs.
+    static double lowest(const Axis& a, int x, int y) { return dot(a.n, Vec2{double(x + a.lowX), double(y + a.lowY)}); }
+    static double highest(const Axis& a, int x, int y) { return dot(a.n, Vec2{double(x + 1 - a.lowX), double(y + 1 - a.lowY)}); }
     // The axis separates the cell from the triangle: the cell lies below, or above, the triangle's extent.
-    static bool below(const Axis& a, int x, int y) { return extent(a, x, y).second <= a.tMin + a.margin; }
-    static bool above(const Axis& a, int x, int y) { return a.tMax <= extent(a, x, y).first + a.margin; }
+    static bool below(const Axis& a, int x, int y) { return highest(a, x, y) <= a.tMin + a.margin; }
+    static bool above(const Axis& a, int x, int y) { return a.tMax <= lowest(a, x, y) + a.margin; }
     // [x0, x1] narrowed to where `pass` holds, given that it holds on a prefix or a suffix of the
     // row; false when nowhere.
     template <class Pass>
@@ -169,6 +170,39 @@ void growByRadius(std::vector<uint8_t>& mask, int gw, int gh, int radius) {
     }
 }
 
+// The footprint's core (Footprint::coreTop...): for each row as the rectangle's last, the largest
+// rectangle under the histogram of occupied cells ending there (a stack of rising columns), its
+// height capped at kCoreRows. Ties keep the first found (lowest last row, then leftmost).
+void coreRectangle(Footprint& f) {
+    std::vector<int> height(size_t(f.w), 0);
+    std::vector<uint8_t> on(size_t(f.w), 0);
+    std::vector<int> stack;
+    long best = 0;
+    for (int y = 0; y < f.h; ++y) {
+        std::fill(on.begin(), on.end(), uint8_t(0));
+        for (const auto& [a, b] : f.rows[size_t(y)]) std::fill(on.begin() + a, on.begin() + b + 1, uint8_t(1));
+        for (int x = 0; x < f.w; ++x) height[size_t(x)] = on[size_t(x)] ? std::min(kCoreRows, height[size_t(x)] + 1) : 0;
+        stack.clear();
+        for (int x = 0; x <= f.w; ++x) {
+            const int hx = x < f.w ? height[size_t(x)] : 0;
+            while (!stack.empty() && height[size_t(stack.back())] >= hx) {
+                const int top = height[size_t(stack.back())];
+                stack.pop_back();
+                const int left = stack.empty() ? 0 : stack.back() + 1;
+                const long area = long(top) * (x - left);
+                if (area > best) {
+                    best = area;
+                    f.coreTop = y - top + 1;
+                    f.coreRows = top;
+                    f.coreA = left;
+                    f.coreB = x - 1;
+                }
+            }
+            stack.push_back(x);
+        }
+    }
+}
+
 }  // namespace
 
 std::vector<Oriented> chartOrientations(const AtlasChart& chart, bool aligned) {
@@ -221,6 +255,26 @@ std::vector<uint8_t> chartMask(const Oriented& c, double t, int radius, int& gw,
     return mask;
 }
 
+std::array<double, 6> placementFor(const Oriented& c, const Slot& s, double t, int radius) {
+    // Grid coordinates before the turn: q = (A . uv + a, B . uv + b).
+    const double A[3] = {t * c.c, t * c.s, radius - t * c.minX};
+    const double B[3] = {-t * c.s, t * c.c, radius - t * c.minY};
+    std::array<double, 6> m{};
+    for (int k = 0; k < 3; ++k) {
+        double x = A[k], y = B[k], cx = k == 2 ? 1 : 0;  // constants carry the grid offsets
+        double rx = x, ry = y;
+        switch (s.rotation) {
+            case 1: rx = s.gh * cx - y; ry = x; break;
+            case 2: rx = s.gw * cx - x; ry = s.gh * cx - y; break;
+            case 3: rx = y; ry = s.gw * cx - x; break;
+            default: break;
+        }
+        m[size_t(k)] = rx + (k == 2 ? s.x : 0);
+        m[size_t(3 + k)] = ry + (k == 2 ? s.y : 0);
+    }
+    return m;
+}
+
 Footprint rotatedFootprint(const std::vector<uint8_t>& mask, int gw, int gh, int rotation) {
     Footprint f;
     f.w = rotation % 2 ? gh : gw;
@@ -261,6 +315,7 @@ Footprint rotatedFootprint(const std::vector<uint8_t>& mask, int gw, int gh, int
         f.leastCells = *std::min_element(f.rowCells.begin(), f.rowCells.end());
         f.leastLongest = *std::min_element(f.rowLongest.begin(), f.rowLongest.end());
     }
+    coreRectangle(f);
     // Rows with the longest runs collide most often: tested first, they end a failed position's
     // test sooner and jump further (any order finds the same position).
     f.testOrder.resize(size_t(f.h));
@@ -280,32 +335,53 @@ std::vector<uint8_t> coarsen(const std::vector<uint8_t>& mask, int gw, int gh, i
     return out;
 }
 
-Footprints footprintsAt(const Orientations& charts, double t, int gutter, int scale, int threads, Footprints* twiceCoarser) {
-    const int radius = (gutter + 1) / 2;
+namespace {
+
+// A chart's footprints in one orientation on the search grid of fp (ChartFootprints), and in
+// `twiceCoarser`, when given, on the grid twice as coarse (from the same rasterisation).
+ChartFootprints orientedFootprints(const Oriented& o, const Footprints& fp, ChartFootprints* twiceCoarser) {
+    ChartFootprints c;
+    c.turns = o.turns;
+    std::vector<uint8_t> fine = chartMask(o, fp.t, fp.radius, c.gw, c.gh, &c.raster);
+    c.footprint = size_t(std::count(fine.begin(), fine.end(), uint8_t(1)));
+    auto blocks = [&](ChartFootprints& into, int s) {
+        std::vector<uint8_t> mask = coarsen(fine, into.gw, into.gh, s, into.cw, into.ch);
+        // Only the quarter turns the placement tries (texel-aligned charts: none).
+        for (int rot = 0; rot < into.turns; ++rot) into.rot[size_t(rot)] = rotatedFootprint(mask, into.cw, into.ch, rot);
+    };
+    if (twiceCoarser) {
+        *twiceCoarser = c;
+        blocks(*twiceCoarser, 2 * fp.scale);
+    }
+    blocks(c, fp.scale);
+    return c;
+}
+
+}  // namespace
+
+Footprints noFootprints(size_t charts, double t, int gutter, int scale) {
     Footprints fp;
     fp.t = t;
     fp.scale = scale;
-    fp.radius = radius;
-    fp.charts.resize(charts.size());
-    if (twiceCoarser) *twiceCoarser = fp, twiceCoarser->scale = 2 * scale;
+    fp.radius = (gutter + 1) / 2;
+    fp.charts.resize(charts);
+    return fp;
+}
+
+void addFootprints(const Orientations& charts, const std::vector<size_t>& which, Footprints& fp, int threads) {
+    parallelFor(which.size(), threads, [&](size_t k) {  // each chart into its own slot
+        for (const Oriented& o : charts[which[k]]) fp.charts[which[k]].push_back(orientedFootprints(o, fp, nullptr));
+    });
+}
+
+Footprints footprintsAt(const Orientations& charts, double t, int gutter, int scale, int threads, Footprints* twiceCoarser) {
+    Footprints fp = noFootprints(charts.size(), t, gutter, scale);
+    if (twiceCoarser) *twiceCoarser = noFootprints(charts.size(), t, gutter, 2 * scale);
     parallelFor(charts.size(), threads, [&](size_t i) {  // each chart into its own slot
         for (const Oriented& o : charts[i]) {
-            ChartFootprints c;
-            c.turns = o.turns;
-            std::vector<uint8_t> fine = chartMask(o, t, radius, c.gw, c.gh, &c.raster);
-            c.footprint = size_t(std::count(fine.begin(), fine.end(), uint8_t(1)));
-            auto blocks = [&](ChartFootprints& into, int s) {
-                std::vector<uint8_t> mask = coarsen(fine, into.gw, into.gh, s, into.cw, into.ch);
-                // Only the quarter turns the placement tries (texel-aligned charts: none).
-                for (int rot = 0; rot < into.turns; ++rot) into.rot[size_t(rot)] = rotatedFootprint(mask, into.cw, into.ch, rot);
-            };
-            if (twiceCoarser) {
-                ChartFootprints cc = c;
-                blocks(cc, 2 * scale);
-                twiceCoarser->charts[i].push_back(std::move(cc));
-            }
-            blocks(c, scale);
-            fp.charts[i].push_back(std::move(c));
+            ChartFootprints coarse;
+            fp.charts[i].push_back(orientedFootprints(o, fp, twiceCoarser ? &coarse : nullptr));
+            if (twiceCoarser) twiceCoarser->charts[i].push_back(std::move(coarse));
         }
     });
     return fp;

@@ -51,11 +51,29 @@ struct Footprint {
     double centroidRow = 0;                            // mean row of the occupied texels
     int leastCells = 0, leastLongest = 0;              // smallest rowCells and rowLongest
     std::vector<int> testOrder;                        // rows, longest run first (ties: lower row first)
+    // A rectangle of occupied cells inside the footprint (the largest by area, at most
+    // kCoreRows rows): rows [coreTop, coreTop + coreRows), columns [coreA, coreB]; coreRows 0: none.
+    int coreTop = 0, coreRows = 0, coreA = 0, coreB = -1;
 };
+
+// The most rows a footprint's core rectangle spans (BitmapPage keeps the union of up to this many
+// consecutive rows).
+constexpr int kCoreRows = 16;
 
 // The chart rasterised in its oriented frame at density t: cells [pad, pad + ceil(w t)) hold the
 // chart, pad = radius cells on each side hold its half of the gutter.
 std::vector<uint8_t> chartMask(const Oriented& c, double t, int radius, int& gw, int& gh, size_t* rasterCells = nullptr);
+
+// Where a chart lies on the page: its orientation, quarter turn and grid, the turned grid's offset.
+struct Slot {
+    int x = 0, y = 0, rotation = 0;
+    size_t orientation = 0;  // index into the chart's orientations
+    int gw = 0, gh = 0;  // the unrotated grid
+};
+
+// The affine UV -> page map of a chart: oriented frame, grid (density t, gutter radius), quarter
+// turn, page offset.
+std::array<double, 6> placementFor(const Oriented& c, const Slot& s, double t, int radius);
 
 // Quarter turns of the grid (counter-clockwise in texel space, determinant +1). Cell (x, y) of a
 // gw x gh grid goes to rotateCell(...); continuous points use placementFor's matching formulas.
@@ -86,6 +104,13 @@ using Orientations = std::vector<std::vector<Oriented>>;  // per chart: the orie
 // Every chart's footprints at density t with the gutter and search scale given, on `threads` threads.
 // `twiceCoarser`, when given, receives the same at scale 2 * scale (from the same rasterisation).
 Footprints footprintsAt(const Orientations& charts, double t, int gutter, int scale, int threads, Footprints* twiceCoarser = nullptr);
+
+// Footprints at density t with the gutter and search scale given, with no chart's yet.
+Footprints noFootprints(size_t charts, double t, int gutter, int scale);
+
+// Adds the footprints of charts `which` (indices into `charts`) to fp (made by noFootprints or
+// footprintsAt for the same charts), on `threads` threads: the same as footprintsAt's.
+void addFootprints(const Orientations& charts, const std::vector<size_t>& which, Footprints& fp, int threads);
 
 // Whether every chart has an orientation and quarter turn whose footprint (density t, grown by the
 // gutter radius, in blocks of `scale` texels, as footprintsAt makes it) lies within the bitmap of a
