@@ -51,15 +51,15 @@ void FaceGrid::cellRange(Vec3 lo, Vec3 hi, int (&a)[3], int (&b)[3]) const {
     }
 }
 
-std::vector<uint32_t> FaceGrid::facesIn(Vec3 lo, Vec3 hi) const {
-    std::vector<uint32_t> out;
-    if (faces_.empty()) return out;
+// A face listed in several cells of the range is visited in one of them only: the first cell of
+// the range it is listed in (its own first cell on each axis, or the range's when that lies below),
+// so no deduplication is needed. The face's first cell is found as the build found it (cellRange
+// of its box), and only off the range's first row, column or layer.
+template <class Visit>
+void FaceGrid::forEachFaceIn(Vec3 lo, Vec3 hi, Visit&& visit) const {
+    if (faces_.empty()) return;
     int a[3], b[3];
     cellRange(lo, hi, a, b);
-    // A face listed in several cells of the range is taken in one of them only: the first cell of
-    // the range it is listed in (its own first cell on each axis, or the range's when that lies
-    // below), so the list needs no deduplication. The face's first cell is found as the build
-    // found it (cellRange of its box), and only off the range's first row, column or layer.
     auto firstCell = [&](const std::array<double, 6>& bx, int axis) {
         return std::clamp(int(std::floor((bx[size_t(axis)] - origin_[axis]) / cell_)), 0, n_[axis] - 1);
     };
@@ -74,48 +74,36 @@ std::vector<uint32_t> FaceGrid::facesIn(Vec3 lo, Vec3 hi) const {
                     if ((x != a[0] && firstCell(bx, 0) != x) || (y != a[1] && firstCell(bx, 1) != y) ||
                         (z != a[2] && firstCell(bx, 2) != z))
                         continue;
-                    out.push_back(f);
+                    visit(f);
                 }
             }
+}
+
+std::vector<uint32_t> FaceGrid::facesIn(Vec3 lo, Vec3 hi) const {
+    std::vector<uint32_t> out;
+    forEachFaceIn(lo, hi, [&](uint32_t f) { out.push_back(f); });
     std::sort(out.begin(), out.end());
     return out;
 }
 
+// The faces facesIn lists, each once; the scan's first strictly closer face in ascending ids is
+// the least (distance, id) pair, whatever order they come in.
 double FaceGrid::closestIn(const TriMesh& mesh, Vec3 lo, Vec3 hi, Vec3 p, uint32_t& face, std::array<double, 3>& bary,
                            bool& any) const {
     any = false;
     double best = 1e300;
-    if (faces_.empty()) return best;
-    int a[3], b[3];
-    cellRange(lo, hi, a, b);
-    // The faces facesIn lists, each once (the same first-cell rule); the scan's first strictly
-    // closer face in ascending ids is the least (distance, id) pair, whatever order they come in.
-    auto firstCell = [&](const std::array<double, 6>& bx, int axis) {
-        return std::clamp(int(std::floor((bx[size_t(axis)] - origin_[axis]) / cell_)), 0, n_[axis] - 1);
-    };
-    for (int z = a[2]; z <= b[2]; ++z)
-        for (int y = a[1]; y <= b[1]; ++y)
-            for (int x = a[0]; x <= b[0]; ++x) {
-                const size_t c = (size_t(z) * size_t(n_[1]) + size_t(y)) * size_t(n_[0]) + size_t(x);
-                for (uint32_t i = start_[c]; i < start_[c + 1]; ++i) {
-                    const uint32_t f = faces_[i];
-                    const auto& bx = boxes_[f];
-                    if (!(bx[0] <= hi.x && bx[3] >= lo.x && bx[1] <= hi.y && bx[4] >= lo.y && bx[2] <= hi.z && bx[5] >= lo.z)) continue;
-                    if ((x != a[0] && firstCell(bx, 0) != x) || (y != a[1] && firstCell(bx, 1) != y) ||
-                        (z != a[2] && firstCell(bx, 2) != z))
-                        continue;
-                    any = true;
-                    const Tri& t = mesh.triangles[f];
-                    const auto w = closestOnTriangle(p, mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]);
-                    const Vec3 q = mesh.positions[t[0]] * w[0] + mesh.positions[t[1]] * w[1] + mesh.positions[t[2]] * w[2];
-                    const double d = length2(q - p);
-                    if (d < best || (d == best && best < 1e300 && f < face)) {
-                        best = d;
-                        face = f;
-                        bary = w;
-                    }
-                }
-            }
+    forEachFaceIn(lo, hi, [&](uint32_t f) {
+        any = true;
+        const Tri& t = mesh.triangles[f];
+        const auto w = closestOnTriangle(p, mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]);
+        const Vec3 q = mesh.positions[t[0]] * w[0] + mesh.positions[t[1]] * w[1] + mesh.positions[t[2]] * w[2];
+        const double d = length2(q - p);
+        if (d < best || (d == best && best < 1e300 && f < face)) {
+            best = d;
+            face = f;
+            bary = w;
+        }
+    });
     return best;
 }
 

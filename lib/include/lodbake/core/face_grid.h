@@ -35,6 +35,9 @@ private:
     std::vector<uint32_t> faces_;
     std::vector<std::array<double, 6>> boxes_;
     void cellRange(Vec3 lo, Vec3 hi, int (&a)[3], int (&b)[3]) const;
+    // visit(f) once for every face whose box overlaps [lo, hi], in cell order.
+    template <class Visit>
+    void forEachFaceIn(Vec3 lo, Vec3 hi, Visit&& visit) const;
 };
 
 // The point of `faces` (ascending ids, none index-degenerate) closest to p, exactly as
