@@ -69,14 +69,6 @@ bool clipToBox(Vec3 c, double h, Vec3 lo, Vec3 hi, Vec3& qlo, Vec3& qhi) {
     return meets;
 }
 
-double faceDistance2(const TriMesh& mesh, uint32_t f, Vec3 p, std::array<double, 3>* bary) {
-    const Tri& t = mesh.triangles[f];
-    const auto b = closestOnTriangle(p, mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]);
-    const Vec3 q = mesh.positions[t[0]] * b[0] + mesh.positions[t[1]] * b[1] + mesh.positions[t[2]] * b[2];
-    if (bary) *bary = b;
-    return length2(q - p);
-}
-
 size_t nearEntries(const IslandNear& near) {
     Vec3 lo, hi;
     return clipToBox(near.centre, near.reach, near.lo, near.hi, lo, hi) ? near.grid->entriesIn(lo, hi) : 0;
@@ -97,10 +89,10 @@ bool inNear(const TriMesh& mesh, const IslandNear& near, Vec3 n, uint32_t f) {
 // and the cube of half-side reach around the centre: a face of the set meets both), until the
 // closest face found lies inside the cube: every face as close has its box inside it too, and the
 // cube's faces come in ascending ids, so the first closest is the first of the whole set.
-bool closestNearFace(const TriMesh& mesh, const IslandNear& near, Vec3 n, Vec3 p, double start, uint32_t& face,
-                     std::array<double, 3>& bary) {
+double closestNearFace(const TriMesh& mesh, const IslandNear& near, Vec3 n, Vec3 p, double start, uint32_t& face,
+                       std::array<double, 3>& bary) {
     Vec3 lo, hi;
-    if (!clipToBox(near.centre, near.reach, near.lo, near.hi, lo, hi)) return false;
+    if (!clipToBox(near.centre, near.reach, near.lo, near.hi, lo, hi)) return 1e300;
     const double scale = 1e-9 * (1 + std::abs(p.x) + std::abs(p.y) + std::abs(p.z));
     for (double rho = std::max(start, scale);; rho *= 2) {
         bool covers = true;
@@ -118,8 +110,7 @@ bool closestNearFace(const TriMesh& mesh, const IslandNear& near, Vec3 n, Vec3 p
                     bary = b;
                 }
             }
-        if (best < 1e300 && (covers || std::sqrt(best) * (1 + 1e-6) + scale <= rho)) return true;
-        if (covers) return false;
+        if (covers || (best < 1e300 && std::sqrt(best) * (1 + 1e-6) + scale <= rho)) return best;
     }
 }
 
@@ -165,8 +156,7 @@ void rasterizeIslands(const TriMesh& mesh, const std::vector<BakeIsland>& island
             double start = isl.near.grid->cellSide();
             answer(isl.near, [&](const IslandNear& near, Vec3 X, std::array<double, 3>& fb) {
                 uint32_t f = 0;
-                closestNearFace(mesh, near, n, X, start, f, fb);
-                start = std::max(isl.near.grid->cellSide(), 1.25 * std::sqrt(faceDistance2(mesh, f, X, nullptr)));
+                start = std::max(isl.near.grid->cellSide(), 1.25 * std::sqrt(closestNearFace(mesh, near, n, X, start, f, fb)));
                 return f;
             });
             return;
@@ -315,7 +305,7 @@ bool projectedIslandNear(const TriMesh& mesh, const FaceGrid& grid, const std::a
                 const bool way = bake_detail::facesIslandWay(mesh, f, n);
                 // any <= facing: a box farther than the face's minimum changes neither
                 if (bake_detail::boxFarther(faceBox(mesh, f), c, way ? facing : any, scale)) continue;
-                const double d = bake_detail::faceDistance2(mesh, f, c, nullptr);
+                const double d = faceDistance2(mesh, f, c, nullptr);
                 any = std::min(any, d);
                 if (way) facing = std::min(facing, d);
             }

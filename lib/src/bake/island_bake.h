@@ -24,8 +24,6 @@ void rasterizeIslands(const TriMesh& mesh, const std::vector<BakeIsland>& island
 
 // The box of half-side h around c clipped to [lo, hi] ([qlo, qhi]); false when they do not meet.
 bool clipToBox(Vec3 c, double h, Vec3 lo, Vec3 hi, Vec3& qlo, Vec3& qhi);
-// Squared distance from p to face f, and its closest point's barycentrics: BoxedFaces' arithmetic.
-double faceDistance2(const TriMesh& mesh, uint32_t f, Vec3 p, std::array<double, 3>* bary);
 // The grid entries nearFaces scans to list `near`'s faces: its cost.
 size_t nearEntries(const IslandNear& near);
 // Whether `box` lies farther from p than a face at squared distance best2 by more than `margin`
@@ -35,10 +33,10 @@ bool boxFarther(const std::array<double, 6>& box, Vec3 p, double best2, double m
 // Whether face f (meeting [near.lo, near.hi]) is one `near` describes; n: the island's normal.
 bool inNear(const TriMesh& mesh, const IslandNear& near, Vec3 n, uint32_t f);
 // The first (lowest id) closest face to p of those `near` describes, as a scan of nearFaces finds
-// it, looked up through near.grid in cubes around p doubling from half-side `start`; false when
-// there is none.
-bool closestNearFace(const TriMesh& mesh, const IslandNear& near, Vec3 n, Vec3 p, double start, uint32_t& face,
-                     std::array<double, 3>& bary);
+// it, looked up through near.grid in cubes around p doubling from half-side `start`: its squared
+// distance (1e300, face untouched, when there is none).
+double closestNearFace(const TriMesh& mesh, const IslandNear& near, Vec3 n, Vec3 p, double start, uint32_t& face,
+                       std::array<double, 3>& bary);
 
 // d(original UV)/d(texel x) and /d(texel y) at a texel of island `isl` (UVs scaled by `size`)
 // whose closest point lies on face f with original UVs T: texel -> 3D on the island's triangle

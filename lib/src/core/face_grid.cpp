@@ -94,10 +94,8 @@ double FaceGrid::closestIn(const TriMesh& mesh, Vec3 lo, Vec3 hi, Vec3 p, uint32
     double best = 1e300;
     forEachFaceIn(lo, hi, [&](uint32_t f) {
         any = true;
-        const Tri& t = mesh.triangles[f];
-        const auto w = closestOnTriangle(p, mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]);
-        const Vec3 q = mesh.positions[t[0]] * w[0] + mesh.positions[t[1]] * w[1] + mesh.positions[t[2]] * w[2];
-        const double d = length2(q - p);
+        std::array<double, 3> w;
+        const double d = faceDistance2(mesh, f, p, &w);
         if (d < best || (d == best && best < 1e300 && f < face)) {
             best = d;
             face = f;
@@ -125,12 +123,7 @@ size_t FaceGrid::entriesIn(Vec3 lo, Vec3 hi) const {
 // faces is the first closest of the whole set.
 bool closestFaceIn(const TriMesh& mesh, const FaceGrid& grid, const std::vector<uint32_t>& faces, Vec3 p, double radius,
                    size_t& index, std::array<double, 3>& bary) {
-    auto distance2 = [&](uint32_t f, std::array<double, 3>& b) {
-        const Tri& t = mesh.triangles[f];
-        b = closestOnTriangle(p, mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]);
-        const Vec3 q = mesh.positions[t[0]] * b[0] + mesh.positions[t[1]] * b[1] + mesh.positions[t[2]] * b[2];
-        return length2(q - p);
-    };
+    auto distance2 = [&](uint32_t f, std::array<double, 3>& b) { return faceDistance2(mesh, f, p, &b); };
     if (faces.empty()) return false;
     const double scale = 1e-9 * (1 + std::abs(p.x) + std::abs(p.y) + std::abs(p.z));
     // Small sets, and a box still empty of them after 24 doublings, are scanned whole.

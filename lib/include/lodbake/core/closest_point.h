@@ -127,6 +127,16 @@ inline double boxDistance2(const std::array<double, 6>& b, Vec3 p) {
     return d2;
 }
 
+// Squared distance from p to face f, and its closest point's barycentrics (when `bary`): the
+// arithmetic every closest-face search shares, so that they agree bit for bit.
+inline double faceDistance2(const TriMesh& mesh, uint32_t f, Vec3 p, std::array<double, 3>* bary) {
+    const Tri& t = mesh.triangles[f];
+    const auto b = closestOnTriangle(p, mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]);
+    const Vec3 q = mesh.positions[t[0]] * b[0] + mesh.positions[t[1]] * b[1] + mesh.positions[t[2]] * b[2];
+    if (bary) *bary = b;
+    return length2(q - p);
+}
+
 // Faces with their bounding boxes, for many closest-point queries near one place (an island's
 // texels or samples): a query skips every face whose box is farther than a hint face (the
 // previous query's answer), so it returns exactly what closestSurfacePoint returns over the same
@@ -186,13 +196,7 @@ public:
     }
 
 private:
-    double distance2(Vec3 p, uint32_t f, std::array<double, 3>* bary) const {
-        const Tri& t = mesh_.triangles[f];
-        auto b = closestOnTriangle(p, mesh_.positions[t[0]], mesh_.positions[t[1]], mesh_.positions[t[2]]);
-        Vec3 q = mesh_.positions[t[0]] * b[0] + mesh_.positions[t[1]] * b[1] + mesh_.positions[t[2]] * b[2];
-        if (bary) *bary = b;
-        return length2(q - p);
-    }
+    double distance2(Vec3 p, uint32_t f, std::array<double, 3>* bary) const { return faceDistance2(mesh_, f, p, bary); }
     const TriMesh& mesh_;
     std::vector<uint32_t> faces_;
     std::vector<std::array<double, 6>> box_;
