@@ -12,6 +12,7 @@
 #include "lodbake/core/closest_point.h"
 #include "lodbake/core/errors.h"
 #include "bake/island_bake.h"
+#include "bake/texel_raster.h"
 #include "lodbake/core/face_grid.h"
 #include "synthetic_meshes.h"
 
@@ -313,3 +314,39 @@ TEST(ProjectedIslandNear, SameFacesAndClosestPointsAsTheBakesFilterOfTheWholeBox
     EXPECT_GT(checked, 200);
 }
 
+TEST(TexelRaster, WideDilationKeepsEachTexelsNearestFace) {
+    // Thousands of sub-texel faces (a dense LOD0) and a few large ones, at a dilation of many
+    // texels: every texel keeps what the plain rule gives, the first face at the least distance.
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> u(0, 1), small(-0.004, 0.004);
+    TriMesh mesh;
+    std::vector<std::array<Vec2, 3>> uv;
+    for (int i = 0; i < 6000; ++i) {
+        const Vec2 c{0.2 + 0.5 * u(rng), 0.15 + 0.6 * u(rng)};
+        uv.push_back({c, Vec2{c.x + small(rng), c.y + small(rng)}, Vec2{c.x + small(rng), c.y + small(rng)}});
+    }
+    for (int i = 0; i < 12; ++i) uv.push_back({Vec2{u(rng), u(rng)}, Vec2{u(rng), u(rng)}, Vec2{u(rng), u(rng)}});
+    uv.push_back(uv[5]);  // a copy ties its original everywhere
+    mesh.triangles.assign(uv.size(), Tri{0, 1, 2});
+    const bake_detail::TexelRegion g{200, 190, 150};
+    for (double dilation : {1.0, 7.0}) {
+        std::vector<bake_detail::TexelHit> want(size_t(g.w) * size_t(g.h)), got;
+        for (uint32_t f = 0; f < uv.size(); ++f) {
+            Vec2 P[3];
+            for (int k = 0; k < 3; ++k) P[k] = uv[f][size_t(k)] * double(g.size);
+            if (std::fabs(cross(P[1] - P[0], P[2] - P[0])) < 1e-12) continue;
+            bake_detail::forEachTexelNear(P, g, dilation, [&](int x, int y, double d, const std::array<double, 3>& b) {
+                if (float(d) < want[g.at(x, y)].dist) want[g.at(x, y)] = {int32_t(f), float(d), {float(b[0]), float(b[1]), float(b[2])}};
+            });
+        }
+        bake_detail::rasterizeTriangles(mesh, uv, g, dilation, 2, got);
+        size_t hit = 0;
+        for (size_t i = 0; i < want.size(); ++i) {
+            ASSERT_EQ(got[i].face, want[i].face) << "dilation " << dilation << " texel " << i;
+            ASSERT_EQ(got[i].dist, want[i].dist);
+            ASSERT_EQ(got[i].bary, want[i].bary);
+            hit += want[i].face >= 0;
+        }
+        EXPECT_GT(hit, size_t(g.w) * size_t(g.h) / 2);
+    }
+}

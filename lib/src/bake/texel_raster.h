@@ -32,18 +32,27 @@ struct TexelRegion {
     size_t at(int x, int y) const { return size_t(y) * size_t(w) + size_t(x); }
 };
 
+// The texels [x0, x1] x [y0, y1] of the region (rows [rowBegin, rowEnd) of it) that hold every
+// texel centre within `dilation` texels of triangle P (texel units); empty when x0 > x1 or y0 > y1.
+struct TexelBox {
+    int x0, x1, y0, y1;
+};
+inline TexelBox texelBox(const Vec2 (&P)[3], const TexelRegion& g, double dilation, int rowBegin = 0, int rowEnd = INT_MAX) {
+    double x0 = std::min({P[0].x, P[1].x, P[2].x}) - dilation, x1 = std::max({P[0].x, P[1].x, P[2].x}) + dilation;
+    double y0 = std::min({P[0].y, P[1].y, P[2].y}) - dilation, y1 = std::max({P[0].y, P[1].y, P[2].y}) + dilation;
+    return {std::max(0, int(std::floor(x0))), std::min(g.w - 1, int(std::ceil(x1))), std::max(rowBegin, int(std::floor(y0))),
+            std::min({g.h - 1, rowEnd - 1, int(std::ceil(y1))})};
+}
+
 // Calls fn(x, y, d, bary) for every texel of the region (rows [rowBegin, rowEnd) of it)
 // whose centre lies within `dilation` texels of triangle P (texel units); bary: of the closest
 // point of P (core/closest_point.h). Inline: it is the rasterisers' inner loop.
 template <class Fn>
 void forEachTexelNear(const Vec2 (&P)[3], const TexelRegion& g, double dilation, Fn&& fn, int rowBegin = 0, int rowEnd = INT_MAX) {
-    double x0 = std::min({P[0].x, P[1].x, P[2].x}) - dilation, x1 = std::max({P[0].x, P[1].x, P[2].x}) + dilation;
-    double y0 = std::min({P[0].y, P[1].y, P[2].y}) - dilation, y1 = std::max({P[0].y, P[1].y, P[2].y}) + dilation;
-    int ix0 = std::max(0, int(std::floor(x0))), ix1 = std::min(g.w - 1, int(std::ceil(x1)));
-    int iy0 = std::max(rowBegin, int(std::floor(y0))), iy1 = std::min({g.h - 1, rowEnd - 1, int(std::ceil(y1))});
+    const TexelBox box = texelBox(P, g, dilation, rowBegin, rowEnd);
     const std::array<Vec2, 3> tri{P[0], P[1], P[2]};
-    for (int y = iy0; y <= iy1; ++y)
-        for (int x = ix0; x <= ix1; ++x) {
+    for (int y = box.y0; y <= box.y1; ++y)
+        for (int x = box.x0; x <= box.x1; ++x) {
             std::array<double, 3> b{};
             double d = std::sqrt(closestOnTriangle(Vec2{x + 0.5, y + 0.5}, tri, b));
             if (d <= dilation) fn(x, y, d, b);
