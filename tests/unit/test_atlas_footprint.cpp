@@ -1,7 +1,7 @@
 // The page search's private helpers (lib/src/atlas/chart_footprint.h, bitmap_page.h) against
 // brute force: the conservative rasterisation tests each cell's four corners, the core rectangle
 // lies inside its footprint, and the lowest free position is the first (row, then column) that
-// meets no set texel.
+// meets no set texel; a dense chart's orientation is that of its hull's corners.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -147,4 +147,31 @@ TEST(BitmapPage, FindsTheLowestFreePosition) {
                     for (int c = a; c <= b; ++c) cells[size_t(y + i) * size_t(W) + size_t(x + c)] = 1;
         }
     }
+}
+
+TEST(ChartFootprint, DenseChartTurnsLikeItsHullCorners) {
+    // A rotated rectangle's corners and edge points, then thousands of points inside it (a dense
+    // chart: the orientation drops them before the hull).
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> u(0, 1);
+    const double c = std::cos(0.3), s = std::sin(0.3);
+    auto at = [&](double x, double y) { return Vec2{0.2 + c * x * 0.5 - s * y * 0.3, 0.1 + s * x * 0.5 + c * y * 0.3}; };
+    AtlasChart ring;
+    for (double t : {0.0, 0.25, 0.5, 1.0}) {
+        ring.points.push_back(at(t, 0));
+        ring.points.push_back(at(1, t));
+        ring.points.push_back(at(1 - t, 1));
+        ring.points.push_back(at(0, 1 - t));
+    }
+    ring.triangles = {{at(0, 0), at(1, 0), at(1, 1)}, {at(0, 0), at(1, 1), at(0, 1)}};
+    AtlasChart dense = ring;
+    for (int i = 0; i < 5000; ++i) dense.points.push_back(at(u(rng), u(rng)));
+    std::shuffle(dense.points.begin(), dense.points.end(), rng);
+    const Oriented a = chartOrientations(ring, false)[0], b = chartOrientations(dense, false)[0];
+    EXPECT_EQ(a.c, b.c);
+    EXPECT_EQ(a.s, b.s);
+    EXPECT_EQ(a.minX, b.minX);
+    EXPECT_EQ(a.minY, b.minY);
+    EXPECT_EQ(a.w, b.w);
+    EXPECT_EQ(a.h, b.h);
 }

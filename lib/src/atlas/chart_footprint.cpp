@@ -12,7 +12,42 @@
 namespace lodbake::atlas_detail {
 namespace {
 
+// The points strictly inside the polygon of the extreme points in eight directions, by a margin
+// far above rounding: they cannot be hull vertices, and the monotone chain below would push and
+// pop them, so dropping them first leaves the sort only a thin ring of a dense chart's points.
+std::vector<Vec2> withoutInterior(std::vector<Vec2> p) {
+    if (p.size() < 64) return p;
+    // Directions in counter-clockwise order; the extremes follow the hull in the same order.
+    const Vec2 dirs[8] = {{0, -1}, {1, -1}, {1, 0}, {1, 1}, {0, 1}, {-1, 1}, {-1, 0}, {-1, -1}};
+    Vec2 ext[8];
+    double best[8];
+    for (int k = 0; k < 8; ++k) best[k] = -1e300;
+    double lo = 1e300, hi = -1e300;
+    for (const Vec2& q : p) {
+        for (int k = 0; k < 8; ++k)
+            if (dot(q, dirs[k]) > best[k]) { best[k] = dot(q, dirs[k]); ext[k] = q; }
+        lo = std::min({lo, q.x, q.y});
+        hi = std::max({hi, q.x, q.y});
+    }
+    std::vector<Vec2> poly;
+    for (const Vec2& q : ext)
+        if (poly.empty() || q.x != poly.back().x || q.y != poly.back().y) poly.push_back(q);
+    while (poly.size() > 1 && poly.back().x == poly.front().x && poly.back().y == poly.front().y) poly.pop_back();
+    if (poly.size() < 3) return p;
+    const double margin = 1e-9 * std::max(hi - lo, 1e-300);
+    auto inside = [&](Vec2 q) {
+        for (size_t i = 0; i < poly.size(); ++i) {
+            const Vec2 a = poly[i], e = poly[(i + 1) % poly.size()] - a;
+            if (!(cross(e, q - a) > margin * std::sqrt(dot(e, e)))) return false;
+        }
+        return true;
+    };
+    p.erase(std::remove_if(p.begin(), p.end(), inside), p.end());
+    return p;
+}
+
 std::vector<Vec2> convexHull(std::vector<Vec2> p) {
+    p = withoutInterior(std::move(p));
     std::sort(p.begin(), p.end(), [](Vec2 a, Vec2 b) { return a.x < b.x || (a.x == b.x && a.y < b.y); });
     p.erase(std::unique(p.begin(), p.end(), [](Vec2 a, Vec2 b) { return a.x == b.x && a.y == b.y; }), p.end());
     if (p.size() < 3) return p;
