@@ -17,6 +17,8 @@ constexpr double kBoundDilation = 1;
 // Box distances are taken this much nearer (texels) than computed: a computed closest point may
 // stray from its face's box by rounding, and a face that ties the bound must still be asked.
 constexpr double kBoxMargin = 1e-6;
+// Texels added to a walked bound: above the float rounding of a hit's distance and of the walk.
+constexpr double kChamferMargin = 1e-4;
 
 // The face's texel centre rasterised: the hit the texel takes from face f at distance d.
 TexelHit hitOf(uint32_t f, const Vec2 (&P)[3], int x, int y, double d, const std::array<double, 3>& b) {
@@ -55,24 +57,65 @@ void rasterBand(const TriMesh& mesh, const std::vector<std::array<Vec2, 3>>& cor
     });
 }
 
+// Upper bounds of each band texel's least distance to a face, from the hits of a pass with a
+// narrow dilation: a texel's own hit, or a neighbour's bound plus the path to it (the neighbour's
+// face is at most that far; a chamfer walk, never shorter than the straight line). Bounds off the
+// hits carry kChamferMargin above the float roundings of the walk. Row-major over the band.
+std::vector<float> distanceBounds(const std::vector<TexelHit>& hits, const TexelRegion& g, size_t rowBegin, int rows) {
+    const int w = g.w;
+    std::vector<double> walk(size_t(rows) * size_t(w));
+    for (int y = 0; y < rows; ++y)
+        for (int x = 0; x < w; ++x) {
+            const float d = hits[g.at(x, int(rowBegin) + y)].dist;
+            walk[size_t(y) * size_t(w) + size_t(x)] = d < 1e30f ? double(d) : 1e300;
+        }
+    const double diagonal = std::sqrt(2.0);
+    auto relax = [&](int x, int y, int dx, int dy) {
+        const int nx = x + dx, ny = y + dy;
+        if (nx < 0 || ny < 0 || nx >= w || ny >= rows) return;
+        double& b = walk[size_t(y) * size_t(w) + size_t(x)];
+        b = std::min(b, walk[size_t(ny) * size_t(w) + size_t(nx)] + (dx != 0 && dy != 0 ? diagonal : 1.0));
+    };
+    for (int y = 0; y < rows; ++y)
+        for (int x = 0; x < w; ++x) {
+            relax(x, y, -1, 0);
+            relax(x, y, -1, -1);
+            relax(x, y, 0, -1);
+            relax(x, y, 1, -1);
+        }
+    for (int y = rows - 1; y >= 0; --y)
+        for (int x = w - 1; x >= 0; --x) {
+            relax(x, y, 1, 0);
+            relax(x, y, 1, 1);
+            relax(x, y, 0, 1);
+            relax(x, y, -1, 1);
+        }
+    std::vector<float> bound(walk.size());
+    for (int y = 0; y < rows; ++y)
+        for (int x = 0; x < w; ++x) {
+            const size_t i = size_t(y) * size_t(w) + size_t(x);
+            const float own = hits[g.at(x, int(rowBegin) + y)].dist;
+            bound[i] = std::min(own, walk[i] < 1e30 ? float(walk[i] + kChamferMargin) : 1e30f);
+        }
+    return bound;
+}
+
 // rasterBand with a wide dilation over many small faces, where each face would ask hundreds of
 // texels that nearer faces take. A first pass with kBoundDilation bounds each texel's least
-// distance from above (its hits are pairs the full pass also sees); the full pass then skips a
-// tile, or a texel, whose distance to a face's box is above that bound: the face can neither win
-// nor tie it, so every texel keeps the same face, distance and barycentrics.
+// distance from above (distanceBounds); the full pass then skips a tile, or a texel, whose
+// distance to a face's box is above that bound: the face can neither win nor tie it (or lies
+// beyond the dilation), so every texel keeps the same face, distance and barycentrics.
 void rasterBandBounded(const TriMesh& mesh, const std::vector<std::array<Vec2, 3>>& cornerUV, const TexelRegion& g,
                        double dilation, size_t rowBegin, size_t rowEnd, std::vector<TexelHit>& hits) {
     rasterBand(mesh, cornerUV, g, kBoundDilation, rowBegin, rowEnd, hits);
     const int rows = int(rowEnd - rowBegin), tilesX = (g.w + kTile - 1) / kTile;
-    std::vector<float> bound(size_t(rows) * size_t(g.w));
+    const std::vector<float> bound = distanceBounds(hits, g, rowBegin, rows);
     std::vector<float> tileBound(size_t((rows + kTile - 1) / kTile) * size_t(tilesX), 0.f);
     for (int y = 0; y < rows; ++y)
         for (int x = 0; x < g.w; ++x) {
-            TexelHit& h = hits[g.at(x, int(rowBegin) + y)];
-            bound[size_t(y) * size_t(g.w) + size_t(x)] = h.dist;
             float& t = tileBound[size_t(y / kTile) * size_t(tilesX) + size_t(x / kTile)];
-            t = std::max(t, h.dist);
-            h = {};
+            t = std::max(t, bound[size_t(y) * size_t(g.w) + size_t(x)]);
+            hits[g.at(x, int(rowBegin) + y)] = {};
         }
     // How far a texel centre range [c0, c1] lies from [b0, b1] along one axis.
     auto gap = [](double c0, double c1, double b0, double b1) { return std::max({0.0, c0 - b1, b0 - c1}); };
