@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 
 #include "lodbake/atlas/atlas_apply.h"
 #include "lodbake/core/errors.h"
@@ -10,6 +11,7 @@
 #include "lodbake/chart/charts.h"
 #include "lodbake/param/parameterize.h"
 #include "lodbake/core/closest_point.h"
+#include "param/uv_check_detail.h"
 #include "synthetic_meshes.h"
 
 using namespace lodbake;
@@ -450,4 +452,28 @@ TEST(TextureDeviation, IslandSamplesAreExactClosestDistancesInSequenceOrder) {
     EXPECT_EQ(dev.mean, sum / 3000.0);
     EXPECT_EQ(dev.rms, std::sqrt(sum2 / 3000.0));
     EXPECT_EQ(dev.max, max);
+}
+
+TEST(UVFolds, CrowdedCellsFindThePairsEveryPairTestFinds) {
+    // Most triangles crowded into a corner (a chart packed far denser than the grid's cells), the
+    // rest spread out, some overlapping: the pairs are those the rule gives each pair on its own.
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> u(0, 1), d(-0.01, 0.01);
+    std::vector<std::array<Vec2, 3>> tris;
+    for (int i = 0; i < 420; ++i) {
+        const Vec2 c = i < 300 ? Vec2{0.02 * u(rng), 0.02 * u(rng)} : Vec2{u(rng), u(rng)};
+        const double s = i < 300 ? 0.2 : 8.0;
+        std::array<Vec2, 3> t{c, Vec2{c.x + s * std::fabs(d(rng)), c.y + s * d(rng)}, Vec2{c.x + s * d(rng), c.y + s * std::fabs(d(rng))}};
+        if (cross(t[1] - t[0], t[2] - t[0]) > 0) std::swap(t[1], t[2]);  // glTF UVs: v down
+        tris.push_back(t);
+    }
+    const param_detail::UVFolds all = param_detail::findUVFolds(tris, 1e-7);
+    std::vector<std::pair<uint32_t, uint32_t>> want;
+    for (uint32_t i = 0; i < tris.size(); ++i)
+        for (uint32_t j = i + 1; j < tris.size(); ++j)
+            if (!all.flipped[i] && !all.flipped[j] && !param_detail::findUVFolds({tris[i], tris[j]}, 1e-7).overlapping.empty())
+                want.push_back({i, j});
+    EXPECT_GT(want.size(), 100u);
+    std::vector<std::pair<uint32_t, uint32_t>> got(all.overlapping.begin(), all.overlapping.end());
+    EXPECT_EQ(got, want);
 }
