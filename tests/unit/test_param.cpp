@@ -476,4 +476,5 @@ TEST(UVFolds, CrowdedCellsFindThePairsEveryPairTestFinds) {
     EXPECT_GT(want.size(), 100u);
     std::vector<std::pair<uint32_t, uint32_t>> got(all.overlapping.begin(), all.overlapping.end());
     EXPECT_EQ(got, want);
+    EXPECT_EQ(param_detail::findUVFolds(tris, 1e-7, 3).overlapping, all.overlapping);
 }

@@ -175,7 +175,7 @@ void layoutAtlas(const TriMesh& mesh, const Multires& multires, const std::vecto
         writeLevelUVs(mesh, multires, charts, atlas, st, res);
         if (!options.levelIslands || res.charts.chartCount == 0 || round >= kMaxRounds) break;
         if (round == 0 && crossing) crossing = crossingIslandsFit(multires, st, options, res);
-        if (addFoldIslands(mesh, multires, charts, crossing, atlas.texelsPerUnit, st, res) == 0) break;
+        if (addFoldIslands(mesh, multires, charts, crossing, atlas.texelsPerUnit, options.threads, st, res) == 0) break;
     }
 }
 

@@ -203,7 +203,7 @@ void splitFailedCharts(const TriMesh& mesh, const ParameterizeOptions& options, 
     dropEmptyCharts(charts, res);
 }
 
-std::vector<uint32_t> foldedAtlasFaces(const TriMesh& mesh, ParameterizeResult& res) {
+std::vector<uint32_t> foldedAtlasFaces(const TriMesh& mesh, int threads, ParameterizeResult& res) {
     std::vector<std::array<Vec2, 3>> tris;
     std::vector<uint32_t> which;
     for (uint32_t f = 0; f < mesh.triangleCount(); ++f)
@@ -211,7 +211,7 @@ std::vector<uint32_t> foldedAtlasFaces(const TriMesh& mesh, ParameterizeResult& 
             tris.push_back(res.cornerUV[f]);
             which.push_back(f);
         }
-    param_detail::UVFolds folds = param_detail::findUVFolds(tris, 1e-7);
+    param_detail::UVFolds folds = param_detail::findUVFolds(tris, 1e-7, threads);
     std::vector<char> pick(tris.size(), 0);
     res.flips = 0;
     for (size_t i = 0; i < tris.size(); ++i) {
@@ -249,7 +249,7 @@ bool crossingIslandsFit(const Multires& multires, const AtlasState& st, const Pa
 }
 
 size_t addFoldIslands(const TriMesh& mesh, const Multires& multires, const std::vector<LocalChart>& charts, bool crossing,
-                      double d, AtlasState& st, ParameterizeResult& res) {
+                      double d, int threads, AtlasState& st, ParameterizeResult& res) {
     size_t added = 0;
     for (size_t li = 0; li < multires.levels.size(); ++li) {
         const Level& L = multires.levels[li];
@@ -261,7 +261,7 @@ size_t addFoldIslands(const TriMesh& mesh, const Multires& multires, const std::
             tris.push_back(res.levels[li].uv[t]);
             which.push_back(uint32_t(t));
         }
-        param_detail::UVFolds folds = param_detail::findUVFolds(tris, 1e-7);
+        param_detail::UVFolds folds = param_detail::findUVFolds(tris, 1e-7, threads);
         std::vector<char> pick(tris.size(), 0);
         for (size_t i = 0; i < tris.size(); ++i)
             pick[i] = folds.flipped[i] || (crossing && st.projectedCount[li][which[i]] > 0);

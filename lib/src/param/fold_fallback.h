@@ -39,8 +39,9 @@ void splitFailedCharts(const TriMesh& mesh, const ParameterizeOptions& options, 
 
 // Original faces folded in the packed atlas, checked as the tool checks them (float UVs, overlap
 // tolerance 1e-7): every flipped face and, of each overlapping pair, the one with the smaller 3D
-// area (ascending face ids). Sets res.flips and res.overlaps to the counts.
-std::vector<uint32_t> foldedAtlasFaces(const TriMesh& mesh, ParameterizeResult& res);
+// area (ascending face ids). Sets res.flips and res.overlaps to the counts. On `threads` threads,
+// the same faces for any count.
+std::vector<uint32_t> foldedAtlasFaces(const TriMesh& mesh, int threads, ParameterizeResult& res);
 
 // Crossing islands only while their smallest footprint (2 texels plus the gutter a side) fits in
 // a quarter of the atlas; beyond that (thousands of tiny crossing triangles) they would crush the
@@ -50,8 +51,9 @@ bool crossingIslandsFit(const Multires& multires, const AtlasState& st, const Pa
 // Checks every level in the atlas as the tool does (float UVs, overlap tolerance 1e-7) and gives
 // an island to each level triangle that is flipped, crossing (with `crossing`), or the one of an
 // overlapping pair with more projected corners (it straddles a chart cut), else the smaller.
-// Islands are laid out at density d (at least 2 texels a side). Returns the islands added.
+// Islands are laid out at density d (at least 2 texels a side). Returns the islands added. On
+// `threads` threads, the same islands for any count.
 size_t addFoldIslands(const TriMesh& mesh, const Multires& multires, const std::vector<LocalChart>& charts, bool crossing,
-                      double d, AtlasState& st, ParameterizeResult& res);
+                      double d, int threads, AtlasState& st, ParameterizeResult& res);
 
 }  // namespace lodbake::param_detail

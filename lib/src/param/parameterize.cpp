@@ -67,7 +67,7 @@ ParameterizeResult parameterize(const TriMesh& mesh, const Multires& multires, c
     for (int pass = 0;; ++pass) {
         layoutAtlas(mesh, multires, charts, chartUvArea, grid, radius, options, res);
         res.floatRepairs = nudgeRoundedSliverCorners(mesh, res.charts.faceChart, res.cornerUV);
-        const std::vector<uint32_t> folded = foldedAtlasFaces(mesh, res);
+        const std::vector<uint32_t> folded = foldedAtlasFaces(mesh, options.threads, res);
         if (folded.empty() || pass == kMaxCarvePasses || res.texelsPerUnit <= 0) break;
         const size_t before = res.carvedFaces;
         chartUvArea += carveFaces(mesh, folded, (pass + 2.0) / res.texelsPerUnit, charts, res);

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "lodbake/core/grid2d.h"
+#include "lodbake/core/parallel.h"
 #include "lodbake/param/parameterize.h"
 #include "param/uv_check_detail.h"
 
@@ -41,8 +42,10 @@ namespace param_detail {
 
 // Cells with more items than this are swept instead of testing every pair.
 constexpr size_t kSweepFrom = 32;
+// Grid rows per parallel task.
+constexpr size_t kRowsPerChunk = 16;
 
-UVFolds findUVFolds(const std::vector<std::array<Vec2, 3>>& input, double tolerance) {
+UVFolds findUVFolds(const std::vector<std::array<Vec2, 3>>& input, double tolerance, int threads) {
     // Checked as written: glTF stores float UVs, and rounding can flip a sliver triangle.
     std::vector<std::array<Vec2, 3>> tris(input);
     for (auto& t : tris)
@@ -82,30 +85,36 @@ UVFolds findUVFolds(const std::vector<std::array<Vec2, 3>>& input, double tolera
         const auto &a = box[i], &b = box[j];
         return a[2] < b[0] || b[2] < a[0] || a[3] < b[1] || b[3] < a[1];
     };
-    // Two meeting boxes share every cell from the one holding their overlap's lowest corner; the
-    // pair is tested in that cell only.
-    auto test = [&](uint32_t a, uint32_t b, int x, int y) {
-        const uint32_t i = std::min(a, b), j = std::max(a, b);
-        if (apart(i, j) || grid.cellX(std::max(box[i][0], box[j][0])) != x || grid.cellY(std::max(box[i][1], box[j][1])) != y)
-            return;
-        if (interiorsOverlap(tris[i], tris[j], tolerance)) r.overlapping.push_back({i, j});
-    };
-    std::vector<uint32_t> byX;
-    for (int y = 0; y < g; ++y)
-        for (int x = 0; x < g; ++x) {
-            const Grid2::Cell cell = grid.cell(x, y);
-            if (cell.size() <= kSweepFrom) {
-                for (const uint32_t* a = cell.begin(); a != cell.end(); ++a)
-                    for (const uint32_t* b = a + 1; b != cell.end(); ++b) test(*a, *b, x, y);
-                continue;
+    std::vector<std::vector<std::pair<uint32_t, uint32_t>>> found(chunkCount(size_t(g), kRowsPerChunk));
+    parallelChunks(size_t(g), kRowsPerChunk, threads, [&](size_t rowBegin, size_t rowEnd, size_t) {
+        auto& out = found[rowBegin / kRowsPerChunk];
+        // Two meeting boxes share every cell from the one holding their overlap's lowest corner;
+        // the pair is tested in that cell only.
+        auto test = [&](uint32_t a, uint32_t b, int x, int y) {
+            const uint32_t i = std::min(a, b), j = std::max(a, b);
+            if (apart(i, j) || grid.cellX(std::max(box[i][0], box[j][0])) != x || grid.cellY(std::max(box[i][1], box[j][1])) != y)
+                return;
+            if (interiorsOverlap(tris[i], tris[j], tolerance)) out.push_back({i, j});
+        };
+        std::vector<uint32_t> byX;
+        for (int y = int(rowBegin); y < int(rowEnd); ++y)
+            for (int x = 0; x < g; ++x) {
+                const Grid2::Cell cell = grid.cell(x, y);
+                if (cell.size() <= kSweepFrom) {
+                    for (const uint32_t* a = cell.begin(); a != cell.end(); ++a)
+                        for (const uint32_t* b = a + 1; b != cell.end(); ++b) test(*a, *b, x, y);
+                    continue;
+                }
+                // A crowded cell (a chart laid out far denser than the grid assumes): swept along
+                // x, each box meets only the boxes that start before it ends.
+                byX.assign(cell.begin(), cell.end());
+                std::sort(byX.begin(), byX.end(),
+                          [&](uint32_t a, uint32_t b) { return box[a][0] < box[b][0] || (box[a][0] == box[b][0] && a < b); });
+                for (size_t a = 0; a < byX.size(); ++a)
+                    for (size_t b = a + 1; b < byX.size() && box[byX[b]][0] <= box[byX[a]][2]; ++b) test(byX[a], byX[b], x, y);
             }
-            // A crowded cell (a chart laid out far denser than the grid assumes): swept along x,
-            // each box meets only the boxes that start before it ends.
-            byX.assign(cell.begin(), cell.end());
-            std::sort(byX.begin(), byX.end(), [&](uint32_t a, uint32_t b) { return box[a][0] < box[b][0] || (box[a][0] == box[b][0] && a < b); });
-            for (size_t a = 0; a < byX.size(); ++a)
-                for (size_t b = a + 1; b < byX.size() && box[byX[b]][0] <= box[byX[a]][2]; ++b) test(byX[a], byX[b], x, y);
-        }
+    });
+    for (const auto& f : found) r.overlapping.insert(r.overlapping.end(), f.begin(), f.end());
     std::sort(r.overlapping.begin(), r.overlapping.end());
     r.overlapping.erase(std::unique(r.overlapping.begin(), r.overlapping.end()), r.overlapping.end());
     return r;

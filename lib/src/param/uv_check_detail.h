@@ -17,7 +17,8 @@ struct UVFolds {
 };
 
 // Same conventions as checkUVInjectivity (glTF UVs rounded to float, flipped triangles not tested
-// for overlap). Every overlapping pair is listed (no early out).
-UVFolds findUVFolds(const std::vector<std::array<Vec2, 3>>& tris, double tolerance);
+// for overlap). Every overlapping pair is listed (no early out). Rows of the grid on `threads`
+// threads (0 = all cores); the result does not depend on the count.
+UVFolds findUVFolds(const std::vector<std::array<Vec2, 3>>& tris, double tolerance, int threads = 1);
 
 }  // namespace lodbake::param_detail
