@@ -1,6 +1,7 @@
 // FaceGrid (lib/include/lodbake/core/face_grid.h): facesIn lists each face whose box meets the query
 // box once, ascending; closestFaceIn finds the closest face of a subset through the grid as a scan
-// of the subset in id order finds it, ties included.
+// of the subset in id order finds it, ties included, and FaceSetSearch does so for sets that hold
+// index-degenerate faces too.
 #include <gtest/gtest.h>
 
 #include <random>
@@ -116,4 +117,38 @@ TEST(FaceGrid, ClosestInIsTheScanOfFacesIn) {
         EXPECT_EQ(face, scanFace);
         for (size_t k = 0; k < 3; ++k) EXPECT_EQ(bary[k], scanBary[k]);
     }
+}
+
+// Index-degenerate faces (a corner repeated: the grid lists none) inside the sets, one of them a
+// copy of a proper face's edge: the search still answers as the scan of each set does.
+TEST(FaceGrid, FaceSetSearchMatchesTheScanWithDegenerateFaces) {
+    TriMesh mesh = test::grid(30, 30, [](int i, int j) { return 0.2 * std::sin(0.5 * i + 0.2 * j); });
+    const Tri& first = mesh.triangles[40];
+    mesh.triangles.push_back({first[0], first[1], first[1]});  // lies on face 40's edge
+    mesh.triangles.push_back({5, 5, 900});                     // a segment across the grid
+    const uint32_t a = uint32_t(mesh.triangleCount() - 2), b = a + 1;
+    std::vector<uint32_t> sets[3];
+    for (uint32_t f = 0; f < a; ++f) sets[f % 3 == 0 ? 0 : 1].push_back(f);
+    sets[0].push_back(a);
+    sets[0].push_back(b);
+    sets[2] = {b};
+    FaceSetSearch search(mesh);
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> u(-3, 33), h(-1.5, 1.5);
+    std::vector<Vec3> points;
+    for (int i = 0; i < 200; ++i) points.push_back({u(rng), u(rng), h(rng)});
+    for (uint32_t v = 0; v < mesh.vertexCount(); v += 13) points.push_back(mesh.positions[v]);
+    points.push_back((mesh.positions[first[0]] + mesh.positions[first[1]]) * 0.5);
+    for (const auto& faces : sets)
+        for (const Vec3& p : points) {
+            uint32_t want = 0, got = 0;
+            std::array<double, 3> wantBary{}, gotBary{};
+            const double d = closestSurfacePoint(mesh, faces, p, want, wantBary);
+            ASSERT_EQ(search.closest(faces, p, got, gotBary), d);
+            EXPECT_EQ(got, want) << "at " << p.x << " " << p.y << " " << p.z;
+            EXPECT_EQ(gotBary, wantBary);
+        }
+    uint32_t f = 0;
+    std::array<double, 3> bary{};
+    EXPECT_EQ(search.closest({}, Vec3{}, f, bary), 1e300);
 }

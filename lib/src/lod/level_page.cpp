@@ -8,6 +8,7 @@
 #include "lodbake/chart/level_charts.h"
 #include "lodbake/core/closest_point.h"
 #include "lodbake/core/errors.h"
+#include "lodbake/core/face_grid.h"
 #include "lodbake/core/math.h"
 #include "lod/level_islands.h"
 #include "lod/level_plan.h"
@@ -102,6 +103,7 @@ LevelUVs levelUVs(const TriMesh& mesh, const LayoutData& L, const LevelView& lv,
     }
     out.chart = levelTriangleCharts(mesh, ch.faceChart, ch.chartCount, *level);
     std::map<std::pair<uint32_t, uint32_t>, Vec2> projected;
+    FaceSetSearch search(mesh);
     for (size_t t = 0; t < n; ++t) {
         if (!L.island.empty()) {
             auto isl = L.island.find(islandKey(lv.triangles[t]));
@@ -121,7 +123,7 @@ LevelUVs levelUVs(const TriMesh& mesh, const LayoutData& L, const LevelView& lv,
             }
             auto it = projected.find({c, v});
             if (it == projected.end()) {
-                Vec2 uv = closestSurfaceUV(mesh, ch.cornerUV, L.chartFaces[c], mesh.positions[v]);
+                Vec2 uv = search.closestUV(ch.cornerUV, L.chartFaces[c], mesh.positions[v]);
                 it = projected.emplace(std::make_pair(c, v), uv).first;
             }
             out.uv[t][j] = it->second;

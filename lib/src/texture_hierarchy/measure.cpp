@@ -9,6 +9,7 @@
 #include "lodbake/chart/level_charts.h"
 #include "lodbake/core/closest_point.h"
 #include "lodbake/core/errors.h"
+#include "lodbake/core/face_grid.h"
 #include "lodbake/texture_hierarchy/refine.h"
 
 namespace lodbake {
@@ -101,6 +102,7 @@ LayoutMeasure measureLayout(const TriMesh& mesh, const Multires& mr, const Chart
     for (uint32_t i = 0; i < lay.islands.size(); ++i) island.emplace(islandKey(lay.islands[i].vertices), i);
     std::vector<std::vector<uint32_t>> chartFaces(lay.chartCount);
     for (uint32_t f = 0; f < nf; ++f) chartFaces[lay.faceChart[f]].push_back(f);
+    FaceSetSearch search(mesh);
     std::vector<double> ratios;
     double sumUV = 0, sum3 = 0;
     for (uint32_t l = 0; l <= lastLevel; ++l) {
@@ -123,7 +125,7 @@ LayoutMeasure measureLayout(const TriMesh& mesh, const Multires& mr, const Chart
                 if (l == 0) u[k] = lay.cornerUV[f][k];
                 else if (isl != island.end()) u[k] = lay.islands[isl->second].uvOf(T[t][k]);
                 else u[k] = lookup.has(T[t][k], triChart[t]) ? lookup(T[t][k], triChart[t])
-                                                             : closestSurfaceUV(mesh, lay.cornerUV, chartFaces[triChart[t]], mesh.positions[T[t][k]]);
+                                                             : search.closestUV(lay.cornerUV, chartFaces[triChart[t]], mesh.positions[T[t][k]]);
             }
             tris.push_back(u);
             double a3 = triangleArea(mesh.positions[T[t][0]], mesh.positions[T[t][1]], mesh.positions[T[t][2]]);

@@ -264,14 +264,4 @@ inline std::vector<uint32_t> facesNearTriangle(const TriMesh& mesh, const std::v
     return boxed.within(c, reach);
 }
 
-// The texture coordinate of the point of `faces` closest to p, interpolated from the faces'
-// per-corner UVs (cornerUV[f][k]). {0, 0} when faces is empty.
-inline Vec2 closestSurfaceUV(const TriMesh& mesh, const std::vector<std::array<Vec2, 3>>& cornerUV,
-                             const std::vector<uint32_t>& faces, Vec3 p) {
-    uint32_t f = 0;
-    std::array<double, 3> b{};
-    if (closestSurfacePoint(mesh, faces, p, f, b) >= 1e300) return {};
-    return cornerUV[f][0] * b[0] + cornerUV[f][1] * b[1] + cornerUV[f][2] * b[2];
-}
-
 }  // namespace lodbake

@@ -5,6 +5,8 @@
 
 #include <array>
 #include <cstdint>
+#include <map>
+#include <memory>
 #include <vector>
 
 #include "lodbake/core/mesh.h"
@@ -48,5 +50,30 @@ private:
 // a face of the set no farther than the box reaches. Cost: the faces near p, not the set's size.
 bool closestFaceIn(const TriMesh& mesh, const FaceGrid& grid, const std::vector<uint32_t>& faces, Vec3 p, double radius,
                    size_t& index, std::array<double, 3>& bary);
+
+// closestSurfacePoint's scan of fixed face sets (ascending ids, index-degenerate faces allowed)
+// for many points, each point measuring only the faces near it: closestFaceIn over the faces the
+// grid lists, and a set's index-degenerate faces (the grid lists none) measured beside them, ties
+// to the lower id as the scan breaks them. The grid is built over the mesh on the first query.
+class FaceSetSearch {
+public:
+    explicit FaceSetSearch(const TriMesh& mesh) : mesh_(mesh) {}
+    // The squared distance to the closest point of `faces` (1e300 when none); `face` and `bary`
+    // receive it. A set is known by its address: it stays in place while the search lives.
+    double closest(const std::vector<uint32_t>& faces, Vec3 p, uint32_t& face, std::array<double, 3>& bary);
+    // The texture coordinate of the closest point of `faces`, interpolated from the faces'
+    // per-corner UVs (cornerUV[f][k]); {0, 0} when faces is empty.
+    Vec2 closestUV(const std::vector<std::array<Vec2, 3>>& cornerUV, const std::vector<uint32_t>& faces, Vec3 p) {
+        uint32_t f = 0;
+        std::array<double, 3> b{};
+        if (closest(faces, p, f, b) >= 1e300) return {};
+        return cornerUV[f][0] * b[0] + cornerUV[f][1] * b[1] + cornerUV[f][2] * b[2];
+    }
+
+private:
+    const TriMesh& mesh_;
+    std::unique_ptr<FaceGrid> grid_;
+    std::map<const std::vector<uint32_t>*, std::vector<uint32_t>> degenerate_;  // per set asked for
+};
 
 }  // namespace lodbake
