@@ -122,8 +122,8 @@ UVFolds findUVFolds(const std::vector<std::array<Vec2, 3>>& input, double tolera
 
 }  // namespace param_detail
 
-UVInjectivity checkUVInjectivity(const std::vector<std::array<Vec2, 3>>& tris, double tolerance) {
-    param_detail::UVFolds f = param_detail::findUVFolds(tris, tolerance);
+UVInjectivity checkUVInjectivity(const std::vector<std::array<Vec2, 3>>& tris, double tolerance, int threads) {
+    param_detail::UVFolds f = param_detail::findUVFolds(tris, tolerance, threads);
     UVInjectivity r;
     r.triangles = tris.size();
     r.flips = size_t(std::count(f.flipped.begin(), f.flipped.end(), 1));
@@ -134,7 +134,7 @@ UVInjectivity checkUVInjectivity(const std::vector<std::array<Vec2, 3>>& tris, d
 }
 
 UVInjectivity checkLevelUVs(const TriMesh& mesh, const std::vector<Tri>& triangles, const std::vector<Tri>& cornerWedges,
-                            double tolerance) {
+                            double tolerance, int threads) {
     std::vector<std::array<Vec2, 3>> tris;
     tris.reserve(triangles.size());
     for (size_t t = 0; t < triangles.size(); ++t) {
@@ -147,7 +147,7 @@ UVInjectivity checkLevelUVs(const TriMesh& mesh, const std::vector<Tri>& triangl
         }
         tris.push_back(uv);
     }
-    return checkUVInjectivity(tris, tolerance);
+    return checkUVInjectivity(tris, tolerance, threads);
 }
 
 }  // namespace lodbake

@@ -28,16 +28,18 @@ std::vector<BakeIsland> bakeIslands(const TriMesh& mesh, const std::vector<Level
     return islands;
 }
 
-// Injectivity of every level with its final UVs (level 0 = the original triangles in the atlas).
-std::vector<UVInjectivity> checkLevels(const TriMesh& mesh, const Multires& multires, const ParameterizeResult& param) {
+// Injectivity of every level with its final UVs (level 0 = the original triangles in the atlas), on
+// `threads` threads.
+std::vector<UVInjectivity> checkLevels(const TriMesh& mesh, const Multires& multires, const ParameterizeResult& param,
+                                       int threads) {
     std::vector<UVInjectivity> checks;
     std::vector<std::array<Vec2, 3>> atlas0;
     for (size_t f = 0; f < mesh.triangleCount(); ++f) {
         const Tri& v = mesh.triangles[f];
         if (v[0] != v[1] && v[1] != v[2] && v[0] != v[2]) atlas0.push_back(param.cornerUV[f]);
     }
-    checks.push_back(checkUVInjectivity(atlas0));
-    for (const Level& L : multires.levels) checks.push_back(checkLevelUVs(mesh, L.triangles, L.cornerWedges));
+    checks.push_back(checkUVInjectivity(atlas0, 1e-7, threads));
+    for (const Level& L : multires.levels) checks.push_back(checkLevelUVs(mesh, L.triangles, L.cornerWedges, 1e-7, threads));
     return checks;
 }
 
@@ -182,7 +184,7 @@ StageResult runParameterize(const ParameterizeSettings& s) {
     time.bake = secondsSince(t1);
 
     AtlasApplyStats applied = applyAtlas(asset, *multires, param, baked.image);
-    std::vector<UVInjectivity> levelChecks = checkLevels(asset.mesh, *multires, param);
+    std::vector<UVInjectivity> levelChecks = checkLevels(asset.mesh, *multires, param, s.common.threads);
 
     // Texture deviation of the coarsest level (what beta < 1 is meant to lower).
     Clock::time_point t3 = Clock::now();

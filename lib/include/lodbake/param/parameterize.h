@@ -130,12 +130,13 @@ struct UVInjectivity {
 
 // Checks UV triangles given in glTF convention ([0,1], v down; a front-facing triangle is CCW with
 // v up). Flipped triangles are not tested for overlap. `tolerance` (UV units) is the overlap depth
-// below which two triangles count as touching (shared edges, vertices on an edge).
-UVInjectivity checkUVInjectivity(const std::vector<std::array<Vec2, 3>>& tris, double tolerance = 1e-7);
+// below which two triangles count as touching (shared edges, vertices on an edge). On `threads`
+// threads (0 = all cores); the counts do not depend on the number.
+UVInjectivity checkUVInjectivity(const std::vector<std::array<Vec2, 3>>& tris, double tolerance = 1e-7, int threads = 1);
 
 // The same for a level's triangles with their TEXCOORD_0 taken from mesh.wedges.uv0 via cornerWedges.
 UVInjectivity checkLevelUVs(const TriMesh& mesh, const std::vector<Tri>& triangles, const std::vector<Tri>& cornerWedges,
-                            double tolerance = 1e-7);
+                            double tolerance = 1e-7, int threads = 1);
 
 struct TextureDeviationOptions {
     size_t samples = 200000;  // area-weighted sample points on the level's triangles (deterministic)
