@@ -10,12 +10,13 @@
 #include "lodbake/core/closest_point.h"
 #include "lodbake/core/errors.h"
 #include "lodbake/core/face_grid.h"
+#include "lodbake/core/parallel.h"
 #include "lodbake/texture_hierarchy/refine.h"
 
 namespace lodbake {
 
 LayoutMeasure measureLayout(const TriMesh& mesh, const Multires& mr, const ChartLayout& lay, uint32_t lastLevel,
-                            const ChartEnergyOptions& eo) {
+                            const ChartEnergyOptions& eo, int threads) {
     const size_t nf = mesh.triangleCount();
     if (lay.faceChart.size() != nf || lay.cornerUV.size() != nf) throw InvalidInput("measureLayout: layout does not match the mesh");
     if (lastLevel > mr.levels.size()) throw InvalidInput("measureLayout: level out of range");
@@ -84,10 +85,12 @@ LayoutMeasure measureLayout(const TriMesh& mesh, const Multires& mr, const Chart
     ChartEnergyOptions unit = eo;
     unit.resolution = 1;
     m.chartEnergies.assign(lay.chartCount, ChartEnergy{});
-    for (uint32_t c = 0; c < lay.chartCount; ++c) {
+    parallelFor(lay.chartCount, threads, [&](size_t c) {
+        if (!charts[c].triangles.empty()) m.chartEnergies[c] = chartEnergy(charts[c], pairs[c], uvs[c], unit);
+    });
+    for (uint32_t c = 0; c < lay.chartCount; ++c) {  // summed in chart order, as for one thread
         if (charts[c].triangles.empty()) continue;
-        ChartEnergy e = chartEnergy(charts[c], pairs[c], uvs[c], unit);
-        m.chartEnergies[c] = e;
+        const ChartEnergy& e = m.chartEnergies[c];
         m.energy.E += e.E;
         m.energy.pixel += e.pixel;
         m.energy.poly += e.poly;
@@ -135,7 +138,7 @@ LayoutMeasure measureLayout(const TriMesh& mesh, const Multires& mr, const Chart
             sumUV += a2;
             sum3 += a3;
         }
-        UVInjectivity inj = checkUVInjectivity(tris);
+        UVInjectivity inj = checkUVInjectivity(tris, 1e-7, threads);
         m.flips += inj.flips;
         m.overlaps += inj.overlaps;
         m.levels.push_back(inj);

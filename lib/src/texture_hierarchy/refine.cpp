@@ -237,10 +237,11 @@ void checkRefineInput(const Asset& asset, const Multires& mr, const RefineOption
 // T0's measure over levels 0..l, made once per l: every candidate and rank compares against it.
 class BaseMeasures {
 public:
-    BaseMeasures(const TriMesh& mesh, const Multires& mr, const ChartEnergyOptions& eo) : mesh_(mesh), mr_(mr), eo_(eo) {}
+    BaseMeasures(const TriMesh& mesh, const Multires& mr, const ChartEnergyOptions& eo, int threads)
+        : mesh_(mesh), mr_(mr), eo_(eo), threads_(threads) {}
     const LayoutMeasure& upTo(uint32_t lastLevel) {
         auto it = byLevel_.find(lastLevel);
-        if (it == byLevel_.end()) it = byLevel_.emplace(lastLevel, measureLayout(mesh_, mr_, mr_.charts, lastLevel, eo_)).first;
+        if (it == byLevel_.end()) it = byLevel_.emplace(lastLevel, measureLayout(mesh_, mr_, mr_.charts, lastLevel, eo_, threads_)).first;
         return it->second;
     }
 
@@ -248,6 +249,7 @@ private:
     const TriMesh& mesh_;
     const Multires& mr_;
     ChartEnergyOptions eo_;
+    int threads_;
     std::map<uint32_t, LayoutMeasure> byLevel_;
 };
 
@@ -328,7 +330,7 @@ void solveRankLayout(const TriMesh& mesh, const Multires& mr, const ChartLayout&
                      RankResult& rr) {
     // The parent layout's own energy per chart over the levels this rank serves.
     const std::vector<ChartEnergy> parentE =
-        parentIsT0 ? base.upTo(cand.level).chartEnergies : measureLayout(mesh, mr, parent, cand.level, eo).chartEnergies;
+        parentIsT0 ? base.upTo(cand.level).chartEnergies : measureLayout(mesh, mr, parent, cand.level, eo, o.param.threads).chartEnergies;
     rr.parameterizeSeconds = 0;
     for (int attempt = 0; attempt < 3; ++attempt) {
         const ParameterizeResult solved = parameterizeRank(mesh, mr, rr.lastLevel, cand.charts, o, false, rr);
@@ -350,7 +352,7 @@ void solveRankLayout(const TriMesh& mesh, const Multires& mr, const ChartLayout&
 // Sets rr.lastLevel, rr.measure and rr.base; returns whether such a run exists.
 bool trimServedLevels(const TriMesh& mesh, const Multires& mr, const RefineOptions& o, const ChartEnergyOptions& eo,
                       BaseMeasures& base, RankResult& rr) {
-    rr.measure = measureLayout(mesh, mr, rr.layout, rr.lastLevel, eo);
+    rr.measure = measureLayout(mesh, mr, rr.layout, rr.lastLevel, eo, o.param.threads);
     rr.base = base.upTo(rr.lastLevel);
     auto serves = [&](uint32_t l) {
         const UVInjectivity& a = rr.measure.levels[l];
@@ -362,7 +364,7 @@ bool trimServedLevels(const TriMesh& mesh, const Multires& mr, const RefineOptio
     for (;;) {
         if (valid < rr.lastLevel) {
             rr.lastLevel = valid;
-            rr.measure = measureLayout(mesh, mr, rr.layout, rr.lastLevel, eo);
+            rr.measure = measureLayout(mesh, mr, rr.layout, rr.lastLevel, eo, o.param.threads);
             rr.base = base.upTo(rr.lastLevel);
         }
         const bool better = rr.measure.energy.E < rr.base.energy.E && rr.measure.areaRatioStdDev < rr.base.areaRatioStdDev;
@@ -424,7 +426,7 @@ RefineResult refineTextures(const Asset& asset, const Multires& mr, const Refine
     eo.alpha = o.param.solve.energy.alpha;
     eo.beta = o.param.solve.energy.beta;
     RefineResult res;
-    BaseMeasures base(mesh, mr, eo);
+    BaseMeasures base(mesh, mr, eo, o.param.threads);
     res.ranks.push_back(rankZero(mesh, mr, base));
     if (overBudget && o.ranks > 0 && n > 0)
         res.warnings.push_back(std::to_string(mesh.triangleCount()) + " triangles is over the budget of " +

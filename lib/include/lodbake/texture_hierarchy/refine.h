@@ -54,9 +54,11 @@ struct LayoutMeasure {
 // and the simplification pairs of levels 1..lastLevel. Level triangles get the UVs `pack` gives
 // them: an island's when the layout has one for their vertex triple, else those of the chart
 // levelTriangleCharts picks, a corner outside it the UV of the closest point of the chart's surface.
+// Charts and the levels' injectivity checks on `threads` threads (0 = all cores), the same
+// measure for any count.
 // \pre layout matches mesh; lastLevel <= multires.levels.size().
 LayoutMeasure measureLayout(const TriMesh& mesh, const Multires& multires, const ChartLayout& layout,
-                            uint32_t lastLevel, const ChartEnergyOptions& energy = {});
+                            uint32_t lastLevel, const ChartEnergyOptions& energy = {}, int threads = 1);
 
 // Splits every chart of `parentChart` (chart id per original face, < parentCount) into about
 // `perChart` charts: the parts of the regions `faceRegion` (representative face per face) inside
