@@ -149,6 +149,46 @@ void fetchFiltered(const MipTexture& texture, const FetchOptions& o, Vec2 st, Ve
     for (int c = 0; c < 4; ++c) out[c] = std::clamp(acc[c] * kUnit, 0.0f, 1.0f);
 }
 
+namespace {
+
+// One pull level of pullPushFill: row y of d (dw texels) from the coverage-weighted [1 3 3 1] tent
+// of s (sw x sh, values `sv` of nc channels, coverage `sa`). NC = nc as a compile-time count for
+// the usual ones (0: any, read from nc), so the channel loops unroll; every sum is taken in the
+// same order either way.
+template <size_t NC>
+void pullRow(size_t nc, int y, int dw, int sw, int sh, const float* sv, const uint8_t* sa, float* dv, uint8_t* da) {
+    static constexpr float kTent[4] = {1, 3, 3, 1};
+    const size_t n = NC ? NC : nc;
+    float fixed[NC ? NC : 1];
+    std::vector<float> any(NC ? 0 : nc);
+    float* acc = NC ? fixed : any.data();
+    for (int x = 0; x < dw; ++x) {
+        std::fill(acc, acc + n, 0.0f);
+        float wsum = 0;
+        for (int j = 0; j < 4; ++j) {
+            const int sy = 2 * y - 1 + j;
+            if (sy < 0 || sy >= sh) continue;
+            for (int i = 0; i < 4; ++i) {
+                const int sx = 2 * x - 1 + i;
+                if (sx < 0 || sx >= sw) continue;
+                const size_t si = size_t(sy) * size_t(sw) + size_t(sx);
+                if (!sa[si]) continue;
+                const float wt = kTent[j] * kTent[i];
+                wsum += wt;
+                const float* p = &sv[si * n];
+                for (size_t c = 0; c < n; ++c) acc[c] += wt * p[c];
+            }
+        }
+        if (wsum > 0) {
+            const size_t di = size_t(y) * size_t(dw) + size_t(x);
+            da[di] = 1;
+            for (size_t c = 0; c < n; ++c) dv[di * n + c] = acc[c] / wsum;
+        }
+    }
+}
+
+}  // namespace
+
 void pullPushFill(std::vector<float>& values, int channels, const std::vector<uint8_t>& covered, int w, int h, int threads) {
     const size_t nc = size_t(channels);
     if (channels < 1 || w < 1 || h < 1 || values.size() != size_t(w) * size_t(h) * nc || covered.size() != size_t(w) * size_t(h))
@@ -163,7 +203,6 @@ void pullPushFill(std::vector<float>& values, int channels, const std::vector<ui
     };
     std::vector<Level> levels;
     levels.push_back({w, h, values.data(), covered.data(), {}, {}});
-    static constexpr float kTent[4] = {1, 3, 3, 1};
     // Pull: coverage-weighted tent of the level below.
     while (levels.back().w > 1 || levels.back().h > 1) {
         const Level& s = levels.back();
@@ -172,30 +211,16 @@ void pullPushFill(std::vector<float>& values, int channels, const std::vector<ui
         d.as.assign(size_t(d.w) * size_t(d.h), 0);
         parallelFor(size_t(d.h), threads, [&](size_t yy) {
             const int y = int(yy);
-            std::vector<float> acc(nc);
-            for (int x = 0; x < d.w; ++x) {
-                std::fill(acc.begin(), acc.end(), 0.0f);
-                float wsum = 0;
-                for (int j = 0; j < 4; ++j) {
-                    const int sy = 2 * y - 1 + j;
-                    if (sy < 0 || sy >= s.h) continue;
-                    for (int i = 0; i < 4; ++i) {
-                        const int sx = 2 * x - 1 + i;
-                        if (sx < 0 || sx >= s.w) continue;
-                        const size_t si = size_t(sy) * size_t(s.w) + size_t(sx);
-                        if (!s.a[si]) continue;
-                        const float wt = kTent[j] * kTent[i];
-                        wsum += wt;
-                        const float* p = &s.v[si * nc];
-                        for (size_t c = 0; c < nc; ++c) acc[c] += wt * p[c];
-                    }
-                }
-                if (wsum > 0) {
-                    const size_t di = size_t(y) * size_t(d.w) + size_t(x);
-                    d.as[di] = 1;
-                    for (size_t c = 0; c < nc; ++c) d.vs[di * nc + c] = acc[c] / wsum;
-                }
-            }
+            float* dv = d.vs.data();
+            uint8_t* da = d.as.data();
+            if (nc == 1)
+                pullRow<1>(nc, y, d.w, s.w, s.h, s.v, s.a, dv, da);
+            else if (nc == 3)
+                pullRow<3>(nc, y, d.w, s.w, s.h, s.v, s.a, dv, da);
+            else if (nc == 4)
+                pullRow<4>(nc, y, d.w, s.w, s.h, s.v, s.a, dv, da);
+            else
+                pullRow<0>(nc, y, d.w, s.w, s.h, s.v, s.a, dv, da);
         });
         d.v = d.vs.data();
         d.a = d.as.data();
