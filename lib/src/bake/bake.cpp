@@ -27,6 +27,7 @@
 #include "bake/bake_sources.h"
 #include "bake/bake_target.h"
 #include "bake/island_bake.h"
+#include "bake/srgb_bytes.h"
 #include "bake/texel_raster.h"
 #include "bake/texel_shading.h"
 #include "lodbake/bake/texture_fetch.h"
@@ -54,10 +55,15 @@ struct ExtensionImage {
 // Chunks of the per-texel loops after the shading (each texel alone: any thread count).
 constexpr size_t kTexelChunk = size_t(1) << 16;
 
-// Rounds values in [0,1] to 8-bit steps, as they will be stored.
+// Rounds values in [0,1] to 8-bit steps, as they will be stored: lround of y = v x 255, taken as
+// floor(y + 0.5) where y >= 0 (y holds at most 32 significant bits below 256, so y + 0.5 is exact
+// from y >= 0.25 on, and below it both give 0; a NaN keeps lround).
 void quantize(std::vector<float>& v, int threads) {
     parallelChunks(v.size(), kTexelChunk, threads, [&](size_t begin, size_t end, size_t) {
-        for (size_t i = begin; i < end; ++i) v[i] = float(std::lround(std::clamp(double(v[i]), 0.0, 1.0) * 255)) / 255.0f;
+        for (size_t i = begin; i < end; ++i) {
+            const double y = std::clamp(double(v[i]), 0.0, 1.0) * 255;
+            v[i] = float(y >= 0 ? long(y + 0.5) : std::lround(y)) / 255.0f;
+        }
     });
 }
 
@@ -222,17 +228,16 @@ BakeResult bakeMaterial(const BakeSources& bs, const std::vector<std::array<Vec2
         quantize(*normals, o.threads);
     }
 
-    // Encode: sRGB 8-bit RGB.
+    // Encode: sRGB 8-bit RGB (srgb_bytes.h: the formula's bytes by table).
     res.pixels.resize(texels * 3);
     std::vector<uint8_t> rgb8(res.pixels.size());
-    parallelChunks(texels, kTexelChunk, o.threads, [&](size_t begin, size_t end, size_t) {
-        for (size_t i = begin; i < end; ++i)
-            for (int c = 0; c < 3; ++c) {
-                double v = linearToSrgb(double(px[i * 3 + size_t(c)]));
-                uint8_t b = uint8_t(std::lround(v * 255));
-                rgb8[i * 3 + size_t(c)] = b;
-                res.pixels[i * 3 + size_t(c)] = float(b) / 255.0f;
-            }
+    const SrgbBytes& srgb = srgbBytes();
+    parallelChunks(texels * 3, kTexelChunk, o.threads, [&](size_t begin, size_t end, size_t) {
+        for (size_t i = begin; i < end; ++i) {
+            const uint8_t b = srgb(px[i]);
+            rgb8[i] = b;
+            res.pixels[i] = float(b) / 255.0f;
+        }
     });
     if (o.encodePng) res.image = encodePng(rgb8, g.w, g.h, "lodbake_baseColor");
     res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
