@@ -105,7 +105,7 @@ BakeResult bakeMaterial(const BakeSources& bs, const std::vector<std::array<Vec2
     rasterizeTriangles(mesh, cornerUV, g, o.dilation, o.threads, hits);
     rasterizeIslands(mesh, islands, g, o.dilation, o.threads, hits);
     std::vector<TargetHit> targetHits;
-    if ((ch.normal || ch.clearcoatNormal || ch.anisotropy) && target) targetHits = rasterizeTarget(*target, g);
+    if ((ch.normal || ch.clearcoatNormal || ch.anisotropy) && target) targetHits = rasterizeTarget(*target, g, o.threads);
 
     decodeSources(asset, sources, ch, o.threads);
     // Shade: linear RGB + coverage, rows in parallel (each texel depends only on its hit).

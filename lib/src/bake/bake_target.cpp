@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "lodbake/core/parallel.h"
 #include "lodbake/core/tangents.h"
 
 namespace lodbake::bake_detail {
@@ -23,17 +24,23 @@ bool targetFrame(const BakeTarget* targetOrNull, const TargetHit& th, TangentFra
 
 }  // namespace
 
-std::vector<TargetHit> rasterizeTarget(const BakeTarget& target, const TexelRegion& g) {
+std::vector<TargetHit> rasterizeTarget(const BakeTarget& target, const TexelRegion& g, int threads) {
     std::vector<TargetHit> hits(size_t(g.w) * size_t(g.h));
-    for (size_t t = 0; t < target.uv.size(); ++t) {
-        Vec2 P[3];
-        for (int k = 0; k < 3; ++k) P[k] = {target.uv[t][size_t(k)].x * g.size, target.uv[t][size_t(k)].y * g.size};
-        if (std::fabs(cross(P[1] - P[0], P[2] - P[0])) < 1e-12) continue;
-        forEachTexelNear(P, g, target.reach, [&](int x, int y, double d, const std::array<double, 3>& b) {
-            TargetHit& h = hits[g.at(x, y)];
-            if (float(d) < h.dist) h = {int32_t(t), float(d), {float(b[0]), float(b[1]), float(b[2])}};
-        });
-    }
+    parallelChunks(size_t(g.h), kRasterRows, threads, [&](size_t rowBegin, size_t rowEnd, size_t) {
+        for (size_t t = 0; t < target.uv.size(); ++t) {
+            Vec2 P[3];
+            for (int k = 0; k < 3; ++k) P[k] = {target.uv[t][size_t(k)].x * g.size, target.uv[t][size_t(k)].y * g.size};
+            if (offBand(P, target.reach, rowBegin, rowEnd)) continue;
+            if (std::fabs(cross(P[1] - P[0], P[2] - P[0])) < 1e-12) continue;
+            forEachTexelNear(
+                P, g, target.reach,
+                [&](int x, int y, double d, const std::array<double, 3>& b) {
+                    TargetHit& h = hits[g.at(x, y)];
+                    if (float(d) < h.dist) h = {int32_t(t), float(d), {float(b[0]), float(b[1]), float(b[2])}};
+                },
+                int(rowBegin), int(rowEnd));
+        }
+    });
     return hits;
 }
 

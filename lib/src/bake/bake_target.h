@@ -21,8 +21,9 @@ struct TargetHit {
 };
 
 // Per texel of the region, the target triangle it lies in or the nearest within
-// target.reach texels (the earlier triangle on ties).
-std::vector<TargetHit> rasterizeTarget(const BakeTarget& target, const TexelRegion& g);
+// target.reach texels (the earlier triangle on ties). Rows in bands on `threads` threads (the
+// same hits for any count).
+std::vector<TargetHit> rasterizeTarget(const BakeTarget& target, const TexelRegion& g, int threads);
 
 // World normal N expressed in the target's tangent frame at hit th, as an encoded colour; the
 // unperturbed (0, 0, 1) without a target or a hit.

@@ -5,13 +5,6 @@
 #include "lodbake/core/parallel.h"
 
 namespace lodbake::bake_detail {
-namespace {
-
-// Bands of kRasterRows page rows on `threads` threads, each band's texels written by the faces in
-// order (the same hits for any thread count).
-constexpr size_t kRasterRows = 64;
-
-}  // namespace
 
 void rasterizeTriangles(const TriMesh& mesh, const std::vector<std::array<Vec2, 3>>& cornerUV, const TexelRegion& g,
                         double dilation, int threads, std::vector<TexelHit>& hits) {
@@ -20,9 +13,7 @@ void rasterizeTriangles(const TriMesh& mesh, const std::vector<std::array<Vec2, 
         for (uint32_t f = 0; f < mesh.triangleCount(); ++f) {
             Vec2 P[3];
             for (int k = 0; k < 3; ++k) P[k] = {cornerUV[f][size_t(k)].x * g.size, cornerUV[f][size_t(k)].y * g.size};
-            if (std::max({P[0].y, P[1].y, P[2].y}) + dilation < double(rowBegin) - 1 ||
-                std::min({P[0].y, P[1].y, P[2].y}) - dilation > double(rowEnd) + 1)
-                continue;  // off the band (with a texel to spare: the band clips exactly)
+            if (offBand(P, dilation, rowBegin, rowEnd)) continue;
             if (std::fabs(cross(P[1] - P[0], P[2] - P[0])) < 1e-12) continue;
             forEachTexelNear(
                 P, g, dilation,

@@ -32,6 +32,17 @@ struct TexelRegion {
     size_t at(int x, int y) const { return size_t(y) * size_t(w) + size_t(x); }
 };
 
+// The rasterisers run in bands of kRasterRows page rows on their threads, each band's texels
+// written by the triangles in order (the same hits for any thread count).
+constexpr size_t kRasterRows = 64;
+
+// Whether triangle P (texel units), dilated by `dilation`, lies off rows [rowBegin, rowEnd) (with
+// a texel to spare: forEachTexelNear clips to the band exactly).
+inline bool offBand(const Vec2 (&P)[3], double dilation, size_t rowBegin, size_t rowEnd) {
+    return std::max({P[0].y, P[1].y, P[2].y}) + dilation < double(rowBegin) - 1 ||
+           std::min({P[0].y, P[1].y, P[2].y}) - dilation > double(rowEnd) + 1;
+}
+
 // Calls fn(x, y, d, bary) for every texel of the region (rows [rowBegin, rowEnd) of it)
 // whose centre lies within `dilation` texels of triangle P (texel units); bary: of the closest
 // point of P (core/closest_point.h). Inline: it is the rasterisers' inner loop.
