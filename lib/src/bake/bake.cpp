@@ -105,7 +105,8 @@ BakeResult bakeMaterial(const BakeSources& bs, const std::vector<std::array<Vec2
     rasterizeTriangles(mesh, cornerUV, g, o.dilation, o.threads, hits);
     rasterizeIslands(mesh, islands, g, o.dilation, o.threads, hits);
     std::vector<TargetHit> targetHits;
-    if ((ch.normal || ch.clearcoatNormal || ch.anisotropy) && target) targetHits = rasterizeTarget(*target, g, o.threads);
+    const bool directions = ch.normal || ch.clearcoatNormal || ch.anisotropy;
+    if (directions && target) targetHits = rasterizeTarget(*target, g, o.threads);
 
     decodeSources(asset, sources, ch, o.threads);
     // Shade: linear RGB + coverage, rows in parallel (each texel depends only on its hit).
@@ -143,6 +144,11 @@ BakeResult bakeMaterial(const BakeSources& bs, const std::vector<std::array<Vec2
             for (size_t c = 0; c < 3; ++c) px[i * 3 + c] = float(rgb[c]);
             if (ch.alpha) res.alpha[i] = float(a);
             double v[3];
+            // The target's frame at the texel, once for every direction channel.
+            TangentFrame frame;
+            const TangentFrame* frameOrNull =
+                directions && targetFrame(target, target ? targetHits[i] : TargetHit{}, frame) ? &frame : nullptr;
+            const Vec3 interpolated = directions ? interpolatedNormal(ctx, h) : Vec3{};
             if (ch.orm) {
                 shadeOrm(ctx, h, v);
                 for (size_t c = 0; c < 3; ++c) res.orm[i * 3 + c] = float(v[c]);
@@ -152,8 +158,8 @@ BakeResult bakeMaterial(const BakeSources& bs, const std::vector<std::array<Vec2
                 for (size_t c = 0; c < 3; ++c) res.emissive[i * 3 + c] = float(v[c]);
             }
             if (ch.normal) {
-                const Vec3 N = shadingNormal(ctx, h);
-                encodeInTarget(target, target ? targetHits[i] : TargetHit{}, N, v);
+                const Vec3 N = shadingNormal(ctx, h, interpolated);
+                encodeInFrame(frameOrNull, N, v);
                 for (size_t c = 0; c < 3; ++c) res.normal[i * 3 + c] = float(v[c]);
             }
             for (const ExtensionImage& e : extensionImages) {
@@ -163,13 +169,13 @@ BakeResult bakeMaterial(const BakeSources& bs, const std::vector<std::array<Vec2
                 for (size_t c = 0; c < e.comps; ++c) (*e.out)[i * e.comps + c] = float(x[c]);
             }
             if (ch.clearcoatNormal) {
-                encodeInTarget(target, target ? targetHits[i] : TargetHit{}, clearcoatNormal(ctx, h), v);
+                encodeInFrame(frameOrNull, clearcoatNormal(ctx, h, interpolated), v);
                 for (size_t c = 0; c < 3; ++c) res.clearcoatNormal[i * 3 + c] = float(v[c]);
             }
             if (ch.anisotropy) {
                 Vec3 D;
-                const double strength = anisotropyAt(ctx, h, D);
-                encodeAnisotropyInTarget(target, target ? targetHits[i] : TargetHit{}, D, strength, v);
+                const double strength = anisotropyAt(ctx, h, interpolated, D);
+                encodeAnisotropyInFrame(frameOrNull, D, strength, v);
                 for (size_t c = 0; c < 3; ++c) res.anisotropy[i * 3 + c] = float(v[c]);
             }
         }

@@ -8,10 +8,7 @@
 #include "lodbake/core/tangents.h"
 
 namespace lodbake::bake_detail {
-namespace {
 
-// The target's tangent frame at hit th (tangents.h); false without a target, a hit or a usable
-// frame.
 bool targetFrame(const BakeTarget* targetOrNull, const TargetHit& th, TangentFrame& frame) {
     if (!targetOrNull || th.tri < 0) return false;
     const BakeTarget& target = *targetOrNull;
@@ -21,8 +18,6 @@ bool targetFrame(const BakeTarget* targetOrNull, const TargetHit& th, TangentFra
     if (!(length(N) > 0.5)) return false;
     return tangentFrameAt(N, target.tangent[size_t(th.tri)], {th.bary[0], th.bary[1], th.bary[2]}, frame);
 }
-
-}  // namespace
 
 std::vector<TargetHit> rasterizeTarget(const BakeTarget& target, const TexelRegion& g, int threads) {
     std::vector<TargetHit> hits(size_t(g.w) * size_t(g.h));
@@ -44,11 +39,10 @@ std::vector<TargetHit> rasterizeTarget(const BakeTarget& target, const TexelRegi
     return hits;
 }
 
-void encodeInTarget(const BakeTarget* targetOrNull, const TargetHit& th, Vec3 N, double rgb[3]) {
+void encodeInFrame(const TangentFrame* frameOrNull, Vec3 N, double rgb[3]) {
     Vec3 n{0, 0, 1};
-    TangentFrame frame;
-    if (targetFrame(targetOrNull, th, frame)) {
-        n = normalize(frame.toTangent(N));
+    if (frameOrNull) {
+        n = normalize(frameOrNull->toTangent(N));
         if (!(length(n) > 0.5)) n = {0, 0, 1};
     }
     rgb[0] = n.x * 0.5 + 0.5;
@@ -56,11 +50,10 @@ void encodeInTarget(const BakeTarget* targetOrNull, const TargetHit& th, Vec3 N,
     rgb[2] = n.z * 0.5 + 0.5;
 }
 
-void encodeAnisotropyInTarget(const BakeTarget* targetOrNull, const TargetHit& th, Vec3 D, double strength, double rgb[3]) {
+void encodeAnisotropyInFrame(const TangentFrame* frameOrNull, Vec3 D, double strength, double rgb[3]) {
     double x = 1, y = 0;
-    TangentFrame frame;
-    if (targetFrame(targetOrNull, th, frame)) {
-        const Vec3 d = frame.toTangent(D);
+    if (frameOrNull) {
+        const Vec3 d = frameOrNull->toTangent(D);
         const double l = std::hypot(d.x, d.y);
         if (l > 1e-12) {
             x = d.x / l;
