@@ -44,10 +44,11 @@ inline bool offBand(const Vec2 (&P)[3], double dilation, size_t rowBegin, size_t
 }
 
 // Calls fn(x, y, d, bary) for every texel of the region (rows [rowBegin, rowEnd) of it)
-// whose centre lies within `dilation` texels of triangle P (texel units); bary: of the closest
-// point of P (core/closest_point.h). Inline: it is the rasterisers' inner loop.
-template <class Fn>
-void forEachTexelNear(const Vec2 (&P)[3], const TexelRegion& g, double dilation, Fn&& fn, int rowBegin = 0, int rowEnd = INT_MAX) {
+// whose centre lies within `dilation` texels of triangle P (texel units) and for which skip(x, y)
+// is false (skip: a texel fn would leave as it is, not measured); bary: of the closest point of P
+// (core/closest_point.h). Inline: it is the rasterisers' inner loop.
+template <class Fn, class Skip>
+void forEachTexelNear(const Vec2 (&P)[3], const TexelRegion& g, double dilation, Fn&& fn, int rowBegin, int rowEnd, Skip&& skip) {
     double x0 = std::min({P[0].x, P[1].x, P[2].x}) - dilation, x1 = std::max({P[0].x, P[1].x, P[2].x}) + dilation;
     double y0 = std::min({P[0].y, P[1].y, P[2].y}) - dilation, y1 = std::max({P[0].y, P[1].y, P[2].y}) + dilation;
     int ix0 = std::max(0, int(std::floor(x0))), ix1 = std::min(g.w - 1, int(std::ceil(x1)));
@@ -55,11 +56,43 @@ void forEachTexelNear(const Vec2 (&P)[3], const TexelRegion& g, double dilation,
     const std::array<Vec2, 3> tri{P[0], P[1], P[2]};
     for (int y = iy0; y <= iy1; ++y)
         for (int x = ix0; x <= ix1; ++x) {
+            if (skip(x, y)) continue;
             std::array<double, 3> b{};
             double d = std::sqrt(closestOnTriangle(Vec2{x + 0.5, y + 0.5}, tri, b));
             if (d <= dilation) fn(x, y, d, b);
         }
 }
+
+template <class Fn>
+void forEachTexelNear(const Vec2 (&P)[3], const TexelRegion& g, double dilation, Fn&& fn, int rowBegin = 0, int rowEnd = INT_MAX) {
+    forEachTexelNear(P, g, dilation, fn, rowBegin, rowEnd, [](int, int) { return false; });
+}
+
+// A lower bound on the distance from a point to triangle P (texel units, not degenerate): how far
+// the point lies outside the farthest of the triangle's edge lines (the triangle lies inside each
+// edge's half-plane), less a slack far above the rounding of that distance and of
+// closestOnTriangle's (both about 1e-12 texel on pages of a few thousand texels).
+class EdgeDistanceBound {
+public:
+    explicit EdgeDistanceBound(const Vec2 (&P)[3]) {
+        const double side = cross(P[1] - P[0], P[2] - P[0]) > 0 ? 1.0 : -1.0;
+        for (size_t k = 0; k < 3; ++k) {
+            const Vec2 e = P[(k + 1) % 3] - P[k];
+            const double l = std::sqrt(dot(e, e));
+            a_[k] = P[k];
+            n_[k] = l > 0 ? Vec2{e.y, -e.x} * (side / l) : Vec2{0, 0};  // outward unit normal
+        }
+    }
+    double operator()(Vec2 p) const {
+        double out = 0;
+        for (size_t k = 0; k < 3; ++k) out = std::max(out, dot(p - a_[k], n_[k]));
+        return out - kSlack;
+    }
+
+private:
+    static constexpr double kSlack = 1e-6;
+    Vec2 a_[3], n_[3];
+};
 
 // The hits of the ORIGINAL faces at `cornerUV` (per face corner, [0,1] scaled by g.size): each
 // texel within `dilation` texels of a face takes the nearest face (the earlier face on ties), its
