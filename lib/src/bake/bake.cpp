@@ -12,8 +12,8 @@
 //   -> shade (texel_shading.cpp: base colour factor x filtered texture fetch at the original UV
 //   with the footprint from the UV Jacobian x COLOR_0, in linear space, and the other channels;
 //   rows on BakeOptions::threads threads)
-//   -> fill gaps (pullPushFill with coverage, per channel image) -> encode and quantise each
-//   channel as it is stored -> encode PNG (unless the caller encodes).
+//   -> fill gaps (pullPushFill with coverage, every channel image in one pass) -> encode and
+//   quantise each channel as it is stored -> encode PNG (unless the caller encodes).
 //
 // Only the width x height region of the size x size grid is baked.
 #include "lodbake/bake/bake.h"
@@ -185,15 +185,16 @@ BakeResult bakeMaterial(const BakeSources& bs, const std::vector<std::array<Vec2
         res.islandTexels += rowIsland[y];
         res.texturedLookups += rowLookups[y];
     }
-    // Gap fill: pull-push with coverage, each channel image alone.
+    // Gap fill: pull-push with coverage, every channel image in one pass (each as if alone).
     if (o.fillGaps && res.coveredTexels > 0) {
         hits = {};  // shaded: freed before the fill allocates its pyramids
         targetHits = {};
-        pullPushFill(px, 3, covered, g.w, g.h, o.threads);
+        std::vector<FillImage> fill{{&px, 3}};
         for (std::vector<float>* c : {&res.alpha, &res.orm, &res.emissive, &res.normal, &res.clearcoatNormal, &res.anisotropy})
-            if (!c->empty()) pullPushFill(*c, c == &res.alpha ? 1 : 3, covered, g.w, g.h, o.threads);
+            if (!c->empty()) fill.push_back({c, c == &res.alpha ? 1 : 3});
         for (const ExtensionImage& e : extensionImages)
-            if (e.on) pullPushFill(*e.out, int(e.comps), covered, g.w, g.h, o.threads);
+            if (e.on) fill.push_back({e.out, int(e.comps)});
+        pullPushFill(fill, covered, g.w, g.h, o.threads);
     }
     for (const ExtensionImage& e : extensionImages) {
         if (!e.on) continue;

@@ -5,17 +5,13 @@
 // between the two nearest), and bilinear taps spread evenly along the major vector, at most one
 // texel of that level apart, cover the footprint's length. A footprint under a texel reads level
 // 0 with one bilinear tap.
-// Fill: pull = coverage-weighted [1 3 3 1] tent down to 1 x 1 (a coarse texel with any covered
-// weight is covered), push = each uncovered texel takes the bilinear value of the next coarser,
-// already filled level. Every texel of a level depends only on the level below or above, so rows
-// run in parallel with the same result for any thread count.
+// The pull-push fill lives in pull_push_fill.cpp.
 #include "lodbake/bake/texture_fetch.h"
 
 #include <algorithm>
 #include <cmath>
 
 #include "lodbake/core/errors.h"
-#include "lodbake/core/parallel.h"
 
 namespace lodbake {
 namespace {
@@ -147,113 +143,6 @@ void fetchFiltered(const MipTexture& texture, const FetchOptions& o, Vec2 st, Ve
         if (frac > 0) addBilinear(texture.levels[size_t(l0) + 1], o, s, t, frac / float(taps), acc);
     }
     for (int c = 0; c < 4; ++c) out[c] = std::clamp(acc[c] * kUnit, 0.0f, 1.0f);
-}
-
-namespace {
-
-// One pull level of pullPushFill: row y of d (dw texels) from the coverage-weighted [1 3 3 1] tent
-// of s (sw x sh, values `sv` of nc channels, coverage `sa`). NC = nc as a compile-time count for
-// the usual ones (0: any, read from nc), so the channel loops unroll; every sum is taken in the
-// same order either way.
-template <size_t NC>
-void pullRow(size_t nc, int y, int dw, int sw, int sh, const float* sv, const uint8_t* sa, float* dv, uint8_t* da) {
-    static constexpr float kTent[4] = {1, 3, 3, 1};
-    const size_t n = NC ? NC : nc;
-    float fixed[NC ? NC : 1];
-    std::vector<float> any(NC ? 0 : nc);
-    float* acc = NC ? fixed : any.data();
-    for (int x = 0; x < dw; ++x) {
-        std::fill(acc, acc + n, 0.0f);
-        float wsum = 0;
-        for (int j = 0; j < 4; ++j) {
-            const int sy = 2 * y - 1 + j;
-            if (sy < 0 || sy >= sh) continue;
-            for (int i = 0; i < 4; ++i) {
-                const int sx = 2 * x - 1 + i;
-                if (sx < 0 || sx >= sw) continue;
-                const size_t si = size_t(sy) * size_t(sw) + size_t(sx);
-                if (!sa[si]) continue;
-                const float wt = kTent[j] * kTent[i];
-                wsum += wt;
-                const float* p = &sv[si * n];
-                for (size_t c = 0; c < n; ++c) acc[c] += wt * p[c];
-            }
-        }
-        if (wsum > 0) {
-            const size_t di = size_t(y) * size_t(dw) + size_t(x);
-            da[di] = 1;
-            for (size_t c = 0; c < n; ++c) dv[di * n + c] = acc[c] / wsum;
-        }
-    }
-}
-
-}  // namespace
-
-void pullPushFill(std::vector<float>& values, int channels, const std::vector<uint8_t>& covered, int w, int h, int threads) {
-    const size_t nc = size_t(channels);
-    if (channels < 1 || w < 1 || h < 1 || values.size() != size_t(w) * size_t(h) * nc || covered.size() != size_t(w) * size_t(h))
-        throw InvalidInput("pull-push fill: image and coverage sizes differ");
-    if (std::none_of(covered.begin(), covered.end(), [](uint8_t c) { return c != 0; })) return;
-    struct Level {
-        int w, h;
-        float* v;
-        const uint8_t* a;
-        std::vector<float> vs;
-        std::vector<uint8_t> as;
-    };
-    std::vector<Level> levels;
-    levels.push_back({w, h, values.data(), covered.data(), {}, {}});
-    // Pull: coverage-weighted tent of the level below.
-    while (levels.back().w > 1 || levels.back().h > 1) {
-        const Level& s = levels.back();
-        Level d{(s.w + 1) / 2, (s.h + 1) / 2, nullptr, nullptr, {}, {}};
-        d.vs.assign(size_t(d.w) * size_t(d.h) * nc, 0.0f);
-        d.as.assign(size_t(d.w) * size_t(d.h), 0);
-        parallelFor(size_t(d.h), threads, [&](size_t yy) {
-            const int y = int(yy);
-            float* dv = d.vs.data();
-            uint8_t* da = d.as.data();
-            if (nc == 1)
-                pullRow<1>(nc, y, d.w, s.w, s.h, s.v, s.a, dv, da);
-            else if (nc == 3)
-                pullRow<3>(nc, y, d.w, s.w, s.h, s.v, s.a, dv, da);
-            else if (nc == 4)
-                pullRow<4>(nc, y, d.w, s.w, s.h, s.v, s.a, dv, da);
-            else
-                pullRow<0>(nc, y, d.w, s.w, s.h, s.v, s.a, dv, da);
-        });
-        d.v = d.vs.data();
-        d.a = d.as.data();
-        levels.push_back(std::move(d));
-    }
-    // Push: uncovered texels take the bilinear value of the filled level above (the 1 x 1 top
-    // is covered: some texel is).
-    for (size_t k = levels.size() - 1; k-- > 0;) {
-        Level& f = levels[k];
-        const Level& c = levels[k + 1];
-        parallelFor(size_t(f.h), threads, [&](size_t yy) {
-            const int y = int(yy);
-            const double cy = (y + 0.5) / 2 - 0.5;
-            const int cy0 = int(std::floor(cy));
-            const float fy = float(cy - cy0);
-            const int ya = std::clamp(cy0, 0, c.h - 1), yb = std::clamp(cy0 + 1, 0, c.h - 1);
-            for (int x = 0; x < f.w; ++x) {
-                const size_t fi = size_t(y) * size_t(f.w) + size_t(x);
-                if (f.a[fi]) continue;
-                const double cx = (x + 0.5) / 2 - 0.5;
-                const int cx0 = int(std::floor(cx));
-                const float fx = float(cx - cx0);
-                const int xa = std::clamp(cx0, 0, c.w - 1), xb = std::clamp(cx0 + 1, 0, c.w - 1);
-                const float* p00 = &c.v[(size_t(ya) * size_t(c.w) + size_t(xa)) * nc];
-                const float* p10 = &c.v[(size_t(ya) * size_t(c.w) + size_t(xb)) * nc];
-                const float* p01 = &c.v[(size_t(yb) * size_t(c.w) + size_t(xa)) * nc];
-                const float* p11 = &c.v[(size_t(yb) * size_t(c.w) + size_t(xb)) * nc];
-                float* o = &f.v[fi * nc];
-                for (size_t ch = 0; ch < nc; ++ch)
-                    o[ch] = (1 - fy) * ((1 - fx) * p00[ch] + fx * p10[ch]) + fy * ((1 - fx) * p01[ch] + fx * p11[ch]);
-            }
-        });
-    }
 }
 
 }  // namespace lodbake
