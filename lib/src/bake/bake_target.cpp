@@ -27,13 +27,15 @@ std::vector<TargetHit> rasterizeTarget(const BakeTarget& target, const TexelRegi
             for (int k = 0; k < 3; ++k) P[k] = {target.uv[t][size_t(k)].x * g.size, target.uv[t][size_t(k)].y * g.size};
             if (offBand(P, target.reach, rowBegin, rowEnd)) continue;
             if (std::fabs(cross(P[1] - P[0], P[2] - P[0])) < 1e-12) continue;
+            // Texels this triangle cannot take are not measured (as rasterizeTriangles).
+            const EdgeDistanceBound bound(P);
             forEachTexelNear(
                 P, g, target.reach,
                 [&](int x, int y, double d, const std::array<double, 3>& b) {
                     TargetHit& h = hits[g.at(x, y)];
                     if (float(d) < h.dist) h = {int32_t(t), float(d), {float(b[0]), float(b[1]), float(b[2])}};
                 },
-                int(rowBegin), int(rowEnd));
+                int(rowBegin), int(rowEnd), [&](int x, int y) { return cannotTake(bound, target.reach, hits[g.at(x, y)].dist, x, y); });
         }
     });
     return hits;

@@ -15,9 +15,6 @@ void rasterizeTriangles(const TriMesh& mesh, const std::vector<std::array<Vec2, 
             for (int k = 0; k < 3; ++k) P[k] = {cornerUV[f][size_t(k)].x * g.size, cornerUV[f][size_t(k)].y * g.size};
             if (offBand(P, dilation, rowBegin, rowEnd)) continue;
             if (std::fabs(cross(P[1] - P[0], P[2] - P[0])) < 1e-12) continue;
-            // A texel is measured only where this face can take it: its hit is not at distance 0
-            // (float(d) < 0 never holds) and the face is not surely beyond the dilation or the
-            // hit's distance (d >= that float gives float(d) >= it).
             const EdgeDistanceBound bound(P);
             forEachTexelNear(
                 P, g, dilation,
@@ -28,13 +25,7 @@ void rasterizeTriangles(const TriMesh& mesh, const std::vector<std::array<Vec2, 
                     h = {int32_t(f), float(d), {float(b[0]), float(b[1]), float(b[2])}, -1,
                          {float(x + 0.5 - q.x), float(y + 0.5 - q.y)}};
                 },
-                int(rowBegin), int(rowEnd),
-                [&](int x, int y) {
-                    const float current = hits[g.at(x, y)].dist;
-                    if (!(current > 0)) return true;
-                    const double low = bound(Vec2{x + 0.5, y + 0.5});
-                    return low > dilation || low >= double(current);
-                });
+                int(rowBegin), int(rowEnd), [&](int x, int y) { return cannotTake(bound, dilation, hits[g.at(x, y)].dist, x, y); });
         }
     });
 }

@@ -94,6 +94,16 @@ private:
     Vec2 a_[3], n_[3];
 };
 
+// Whether a triangle with distance bound `bound` surely cannot take texel (x, y), whose hit lies at
+// float distance `current`, from within `dilation` texels (a hit replaced only by a strictly
+// nearer float(d)): the hit is at distance 0 (float(d) < 0 never holds), or the triangle is surely
+// beyond the dilation or the hit (d >= current gives float(d) >= current).
+inline bool cannotTake(const EdgeDistanceBound& bound, double dilation, float current, int x, int y) {
+    if (!(current > 0)) return true;
+    const double low = bound(Vec2{x + 0.5, y + 0.5});
+    return low > dilation || low >= double(current);
+}
+
 // The hits of the ORIGINAL faces at `cornerUV` (per face corner, [0,1] scaled by g.size): each
 // texel within `dilation` texels of a face takes the nearest face (the earlier face on ties), its
 // closest point's barycentrics and the offset from that point to the texel centre. Faces with no
