@@ -88,6 +88,28 @@ TEST(FaceGrid, FacesInListsEveryOverlappingFaceOnceAscending) {
     }
 }
 
+// A grid over a subset of the faces (every third) lists only the subset's faces that overlap the
+// query box, ascending.
+TEST(FaceGrid, GridOverASubsetListsOnlyItsFaces) {
+    const TriMesh mesh = test::grid(30, 30, [](int i, int j) { return 0.4 * std::sin(0.3 * i) * std::cos(0.2 * j); });
+    std::vector<uint32_t> held;
+    for (uint32_t f = 0; f < mesh.triangleCount(); f += 3) held.push_back(f);
+    const FaceGrid grid(mesh, held);
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> u(-5, 35), half(0, 10), h(-1, 1);
+    for (int q = 0; q < 100; ++q) {
+        const Vec3 c{u(rng), u(rng), h(rng)};
+        const double r = half(rng);
+        const Vec3 lo = c - Vec3{r, r, r}, hi = c + Vec3{r, r, r};
+        std::vector<uint32_t> expected;
+        for (uint32_t f : held) {
+            const auto b = faceBox(mesh, f);
+            if (b[0] <= hi.x && b[3] >= lo.x && b[1] <= hi.y && b[4] >= lo.y && b[2] <= hi.z && b[5] >= lo.z) expected.push_back(f);
+        }
+        EXPECT_EQ(grid.facesIn(lo, hi), expected) << "query " << q;
+    }
+}
+
 // closestIn answers closestSurfacePoint over facesIn's list of the same box, bit for bit, ties
 // included (points on vertices and edge midpoints of a bumpy grid), and says whether the box holds
 // a face at all.

@@ -146,6 +146,14 @@ TEST(PullPushFill, CoveredTexelsStayAndGapsTakeNearbyValues) {
                 EXPECT_LE(f, 0.9f + 1e-6f);
             }
     }
+    // A joint fill of several images gives each its own fill's bytes.
+    std::vector<float> grey(size_t(w * h));
+    for (size_t i = 0; i < grey.size(); ++i) grey[i] = v[2 * i] * 0.5f + 0.01f * float(i % 7);
+    std::vector<float> greyAlone = grey, joint = v;
+    pullPushFill(greyAlone, 1, cov, w, h, 1);
+    pullPushFill({FillImage{&joint, 2}, FillImage{&grey, 1}}, cov, w, h, 2);
+    EXPECT_EQ(joint, one);
+    EXPECT_EQ(grey, greyAlone);
     // Nothing covered: nothing changes.
     std::vector<float> none = v;
     pullPushFill(none, 2, std::vector<uint8_t>(cov.size(), 0), w, h, 1);

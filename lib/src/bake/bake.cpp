@@ -12,8 +12,8 @@
 //   -> shade (texel_shading.cpp: base colour factor x filtered texture fetch at the original UV
 //   with the footprint from the UV Jacobian x COLOR_0, in linear space, and the other channels;
 //   rows on BakeOptions::threads threads)
-//   -> fill gaps (pullPushFill with coverage, per channel image) -> encode and quantise each
-//   channel as it is stored -> encode PNG (unless the caller encodes).
+//   -> fill gaps (pullPushFill with coverage, every channel image in one pass) -> encode and
+//   quantise each channel as it is stored -> encode PNG (unless the caller encodes).
 //
 // Only the width x height region of the size x size grid is baked.
 #include "lodbake/bake/bake.h"
@@ -27,6 +27,7 @@
 #include "bake/bake_sources.h"
 #include "bake/bake_target.h"
 #include "bake/island_bake.h"
+#include "bake/srgb_bytes.h"
 #include "bake/texel_raster.h"
 #include "bake/texel_shading.h"
 #include "lodbake/bake/texture_fetch.h"
@@ -54,10 +55,15 @@ struct ExtensionImage {
 // Chunks of the per-texel loops after the shading (each texel alone: any thread count).
 constexpr size_t kTexelChunk = size_t(1) << 16;
 
-// Rounds values in [0,1] to 8-bit steps, as they will be stored.
+// Rounds values in [0,1] to 8-bit steps, as they will be stored: lround of y = v x 255, taken as
+// floor(y + 0.5) where y >= 0 (y holds at most 32 significant bits below 256, so y + 0.5 is exact
+// from y >= 0.25 on, and below it both give 0; a NaN keeps lround).
 void quantize(std::vector<float>& v, int threads) {
     parallelChunks(v.size(), kTexelChunk, threads, [&](size_t begin, size_t end, size_t) {
-        for (size_t i = begin; i < end; ++i) v[i] = float(std::lround(std::clamp(double(v[i]), 0.0, 1.0) * 255)) / 255.0f;
+        for (size_t i = begin; i < end; ++i) {
+            const double y = std::clamp(double(v[i]), 0.0, 1.0) * 255;
+            v[i] = float(y >= 0 ? long(y + 0.5) : std::lround(y)) / 255.0f;
+        }
     });
 }
 
@@ -99,7 +105,8 @@ BakeResult bakeMaterial(const BakeSources& bs, const std::vector<std::array<Vec2
     rasterizeTriangles(mesh, cornerUV, g, o.dilation, o.threads, hits);
     rasterizeIslands(mesh, islands, g, o.dilation, o.threads, hits);
     std::vector<TargetHit> targetHits;
-    if ((ch.normal || ch.clearcoatNormal || ch.anisotropy) && target) targetHits = rasterizeTarget(*target, g);
+    const bool directions = ch.normal || ch.clearcoatNormal || ch.anisotropy;
+    if (directions && target) targetHits = rasterizeTarget(*target, g, o.threads);
 
     decodeSources(asset, sources, ch, o.threads);
     // Shade: linear RGB + coverage, rows in parallel (each texel depends only on its hit).
@@ -137,6 +144,11 @@ BakeResult bakeMaterial(const BakeSources& bs, const std::vector<std::array<Vec2
             for (size_t c = 0; c < 3; ++c) px[i * 3 + c] = float(rgb[c]);
             if (ch.alpha) res.alpha[i] = float(a);
             double v[3];
+            // The target's frame at the texel, once for every direction channel.
+            TangentFrame frame;
+            const TangentFrame* frameOrNull =
+                directions && targetFrame(target, target ? targetHits[i] : TargetHit{}, frame) ? &frame : nullptr;
+            const Vec3 interpolated = directions ? interpolatedNormal(ctx, h) : Vec3{};
             if (ch.orm) {
                 shadeOrm(ctx, h, v);
                 for (size_t c = 0; c < 3; ++c) res.orm[i * 3 + c] = float(v[c]);
@@ -146,8 +158,8 @@ BakeResult bakeMaterial(const BakeSources& bs, const std::vector<std::array<Vec2
                 for (size_t c = 0; c < 3; ++c) res.emissive[i * 3 + c] = float(v[c]);
             }
             if (ch.normal) {
-                const Vec3 N = shadingNormal(ctx, h);
-                encodeInTarget(target, target ? targetHits[i] : TargetHit{}, N, v);
+                const Vec3 N = shadingNormal(ctx, h, interpolated);
+                encodeInFrame(frameOrNull, N, v);
                 for (size_t c = 0; c < 3; ++c) res.normal[i * 3 + c] = float(v[c]);
             }
             for (const ExtensionImage& e : extensionImages) {
@@ -157,13 +169,13 @@ BakeResult bakeMaterial(const BakeSources& bs, const std::vector<std::array<Vec2
                 for (size_t c = 0; c < e.comps; ++c) (*e.out)[i * e.comps + c] = float(x[c]);
             }
             if (ch.clearcoatNormal) {
-                encodeInTarget(target, target ? targetHits[i] : TargetHit{}, clearcoatNormal(ctx, h), v);
+                encodeInFrame(frameOrNull, clearcoatNormal(ctx, h, interpolated), v);
                 for (size_t c = 0; c < 3; ++c) res.clearcoatNormal[i * 3 + c] = float(v[c]);
             }
             if (ch.anisotropy) {
                 Vec3 D;
-                const double strength = anisotropyAt(ctx, h, D);
-                encodeAnisotropyInTarget(target, target ? targetHits[i] : TargetHit{}, D, strength, v);
+                const double strength = anisotropyAt(ctx, h, interpolated, D);
+                encodeAnisotropyInFrame(frameOrNull, D, strength, v);
                 for (size_t c = 0; c < 3; ++c) res.anisotropy[i * 3 + c] = float(v[c]);
             }
         }
@@ -173,15 +185,16 @@ BakeResult bakeMaterial(const BakeSources& bs, const std::vector<std::array<Vec2
         res.islandTexels += rowIsland[y];
         res.texturedLookups += rowLookups[y];
     }
-    // Gap fill: pull-push with coverage, each channel image alone.
+    // Gap fill: pull-push with coverage, every channel image in one pass (each as if alone).
     if (o.fillGaps && res.coveredTexels > 0) {
         hits = {};  // shaded: freed before the fill allocates its pyramids
         targetHits = {};
-        pullPushFill(px, 3, covered, g.w, g.h, o.threads);
+        std::vector<FillImage> fill{{&px, 3}};
         for (std::vector<float>* c : {&res.alpha, &res.orm, &res.emissive, &res.normal, &res.clearcoatNormal, &res.anisotropy})
-            if (!c->empty()) pullPushFill(*c, c == &res.alpha ? 1 : 3, covered, g.w, g.h, o.threads);
+            if (!c->empty()) fill.push_back({c, c == &res.alpha ? 1 : 3});
         for (const ExtensionImage& e : extensionImages)
-            if (e.on) pullPushFill(*e.out, int(e.comps), covered, g.w, g.h, o.threads);
+            if (e.on) fill.push_back({e.out, int(e.comps)});
+        pullPushFill(fill, covered, g.w, g.h, o.threads);
     }
     for (const ExtensionImage& e : extensionImages) {
         if (!e.on) continue;
@@ -222,17 +235,16 @@ BakeResult bakeMaterial(const BakeSources& bs, const std::vector<std::array<Vec2
         quantize(*normals, o.threads);
     }
 
-    // Encode: sRGB 8-bit RGB.
+    // Encode: sRGB 8-bit RGB (srgb_bytes.h: the formula's bytes by table).
     res.pixels.resize(texels * 3);
     std::vector<uint8_t> rgb8(res.pixels.size());
-    parallelChunks(texels, kTexelChunk, o.threads, [&](size_t begin, size_t end, size_t) {
-        for (size_t i = begin; i < end; ++i)
-            for (int c = 0; c < 3; ++c) {
-                double v = linearToSrgb(double(px[i * 3 + size_t(c)]));
-                uint8_t b = uint8_t(std::lround(v * 255));
-                rgb8[i * 3 + size_t(c)] = b;
-                res.pixels[i * 3 + size_t(c)] = float(b) / 255.0f;
-            }
+    const SrgbBytes& srgb = srgbBytes();
+    parallelChunks(texels * 3, kTexelChunk, o.threads, [&](size_t begin, size_t end, size_t) {
+        for (size_t i = begin; i < end; ++i) {
+            const uint8_t b = srgb(px[i]);
+            rgb8[i] = b;
+            res.pixels[i] = float(b) / 255.0f;
+        }
     });
     if (o.encodePng) res.image = encodePng(rgb8, g.w, g.h, "lodbake_baseColor");
     res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

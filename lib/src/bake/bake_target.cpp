@@ -4,13 +4,11 @@
 
 #include <cmath>
 
+#include "lodbake/core/parallel.h"
 #include "lodbake/core/tangents.h"
 
 namespace lodbake::bake_detail {
-namespace {
 
-// The target's tangent frame at hit th (tangents.h); false without a target, a hit or a usable
-// frame.
 bool targetFrame(const BakeTarget* targetOrNull, const TargetHit& th, TangentFrame& frame) {
     if (!targetOrNull || th.tri < 0) return false;
     const BakeTarget& target = *targetOrNull;
@@ -21,27 +19,32 @@ bool targetFrame(const BakeTarget* targetOrNull, const TargetHit& th, TangentFra
     return tangentFrameAt(N, target.tangent[size_t(th.tri)], {th.bary[0], th.bary[1], th.bary[2]}, frame);
 }
 
-}  // namespace
-
-std::vector<TargetHit> rasterizeTarget(const BakeTarget& target, const TexelRegion& g) {
+std::vector<TargetHit> rasterizeTarget(const BakeTarget& target, const TexelRegion& g, int threads) {
     std::vector<TargetHit> hits(size_t(g.w) * size_t(g.h));
-    for (size_t t = 0; t < target.uv.size(); ++t) {
-        Vec2 P[3];
-        for (int k = 0; k < 3; ++k) P[k] = {target.uv[t][size_t(k)].x * g.size, target.uv[t][size_t(k)].y * g.size};
-        if (std::fabs(cross(P[1] - P[0], P[2] - P[0])) < 1e-12) continue;
-        forEachTexelNear(P, g, target.reach, [&](int x, int y, double d, const std::array<double, 3>& b) {
-            TargetHit& h = hits[g.at(x, y)];
-            if (float(d) < h.dist) h = {int32_t(t), float(d), {float(b[0]), float(b[1]), float(b[2])}};
-        });
-    }
+    parallelChunks(size_t(g.h), kRasterRows, threads, [&](size_t rowBegin, size_t rowEnd, size_t) {
+        for (size_t t = 0; t < target.uv.size(); ++t) {
+            Vec2 P[3];
+            for (int k = 0; k < 3; ++k) P[k] = {target.uv[t][size_t(k)].x * g.size, target.uv[t][size_t(k)].y * g.size};
+            if (offBand(P, target.reach, rowBegin, rowEnd)) continue;
+            if (std::fabs(cross(P[1] - P[0], P[2] - P[0])) < 1e-12) continue;
+            // Texels this triangle cannot take are not measured (as rasterizeTriangles).
+            const EdgeDistanceBound bound(P);
+            forEachTexelNear(
+                P, g, target.reach,
+                [&](int x, int y, double d, const std::array<double, 3>& b) {
+                    TargetHit& h = hits[g.at(x, y)];
+                    if (float(d) < h.dist) h = {int32_t(t), float(d), {float(b[0]), float(b[1]), float(b[2])}};
+                },
+                int(rowBegin), int(rowEnd), [&](int x, int y) { return cannotTake(bound, target.reach, hits[g.at(x, y)].dist, x, y); });
+        }
+    });
     return hits;
 }
 
-void encodeInTarget(const BakeTarget* targetOrNull, const TargetHit& th, Vec3 N, double rgb[3]) {
+void encodeInFrame(const TangentFrame* frameOrNull, Vec3 N, double rgb[3]) {
     Vec3 n{0, 0, 1};
-    TangentFrame frame;
-    if (targetFrame(targetOrNull, th, frame)) {
-        n = normalize(frame.toTangent(N));
+    if (frameOrNull) {
+        n = normalize(frameOrNull->toTangent(N));
         if (!(length(n) > 0.5)) n = {0, 0, 1};
     }
     rgb[0] = n.x * 0.5 + 0.5;
@@ -49,11 +52,10 @@ void encodeInTarget(const BakeTarget* targetOrNull, const TargetHit& th, Vec3 N,
     rgb[2] = n.z * 0.5 + 0.5;
 }
 
-void encodeAnisotropyInTarget(const BakeTarget* targetOrNull, const TargetHit& th, Vec3 D, double strength, double rgb[3]) {
+void encodeAnisotropyInFrame(const TangentFrame* frameOrNull, Vec3 D, double strength, double rgb[3]) {
     double x = 1, y = 0;
-    TangentFrame frame;
-    if (targetFrame(targetOrNull, th, frame)) {
-        const Vec3 d = frame.toTangent(D);
+    if (frameOrNull) {
+        const Vec3 d = frameOrNull->toTangent(D);
         const double l = std::hypot(d.x, d.y);
         if (l > 1e-12) {
             x = d.x / l;

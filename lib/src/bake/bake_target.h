@@ -10,6 +10,7 @@
 
 #include "bake/texel_raster.h"
 #include "lodbake/bake/bake.h"
+#include "lodbake/core/tangents.h"
 
 namespace lodbake::bake_detail {
 
@@ -21,15 +22,21 @@ struct TargetHit {
 };
 
 // Per texel of the region, the target triangle it lies in or the nearest within
-// target.reach texels (the earlier triangle on ties).
-std::vector<TargetHit> rasterizeTarget(const BakeTarget& target, const TexelRegion& g);
+// target.reach texels (the earlier triangle on ties). Rows in bands on `threads` threads (the
+// same hits for any count).
+std::vector<TargetHit> rasterizeTarget(const BakeTarget& target, const TexelRegion& g, int threads);
 
-// World normal N expressed in the target's tangent frame at hit th, as an encoded colour; the
-// unperturbed (0, 0, 1) without a target or a hit.
-void encodeInTarget(const BakeTarget* targetOrNull, const TargetHit& th, Vec3 N, double rgb[3]);
+// The target's tangent frame at hit th (lodbake/core/tangents.h: the level triangle's
+// interpolated normal and tangent); false without a target, a hit or a usable frame. A texel's
+// frame serves each of its direction channels.
+bool targetFrame(const BakeTarget* targetOrNull, const TargetHit& th, TangentFrame& frame);
 
-// An anisotropy texel for the target: RG = world direction D in the target's tangent plane at
-// th (unit, encoded x 0.5 + 0.5; the tangent without a target, a hit or a direction), B = strength.
-void encodeAnisotropyInTarget(const BakeTarget* targetOrNull, const TargetHit& th, Vec3 D, double strength, double rgb[3]);
+// World normal N expressed in tangent frame `frameOrNull` (targetFrame's), as an encoded colour;
+// the unperturbed (0, 0, 1) without a frame.
+void encodeInFrame(const TangentFrame* frameOrNull, Vec3 N, double rgb[3]);
+
+// An anisotropy texel: RG = world direction D in the tangent plane of `frameOrNull` (unit,
+// encoded x 0.5 + 0.5; the tangent without a frame or a direction), B = strength.
+void encodeAnisotropyInFrame(const TangentFrame* frameOrNull, Vec3 D, double strength, double rgb[3]);
 
 }  // namespace lodbake::bake_detail

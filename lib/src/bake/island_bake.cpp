@@ -122,12 +122,37 @@ void rasterizeIslands(const TriMesh& mesh, const std::vector<BakeIsland>& island
     for (size_t i = 0; i < islands.size(); ++i)
         if (islands[i].faces.empty() && !islands[i].near.grid)
             throw InvalidInput("bake: island " + std::to_string(i) + " has no faces to sample");
+    // Which island each texel goes to, from the texel distances alone (the nearest, the earlier
+    // island on ties, nearer than the face's hit): only that island measures the texel's closest
+    // point, the one the merge below would keep.
+    std::vector<int32_t> owner(hits.size(), -1);
+    std::vector<float> ownerDist(hits.size());
+    for (size_t t = 0; t < hits.size(); ++t) ownerDist[t] = hits[t].dist;
+    auto texelTriangle = [&](const BakeIsland& isl, Vec2 (&P)[3]) {
+        for (int k = 0; k < 3; ++k) P[k] = {isl.uv[size_t(k)].x * g.size, isl.uv[size_t(k)].y * g.size};
+        return std::fabs(cross(P[1] - P[0], P[2] - P[0])) >= 1e-12;
+    };
+    parallelChunks(size_t(g.h), kRasterRows, threads, [&](size_t rowBegin, size_t rowEnd, size_t) {
+        for (size_t i = 0; i < islands.size(); ++i) {
+            Vec2 P[3];
+            if (!texelTriangle(islands[i], P) || offBand(P, dilation, rowBegin, rowEnd)) continue;
+            const EdgeDistanceBound bound(P);
+            forEachTexelNear(
+                P, g, dilation,
+                [&](int x, int y, double d, const std::array<double, 3>&) {
+                    const size_t t = g.at(x, y);
+                    if (!(float(d) < ownerDist[t])) return;
+                    ownerDist[t] = float(d);
+                    owner[t] = int32_t(i);
+                },
+                int(rowBegin), int(rowEnd), [&](int x, int y) { return cannotTake(bound, dilation, ownerDist[g.at(x, y)], x, y); });
+        }
+    });
     std::vector<std::vector<std::pair<size_t, TexelHit>>> found(islands.size());
     parallelFor(islands.size(), threads, [&](size_t i) {
         const BakeIsland& isl = islands[i];
         Vec2 P[3];
-        for (int k = 0; k < 3; ++k) P[k] = {isl.uv[size_t(k)].x * g.size, isl.uv[size_t(k)].y * g.size};
-        if (std::fabs(cross(P[1] - P[0], P[2] - P[0])) < 1e-12) return;
+        if (!texelTriangle(isl, P)) return;
         // The texels first: a few of them are answered faster by BoxedFaces' scan than by
         // building a FaceTree (both give the scan's answer).
         struct Query {
@@ -137,7 +162,7 @@ void rasterizeIslands(const TriMesh& mesh, const std::vector<BakeIsland>& island
         };
         std::vector<Query> queries;
         forEachTexelNear(P, g, dilation, [&](int x, int y, double d, const std::array<double, 3>& b) {
-            if (!(float(d) < hits[g.at(x, y)].dist)) return;  // a face's hit is nearer
+            if (owner[g.at(x, y)] != int32_t(i)) return;  // a face's hit or another island's is nearer
             queries.push_back({g.at(x, y), float(d), isl.position[0] * b[0] + isl.position[1] * b[1] + isl.position[2] * b[2]});
         });
         if (queries.empty()) return;

@@ -7,9 +7,6 @@
 namespace lodbake::bake_detail {
 namespace {
 
-// Bands of kRasterRows page rows on `threads` threads, each band's texels written by the faces in
-// order (the same hits for any thread count).
-constexpr size_t kRasterRows = 64;
 // Side of the tiles whose largest bound lets a face skip them (kRasterRows is a multiple).
 constexpr int kTile = 8;
 // Dilation of the first pass, which only bounds each texel's nearest distance.
@@ -34,9 +31,7 @@ void forEachBandFace(const TriMesh& mesh, const std::vector<std::array<Vec2, 3>>
     for (uint32_t f = 0; f < mesh.triangleCount(); ++f) {
         Vec2 P[3];
         for (int k = 0; k < 3; ++k) P[k] = {cornerUV[f][size_t(k)].x * g.size, cornerUV[f][size_t(k)].y * g.size};
-        if (std::max({P[0].y, P[1].y, P[2].y}) + dilation < double(rowBegin) - 1 ||
-            std::min({P[0].y, P[1].y, P[2].y}) - dilation > double(rowEnd) + 1)
-            continue;  // off the band (with a texel to spare: the band clips exactly)
+        if (offBand(P, dilation, rowBegin, rowEnd)) continue;
         if (std::fabs(cross(P[1] - P[0], P[2] - P[0])) < 1e-12) continue;
         fn(f, P);
     }
@@ -47,13 +42,14 @@ void forEachBandFace(const TriMesh& mesh, const std::vector<std::array<Vec2, 3>>
 void rasterBand(const TriMesh& mesh, const std::vector<std::array<Vec2, 3>>& cornerUV, const TexelRegion& g,
                 double dilation, size_t rowBegin, size_t rowEnd, std::vector<TexelHit>& hits) {
     forEachBandFace(mesh, cornerUV, g, dilation, rowBegin, rowEnd, [&](uint32_t f, const Vec2(&P)[3]) {
+        const EdgeDistanceBound edges(P);
         forEachTexelNear(
             P, g, dilation,
             [&](int x, int y, double d, const std::array<double, 3>& b) {
                 TexelHit& h = hits[g.at(x, y)];
                 if (float(d) < h.dist) h = hitOf(f, P, x, y, d, b);
             },
-            int(rowBegin), int(rowEnd));
+            int(rowBegin), int(rowEnd), [&](int x, int y) { return cannotTake(edges, dilation, hits[g.at(x, y)].dist, x, y); });
     });
 }
 
@@ -125,6 +121,7 @@ void rasterBandBounded(const TriMesh& mesh, const std::vector<std::array<Vec2, 3
         const double bx0 = std::min({P[0].x, P[1].x, P[2].x}), bx1 = std::max({P[0].x, P[1].x, P[2].x});
         const double by0 = std::min({P[0].y, P[1].y, P[2].y}), by1 = std::max({P[0].y, P[1].y, P[2].y});
         const std::array<Vec2, 3> tri{P[0], P[1], P[2]};
+        const EdgeDistanceBound edges(P);
         for (int ty = (box.y0 - int(rowBegin)) / kTile; box.y0 <= box.y1 && ty <= (box.y1 - int(rowBegin)) / kTile; ++ty) {
             const int ya = std::max(box.y0, int(rowBegin) + ty * kTile), yb = std::min(box.y1, int(rowBegin) + ty * kTile + kTile - 1);
             const double dy = gap(ya + 0.5, yb + 0.5, by0, by1);
@@ -135,10 +132,11 @@ void rasterBandBounded(const TriMesh& mesh, const std::vector<std::array<Vec2, 3
                     for (int x = xa; x <= xb; ++x) {
                         const float b = bound[size_t(y - int(rowBegin)) * size_t(g.w) + size_t(x)];
                         if (beyond(gap(x + 0.5, x + 0.5, bx0, bx1), gap(y + 0.5, y + 0.5, by0, by1), b)) continue;
+                        TexelHit& h = hits[g.at(x, y)];
+                        if (cannotTake(edges, dilation, h.dist, x, y)) continue;
                         std::array<double, 3> w{};
                         const double d = std::sqrt(closestOnTriangle(Vec2{x + 0.5, y + 0.5}, tri, w));
                         if (!(d <= dilation)) continue;
-                        TexelHit& h = hits[g.at(x, y)];
                         if (float(d) < h.dist) h = hitOf(f, P, x, y, d, w);
                     }
             }

@@ -77,23 +77,6 @@ bool lookup(const ShadeContext& c, const TextureRef& ref, const TexelHit& h, flo
     return true;
 }
 
-// The original's interpolated normal at hit h, world space (the face's normal when the file has
-// none).
-Vec3 interpolatedNormal(const ShadeContext& c, const TexelHit& h) {
-    const TriMesh& mesh = c.asset.mesh;
-    const uint32_t f = uint32_t(h.face);
-    const Tri& t = mesh.triangles[f];
-    const Tri& cw = mesh.cornerWedges[f];
-    const Vec3 face = normalize(cross(mesh.positions[t[1]] - mesh.positions[t[0]], mesh.positions[t[2]] - mesh.positions[t[0]]));
-    Vec3 N = face;
-    if (!mesh.wedges.normal.empty()) {
-        Vec3 n{};
-        for (int k = 0; k < 3; ++k) n += mesh.wedges.normal[cw[size_t(k)]] * h.bary[size_t(k)];
-        if (length(n) > 1e-12) N = normalize(n);
-    }
-    return N;
-}
-
 // The original's tangent T and bitangent B at hit h around normal N, for UV set `set` (the file's
 // TANGENT, else the frames BakeSources computed). False when there is none.
 bool originalTangentFrame(const ShadeContext& c, const TexelHit& h, int set, Vec3 N, TangentFrame& frame) {
@@ -104,10 +87,9 @@ bool originalTangentFrame(const ShadeContext& c, const TexelHit& h, int set, Vec
     return tangentFrameAt(N, {tangents[cw[0]], tangents[cw[1]], tangents[cw[2]]}, {h.bary[0], h.bary[1], h.bary[2]}, frame);
 }
 
-// The interpolated normal at hit h perturbed by normal map `map` of its material in the original
-// tangent frame (the interpolated normal itself without the map or a frame).
-Vec3 perturbedNormal(const ShadeContext& c, const TexelHit& h, const TextureRef& map) {
-    const Vec3 N = interpolatedNormal(c, h);
+// The interpolated normal N at hit h perturbed by normal map `map` of its material in the original
+// tangent frame (N itself without the map or a frame).
+Vec3 perturbedNormal(const ShadeContext& c, const TexelHit& h, const TextureRef& map, Vec3 N) {
     float r[4];
     if (!lookup(c, map, h, r)) return N;
     const int set = map.transform.texCoord >= 0 ? map.transform.texCoord : map.texCoord;
@@ -193,13 +175,30 @@ void shadeEmissive(const ShadeContext& c, const TexelHit& h, double e[3]) {
         for (int i = 0; i < 3; ++i) e[i] *= srgbToLinear(std::clamp(double(r[i]), 0.0, 1.0));
 }
 
-Vec3 shadingNormal(const ShadeContext& c, const TexelHit& h) { return perturbedNormal(c, h, materialOf(c, uint32_t(h.face)).normal); }
-
-Vec3 clearcoatNormal(const ShadeContext& c, const TexelHit& h) {
-    return perturbedNormal(c, h, materialOf(c, uint32_t(h.face)).ext.clearcoat.normalTexture);
+Vec3 interpolatedNormal(const ShadeContext& c, const TexelHit& h) {
+    const TriMesh& mesh = c.asset.mesh;
+    const uint32_t f = uint32_t(h.face);
+    const Tri& t = mesh.triangles[f];
+    const Tri& cw = mesh.cornerWedges[f];
+    const Vec3 face = normalize(cross(mesh.positions[t[1]] - mesh.positions[t[0]], mesh.positions[t[2]] - mesh.positions[t[0]]));
+    Vec3 N = face;
+    if (!mesh.wedges.normal.empty()) {
+        Vec3 n{};
+        for (int k = 0; k < 3; ++k) n += mesh.wedges.normal[cw[size_t(k)]] * h.bary[size_t(k)];
+        if (length(n) > 1e-12) N = normalize(n);
+    }
+    return N;
 }
 
-double anisotropyAt(const ShadeContext& c, const TexelHit& h, Vec3& direction) {
+Vec3 shadingNormal(const ShadeContext& c, const TexelHit& h, Vec3 N) {
+    return perturbedNormal(c, h, materialOf(c, uint32_t(h.face)).normal, N);
+}
+
+Vec3 clearcoatNormal(const ShadeContext& c, const TexelHit& h, Vec3 N) {
+    return perturbedNormal(c, h, materialOf(c, uint32_t(h.face)).ext.clearcoat.normalTexture, N);
+}
+
+double anisotropyAt(const ShadeContext& c, const TexelHit& h, Vec3 N, Vec3& direction) {
     const AnisotropyExtension& e = materialOf(c, uint32_t(h.face)).ext.anisotropy;
     direction = {};
     if (!e.present) return 0;
@@ -213,7 +212,6 @@ double anisotropyAt(const ShadeContext& c, const TexelHit& h, Vec3& direction) {
     const double cr = std::cos(e.rotation), sr = std::sin(e.rotation);
     const double x = cr * dx - sr * dy, y = sr * dx + cr * dy;
     const int set = e.texture.transform.texCoord >= 0 ? e.texture.transform.texCoord : e.texture.texCoord;
-    const Vec3 N = interpolatedNormal(c, h);
     TangentFrame frame;
     if (!originalTangentFrame(c, h, set, N, frame)) return 0;
     direction = frame.toWorld({x, y, 0});

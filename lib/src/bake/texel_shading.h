@@ -35,15 +35,19 @@ void shadeOrm(const ShadeContext& c, const TexelHit& h, double orm[3]);
 // Linear emissive radiance of the original material at hit h (may exceed 1 with emissive strength).
 void shadeEmissive(const ShadeContext& c, const TexelHit& h, double e[3]);
 
-// The original's shading normal at hit h, world space (its material's normal map).
-Vec3 shadingNormal(const ShadeContext& c, const TexelHit& h);
+// The original's interpolated normal at hit h, world space (the face's normal when the file has
+// none): the N the three functions below take, found once for a texel.
+Vec3 interpolatedNormal(const ShadeContext& c, const TexelHit& h);
+// The original's shading normal at hit h, world space (its material's normal map; N =
+// interpolatedNormal(c, h)).
+Vec3 shadingNormal(const ShadeContext& c, const TexelHit& h, Vec3 N);
 // The original's clearcoat normal at hit h (the coat's own normal map; without one the
-// interpolated normal, as glTF defines it).
-Vec3 clearcoatNormal(const ShadeContext& c, const TexelHit& h);
-// The original's anisotropy at hit h: its strength (0 where the material has none) and its
-// direction in world space (the tangent rotated by anisotropyRotation, then by the texture's RG
-// direction, in the original tangent frame of the texture's UV set).
-double anisotropyAt(const ShadeContext& c, const TexelHit& h, Vec3& direction);
+// interpolated normal N, as glTF defines it).
+Vec3 clearcoatNormal(const ShadeContext& c, const TexelHit& h, Vec3 N);
+// The original's anisotropy at hit h (interpolated normal N): its strength (0 where the material
+// has none) and its direction in world space (the tangent rotated by anisotropyRotation, then by
+// the texture's RG direction, in the original tangent frame of the texture's UV set).
+double anisotropyAt(const ShadeContext& c, const TexelHit& h, Vec3 N, Vec3& direction);
 
 // Extension channels: each fills v (3 or 4 values, BakeChannels' packing) with the original
 // material at hit h; colours linear here (bakeMaterial encodes them as sRGB after the fill).

@@ -5,17 +5,17 @@
 // between the two nearest), and bilinear taps spread evenly along the major vector, at most one
 // texel of that level apart, cover the footprint's length. A footprint under a texel reads level
 // 0 with one bilinear tap.
-// Fill: pull = coverage-weighted [1 3 3 1] tent down to 1 x 1 (a coarse texel with any covered
-// weight is covered), push = each uncovered texel takes the bilinear value of the next coarser,
-// already filled level. Every texel of a level depends only on the level below or above, so rows
-// run in parallel with the same result for any thread count.
+// The pull-push fill lives in pull_push_fill.cpp.
 #include "lodbake/bake/texture_fetch.h"
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "lodbake/core/errors.h"
-#include "lodbake/core/parallel.h"
 
 namespace lodbake {
 namespace {
@@ -65,7 +65,23 @@ void addBilinear(const MipTexture::Level& L, const FetchOptions& o, double s, do
     const uint8_t* p01 = &L.rgba[L.at(x0, y1)];
     const uint8_t* p11 = &L.rgba[L.at(x1, y1)];
     const float w00 = weight * (1 - fx) * (1 - fy), w10 = weight * fx * (1 - fy), w01 = weight * (1 - fx) * fy, w11 = weight * fx * fy;
+#if defined(__SSE2__)
+    // The four channels side by side: each lane takes the scalar sum's products and additions in
+    // its order, so the same floats.
+    auto texel = [](const uint8_t* p) {
+        int32_t word;
+        std::memcpy(&word, p, sizeof word);
+        const __m128i zero = _mm_setzero_si128();
+        return _mm_cvtepi32_ps(_mm_unpacklo_epi16(_mm_unpacklo_epi8(_mm_cvtsi32_si128(word), zero), zero));
+    };
+    __m128 sum = _mm_mul_ps(_mm_set1_ps(w00), texel(p00));
+    sum = _mm_add_ps(sum, _mm_mul_ps(_mm_set1_ps(w10), texel(p10)));
+    sum = _mm_add_ps(sum, _mm_mul_ps(_mm_set1_ps(w01), texel(p01)));
+    sum = _mm_add_ps(sum, _mm_mul_ps(_mm_set1_ps(w11), texel(p11)));
+    _mm_storeu_ps(acc, _mm_add_ps(_mm_loadu_ps(acc), sum));
+#else
     for (int c = 0; c < 4; ++c) acc[c] += w00 * float(p00[c]) + w10 * float(p10[c]) + w01 * float(p01[c]) + w11 * float(p11[c]);
+#endif
 }
 
 }  // namespace
@@ -147,88 +163,6 @@ void fetchFiltered(const MipTexture& texture, const FetchOptions& o, Vec2 st, Ve
         if (frac > 0) addBilinear(texture.levels[size_t(l0) + 1], o, s, t, frac / float(taps), acc);
     }
     for (int c = 0; c < 4; ++c) out[c] = std::clamp(acc[c] * kUnit, 0.0f, 1.0f);
-}
-
-void pullPushFill(std::vector<float>& values, int channels, const std::vector<uint8_t>& covered, int w, int h, int threads) {
-    const size_t nc = size_t(channels);
-    if (channels < 1 || w < 1 || h < 1 || values.size() != size_t(w) * size_t(h) * nc || covered.size() != size_t(w) * size_t(h))
-        throw InvalidInput("pull-push fill: image and coverage sizes differ");
-    if (std::none_of(covered.begin(), covered.end(), [](uint8_t c) { return c != 0; })) return;
-    struct Level {
-        int w, h;
-        float* v;
-        const uint8_t* a;
-        std::vector<float> vs;
-        std::vector<uint8_t> as;
-    };
-    std::vector<Level> levels;
-    levels.push_back({w, h, values.data(), covered.data(), {}, {}});
-    static constexpr float kTent[4] = {1, 3, 3, 1};
-    // Pull: coverage-weighted tent of the level below.
-    while (levels.back().w > 1 || levels.back().h > 1) {
-        const Level& s = levels.back();
-        Level d{(s.w + 1) / 2, (s.h + 1) / 2, nullptr, nullptr, {}, {}};
-        d.vs.assign(size_t(d.w) * size_t(d.h) * nc, 0.0f);
-        d.as.assign(size_t(d.w) * size_t(d.h), 0);
-        parallelFor(size_t(d.h), threads, [&](size_t yy) {
-            const int y = int(yy);
-            std::vector<float> acc(nc);
-            for (int x = 0; x < d.w; ++x) {
-                std::fill(acc.begin(), acc.end(), 0.0f);
-                float wsum = 0;
-                for (int j = 0; j < 4; ++j) {
-                    const int sy = 2 * y - 1 + j;
-                    if (sy < 0 || sy >= s.h) continue;
-                    for (int i = 0; i < 4; ++i) {
-                        const int sx = 2 * x - 1 + i;
-                        if (sx < 0 || sx >= s.w) continue;
-                        const size_t si = size_t(sy) * size_t(s.w) + size_t(sx);
-                        if (!s.a[si]) continue;
-                        const float wt = kTent[j] * kTent[i];
-                        wsum += wt;
-                        const float* p = &s.v[si * nc];
-                        for (size_t c = 0; c < nc; ++c) acc[c] += wt * p[c];
-                    }
-                }
-                if (wsum > 0) {
-                    const size_t di = size_t(y) * size_t(d.w) + size_t(x);
-                    d.as[di] = 1;
-                    for (size_t c = 0; c < nc; ++c) d.vs[di * nc + c] = acc[c] / wsum;
-                }
-            }
-        });
-        d.v = d.vs.data();
-        d.a = d.as.data();
-        levels.push_back(std::move(d));
-    }
-    // Push: uncovered texels take the bilinear value of the filled level above (the 1 x 1 top
-    // is covered: some texel is).
-    for (size_t k = levels.size() - 1; k-- > 0;) {
-        Level& f = levels[k];
-        const Level& c = levels[k + 1];
-        parallelFor(size_t(f.h), threads, [&](size_t yy) {
-            const int y = int(yy);
-            const double cy = (y + 0.5) / 2 - 0.5;
-            const int cy0 = int(std::floor(cy));
-            const float fy = float(cy - cy0);
-            const int ya = std::clamp(cy0, 0, c.h - 1), yb = std::clamp(cy0 + 1, 0, c.h - 1);
-            for (int x = 0; x < f.w; ++x) {
-                const size_t fi = size_t(y) * size_t(f.w) + size_t(x);
-                if (f.a[fi]) continue;
-                const double cx = (x + 0.5) / 2 - 0.5;
-                const int cx0 = int(std::floor(cx));
-                const float fx = float(cx - cx0);
-                const int xa = std::clamp(cx0, 0, c.w - 1), xb = std::clamp(cx0 + 1, 0, c.w - 1);
-                const float* p00 = &c.v[(size_t(ya) * size_t(c.w) + size_t(xa)) * nc];
-                const float* p10 = &c.v[(size_t(ya) * size_t(c.w) + size_t(xb)) * nc];
-                const float* p01 = &c.v[(size_t(yb) * size_t(c.w) + size_t(xa)) * nc];
-                const float* p11 = &c.v[(size_t(yb) * size_t(c.w) + size_t(xb)) * nc];
-                float* o = &f.v[fi * nc];
-                for (size_t ch = 0; ch < nc; ++ch)
-                    o[ch] = (1 - fy) * ((1 - fx) * p00[ch] + fx * p10[ch]) + fy * ((1 - fx) * p01[ch] + fx * p11[ch]);
-            }
-        });
-    }
 }
 
 }  // namespace lodbake

@@ -8,11 +8,28 @@
 
 namespace lodbake {
 
-FaceGrid::FaceGrid(const TriMesh& mesh, double cellsPerFace) {
+namespace {
+
+// Every face of the mesh that is not index-degenerate, ascending.
+std::vector<uint32_t> indexedFaces(const TriMesh& mesh) {
+    std::vector<uint32_t> out;
+    out.reserve(mesh.triangleCount());
+    for (uint32_t f = 0; f < mesh.triangleCount(); ++f)
+        if (!degenerateIndices(mesh.triangles[f])) out.push_back(f);
+    return out;
+}
+
+}  // namespace
+
+FaceGrid::FaceGrid(const TriMesh& mesh, double cellsPerFace) : FaceGrid(mesh, indexedFaces(mesh), mesh.triangleCount(), cellsPerFace) {}
+
+FaceGrid::FaceGrid(const TriMesh& mesh, const std::vector<uint32_t>& faces, double cellsPerFace)
+    : FaceGrid(mesh, faces, faces.size(), cellsPerFace) {}
+
+FaceGrid::FaceGrid(const TriMesh& mesh, const std::vector<uint32_t>& held, size_t nf, double cellsPerFace) {
     const Box3 box = bounds(mesh);
-    const size_t nf = mesh.triangleCount();
-    boxes_.resize(nf);
-    for (uint32_t f = 0; f < nf; ++f) boxes_[f] = faceBox(mesh, f);
+    boxes_.resize(mesh.triangleCount());
+    for (uint32_t f = 0; f < mesh.triangleCount(); ++f) boxes_[f] = faceBox(mesh, f);
     if (box.empty() || nf == 0) {
         start_.assign(2, 0);
         return;
@@ -34,14 +51,12 @@ FaceGrid::FaceGrid(const TriMesh& mesh, double cellsPerFace) {
             for (int y = lo[1]; y <= hi[1]; ++y)
                 for (int x = lo[0]; x <= hi[0]; ++x) fn((size_t(z) * size_t(n_[1]) + size_t(y)) * size_t(n_[0]) + size_t(x));
     };
-    for (uint32_t f = 0; f < nf; ++f)
-        if (!degenerateIndices(mesh.triangles[f])) forCells(f, [&](size_t c) { ++count[c + 1]; });
+    for (uint32_t f : held) forCells(f, [&](size_t c) { ++count[c + 1]; });
     for (size_t c = 0; c < cells; ++c) count[c + 1] += count[c];
     start_ = count;
     faces_.resize(start_[cells]);
     std::vector<uint32_t> fill(start_.begin(), start_.end() - 1);
-    for (uint32_t f = 0; f < nf; ++f)
-        if (!degenerateIndices(mesh.triangles[f])) forCells(f, [&](size_t c) { faces_[fill[c]++] = f; });
+    for (uint32_t f : held) forCells(f, [&](size_t c) { faces_[fill[c]++] = f; });
 }
 
 void FaceGrid::cellRange(Vec3 lo, Vec3 hi, int (&a)[3], int (&b)[3]) const {

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <vector>
 
+#include "lodbake/core/closest_point.h"
 #include "lodbake/core/parallel.h"
 
 namespace lodbake::lod_detail {
@@ -64,6 +65,14 @@ BakeResult bakePage(const BakeSources& sources, LayoutData& L, const LevelAtlas&
         bo.dilation = std::clamp((a.gutter + 1) / 2, 1, kMaxChartExtension);
     }
     return bakeMaterial(sources, uv, bo, islands, target);
+}
+
+FaceGrid projectionGrid(const TriMesh& mesh) {
+    std::vector<uint32_t> faces;
+    faces.reserve(mesh.triangleCount());
+    for (uint32_t f = 0; f < mesh.triangleCount(); ++f)
+        if (!degenerateIndices(mesh.triangles[f])) faces.push_back(f);
+    return FaceGrid(mesh, withoutCopies(mesh, faces));
 }
 
 BakeResult bakeProjected(const BakeSources& sources, const FaceGrid& grid, const LodLevelData& L, size_t front, int width,

@@ -31,6 +31,12 @@ BakeOptions pageBakeOptions(int width, int height, const BakeChannels& channels,
 BakeResult bakePage(const BakeSources& sources, LayoutData& L, const LevelAtlas& la, const BakeChannels& channels,
                     const BakeTarget* target, int threads, bool sourceTexels);
 
+// The grid bakeProjected searches: the original's faces less coincident copies (withoutCopies,
+// over the index-valid faces in id order). A copy loses every closest-point tie to the first face
+// at its place, and every filter of the search keeps or drops a face's copies with it, so no bake
+// answer changes, while an instanced part's k copies cost one face in every search.
+FaceGrid projectionGrid(const TriMesh& mesh);
+
 // The projection bake of a coarse level: every level triangle is an island of the page (its own
 // 3D triangle at its page UVs) whose texels show the original surface at the closest point, found
 // among the original faces whose boxes lie within `reach` of the triangle's box (the level's

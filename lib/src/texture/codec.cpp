@@ -261,10 +261,12 @@ Image encodeImage(const std::vector<float>& rgb, int width, int height, ImageFor
 Image encodeImage(const std::vector<float>& values, int width, int height, const EncodeOptions& o, const std::string& name) {
     checkSize("encodeImage", values.size(), width, height, o.channels);
     if (o.channels == 4 && o.format == ImageFormat::Jpeg) throw InvalidInput("encodeImage: JPEG has no alpha channel");
+    // Each value rounded to the nearest step, halves up (lround of v x 255 in float, taken as
+    // floor(+0.5) in double, where the sum is exact for the float products 0..255).
     std::vector<unsigned char> px(values.size());
     for (size_t i = 0; i < values.size(); ++i) {
         float v = std::isfinite(values[i]) ? std::clamp(values[i], 0.f, 1.f) : 0.f;
-        px[i] = static_cast<unsigned char>(std::lround(v * 255.f));
+        px[i] = static_cast<unsigned char>(int(double(v * 255.f) + 0.5));
     }
     return encodedImage(encode8(px.data(), width, height, o.channels, o.format, o.jpegQuality, o.srgb), o.format, width, height,
                         o.channels, name);

@@ -49,4 +49,13 @@ TextureWrap textureWrapFromGl(int gl);
 // Nothing changes when no texel is covered.
 void pullPushFill(std::vector<float>& values, int channels, const std::vector<uint8_t>& covered, int w, int h, int threads);
 
+// One image of a joint fill: w x h texels of `channels` interleaved floats.
+struct FillImage {
+    std::vector<float>* values = nullptr;
+    int channels = 0;
+};
+// pullPushFill of every image of `images` over the same coverage, in one pass (each image's result
+// is that of its own call).
+void pullPushFill(const std::vector<FillImage>& images, const std::vector<uint8_t>& covered, int w, int h, int threads);
+
 }  // namespace lodbake

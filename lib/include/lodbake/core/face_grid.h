@@ -17,6 +17,9 @@ class FaceGrid {
 public:
     // About `cellsPerFace` cells per face over the mesh's bounding box (degenerate faces skipped).
     explicit FaceGrid(const TriMesh& mesh, double cellsPerFace = 1.0);
+    // Only `faces` (ascending ids, none index-degenerate), about `cellsPerFace` cells per listed
+    // face; the boxes span the whole mesh's bounding box.
+    FaceGrid(const TriMesh& mesh, const std::vector<uint32_t>& faces, double cellsPerFace = 1.0);
     // Ids of every face whose bounding box overlaps box [lo, hi], ascending.
     std::vector<uint32_t> facesIn(Vec3 lo, Vec3 hi) const;
     // closestSurfacePoint(mesh, facesIn(lo, hi), p, face, bary) without the list (mesh: the one the
@@ -36,6 +39,8 @@ private:
     std::vector<uint32_t> start_;  // CSR: cell c holds faces_[start_[c] .. start_[c + 1])
     std::vector<uint32_t> faces_;
     std::vector<std::array<double, 6>> boxes_;
+    // The faces `held` listed, with cells sized for `nf` faces.
+    FaceGrid(const TriMesh& mesh, const std::vector<uint32_t>& held, size_t nf, double cellsPerFace);
     void cellRange(Vec3 lo, Vec3 hi, int (&a)[3], int (&b)[3]) const;
     // visit(f) once for every face whose box overlaps [lo, hi], in cell order.
     template <class Visit>
