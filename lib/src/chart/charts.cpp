@@ -12,7 +12,6 @@
 #include <cmath>
 #include <iterator>
 #include <map>
-#include <queue>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -275,6 +274,44 @@ private:
     std::vector<std::array<uint32_t, 2>> boundaryNext_;
 };
 
+// Shapes of candidate merges keyed by their faces' vertex triples in face order, which is all
+// SetMeasurer::measure reads: a mesh of coincident copies of one part (instances sharing their
+// vertices) proposes the same triple sequence for many pairs of charts, and each is measured once.
+// Only worth its keys when most faces repeat another face's triple (see ShapeMemo::worthwhile).
+class ShapeMemo {
+public:
+    // Face class: the smallest face with the same (ordered) vertex triple.
+    explicit ShapeMemo(const TriMesh& mesh) : faceClass_(mesh.triangleCount()) {
+        std::map<Tri, uint32_t> first;
+        for (uint32_t f = 0; f < faceClass_.size(); ++f) faceClass_[f] = first.emplace(mesh.triangles[f], f).first->second;
+        classes_ = first.size();
+    }
+    bool worthwhile() const { return classes_ * 2 <= faceClass_.size(); }
+
+    // The memoised shape of `faces`, measuring it on the first request.
+    template <class MeasureFn>
+    const Shape& shape(const std::vector<uint32_t>& faces, MeasureFn&& measure) {
+        key_.resize(faces.size());
+        for (size_t i = 0; i < faces.size(); ++i) key_[i] = faceClass_[faces[i]];
+        auto it = shapes_.find(key_);
+        if (it == shapes_.end()) it = shapes_.emplace(key_, measure()).first;
+        return it->second;
+    }
+    void clear() { shapes_.clear(); }
+
+private:
+    struct KeyHash {
+        size_t operator()(const std::vector<uint32_t>& k) const {
+            uint64_t h = 0x9E3779B97F4A7C15ull ^ k.size();
+            for (uint32_t x : k) h = (h ^ x) * 0xFF51AFD7ED558CCDull;
+            return size_t(h ^ (h >> 32));
+        }
+    };
+    std::vector<uint32_t> faceClass_, key_;
+    size_t classes_ = 0;
+    std::unordered_map<std::vector<uint32_t>, Shape, KeyHash> shapes_;
+};
+
 // Connected components of `faces` (edge adjacency restricted to the set), each sorted.
 std::vector<std::vector<uint32_t>> components(const CompressedRows& adj, const std::vector<uint32_t>& faces,
                                               std::vector<int32_t>& mark, int32_t tag) {
@@ -352,6 +389,65 @@ struct Candidate {
     }
 };
 
+// The candidate merges, cheapest first, as one sorted list per chart (the candidates pushed when
+// that chart was last merged into, or at the start) and a heap of the lists' heads. A merge makes
+// every candidate of its two charts stale; listing them under the chart that pushed them lets
+// those go at once, and the heap holds one head per list instead of every candidate, so it stays
+// small. Candidates other lists hold for changed charts are skipped as the lists advance. The
+// live candidates are distinct and totally ordered by Candidate::operator>, and a stale one
+// never becomes live again, so pops come in exactly the order of one heap of all candidates.
+class MergeQueue {
+public:
+    explicit MergeQueue(size_t charts) : lists_(charts), gen_(charts, 0) {}
+
+    // Replaces chart c's list by `candidates` (any order).
+    template <class Valid>
+    void relist(uint32_t c, std::vector<Candidate> candidates, const Valid& valid) {
+        std::sort(candidates.begin(), candidates.end(), std::greater<Candidate>());  // cheapest last
+        lists_[c] = std::move(candidates);
+        ++gen_[c];
+        pushHead(c, valid);
+    }
+
+    // The cheapest live candidate; false when none is left.
+    template <class Valid>
+    bool pop(Candidate& out, const Valid& valid) {
+        while (!heap_.empty()) {
+            std::pop_heap(heap_.begin(), heap_.end(), std::greater<Head>());
+            const Head h = heap_.back();
+            heap_.pop_back();
+            if (h.gen != gen_[h.chart]) continue;  // that list was replaced
+            lists_[h.chart].pop_back();
+            pushHead(h.chart, valid);
+            if (valid(h.cand)) {
+                out = h.cand;
+                return true;
+            }
+        }
+        return false;
+    }
+
+private:
+    struct Head {
+        Candidate cand;
+        uint32_t chart, gen;
+        bool operator>(const Head& o) const { return cand > o.cand; }
+    };
+    // Drops c's stale candidates from its cheap end and queues the first live one.
+    template <class Valid>
+    void pushHead(uint32_t c, const Valid& valid) {
+        std::vector<Candidate>& l = lists_[c];
+        while (!l.empty() && !valid(l.back())) l.pop_back();
+        if (l.empty()) return;
+        heap_.push_back({l.back(), c, gen_[c]});
+        std::push_heap(heap_.begin(), heap_.end(), std::greater<Head>());
+    }
+
+    std::vector<std::vector<Candidate>> lists_;  // per chart, dearest first
+    std::vector<uint32_t> gen_;
+    std::vector<Head> heap_;
+};
+
 }  // namespace
 
 bool isDisk(const TriMesh& mesh, const std::vector<uint32_t>& faces) {
@@ -412,8 +508,19 @@ ChartResult buildCharts(const TriMesh& mesh, const std::vector<uint32_t>& faceRe
     std::vector<uint32_t> faceOwner(nf, UINT32_MAX);
     for (uint32_t c = 0; c < charts.size(); ++c)
         for (uint32_t f : charts[c].faces) faceOwner[f] = c;
-    auto neighbours = [&](uint32_t c) {
-        std::vector<uint32_t> out;
+    // Neighbour charts, kept per chart across merges: a merged chart's neighbours are the union of
+    // its two parts' lists, and ids of charts merged away since a list was written resolve to the
+    // chart that absorbed them. This replaces a walk over every face's adjacency after each merge
+    // (a face of coincident copies has hundreds of neighbours).
+    std::vector<uint32_t> absorbedBy(charts.size());
+    for (uint32_t c = 0; c < charts.size(); ++c) absorbedBy[c] = c;
+    auto owner = [&](uint32_t c) {
+        while (absorbedBy[c] != c) c = absorbedBy[c] = absorbedBy[absorbedBy[c]];
+        return c;
+    };
+    std::vector<std::vector<uint32_t>> chartNeighbours(charts.size());
+    for (uint32_t c = 0; c < charts.size(); ++c) {
+        std::vector<uint32_t>& out = chartNeighbours[c];
         for (uint32_t f : charts[c].faces)
             for (uint32_t k = adj.offsets[f]; k < adj.offsets[f + 1]; ++k) {
                 uint32_t o = faceOwner[adj.items[k]];
@@ -421,6 +528,14 @@ ChartResult buildCharts(const TriMesh& mesh, const std::vector<uint32_t>& faceRe
             }
         std::sort(out.begin(), out.end());
         out.erase(std::unique(out.begin(), out.end()), out.end());
+    }
+    // Resolves chart c's list to current charts, sorted and without c.
+    auto neighbours = [&](uint32_t c) -> const std::vector<uint32_t>& {
+        std::vector<uint32_t>& out = chartNeighbours[c];
+        for (uint32_t& o : out) o = owner(o);
+        std::sort(out.begin(), out.end());
+        out.erase(std::unique(out.begin(), out.end()), out.end());
+        out.erase(std::remove(out.begin(), out.end(), c), out.end());
         return out;
     };
     auto mergedFaces = [&](uint32_t a, uint32_t b) {
@@ -432,8 +547,14 @@ ChartResult buildCharts(const TriMesh& mesh, const std::vector<uint32_t>& faceRe
     };
     size_t alive = charts.size();
     std::vector<uint32_t> merged;  // scratch: the face list of the candidate merge being measured
+    ShapeMemo memo(mesh);
+    const bool useMemo = memo.worthwhile();
     auto runPhase = [&](bool relaxed) {
-        std::priority_queue<Candidate, std::vector<Candidate>, std::greater<Candidate>> heap;
+        MergeQueue queue(charts.size());
+        auto valid = [&](const Candidate& c) {
+            return charts[c.a].alive && charts[c.b].alive && charts[c.a].version == c.va && charts[c.b].version == c.vb;
+        };
+        std::vector<Candidate> batch;  // the candidates of the chart being (re)listed
         auto push = [&](uint32_t a, uint32_t b) {
             if (a > b) std::swap(a, b);
             merged.clear();
@@ -441,32 +562,41 @@ ChartResult buildCharts(const TriMesh& mesh, const std::vector<uint32_t>& faceRe
                        std::back_inserter(merged));
             // The relaxed phase ignores the normal-cone and E_region limits, never the disk rule.
             const ShapeLimits limits = relaxed ? ShapeLimits{} : ShapeLimits{options.maxNormalConeDegrees, options.maxRegionEnergy};
-            Shape s = measurer.measure(merged, totalArea, diagonal, true, limits);
+            auto measure = [&] { return measurer.measure(merged, totalArea, diagonal, true, limits); };
+            const Shape s = useMemo ? memo.shape(merged, measure) : measure();
             if (s.overLimits || !s.disk) return;
-            heap.push({s.energy, a, b, charts[a].version, charts[b].version});
+            batch.push_back({s.energy, a, b, charts[a].version, charts[b].version});
         };
-        for (uint32_t c = 0; c < charts.size(); ++c)
-            if (charts[c].alive)
-                for (uint32_t o : neighbours(c))
-                    if (o > c) push(c, o);
-        while (!heap.empty()) {
-            if (options.maxCharts > 0 && alive <= options.maxCharts) break;
-            Candidate cand = heap.top();
-            heap.pop();
+        for (uint32_t c = 0; c < charts.size(); ++c) {
+            if (!charts[c].alive) continue;
+            batch.clear();
+            for (uint32_t o : neighbours(c))
+                if (o > c) push(c, o);
+            queue.relist(c, batch, valid);
+        }
+        Candidate cand;
+        while (!(options.maxCharts > 0 && alive <= options.maxCharts) && queue.pop(cand, valid)) {
             Chart& A = charts[cand.a];
             Chart& B = charts[cand.b];
-            if (!A.alive || !B.alive || A.version != cand.va || B.version != cand.vb) continue;
             A.faces = mergedFaces(cand.a, cand.b);
-            for (uint32_t f : B.faces) faceOwner[f] = cand.a;
             B.faces.clear();
+            absorbedBy[cand.b] = cand.a;
+            std::vector<uint32_t>& na = chartNeighbours[cand.a];
+            na.insert(na.end(), chartNeighbours[cand.b].begin(), chartNeighbours[cand.b].end());
+            std::vector<uint32_t>().swap(chartNeighbours[cand.b]);
             B.alive = false;
             ++A.version;
             --alive;
             ++result.merges;
+            // Every listed candidate of A or B is stale now: B's list goes, A's is rebuilt.
+            queue.relist(cand.b, {}, valid);
+            batch.clear();
             for (uint32_t o : neighbours(cand.a)) push(cand.a, o);
+            queue.relist(cand.a, batch, valid);
         }
     };
     runPhase(false);
+    memo.clear();  // its shapes were measured against the first phase's limits
     if (options.maxCharts > 0 && alive > options.maxCharts) runPhase(true);
 
     // (4) Dense ids by smallest face; degenerate faces join a chart sharing a vertex.
