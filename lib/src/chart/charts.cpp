@@ -70,6 +70,16 @@ public:
         edgeFirst_.assign(edgeCount, 0);
         vertexStamp_.assign(mesh.vertexCount(), 0);
         vertexSlot_.assign(mesh.vertexCount(), 0);
+        // Each face's terms once: every candidate merge sums them again over its faces.
+        faceTerms_.resize(nf);
+        for (uint32_t f = 0; f < nf; ++f) {
+            FaceTerms& ft = faceTerms_[f];
+            const Tri& t = mesh.triangles[f];
+            ft.normalArea = faceNormalArea(mesh, f);
+            ft.area = length(ft.normalArea);
+            ft.weightedCentroid = (mesh.positions[t[0]] + mesh.positions[t[1]] + mesh.positions[t[2]]) * (ft.area / 3);
+            ft.normal = normalize(ft.normalArea);
+        }
     }
 
     // Disk test of `faces` and, with wantShape, its normal cone and E_region (lengths relative to
@@ -82,10 +92,19 @@ public:
         if (faces.empty()) return s;
         for (uint32_t f : faces)
             if (degenerateIndices(mesh_.triangles[f])) return s;
+        FaceSums sums;
+        if (wantShape) {
+            sums = faceSums(faces, s);
+            // A cone over the limit refuses the set whatever the rest says.
+            if (limits.coneDegrees > 0 && s.coneDegrees > limits.coneDegrees) {
+                s.overLimits = true;
+                return s;
+            }
+        }
         collect(faces);
         const bool loop = singleBoundaryLoop(faces);  // also the boundary degrees regionShape reads
         if (wantShape) {
-            regionShape(faces, totalArea, diagonal, s);
+            regionShape(sums, totalArea, diagonal, s);
             s.overLimits = limits.exceededBy(s);
             if (s.overLimits) return s;
         }
@@ -226,30 +245,41 @@ private:
         return true;
     }
 
-    // Normal cone and E_region of a face set: the plane through the area-weighted centroid with the
-    // mean normal; E_region = (set area / total area) x (largest distance to that plane + spread of
-    // the boundary vertices' distances to the centroid) / diagonal.
-    void regionShape(const std::vector<uint32_t>& faces, double totalArea, double diagonal, Shape& s) const {
-        const TriMesh& mesh = mesh_;
+    // Area-weighted sums over a face set (in its order) and its normal cone (degrees, into s).
+    struct FaceSums {
+        Vec3 normal, centroid;
+        double area = 0;
+    };
+    FaceSums faceSums(const std::vector<uint32_t>& faces, Shape& s) const {
         Vec3 nsum{}, csum{};
         double area = 0;
         for (uint32_t f : faces) {
-            Vec3 na = faceNormalArea(mesh, f);
-            double a = length(na);
-            const Tri& t = mesh.triangles[f];
-            nsum += na;
-            csum += (mesh.positions[t[0]] + mesh.positions[t[1]] + mesh.positions[t[2]]) * (a / 3);
-            area += a;
+            const FaceTerms& ft = faceTerms_[f];
+            nsum += ft.normalArea;
+            csum += ft.weightedCentroid;
+            area += ft.area;
         }
-        Vec3 n = normalize(nsum);
-        Vec3 c = area > 0 ? csum / area : mesh.positions[mesh.triangles[faces[0]][0]];
+        FaceSums out;
+        out.normal = normalize(nsum);
+        out.centroid = area > 0 ? csum / area : mesh_.positions[mesh_.triangles[faces[0]][0]];
+        out.area = area;
         double minCos = 1;
         for (uint32_t f : faces) {
-            Vec3 nf = normalize(faceNormalArea(mesh, f));
-            if (length2(nf) > 0) minCos = std::min(minCos, dot(nf, n));
+            const Vec3& nf = faceTerms_[f].normal;
+            if (length2(nf) > 0) minCos = std::min(minCos, dot(nf, out.normal));
         }
-        if (length2(n) == 0) minCos = -1;
+        if (length2(out.normal) == 0) minCos = -1;
         s.coneDegrees = std::acos(std::clamp(minCos, -1.0, 1.0)) * 180 / kPi;
+        return out;
+    }
+
+    // E_region of a face set with its FaceSums: the plane through the area-weighted centroid with
+    // the mean normal; E_region = (set area / total area) x (largest distance to that plane + spread
+    // of the boundary vertices' distances to the centroid) / diagonal.
+    void regionShape(const FaceSums& sums, double totalArea, double diagonal, Shape& s) const {
+        const TriMesh& mesh = mesh_;
+        const Vec3 n = sums.normal, c = sums.centroid;
+        const double area = sums.area;
         double maxPlane = 0;
         for (uint32_t v : vertices_) maxPlane = std::max(maxPlane, std::fabs(dot(mesh.positions[v] - c, n)));
         double bmax = 0, bmin = 1e300;
@@ -264,7 +294,12 @@ private:
         s.energy = (totalArea > 0 ? area / totalArea : 0) * (maxPlane + bmax - bmin) / diag;
     }
 
+    struct FaceTerms {
+        Vec3 normalArea, weightedCentroid, normal;  // weightedCentroid = centroid x area
+        double area = 0;
+    };
     const TriMesh& mesh_;
+    std::vector<FaceTerms> faceTerms_;
     std::vector<uint32_t> faceEdge_;                 // edge id of face f's edge (t[k], t[k+1]) at 3f+k
     std::vector<uint32_t> edgeStamp_, edgeUses_, edgeFirst_;  // per edge id; first = 3 x face slot + corner
     std::vector<uint32_t> vertexStamp_, vertexSlot_;  // per mesh vertex
@@ -282,9 +317,16 @@ class ShapeMemo {
 public:
     // Face class: the smallest face with the same (ordered) vertex triple.
     explicit ShapeMemo(const TriMesh& mesh) : faceClass_(mesh.triangleCount()) {
-        std::map<Tri, uint32_t> first;
-        for (uint32_t f = 0; f < faceClass_.size(); ++f) faceClass_[f] = first.emplace(mesh.triangles[f], f).first->second;
-        classes_ = first.size();
+        std::vector<uint32_t> byTriple(faceClass_.size());
+        for (uint32_t f = 0; f < byTriple.size(); ++f) byTriple[f] = f;
+        std::sort(byTriple.begin(), byTriple.end(), [&](uint32_t a, uint32_t b) {
+            return mesh.triangles[a] != mesh.triangles[b] ? mesh.triangles[a] < mesh.triangles[b] : a < b;
+        });
+        for (size_t i = 0; i < byTriple.size(); ++i) {
+            const bool repeat = i > 0 && mesh.triangles[byTriple[i]] == mesh.triangles[byTriple[i - 1]];
+            faceClass_[byTriple[i]] = repeat ? faceClass_[byTriple[i - 1]] : byTriple[i];
+            classes_ += repeat ? 0 : 1;
+        }
     }
     bool worthwhile() const { return classes_ * 2 <= faceClass_.size(); }
 
