@@ -49,22 +49,14 @@ Vec3 faceNormalArea(const TriMesh& m, uint32_t f) {
 // into a large chart re-measures all of its neighbours over the chart's full face list.
 class SetMeasurer {
 public:
-    explicit SetMeasurer(const TriMesh& mesh) : mesh_(mesh) {
+    // `edges` = groupEdges(mesh.triangles): its groups are the edge ids. Half-edges of
+    // index-degenerate faces have none; measure never reads them.
+    SetMeasurer(const TriMesh& mesh, const EdgeGroups& edges) : mesh_(mesh) {
         const size_t nf = mesh.triangleCount();
-        // Edge ids: the half-edges sorted by undirected key, one id per distinct key.
-        std::vector<std::pair<uint64_t, uint32_t>> half(nf * 3);
-        for (uint32_t f = 0; f < nf; ++f) {
-            const Tri& t = mesh.triangles[f];
-            for (uint32_t k = 0; k < 3; ++k) half[f * 3 + k] = {edgeKey(t[k], t[(k + 1) % 3]), f * 3 + k};
-        }
-        std::sort(half.begin(), half.end());
-        faceEdge_.resize(nf * 3);
-        uint32_t id = 0;
-        for (size_t i = 0; i < half.size(); ++i) {
-            if (i > 0 && half[i].first != half[i - 1].first) ++id;
-            faceEdge_[half[i].second] = id;
-        }
-        const size_t edgeCount = half.empty() ? 0 : size_t(id) + 1;
+        faceEdge_.assign(nf * 3, UINT32_MAX);
+        for (uint32_t e = 0; e < edges.keys.size(); ++e)
+            for (const uint32_t* h = edges.halfEdges.begin(e); h != edges.halfEdges.end(e); ++h) faceEdge_[*h] = e;
+        const size_t edgeCount = edges.keys.size();
         edgeStamp_.assign(edgeCount, 0);
         edgeUses_.assign(edgeCount, 0);
         edgeFirst_.assign(edgeCount, 0);
@@ -493,7 +485,7 @@ private:
 }  // namespace
 
 bool isDisk(const TriMesh& mesh, const std::vector<uint32_t>& faces) {
-    return SetMeasurer(mesh).measure(faces, 0, 1, false).disk;
+    return SetMeasurer(mesh, groupEdges(mesh.triangles)).measure(faces, 0, 1, false).disk;
 }
 
 ChartResult buildCharts(const TriMesh& mesh, const std::vector<uint32_t>& faceRegion, const ChartOptions& options) {
@@ -504,7 +496,8 @@ ChartResult buildCharts(const TriMesh& mesh, const std::vector<uint32_t>& faceRe
     ChartResult result;
     result.faceChart.assign(nf, -1);
     if (nf == 0) return result;
-    const CompressedRows adj = faceNeighbours(mesh.triangles);  // across welded edges, non-manifold ones too
+    const EdgeGroups edges = groupEdges(mesh.triangles);
+    const CompressedRows adj = faceNeighbours(edges, nf);  // across welded edges, non-manifold ones too
     double totalArea = 0;
     for (uint32_t f = 0; f < nf; ++f) totalArea += length(faceNormalArea(mesh, f));
     const double diagonal = bounds(mesh).diagonal();
@@ -520,7 +513,7 @@ ChartResult buildCharts(const TriMesh& mesh, const std::vector<uint32_t>& faceRe
     }
     result.baseRegions = uint32_t(regions.size());
     std::vector<int32_t> mark(nf, -1);
-    SetMeasurer measurer(mesh);
+    SetMeasurer measurer(mesh, edges);
     std::vector<Chart> charts;
     for (auto& [rep, faces] : regions) {
         std::vector<std::vector<uint32_t>> work = components(adj, faces, mark, 1);
