@@ -79,13 +79,26 @@ UVFolds findUVFolds(const std::vector<std::array<Vec2, 3>>& input, double tolera
         const auto &a = box[i], &b = box[j];
         return a[2] < b[0] || b[2] < a[0] || a[3] < b[1] || b[3] < a[1];
     };
+    // A pair is listed in every cell both its triangles are listed in, a block of cells starting at
+    // the larger of their first columns and rows; it is tested in that first cell only. Within a
+    // cell the boxes are swept by their low x: a box starting past another's high x, and every
+    // box after it, is apart from that one. Each pair meeting in a cell is found whatever the
+    // order, and the list is sorted below.
+    auto ownCell = [&](uint32_t i, uint32_t j, int x, int y) {
+        const auto &a = box[i], &b = box[j];
+        return std::max(grid.cellX(a[0]), grid.cellX(b[0])) == x && std::max(grid.cellY(a[1]), grid.cellY(b[1])) == y;
+    };
+    std::vector<uint32_t> sweep;
     for (int y = 0; y < g; ++y)
         for (int x = 0; x < g; ++x) {
             const Grid2::Cell cell = grid.cell(x, y);
-            for (const uint32_t* a = cell.begin(); a != cell.end(); ++a)
-                for (const uint32_t* b = a + 1; b != cell.end(); ++b) {
-                    uint32_t i = std::min(*a, *b), j = std::max(*a, *b);
-                    if (!apart(i, j) && interiorsOverlap(tris[i], tris[j], tolerance)) r.overlapping.push_back({i, j});
+            sweep.assign(cell.begin(), cell.end());
+            std::sort(sweep.begin(), sweep.end(), [&](uint32_t a, uint32_t b) { return box[a][0] < box[b][0] || (box[a][0] == box[b][0] && a < b); });
+            for (size_t ia = 0; ia < sweep.size(); ++ia)
+                for (size_t ib = ia + 1; ib < sweep.size() && !(box[sweep[ia]][2] < box[sweep[ib]][0]); ++ib) {
+                    uint32_t i = std::min(sweep[ia], sweep[ib]), j = std::max(sweep[ia], sweep[ib]);
+                    if (!apart(i, j) && ownCell(i, j, x, y) && interiorsOverlap(tris[i], tris[j], tolerance))
+                        r.overlapping.push_back({i, j});
                 }
         }
     std::sort(r.overlapping.begin(), r.overlapping.end());
