@@ -12,7 +12,6 @@
 #include <cmath>
 #include <iterator>
 #include <map>
-#include <queue>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -50,27 +49,29 @@ Vec3 faceNormalArea(const TriMesh& m, uint32_t f) {
 // into a large chart re-measures all of its neighbours over the chart's full face list.
 class SetMeasurer {
 public:
-    explicit SetMeasurer(const TriMesh& mesh) : mesh_(mesh) {
+    // `edges` = groupEdges(mesh.triangles): its groups are the edge ids. Half-edges of
+    // index-degenerate faces have none; measure never reads them.
+    SetMeasurer(const TriMesh& mesh, const EdgeGroups& edges) : mesh_(mesh) {
         const size_t nf = mesh.triangleCount();
-        // Edge ids: the half-edges sorted by undirected key, one id per distinct key.
-        std::vector<std::pair<uint64_t, uint32_t>> half(nf * 3);
-        for (uint32_t f = 0; f < nf; ++f) {
-            const Tri& t = mesh.triangles[f];
-            for (uint32_t k = 0; k < 3; ++k) half[f * 3 + k] = {edgeKey(t[k], t[(k + 1) % 3]), f * 3 + k};
-        }
-        std::sort(half.begin(), half.end());
-        faceEdge_.resize(nf * 3);
-        uint32_t id = 0;
-        for (size_t i = 0; i < half.size(); ++i) {
-            if (i > 0 && half[i].first != half[i - 1].first) ++id;
-            faceEdge_[half[i].second] = id;
-        }
-        const size_t edgeCount = half.empty() ? 0 : size_t(id) + 1;
+        faceEdge_.assign(nf * 3, UINT32_MAX);
+        for (uint32_t e = 0; e < edges.keys.size(); ++e)
+            for (const uint32_t* h = edges.halfEdges.begin(e); h != edges.halfEdges.end(e); ++h) faceEdge_[*h] = e;
+        const size_t edgeCount = edges.keys.size();
         edgeStamp_.assign(edgeCount, 0);
         edgeUses_.assign(edgeCount, 0);
         edgeFirst_.assign(edgeCount, 0);
         vertexStamp_.assign(mesh.vertexCount(), 0);
         vertexSlot_.assign(mesh.vertexCount(), 0);
+        // Each face's terms once: every candidate merge sums them again over its faces.
+        faceTerms_.resize(nf);
+        for (uint32_t f = 0; f < nf; ++f) {
+            FaceTerms& ft = faceTerms_[f];
+            const Tri& t = mesh.triangles[f];
+            ft.normalArea = faceNormalArea(mesh, f);
+            ft.area = length(ft.normalArea);
+            ft.weightedCentroid = (mesh.positions[t[0]] + mesh.positions[t[1]] + mesh.positions[t[2]]) * (ft.area / 3);
+            ft.normal = normalize(ft.normalArea);
+        }
     }
 
     // Disk test of `faces` and, with wantShape, its normal cone and E_region (lengths relative to
@@ -83,10 +84,19 @@ public:
         if (faces.empty()) return s;
         for (uint32_t f : faces)
             if (degenerateIndices(mesh_.triangles[f])) return s;
+        FaceSums sums;
+        if (wantShape) {
+            sums = faceSums(faces, s);
+            // A cone over the limit refuses the set whatever the rest says.
+            if (limits.coneDegrees > 0 && s.coneDegrees > limits.coneDegrees) {
+                s.overLimits = true;
+                return s;
+            }
+        }
         collect(faces);
         const bool loop = singleBoundaryLoop(faces);  // also the boundary degrees regionShape reads
         if (wantShape) {
-            regionShape(faces, totalArea, diagonal, s);
+            regionShape(sums, totalArea, diagonal, s);
             s.overLimits = limits.exceededBy(s);
             if (s.overLimits) return s;
         }
@@ -227,30 +237,41 @@ private:
         return true;
     }
 
-    // Normal cone and E_region of a face set: the plane through the area-weighted centroid with the
-    // mean normal; E_region = (set area / total area) x (largest distance to that plane + spread of
-    // the boundary vertices' distances to the centroid) / diagonal.
-    void regionShape(const std::vector<uint32_t>& faces, double totalArea, double diagonal, Shape& s) const {
-        const TriMesh& mesh = mesh_;
+    // Area-weighted sums over a face set (in its order) and its normal cone (degrees, into s).
+    struct FaceSums {
+        Vec3 normal, centroid;
+        double area = 0;
+    };
+    FaceSums faceSums(const std::vector<uint32_t>& faces, Shape& s) const {
         Vec3 nsum{}, csum{};
         double area = 0;
         for (uint32_t f : faces) {
-            Vec3 na = faceNormalArea(mesh, f);
-            double a = length(na);
-            const Tri& t = mesh.triangles[f];
-            nsum += na;
-            csum += (mesh.positions[t[0]] + mesh.positions[t[1]] + mesh.positions[t[2]]) * (a / 3);
-            area += a;
+            const FaceTerms& ft = faceTerms_[f];
+            nsum += ft.normalArea;
+            csum += ft.weightedCentroid;
+            area += ft.area;
         }
-        Vec3 n = normalize(nsum);
-        Vec3 c = area > 0 ? csum / area : mesh.positions[mesh.triangles[faces[0]][0]];
+        FaceSums out;
+        out.normal = normalize(nsum);
+        out.centroid = area > 0 ? csum / area : mesh_.positions[mesh_.triangles[faces[0]][0]];
+        out.area = area;
         double minCos = 1;
         for (uint32_t f : faces) {
-            Vec3 nf = normalize(faceNormalArea(mesh, f));
-            if (length2(nf) > 0) minCos = std::min(minCos, dot(nf, n));
+            const Vec3& nf = faceTerms_[f].normal;
+            if (length2(nf) > 0) minCos = std::min(minCos, dot(nf, out.normal));
         }
-        if (length2(n) == 0) minCos = -1;
+        if (length2(out.normal) == 0) minCos = -1;
         s.coneDegrees = std::acos(std::clamp(minCos, -1.0, 1.0)) * 180 / kPi;
+        return out;
+    }
+
+    // E_region of a face set with its FaceSums: the plane through the area-weighted centroid with
+    // the mean normal; E_region = (set area / total area) x (largest distance to that plane + spread
+    // of the boundary vertices' distances to the centroid) / diagonal.
+    void regionShape(const FaceSums& sums, double totalArea, double diagonal, Shape& s) const {
+        const TriMesh& mesh = mesh_;
+        const Vec3 n = sums.normal, c = sums.centroid;
+        const double area = sums.area;
         double maxPlane = 0;
         for (uint32_t v : vertices_) maxPlane = std::max(maxPlane, std::fabs(dot(mesh.positions[v] - c, n)));
         double bmax = 0, bmin = 1e300;
@@ -265,7 +286,12 @@ private:
         s.energy = (totalArea > 0 ? area / totalArea : 0) * (maxPlane + bmax - bmin) / diag;
     }
 
+    struct FaceTerms {
+        Vec3 normalArea, weightedCentroid, normal;  // weightedCentroid = centroid x area
+        double area = 0;
+    };
     const TriMesh& mesh_;
+    std::vector<FaceTerms> faceTerms_;
     std::vector<uint32_t> faceEdge_;                 // edge id of face f's edge (t[k], t[k+1]) at 3f+k
     std::vector<uint32_t> edgeStamp_, edgeUses_, edgeFirst_;  // per edge id; first = 3 x face slot + corner
     std::vector<uint32_t> vertexStamp_, vertexSlot_;  // per mesh vertex
@@ -273,6 +299,51 @@ private:
     std::vector<uint32_t> vertices_, edges_;          // of the current set, in first-use order
     std::vector<uint32_t> boundaryDegree_, parent_, vertexRoot_;
     std::vector<std::array<uint32_t, 2>> boundaryNext_;
+};
+
+// Shapes of candidate merges keyed by their faces' vertex triples in face order, which is all
+// SetMeasurer::measure reads: a mesh of coincident copies of one part (instances sharing their
+// vertices) proposes the same triple sequence for many pairs of charts, and each is measured once.
+// Only worth its keys when most faces repeat another face's triple (see ShapeMemo::worthwhile).
+class ShapeMemo {
+public:
+    // Face class: the smallest face with the same (ordered) vertex triple.
+    explicit ShapeMemo(const TriMesh& mesh) : faceClass_(mesh.triangleCount()) {
+        std::vector<uint32_t> byTriple(faceClass_.size());
+        for (uint32_t f = 0; f < byTriple.size(); ++f) byTriple[f] = f;
+        std::sort(byTriple.begin(), byTriple.end(), [&](uint32_t a, uint32_t b) {
+            return mesh.triangles[a] != mesh.triangles[b] ? mesh.triangles[a] < mesh.triangles[b] : a < b;
+        });
+        for (size_t i = 0; i < byTriple.size(); ++i) {
+            const bool repeat = i > 0 && mesh.triangles[byTriple[i]] == mesh.triangles[byTriple[i - 1]];
+            faceClass_[byTriple[i]] = repeat ? faceClass_[byTriple[i - 1]] : byTriple[i];
+            classes_ += repeat ? 0 : 1;
+        }
+    }
+    bool worthwhile() const { return classes_ * 2 <= faceClass_.size(); }
+
+    // The memoised shape of `faces`, measuring it on the first request.
+    template <class MeasureFn>
+    const Shape& shape(const std::vector<uint32_t>& faces, MeasureFn&& measure) {
+        key_.resize(faces.size());
+        for (size_t i = 0; i < faces.size(); ++i) key_[i] = faceClass_[faces[i]];
+        auto it = shapes_.find(key_);
+        if (it == shapes_.end()) it = shapes_.emplace(key_, measure()).first;
+        return it->second;
+    }
+    void clear() { shapes_.clear(); }
+
+private:
+    struct KeyHash {
+        size_t operator()(const std::vector<uint32_t>& k) const {
+            uint64_t h = 0x9E3779B97F4A7C15ull ^ k.size();
+            for (uint32_t x : k) h = (h ^ x) * 0xFF51AFD7ED558CCDull;
+            return size_t(h ^ (h >> 32));
+        }
+    };
+    std::vector<uint32_t> faceClass_, key_;
+    size_t classes_ = 0;
+    std::unordered_map<std::vector<uint32_t>, Shape, KeyHash> shapes_;
 };
 
 // Connected components of `faces` (edge adjacency restricted to the set), each sorted.
@@ -352,10 +423,69 @@ struct Candidate {
     }
 };
 
+// The candidate merges, cheapest first, as one sorted list per chart (the candidates pushed when
+// that chart was last merged into, or at the start) and a heap of the lists' heads. A merge makes
+// every candidate of its two charts stale; listing them under the chart that pushed them lets
+// those go at once, and the heap holds one head per list instead of every candidate, so it stays
+// small. Candidates other lists hold for changed charts are skipped as the lists advance. The
+// live candidates are distinct and totally ordered by Candidate::operator>, and a stale one
+// never becomes live again, so pops come in exactly the order of one heap of all candidates.
+class MergeQueue {
+public:
+    explicit MergeQueue(size_t charts) : lists_(charts), gen_(charts, 0) {}
+
+    // Replaces chart c's list by `candidates` (any order).
+    template <class Valid>
+    void relist(uint32_t c, std::vector<Candidate> candidates, const Valid& valid) {
+        std::sort(candidates.begin(), candidates.end(), std::greater<Candidate>());  // cheapest last
+        lists_[c] = std::move(candidates);
+        ++gen_[c];
+        pushHead(c, valid);
+    }
+
+    // The cheapest live candidate; false when none is left.
+    template <class Valid>
+    bool pop(Candidate& out, const Valid& valid) {
+        while (!heap_.empty()) {
+            std::pop_heap(heap_.begin(), heap_.end(), std::greater<Head>());
+            const Head h = heap_.back();
+            heap_.pop_back();
+            if (h.gen != gen_[h.chart]) continue;  // that list was replaced
+            lists_[h.chart].pop_back();
+            pushHead(h.chart, valid);
+            if (valid(h.cand)) {
+                out = h.cand;
+                return true;
+            }
+        }
+        return false;
+    }
+
+private:
+    struct Head {
+        Candidate cand;
+        uint32_t chart, gen;
+        bool operator>(const Head& o) const { return cand > o.cand; }
+    };
+    // Drops c's stale candidates from its cheap end and queues the first live one.
+    template <class Valid>
+    void pushHead(uint32_t c, const Valid& valid) {
+        std::vector<Candidate>& l = lists_[c];
+        while (!l.empty() && !valid(l.back())) l.pop_back();
+        if (l.empty()) return;
+        heap_.push_back({l.back(), c, gen_[c]});
+        std::push_heap(heap_.begin(), heap_.end(), std::greater<Head>());
+    }
+
+    std::vector<std::vector<Candidate>> lists_;  // per chart, dearest first
+    std::vector<uint32_t> gen_;
+    std::vector<Head> heap_;
+};
+
 }  // namespace
 
 bool isDisk(const TriMesh& mesh, const std::vector<uint32_t>& faces) {
-    return SetMeasurer(mesh).measure(faces, 0, 1, false).disk;
+    return SetMeasurer(mesh, groupEdges(mesh.triangles)).measure(faces, 0, 1, false).disk;
 }
 
 ChartResult buildCharts(const TriMesh& mesh, const std::vector<uint32_t>& faceRegion, const ChartOptions& options) {
@@ -366,7 +496,8 @@ ChartResult buildCharts(const TriMesh& mesh, const std::vector<uint32_t>& faceRe
     ChartResult result;
     result.faceChart.assign(nf, -1);
     if (nf == 0) return result;
-    const CompressedRows adj = faceNeighbours(mesh.triangles);  // across welded edges, non-manifold ones too
+    const EdgeGroups edges = groupEdges(mesh.triangles);
+    const CompressedRows adj = faceNeighbours(edges, nf);  // across welded edges, non-manifold ones too
     double totalArea = 0;
     for (uint32_t f = 0; f < nf; ++f) totalArea += length(faceNormalArea(mesh, f));
     const double diagonal = bounds(mesh).diagonal();
@@ -382,7 +513,7 @@ ChartResult buildCharts(const TriMesh& mesh, const std::vector<uint32_t>& faceRe
     }
     result.baseRegions = uint32_t(regions.size());
     std::vector<int32_t> mark(nf, -1);
-    SetMeasurer measurer(mesh);
+    SetMeasurer measurer(mesh, edges);
     std::vector<Chart> charts;
     for (auto& [rep, faces] : regions) {
         std::vector<std::vector<uint32_t>> work = components(adj, faces, mark, 1);
@@ -412,8 +543,19 @@ ChartResult buildCharts(const TriMesh& mesh, const std::vector<uint32_t>& faceRe
     std::vector<uint32_t> faceOwner(nf, UINT32_MAX);
     for (uint32_t c = 0; c < charts.size(); ++c)
         for (uint32_t f : charts[c].faces) faceOwner[f] = c;
-    auto neighbours = [&](uint32_t c) {
-        std::vector<uint32_t> out;
+    // Neighbour charts, kept per chart across merges: a merged chart's neighbours are the union of
+    // its two parts' lists, and ids of charts merged away since a list was written resolve to the
+    // chart that absorbed them. This replaces a walk over every face's adjacency after each merge
+    // (a face of coincident copies has hundreds of neighbours).
+    std::vector<uint32_t> absorbedBy(charts.size());
+    for (uint32_t c = 0; c < charts.size(); ++c) absorbedBy[c] = c;
+    auto owner = [&](uint32_t c) {
+        while (absorbedBy[c] != c) c = absorbedBy[c] = absorbedBy[absorbedBy[c]];
+        return c;
+    };
+    std::vector<std::vector<uint32_t>> chartNeighbours(charts.size());
+    for (uint32_t c = 0; c < charts.size(); ++c) {
+        std::vector<uint32_t>& out = chartNeighbours[c];
         for (uint32_t f : charts[c].faces)
             for (uint32_t k = adj.offsets[f]; k < adj.offsets[f + 1]; ++k) {
                 uint32_t o = faceOwner[adj.items[k]];
@@ -421,6 +563,14 @@ ChartResult buildCharts(const TriMesh& mesh, const std::vector<uint32_t>& faceRe
             }
         std::sort(out.begin(), out.end());
         out.erase(std::unique(out.begin(), out.end()), out.end());
+    }
+    // Resolves chart c's list to current charts, sorted and without c.
+    auto neighbours = [&](uint32_t c) -> const std::vector<uint32_t>& {
+        std::vector<uint32_t>& out = chartNeighbours[c];
+        for (uint32_t& o : out) o = owner(o);
+        std::sort(out.begin(), out.end());
+        out.erase(std::unique(out.begin(), out.end()), out.end());
+        out.erase(std::remove(out.begin(), out.end(), c), out.end());
         return out;
     };
     auto mergedFaces = [&](uint32_t a, uint32_t b) {
@@ -432,8 +582,14 @@ ChartResult buildCharts(const TriMesh& mesh, const std::vector<uint32_t>& faceRe
     };
     size_t alive = charts.size();
     std::vector<uint32_t> merged;  // scratch: the face list of the candidate merge being measured
+    ShapeMemo memo(mesh);
+    const bool useMemo = memo.worthwhile();
     auto runPhase = [&](bool relaxed) {
-        std::priority_queue<Candidate, std::vector<Candidate>, std::greater<Candidate>> heap;
+        MergeQueue queue(charts.size());
+        auto valid = [&](const Candidate& c) {
+            return charts[c.a].alive && charts[c.b].alive && charts[c.a].version == c.va && charts[c.b].version == c.vb;
+        };
+        std::vector<Candidate> batch;  // the candidates of the chart being (re)listed
         auto push = [&](uint32_t a, uint32_t b) {
             if (a > b) std::swap(a, b);
             merged.clear();
@@ -441,32 +597,41 @@ ChartResult buildCharts(const TriMesh& mesh, const std::vector<uint32_t>& faceRe
                        std::back_inserter(merged));
             // The relaxed phase ignores the normal-cone and E_region limits, never the disk rule.
             const ShapeLimits limits = relaxed ? ShapeLimits{} : ShapeLimits{options.maxNormalConeDegrees, options.maxRegionEnergy};
-            Shape s = measurer.measure(merged, totalArea, diagonal, true, limits);
+            auto measure = [&] { return measurer.measure(merged, totalArea, diagonal, true, limits); };
+            const Shape s = useMemo ? memo.shape(merged, measure) : measure();
             if (s.overLimits || !s.disk) return;
-            heap.push({s.energy, a, b, charts[a].version, charts[b].version});
+            batch.push_back({s.energy, a, b, charts[a].version, charts[b].version});
         };
-        for (uint32_t c = 0; c < charts.size(); ++c)
-            if (charts[c].alive)
-                for (uint32_t o : neighbours(c))
-                    if (o > c) push(c, o);
-        while (!heap.empty()) {
-            if (options.maxCharts > 0 && alive <= options.maxCharts) break;
-            Candidate cand = heap.top();
-            heap.pop();
+        for (uint32_t c = 0; c < charts.size(); ++c) {
+            if (!charts[c].alive) continue;
+            batch.clear();
+            for (uint32_t o : neighbours(c))
+                if (o > c) push(c, o);
+            queue.relist(c, batch, valid);
+        }
+        Candidate cand;
+        while (!(options.maxCharts > 0 && alive <= options.maxCharts) && queue.pop(cand, valid)) {
             Chart& A = charts[cand.a];
             Chart& B = charts[cand.b];
-            if (!A.alive || !B.alive || A.version != cand.va || B.version != cand.vb) continue;
             A.faces = mergedFaces(cand.a, cand.b);
-            for (uint32_t f : B.faces) faceOwner[f] = cand.a;
             B.faces.clear();
+            absorbedBy[cand.b] = cand.a;
+            std::vector<uint32_t>& na = chartNeighbours[cand.a];
+            na.insert(na.end(), chartNeighbours[cand.b].begin(), chartNeighbours[cand.b].end());
+            std::vector<uint32_t>().swap(chartNeighbours[cand.b]);
             B.alive = false;
             ++A.version;
             --alive;
             ++result.merges;
+            // Every listed candidate of A or B is stale now: B's list goes, A's is rebuilt.
+            queue.relist(cand.b, {}, valid);
+            batch.clear();
             for (uint32_t o : neighbours(cand.a)) push(cand.a, o);
+            queue.relist(cand.a, batch, valid);
         }
     };
     runPhase(false);
+    memo.clear();  // its shapes were measured against the first phase's limits
     if (options.maxCharts > 0 && alive > options.maxCharts) runPhase(true);
 
     // (4) Dense ids by smallest face; degenerate faces join a chart sharing a vertex.

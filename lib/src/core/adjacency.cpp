@@ -46,9 +46,10 @@ EdgeGroups groupEdges(const std::vector<Tri>& triangles) {
     return g;
 }
 
-CompressedRows faceNeighbours(const std::vector<Tri>& triangles) {
-    const EdgeGroups g = groupEdges(triangles);
-    std::vector<std::vector<uint32_t>> nb(triangles.size());
+CompressedRows faceNeighbours(const std::vector<Tri>& triangles) { return faceNeighbours(groupEdges(triangles), triangles.size()); }
+
+CompressedRows faceNeighbours(const EdgeGroups& g, size_t faceCount) {
+    std::vector<std::vector<uint32_t>> nb(faceCount);
     for (size_t e = 0; e < g.keys.size(); ++e)
         for (const uint32_t* a = g.halfEdges.begin(e); a != g.halfEdges.end(e); ++a)
             for (const uint32_t* b = g.halfEdges.begin(e); b != g.halfEdges.end(e); ++b)

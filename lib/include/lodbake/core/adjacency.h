@@ -41,6 +41,8 @@ EdgeGroups groupEdges(const std::vector<Tri>& triangles);
 // Faces sharing an undirected edge with each face (every face of a non-manifold edge counts),
 // sorted and without repeats; degenerate faces have none.
 CompressedRows faceNeighbours(const std::vector<Tri>& triangles);
+// The same from groupEdges(triangles) of `faceCount` triangles.
+CompressedRows faceNeighbours(const EdgeGroups& groups, size_t faceCount);
 
 // The faces using each vertex, in face order (a face that repeats a vertex is listed once per
 // corner).
