@@ -26,8 +26,9 @@
 //      no gutter along the page border (the samplers clamp to the edge); the search skips rows
 //      whose longest free run is shorter than the chart's row needs (past every position a page
 //      row too full for any of the chart's rows rules out), and jumps over a whole occupied
-//      stretch on a collision, first testing the footprint's core rectangle against the union of
-//      its rows (a set texel there is a collision, and the union's stretches are the longest);
+//      stretch on a collision, testing the footprint as rectangular blocks of up to 16 rows,
+//      each against the union of its rows (a set texel there is a collision, and the union's
+//      stretches are the longest);
 //   4. placeCharts: the affine UV -> texel map of each chart (placementFor); utilisation figures.
 #include "lodbake/atlas/atlas.h"
 

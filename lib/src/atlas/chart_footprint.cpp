@@ -170,37 +170,56 @@ void growByRadius(std::vector<uint8_t>& mask, int gw, int gh, int radius) {
     }
 }
 
-// The footprint's core (Footprint::coreTop...): for each row as the rectangle's last, the largest
-// rectangle under the histogram of occupied cells ending there (a stack of rising columns), its
-// height capped at kCoreRows. Ties keep the first found (lowest last row, then leftmost).
-void coreRectangle(Footprint& f) {
-    std::vector<int> height(size_t(f.w), 0);
-    std::vector<uint8_t> on(size_t(f.w), 0);
-    std::vector<int> stack;
-    long best = 0;
-    for (int y = 0; y < f.h; ++y) {
-        std::fill(on.begin(), on.end(), uint8_t(0));
-        for (const auto& [a, b] : f.rows[size_t(y)]) std::fill(on.begin() + a, on.begin() + b + 1, uint8_t(1));
-        for (int x = 0; x < f.w; ++x) height[size_t(x)] = on[size_t(x)] ? std::min(kCoreRows, height[size_t(x)] + 1) : 0;
-        stack.clear();
-        for (int x = 0; x <= f.w; ++x) {
-            const int hx = x < f.w ? height[size_t(x)] : 0;
-            while (!stack.empty() && height[size_t(stack.back())] >= hx) {
-                const int top = height[size_t(stack.back())];
-                stack.pop_back();
-                const int left = stack.empty() ? 0 : stack.back() + 1;
-                const long area = long(top) * (x - left);
-                if (area > best) {
-                    best = area;
-                    f.coreTop = y - top + 1;
-                    f.coreRows = top;
-                    f.coreA = left;
-                    f.coreB = x - 1;
-                }
-            }
-            stack.push_back(x);
-        }
+using Runs = std::vector<std::pair<int, int>>;
+
+// The cells in both run lists.
+Runs intersect(const Runs& p, const Runs& q) {
+    Runs out;
+    for (size_t i = 0, j = 0; i < p.size() && j < q.size();) {
+        const int a = std::max(p[i].first, q[j].first), b = std::min(p[i].second, q[j].second);
+        if (a <= b) out.push_back({a, b});
+        (p[i].second < q[j].second ? i : j)++;
     }
+    return out;
+}
+
+// The cells of p not in q.
+Runs subtract(const Runs& p, const Runs& q) {
+    Runs out;
+    size_t j = 0;
+    for (auto [a, b] : p) {
+        while (j < q.size() && q[j].second < a) ++j;
+        for (size_t k = j; k < q.size() && q[k].first <= b && a <= b; ++k) {
+            if (q[k].first > a) out.push_back({a, q[k].first - 1});
+            a = std::max(a, q[k].second + 1);
+        }
+        if (a <= b) out.push_back({a, b});
+    }
+    return out;
+}
+
+// The blocks of the band of rows [s, s + n) (clipped to the footprint): the cells every row of
+// it occupies, less those of its enclosing band's (`outer`, which its blocks took), then its two
+// halves' blocks.
+void coverBand(Footprint& f, int s, int n, const Runs& outer) {
+    const int m = std::min(n, f.h - s);
+    Runs all = f.rows[size_t(s)];
+    for (int i = 1; i < m; ++i) all = intersect(all, f.rows[size_t(s + i)]);
+    int level = 0;
+    while ((2 << level) <= m) ++level;
+    for (const auto& [a, b] : subtract(all, outer)) f.blocks.push_back({s, m, a, b, level});
+    if (n == 1) return;
+    coverBand(f, s, n / 2, all);
+    if (s + n / 2 < f.h) coverBand(f, s + n / 2, n / 2, all);
+}
+
+// Footprint::blocks, largest first (ties: in the order the bands are visited).
+void coverBlocks(Footprint& f) {
+    f.blocks.clear();
+    for (int s = 0; s < f.h; s += kBlockRows) coverBand(f, s, kBlockRows, {});
+    std::stable_sort(f.blocks.begin(), f.blocks.end(), [](const Footprint::Block& p, const Footprint::Block& q) {
+        return long(p.rows) * (p.b - p.a + 1) > long(q.rows) * (q.b - q.a + 1);
+    });
 }
 
 }  // namespace
@@ -315,12 +334,7 @@ Footprint rotatedFootprint(const std::vector<uint8_t>& mask, int gw, int gh, int
         f.leastCells = *std::min_element(f.rowCells.begin(), f.rowCells.end());
         f.leastLongest = *std::min_element(f.rowLongest.begin(), f.rowLongest.end());
     }
-    coreRectangle(f);
-    // Rows with the longest runs collide most often: tested first, they end a failed position's
-    // test sooner and jump further (any order finds the same position).
-    f.testOrder.resize(size_t(f.h));
-    std::iota(f.testOrder.begin(), f.testOrder.end(), 0);
-    std::stable_sort(f.testOrder.begin(), f.testOrder.end(), [&](int a, int b) { return f.rowLongest[size_t(a)] > f.rowLongest[size_t(b)]; });
+    coverBlocks(f);
     return f;
 }
 

@@ -50,15 +50,20 @@ struct Footprint {
     std::vector<int> rowLongest;                       // longest run per row
     double centroidRow = 0;                            // mean row of the occupied texels
     int leastCells = 0, leastLongest = 0;              // smallest rowCells and rowLongest
-    std::vector<int> testOrder;                        // rows, longest run first (ties: lower row first)
-    // A rectangle of occupied cells inside the footprint (the largest by area, at most
-    // kCoreRows rows): rows [coreTop, coreTop + coreRows), columns [coreA, coreB]; coreRows 0: none.
-    int coreTop = 0, coreRows = 0, coreA = 0, coreB = -1;
+    // Rectangles of occupied cells that cover the occupied cells exactly once, largest first:
+    // rows [top, top + rows), columns [a, b]; `level` = floor(log2 rows) picks BitmapPage's row
+    // unions. Each lies within a band of kBlockRows rows, 2^k-aligned from row 0, halved down to
+    // single rows: a band's block holds the columns all its rows occupy that the enclosing band's
+    // blocks do not.
+    struct Block {
+        int top = 0, rows = 1, a = 0, b = 0, level = 0;
+    };
+    std::vector<Block> blocks;
 };
 
-// The most rows a footprint's core rectangle spans (BitmapPage keeps the union of up to this many
+// The most rows a footprint's block spans (BitmapPage keeps the union of up to this many
 // consecutive rows).
-constexpr int kCoreRows = 16;
+constexpr int kBlockRows = 16;
 
 // The chart rasterised in its oriented frame at density t: cells [pad, pad + ceil(w t)) hold the
 // chart, pad = radius cells on each side hold its half of the gutter.
