@@ -9,9 +9,9 @@
 // Pipeline of packAtlas:
 //   1. chartOrientations: convex hull of each chart's UV points, minimum-area bounding rectangle;
 //      chartOrders: the chart orders tried;
-//   2. footprintsAt: chartMask rasterises each chart (conservatively) at the density and grows it
-//      by the gutter radius; the four quarter turns of the (block-rounded) mask, computed once per
-//      density and shared by every page tried;
+//   2. footprintsAt: chartRuns rasterises each chart (conservatively, as runs of cells per row)
+//      at the density and grows it by the gutter radius; the four quarter turns of its
+//      block-rounded cells, computed once per density and shared by every page tried;
 //   3. page size and density: packFreeSize runs packBitmap at the density limit into twenty strip
 //      widths (five for very many charts), three sorted chart orders plus eight shuffled ones (at
 //      most 32 charts) and two placement rules (smallest page wins; the trials run on

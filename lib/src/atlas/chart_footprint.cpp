@@ -132,42 +132,36 @@ private:
     std::array<Axis, 3> axes_;
 };
 
-// Sets every cell within `radius` cells (a square: the max filter along rows, then along columns)
-// of a set cell. Each pass tracks the nearest set cell before and after, so it costs the grid's
-// cells whatever the radius.
-void growByRadius(std::vector<uint8_t>& mask, int gw, int gh, int radius) {
-    constexpr int kFar = std::numeric_limits<int>::max() / 4;
-    std::vector<uint8_t> rows(mask.size(), 0);
-    for (int y = 0; y < gh; ++y) {
-        const uint8_t* in = &mask[size_t(y) * size_t(gw)];
-        uint8_t* out = &rows[size_t(y) * size_t(gw)];
-        for (int x = 0, last = -kFar; x < gw; ++x) {
-            if (in[x]) last = x;
-            out[x] = x - last <= radius;
-        }
-        for (int x = gw - 1, next = kFar; x >= 0; --x) {
-            if (in[x]) next = x;
-            out[x] |= next - x <= radius;
-        }
+// Sorts the runs [begin, end) and appends their union to `out` (touching runs join).
+void appendUnion(std::vector<std::pair<int, int>>& out, std::pair<int, int>* begin, std::pair<int, int>* end) {
+    std::sort(begin, end);
+    const size_t start = out.size();
+    for (auto* r = begin; r != end; ++r) {
+        if (out.size() > start && r->first <= out.back().second + 1) out.back().second = std::max(out.back().second, r->second);
+        else out.push_back(*r);
     }
-    std::vector<int> near(size_t(gw), -kFar);  // per column: the last set row seen
-    for (int y = 0; y < gh; ++y) {
-        const uint8_t* in = &rows[size_t(y) * size_t(gw)];
-        uint8_t* out = &mask[size_t(y) * size_t(gw)];
-        for (int x = 0; x < gw; ++x) {
-            if (in[x]) near[size_t(x)] = y;
-            out[x] = y - near[size_t(x)] <= radius;
-        }
+}
+
+// Every cell within `radius` cells (a square) of an occupied one: each row's runs widened by the
+// radius, then per row the union of the widened rows within the radius.
+RowRuns growByRadius(const RowRuns& in, int radius) {
+    RowRuns wide = in;
+    for (auto& [a, b] : wide.runs) {
+        a = std::max(0, a - radius);
+        b = std::min(in.w - 1, b + radius);
     }
-    std::fill(near.begin(), near.end(), kFar);  // per column: the next set row seen
-    for (int y = gh - 1; y >= 0; --y) {
-        const uint8_t* in = &rows[size_t(y) * size_t(gw)];
-        uint8_t* out = &mask[size_t(y) * size_t(gw)];
-        for (int x = 0; x < gw; ++x) {
-            if (in[x]) near[size_t(x)] = y;
-            out[x] |= near[size_t(x)] - y <= radius;
-        }
+    RowRuns out;
+    out.w = in.w;
+    out.h = in.h;
+    out.first.assign(1, 0);
+    std::vector<std::pair<int, int>> near;
+    for (int y = 0; y < in.h; ++y) {
+        near.assign(wide.runs.begin() + long(wide.first[size_t(std::max(0, y - radius))]),
+                    wide.runs.begin() + long(wide.first[size_t(std::min(in.h, y + radius + 1))]));
+        appendUnion(out.runs, near.data(), near.data() + near.size());
+        out.first.push_back(out.runs.size());
     }
+    return out;
 }
 
 using Runs = std::vector<std::pair<int, int>>;
@@ -247,17 +241,26 @@ std::vector<Oriented> chartOrientations(const AtlasChart& chart, bool aligned) {
     return {frameAt(chart, hull, bestC, bestS)};
 }
 
-std::vector<uint8_t> chartMask(const Oriented& c, double t, int radius, int& gw, int& gh, size_t* rasterCells) {
-    gw = texels(c.w, t) + 2 * radius;
-    gh = texels(c.h, t) + 2 * radius;
-    std::vector<uint8_t> mask(size_t(gw) * size_t(gh), 0);
+size_t RowRuns::cells() const {
+    size_t n = 0;
+    for (const auto& [a, b] : runs) n += size_t(b - a + 1);
+    return n;
+}
+
+RowRuns chartRuns(const Oriented& c, double t, int radius, size_t* rasterCells) {
+    const int gw = texels(c.w, t) + 2 * radius, gh = texels(c.h, t) + 2 * radius;
+    // Each triangle's cells as one span per row it touches (its corners' cells always show).
+    struct Span {
+        int y, a, b;
+    };
+    std::vector<Span> spans;
     auto mark = [&](int x, int y) {
-        if (x >= 0 && y >= 0 && x < gw && y < gh) mask[size_t(y) * size_t(gw) + size_t(x)] = 1;
+        if (x >= 0 && y >= 0 && x < gw && y < gh) spans.push_back({y, x, x});
     };
     auto toGrid = [&](Vec2 p) { return Vec2{p.x * t + radius, p.y * t + radius}; };
     for (const std::array<Vec2, 3>& tri : c.triangles) {
         std::array<Vec2, 3> q{toGrid(tri[0]), toGrid(tri[1]), toGrid(tri[2])};
-        for (const Vec2& v : q) mark(int(std::floor(v.x)), int(std::floor(v.y)));  // corners always show
+        for (const Vec2& v : q) mark(int(std::floor(v.x)), int(std::floor(v.y)));
         if (std::abs(cross(q[1] - q[0], q[2] - q[0])) < 1e-12) continue;
         int x0 = std::max(0, int(std::floor(std::min({q[0].x, q[1].x, q[2].x}))));
         int x1 = std::min(gw - 1, int(std::floor(std::max({q[0].x, q[1].x, q[2].x}))));
@@ -265,12 +268,39 @@ std::vector<uint8_t> chartMask(const Oriented& c, double t, int radius, int& gw,
         int y1 = std::min(gh - 1, int(std::floor(std::max({q[0].y, q[1].y, q[2].y}))));
         const TriangleCellTest test(q);
         for (int y = y0, a = 0, b = 0; y <= y1; ++y)
-            if (test.span(y, x0, x1, a, b)) std::fill_n(&mask[size_t(y) * size_t(gw) + size_t(a)], b - a + 1, uint8_t(1));
+            if (test.span(y, x0, x1, a, b)) spans.push_back({y, a, b});
     }
-    if (rasterCells) *rasterCells = size_t(std::count(mask.begin(), mask.end(), uint8_t(1)));
-    // Grow by the gutter radius (a square, separable max filter): two footprints that do not
-    // overlap keep their charts 2 * radius texels apart.
-    if (radius > 0) growByRadius(mask, gw, gh, radius);
+    // Bucketed by row, each row's union.
+    RowRuns raster;
+    raster.w = gw;
+    raster.h = gh;
+    std::vector<size_t> start(size_t(gh) + 1, 0);
+    for (const Span& sp : spans) ++start[size_t(sp.y) + 1];
+    for (size_t y = 0; y < size_t(gh); ++y) start[y + 1] += start[y];
+    std::vector<std::pair<int, int>> byRow(spans.size());
+    {
+        std::vector<size_t> at(start.begin(), start.end() - 1);
+        for (const Span& sp : spans) byRow[at[size_t(sp.y)]++] = {sp.a, sp.b};
+    }
+    raster.first.assign(1, 0);
+    for (size_t y = 0; y < size_t(gh); ++y) {
+        appendUnion(raster.runs, byRow.data() + start[y], byRow.data() + start[y + 1]);
+        raster.first.push_back(raster.runs.size());
+    }
+    if (rasterCells) *rasterCells = raster.cells();
+    // Grown by the gutter radius: two footprints that do not overlap keep their charts 2 * radius
+    // texels apart.
+    return radius > 0 ? growByRadius(raster, radius) : raster;
+}
+
+std::vector<uint8_t> chartMask(const Oriented& c, double t, int radius, int& gw, int& gh, size_t* rasterCells) {
+    const RowRuns cells = chartRuns(c, t, radius, rasterCells);
+    gw = cells.w;
+    gh = cells.h;
+    std::vector<uint8_t> mask(size_t(gw) * size_t(gh), 0);
+    for (size_t y = 0; y < size_t(gh); ++y)
+        for (size_t k = cells.first[y]; k < cells.first[y + 1]; ++k)
+            std::fill_n(&mask[y * size_t(gw) + size_t(cells.runs[k].first)], cells.runs[k].second - cells.runs[k].first + 1, uint8_t(1));
     return mask;
 }
 
@@ -294,38 +324,31 @@ std::array<double, 6> placementFor(const Oriented& c, const Slot& s, double t, i
     return m;
 }
 
-Footprint rotatedFootprint(const std::vector<uint8_t>& mask, int gw, int gh, int rotation) {
-    Footprint f;
-    f.w = rotation % 2 ? gh : gw;
-    f.h = rotation % 2 ? gw : gh;
-    f.rows.resize(size_t(f.h));
-    f.rowCells.assign(size_t(f.h), 0);
-    f.rowLongest.assign(size_t(f.h), 0);
-    auto at = [&](int x, int y) -> bool {  // (x, y) in the rotated grid -> source cell
-        int sx = x, sy = y;
-        switch (rotation) {
-            case 1: sx = y; sy = gh - 1 - x; break;
-            case 2: sx = gw - 1 - x; sy = gh - 1 - y; break;
-            case 3: sx = gw - 1 - y; sy = x; break;
-            default: break;
-        }
-        return mask[size_t(sy) * size_t(gw) + size_t(sx)] != 0;
-    };
-    for (int y = 0; y < f.h; ++y) {
-        int start = -1;
-        for (int x = 0; x <= f.w; ++x) {
-            bool on = x < f.w && at(x, y);
-            if (on && start < 0) start = x;
-            if (!on && start >= 0) {
-                f.rows[size_t(y)].push_back({start, x - 1});
-                f.rowCells[size_t(y)] += x - start;
-                f.rowLongest[size_t(y)] = std::max(f.rowLongest[size_t(y)], x - start);
-                start = -1;
-            }
+namespace {
+
+// The runs of a line of cells, `on(i)` for i in [0, n).
+template <class On>
+void lineRuns(int n, On&& on, std::vector<std::pair<int, int>>& out) {
+    for (int i = 0, start = -1; i <= n; ++i) {
+        const bool set = i < n && on(i);
+        if (set && start < 0) start = i;
+        if (!set && start >= 0) {
+            out.push_back({start, i - 1});
+            start = -1;
         }
     }
+}
+
+// The per-row figures, order and blocks of a footprint whose rows are set.
+void finishFootprint(Footprint& f) {
+    f.rowCells.assign(size_t(f.h), 0);
+    f.rowLongest.assign(size_t(f.h), 0);
     double cells = 0, moment = 0;
     for (int y = 0; y < f.h; ++y) {
+        for (const auto& [a, b] : f.rows[size_t(y)]) {
+            f.rowCells[size_t(y)] += b - a + 1;
+            f.rowLongest[size_t(y)] = std::max(f.rowLongest[size_t(y)], b - a + 1);
+        }
         cells += f.rowCells[size_t(y)];
         moment += f.rowCells[size_t(y)] * (y + 0.5);
     }
@@ -335,17 +358,76 @@ Footprint rotatedFootprint(const std::vector<uint8_t>& mask, int gw, int gh, int
         f.leastLongest = *std::min_element(f.rowLongest.begin(), f.rowLongest.end());
     }
     coverBlocks(f);
+}
+
+}  // namespace
+
+Footprint rotatedFootprint(const RowRuns& cells, int rotation) {
+    const int gw = cells.w, gh = cells.h;
+    Footprint f;
+    f.w = rotation % 2 ? gh : gw;
+    f.h = rotation % 2 ? gw : gh;
+    f.rows.resize(size_t(f.h));
+    auto runsOf = [&](int y) { return std::make_pair(cells.runs.begin() + long(cells.first[size_t(y)]), cells.runs.begin() + long(cells.first[size_t(y) + 1])); };
+    if (rotation == 0 || rotation == 2) {
+        for (int y = 0; y < f.h; ++y) {
+            auto& row = f.rows[size_t(y)];
+            if (rotation == 0) {
+                const auto [b, e] = runsOf(y);
+                row.assign(b, e);
+            } else {  // row gh-1-y mirrored
+                const auto [b, e] = runsOf(gh - 1 - y);
+                for (auto r = e; r != b;) {
+                    --r;
+                    row.push_back({gw - 1 - r->second, gw - 1 - r->first});
+                }
+            }
+        }
+    } else {
+        // The grid's columns as rows: column sx, cell sy at [sx * gh + sy].
+        std::vector<uint8_t> columns(size_t(gw) * size_t(gh), 0);
+        for (int y = 0; y < gh; ++y) {
+            const auto [b, e] = runsOf(y);
+            for (auto r = b; r != e; ++r)
+                for (int x = r->first; x <= r->second; ++x) columns[size_t(x) * size_t(gh) + size_t(y)] = 1;
+        }
+        for (int y = 0; y < f.h; ++y) {
+            // One turn: row y is column y from its last cell; three: column gw-1-y from its first.
+            const uint8_t* col = &columns[size_t(rotation == 1 ? y : gw - 1 - y) * size_t(gh)];
+            if (rotation == 1) lineRuns(f.w, [&](int x) { return col[gh - 1 - x] != 0; }, f.rows[size_t(y)]);
+            else lineRuns(f.w, [&](int x) { return col[x] != 0; }, f.rows[size_t(y)]);
+        }
+    }
+    finishFootprint(f);
     return f;
 }
 
-std::vector<uint8_t> coarsen(const std::vector<uint8_t>& mask, int gw, int gh, int scale, int& cw, int& ch) {
-    cw = (gw + scale - 1) / scale;
-    ch = (gh + scale - 1) / scale;
-    if (scale == 1) return mask;
-    std::vector<uint8_t> out(size_t(cw) * size_t(ch), 0);
-    for (int y = 0; y < gh; ++y)
-        for (int x = 0; x < gw; ++x)
-            if (mask[size_t(y) * size_t(gw) + size_t(x)]) out[size_t(y / scale) * size_t(cw) + size_t(x / scale)] = 1;
+Footprint rotatedFootprint(const std::vector<uint8_t>& mask, int gw, int gh, int rotation) {
+    RowRuns cells;
+    cells.w = gw;
+    cells.h = gh;
+    cells.first.assign(1, 0);
+    for (int y = 0; y < gh; ++y) {
+        lineRuns(gw, [&](int x) { return mask[size_t(y) * size_t(gw) + size_t(x)] != 0; }, cells.runs);
+        cells.first.push_back(cells.runs.size());
+    }
+    return rotatedFootprint(cells, rotation);
+}
+
+RowRuns coarsen(const RowRuns& cells, int scale) {
+    if (scale == 1) return cells;
+    RowRuns out;
+    out.w = (cells.w + scale - 1) / scale;
+    out.h = (cells.h + scale - 1) / scale;
+    out.first.assign(1, 0);
+    std::vector<std::pair<int, int>> block;
+    for (int cy = 0; cy < out.h; ++cy) {
+        block.clear();
+        for (size_t k = cells.first[size_t(cy * scale)]; k < cells.first[size_t(std::min(cells.h, cy * scale + scale))]; ++k)
+            block.push_back({cells.runs[k].first / scale, cells.runs[k].second / scale});
+        appendUnion(out.runs, block.data(), block.data() + block.size());
+        out.first.push_back(out.runs.size());
+    }
     return out;
 }
 
@@ -356,12 +438,16 @@ namespace {
 ChartFootprints orientedFootprints(const Oriented& o, const Footprints& fp, ChartFootprints* twiceCoarser) {
     ChartFootprints c;
     c.turns = o.turns;
-    std::vector<uint8_t> fine = chartMask(o, fp.t, fp.radius, c.gw, c.gh, &c.raster);
-    c.footprint = size_t(std::count(fine.begin(), fine.end(), uint8_t(1)));
+    const RowRuns fine = chartRuns(o, fp.t, fp.radius, &c.raster);
+    c.gw = fine.w;
+    c.gh = fine.h;
+    c.footprint = fine.cells();
     auto blocks = [&](ChartFootprints& into, int s) {
-        std::vector<uint8_t> mask = coarsen(fine, into.gw, into.gh, s, into.cw, into.ch);
+        const RowRuns cells = coarsen(fine, s);
+        into.cw = cells.w;
+        into.ch = cells.h;
         // Only the quarter turns the placement tries (texel-aligned charts: none).
-        for (int rot = 0; rot < into.turns; ++rot) into.rot[size_t(rot)] = rotatedFootprint(mask, into.cw, into.ch, rot);
+        for (int rot = 0; rot < into.turns; ++rot) into.rot[size_t(rot)] = rotatedFootprint(cells, rot);
     };
     if (twiceCoarser) {
         *twiceCoarser = c;

@@ -65,8 +65,20 @@ struct Footprint {
 // consecutive rows).
 constexpr int kBlockRows = 16;
 
+// The occupied cells of a w x h grid, row by row: runs [a, b] sorted, disjoint and not touching.
+struct RowRuns {
+    int w = 0, h = 0;
+    std::vector<size_t> first;                 // row y's runs are runs[first[y], first[y + 1])
+    std::vector<std::pair<int, int>> runs;
+    size_t cells() const;
+};
+
 // The chart rasterised in its oriented frame at density t: cells [pad, pad + ceil(w t)) hold the
-// chart, pad = radius cells on each side hold its half of the gutter.
+// chart, pad = radius cells on each side hold its half of the gutter (the raster grown by a
+// square of that radius). `rasterCells`, when given, receives the raster's cells before growing.
+RowRuns chartRuns(const Oriented& c, double t, int radius, size_t* rasterCells = nullptr);
+
+// The same as one byte per cell (row-major, 1 = occupied).
 std::vector<uint8_t> chartMask(const Oriented& c, double t, int radius, int& gw, int& gh, size_t* rasterCells = nullptr);
 
 // Where a chart lies on the page: its orientation, quarter turn and grid, the turned grid's offset.
@@ -80,12 +92,14 @@ struct Slot {
 // turn, page offset.
 std::array<double, 6> placementFor(const Oriented& c, const Slot& s, double t, int radius);
 
-// Quarter turns of the grid (counter-clockwise in texel space, determinant +1). Cell (x, y) of a
-// gw x gh grid goes to rotateCell(...); continuous points use placementFor's matching formulas.
+// Quarter turns of the grid (counter-clockwise in texel space, determinant +1): cell (x, y) of
+// the turned grid is cell (y, gh-1-x) of the gw x gh grid at one turn, (gw-1-x, gh-1-y) at two,
+// (gw-1-y, x) at three; continuous points use placementFor's matching formulas.
+Footprint rotatedFootprint(const RowRuns& cells, int rotation);
 Footprint rotatedFootprint(const std::vector<uint8_t>& mask, int gw, int gh, int rotation);
 
-// The mask on a grid `scale` times coarser: a coarse cell is set when any of its cells is.
-std::vector<uint8_t> coarsen(const std::vector<uint8_t>& mask, int gw, int gh, int scale, int& cw, int& ch);
+// The cells on a grid `scale` times coarser: a coarse cell is occupied when any of its cells is.
+RowRuns coarsen(const RowRuns& cells, int scale);
 
 // Every chart's footprints at one density, gutter and search scale (the four quarter turns of its
 // block-rounded mask), computed once and shared by every page width and order tried.
