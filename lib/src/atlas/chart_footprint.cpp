@@ -85,10 +85,15 @@ public:
     // false when none. Along a row each separation test moves one way (the cell's extent on an
     // axis is monotone in x, in floating point too), so each one cuts the row at one place, found
     // by bisection: the same cells as testing each one, in a few tests per row.
+    // The bisection starts at the cells where the cell's extent reaches the triangle's on the
+    // axis in exact arithmetic (next to where the rounded test changes).
     bool span(int y, int x0, int x1, int& a, int& b) const {
         for (const Axis& ax : axes_) {
             if (ax.skip) continue;
-            if (!narrow(x0, x1, [&](int x) { return !below(ax, x, y); }) || !narrow(x0, x1, [&](int x) { return !above(ax, x, y); }))
+            const double belowEnds = (ax.tMin + ax.margin - ax.n.y * (y + 1 - ax.lowY)) / ax.n.x - (1 - ax.lowX);
+            const double aboveEnds = (ax.tMax - ax.margin - ax.n.y * (y + ax.lowY)) / ax.n.x - ax.lowX;
+            if (!narrow(x0, x1, belowEnds, [&](int x) { return !below(ax, x, y); }) ||
+                !narrow(x0, x1, aboveEnds, [&](int x) { return !above(ax, x, y); }))
                 return false;
         }
         a = x0;
@@ -113,14 +118,24 @@ private:
     static bool below(const Axis& a, int x, int y) { return highest(a, x, y) <= a.tMin + a.margin; }
     static bool above(const Axis& a, int x, int y) { return a.tMax <= lowest(a, x, y) + a.margin; }
     // [x0, x1] narrowed to where `pass` holds, given that it holds on a prefix or a suffix of the
-    // row; false when nowhere.
+    // row; false when nowhere. `guess`: a cell near where it changes (any value, NaN included):
+    // it and its neighbour towards the change are tested first, then the bisection goes on
+    // between the nearest cells on either side.
     template <class Pass>
-    static bool narrow(int& x0, int& x1, Pass&& pass) {
+    static bool narrow(int& x0, int& x1, double guess, Pass&& pass) {
         if (x0 > x1) return false;
         const bool first = pass(x0), last = pass(x1);
         if (first && last) return true;
         if (!first && !last) return false;
         int lo = x0, hi = x1;  // pass(lo) != pass(hi): bisect to the neighbours where it changes
+        auto probe = [&](int x) {
+            if (x > lo && x < hi) (pass(x) == first ? lo : hi) = x;
+        };
+        if (!std::isnan(guess)) {
+            const int g = int(std::clamp(std::floor(guess), double(x0), double(x1)));
+            probe(g);
+            probe(lo == g ? g + 1 : g - 1);
+        }
         while (hi - lo > 1) {
             const int mid = lo + (hi - lo) / 2;
             (pass(mid) == first ? lo : hi) = mid;
@@ -249,13 +264,24 @@ size_t RowRuns::cells() const {
 
 RowRuns chartRuns(const Oriented& c, double t, int radius, size_t* rasterCells) {
     const int gw = texels(c.w, t) + 2 * radius, gh = texels(c.h, t) + 2 * radius;
-    // Each triangle's cells as one span per row it touches (its corners' cells always show).
-    struct Span {
-        int y, a, b;
+    // One bit per cell: each triangle sets its span per row it touches, and its corners' cells
+    // (many small triangles set few cells each, over and over).
+    const size_t words = (size_t(gw) + 63) / 64;
+    std::vector<uint64_t> bits(words * size_t(gh), 0);
+    auto setSpan = [&](int y, int a, int b) {
+        uint64_t* row = &bits[size_t(y) * words];
+        const size_t wa = size_t(a) / 64, wb = size_t(b) / 64;
+        const uint64_t from = ~uint64_t(0) << (a % 64), to = ~uint64_t(0) >> (63 - b % 64);
+        if (wa == wb) {
+            row[wa] |= from & to;
+            return;
+        }
+        row[wa] |= from;
+        for (size_t w = wa + 1; w < wb; ++w) row[w] = ~uint64_t(0);
+        row[wb] |= to;
     };
-    std::vector<Span> spans;
     auto mark = [&](int x, int y) {
-        if (x >= 0 && y >= 0 && x < gw && y < gh) spans.push_back({y, x, x});
+        if (x >= 0 && y >= 0 && x < gw && y < gh) bits[size_t(y) * words + size_t(x) / 64] |= uint64_t(1) << (x % 64);
     };
     auto toGrid = [&](Vec2 p) { return Vec2{p.x * t + radius, p.y * t + radius}; };
     for (const std::array<Vec2, 3>& tri : c.triangles) {
@@ -268,23 +294,31 @@ RowRuns chartRuns(const Oriented& c, double t, int radius, size_t* rasterCells) 
         int y1 = std::min(gh - 1, int(std::floor(std::max({q[0].y, q[1].y, q[2].y}))));
         const TriangleCellTest test(q);
         for (int y = y0, a = 0, b = 0; y <= y1; ++y)
-            if (test.span(y, x0, x1, a, b)) spans.push_back({y, a, b});
+            if (test.span(y, x0, x1, a, b)) setSpan(y, a, b);
     }
-    // Bucketed by row, each row's union.
+    // The set bits' runs, row by row.
     RowRuns raster;
     raster.w = gw;
     raster.h = gh;
-    std::vector<size_t> start(size_t(gh) + 1, 0);
-    for (const Span& sp : spans) ++start[size_t(sp.y) + 1];
-    for (size_t y = 0; y < size_t(gh); ++y) start[y + 1] += start[y];
-    std::vector<std::pair<int, int>> byRow(spans.size());
-    {
-        std::vector<size_t> at(start.begin(), start.end() - 1);
-        for (const Span& sp : spans) byRow[at[size_t(sp.y)]++] = {sp.a, sp.b};
-    }
     raster.first.assign(1, 0);
     for (size_t y = 0; y < size_t(gh); ++y) {
-        appendUnion(raster.runs, byRow.data() + start[y], byRow.data() + start[y + 1]);
+        const uint64_t* row = &bits[y * words];
+        int start = -1;
+        for (size_t w = 0; w < words; ++w) {
+            // Alternate: the next set bit (a run starts), the next clear bit (it ends).
+            for (int pos = 0; pos < 64;) {
+                const uint64_t m = start < 0 ? row[w] : ~row[w];
+                const uint64_t rest = pos == 0 ? m : m & (~uint64_t(0) << pos);
+                if (!rest) break;
+                pos = __builtin_ctzll(rest);
+                if (start < 0) start = int(w * 64) + pos;
+                else {
+                    raster.runs.push_back({start, int(w * 64) + pos - 1});
+                    start = -1;
+                }
+            }
+        }
+        if (start >= 0) raster.runs.push_back({start, gw - 1});  // bits past gw are never set
         raster.first.push_back(raster.runs.size());
     }
     if (rasterCells) *rasterCells = raster.cells();
