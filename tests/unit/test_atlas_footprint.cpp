@@ -104,6 +104,46 @@ TEST(ChartFootprint, MaskMatchesTheCellByCellTest) {
     }
 }
 
+//   ..#....        radius 1:  .###...
+//   .......                   .#####.
+//   ....#..                   ...###.
+TEST(ChartFootprint, GrowthSetsTheSquareAroundEachCell) {
+    std::mt19937 rng(5);
+    for (int trial = 0; trial < 60; ++trial) {
+        const int w = 1 + trial % 29, h = 1 + trial % 41, radius = trial % 7;
+        std::vector<uint8_t> mask(size_t(w) * size_t(h), 0);
+        std::bernoulli_distribution on(0.03 + 0.01 * (trial % 10));
+        for (auto& m : mask) m = on(rng);
+        RowRuns cells;
+        cells.w = w;
+        cells.h = h;
+        cells.first.assign(1, 0);
+        for (int y = 0; y < h; ++y) {
+            for (int x = 0; x < w; ++x)
+                if (mask[size_t(y) * size_t(w) + size_t(x)]) {
+                    if (x > 0 && mask[size_t(y) * size_t(w) + size_t(x) - 1]) cells.runs.back().second = x;
+                    else cells.runs.push_back({x, x});
+                }
+            cells.first.push_back(cells.runs.size());
+        }
+        const RowRuns grown = growByRadius(cells, radius);
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                bool near = false;
+                for (int j = std::max(0, y - radius); j <= std::min(h - 1, y + radius); ++j)
+                    for (int i = std::max(0, x - radius); i <= std::min(w - 1, x + radius); ++i) near = near || mask[size_t(j) * size_t(w) + size_t(i)];
+                bool set = false;
+                for (size_t k = grown.first[size_t(y)]; k < grown.first[size_t(y) + 1]; ++k)
+                    set = set || (grown.runs[k].first <= x && x <= grown.runs[k].second);
+                ASSERT_EQ(set, near) << "trial " << trial << " cell " << x << ", " << y;
+            }
+        for (int y = 0; y < h; ++y)  // disjoint and not touching
+            for (size_t k = grown.first[size_t(y)] + 1; k < grown.first[size_t(y) + 1]; ++k) {
+                ASSERT_GT(grown.runs[k].first, grown.runs[k - 1].second + 1);
+            }
+    }
+}
+
 //   footprint      blocks (bands of 16, 8, 4, 2, 1 rows)
 //   ..####..       each band's block: the columns all its rows occupy, less its enclosing
 //   .######.       band's; together they hold every occupied cell once

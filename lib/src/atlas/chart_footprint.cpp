@@ -157,26 +157,16 @@ void appendUnion(std::vector<std::pair<int, int>>& out, std::pair<int, int>* beg
     }
 }
 
-// Every cell within `radius` cells (a square) of an occupied one: each row's runs widened by the
-// radius, then per row the union of the widened rows within the radius.
-RowRuns growByRadius(const RowRuns& in, int radius) {
-    RowRuns wide = in;
-    for (auto& [a, b] : wide.runs) {
-        a = std::max(0, a - radius);
-        b = std::min(in.w - 1, b + radius);
+// Appends the union of the runs [p, pe) and [q, qe), each sorted by start, to `out` (touching
+// runs join).
+void appendUnited(std::vector<std::pair<int, int>>& out, const std::pair<int, int>* p, const std::pair<int, int>* pe,
+                  const std::pair<int, int>* q, const std::pair<int, int>* qe) {
+    const size_t start = out.size();
+    while (p != pe || q != qe) {
+        const std::pair<int, int> r = q == qe || (p != pe && p->first <= q->first) ? *p++ : *q++;
+        if (out.size() > start && r.first <= out.back().second + 1) out.back().second = std::max(out.back().second, r.second);
+        else out.push_back(r);
     }
-    RowRuns out;
-    out.w = in.w;
-    out.h = in.h;
-    out.first.assign(1, 0);
-    std::vector<std::pair<int, int>> near;
-    for (int y = 0; y < in.h; ++y) {
-        near.assign(wide.runs.begin() + long(wide.first[size_t(std::max(0, y - radius))]),
-                    wide.runs.begin() + long(wide.first[size_t(std::min(in.h, y + radius + 1))]));
-        appendUnion(out.runs, near.data(), near.data() + near.size());
-        out.first.push_back(out.runs.size());
-    }
-    return out;
 }
 
 using Runs = std::vector<std::pair<int, int>>;
@@ -254,6 +244,46 @@ std::vector<Oriented> chartOrientations(const AtlasChart& chart, bool aligned) {
         if (l > 0) tryAngle(e.x / l, e.y / l);
     }
     return {frameAt(chart, hull, bestC, bestS)};
+}
+
+// Each row's runs widened by the radius, then per row the union of the widened rows within the
+// radius, from the unions of 1, 2, 4... rows (the window is the union of two overlapping
+// power-of-two stretches).
+RowRuns growByRadius(const RowRuns& in, int radius) {
+    const int window = 2 * radius + 1, padded = in.h + 2 * radius;  // padded row i is row i - radius
+    RowRuns rows;  // per padded row i: the union of widened rows [i - radius, i - radius + span), clipped
+    rows.first.assign(1, 0);
+    for (int i = 0; i < padded; ++i) {
+        const int y = i - radius;
+        if (y >= 0 && y < in.h)
+            for (size_t k = in.first[size_t(y)]; k < in.first[size_t(y) + 1]; ++k)
+                rows.runs.push_back({std::max(0, in.runs[k].first - radius), std::min(in.w - 1, in.runs[k].second + radius)});
+        rows.first.push_back(rows.runs.size());
+    }
+    auto row = [](const RowRuns& r, int i) { return std::make_pair(r.runs.data() + r.first[size_t(i)], r.runs.data() + r.first[size_t(i) + 1]); };
+    int span = 1;
+    for (; 2 * span <= window; span *= 2) {
+        RowRuns twice;
+        twice.first.assign(1, 0);
+        for (int i = 0; i < padded; ++i) {
+            const auto [p, pe] = row(rows, i);
+            const auto [q, qe] = i + span < padded ? row(rows, i + span) : std::make_pair(pe, pe);
+            appendUnited(twice.runs, p, pe, q, qe);
+            twice.first.push_back(twice.runs.size());
+        }
+        rows = std::move(twice);
+    }
+    RowRuns out;
+    out.w = in.w;
+    out.h = in.h;
+    out.first.assign(1, 0);
+    for (int y = 0; y < in.h; ++y) {  // padded rows [y, y + window)
+        const auto [p, pe] = row(rows, y);
+        const auto [q, qe] = row(rows, y + window - span);
+        appendUnited(out.runs, p, pe, q, qe);
+        out.first.push_back(out.runs.size());
+    }
+    return out;
 }
 
 size_t RowRuns::cells() const {

@@ -73,6 +73,9 @@ struct RowRuns {
     size_t cells() const;
 };
 
+// Every cell within `radius` cells (a square) of an occupied one; radius >= 0.
+RowRuns growByRadius(const RowRuns& cells, int radius);
+
 // The chart rasterised in its oriented frame at density t: cells [pad, pad + ceil(w t)) hold the
 // chart, pad = radius cells on each side hold its half of the gutter (the raster grown by a
 // square of that radius). `rasterCells`, when given, receives the raster's cells before growing.
