@@ -88,14 +88,16 @@ public:
             rowFree_[size_t(y + i)] = W_ - setCells(y + i);  // kept charts may overlap
             rowRun_[size_t(y + i)] = longestFreeRun(y + i);
         }
-        // The unions of 2^k rows from s that include a changed row, each from two of half as many.
+        // The unions of 2^k rows from s that include a changed row, each from two of half as many,
+        // over the words the footprint's columns touch.
+        const size_t w0 = size_t(std::max(0, x)) / 64, w1 = std::min(words_ - 1, size_t(std::max(0, x + f.w - 1)) / 64);
         for (int k = 1; k <= kUnionLevels; ++k) {
             const int n = 1 << k, half = n / 2;
             for (int s = std::max(0, y - n + 1); s <= std::min(H_ - n, y + f.h - 1); ++s) {
                 uint64_t* out = unions_.data() + unionAt(k, s);
                 const uint64_t* lo = level(k - 1, s);
                 const uint64_t* hi = level(k - 1, s + half);
-                for (size_t w = 0; w < words_; ++w) out[w] = lo[w] | hi[w];
+                for (size_t w = w0; w <= w1; ++w) out[w] = lo[w] | hi[w];
             }
         }
         usedW_ = std::max(usedW_, x + f.w);
