@@ -310,21 +310,42 @@ RowRuns chartRuns(const Oriented& c, double t, int radius, size_t* rasterCells) 
         for (size_t w = wa + 1; w < wb; ++w) row[w] = ~uint64_t(0);
         row[wb] |= to;
     };
+    // Whether cells [a, b] of row y are all set already.
+    auto allSet = [&](int y, int a, int b) {
+        const uint64_t* row = &bits[size_t(y) * words];
+        for (int x = a; x <= b;) {
+            const int w = x / 64, n = std::min(64 - x % 64, b - x + 1);
+            const uint64_t m = n == 64 ? ~uint64_t(0) : ((uint64_t(1) << n) - 1) << (x % 64);
+            if ((row[w] & m) != m) return false;
+            x += n;
+        }
+        return true;
+    };
     auto mark = [&](int x, int y) {
         if (x >= 0 && y >= 0 && x < gw && y < gh) bits[size_t(y) * words + size_t(x) / 64] |= uint64_t(1) << (x % 64);
     };
     auto toGrid = [&](Vec2 p) { return Vec2{p.x * t + radius, p.y * t + radius}; };
+    for (const std::array<Vec2, 3>& tri : c.triangles)
+        for (const Vec2& p : tri) {
+            const Vec2 v = toGrid(p);
+            mark(int(std::floor(v.x)), int(std::floor(v.y)));
+        }
+    // The cells a triangle may add lie in its bounding box: a row of it that is set already (the
+    // corners of a dense mesh's triangles fill most cells) needs no test.
     for (const std::array<Vec2, 3>& tri : c.triangles) {
         std::array<Vec2, 3> q{toGrid(tri[0]), toGrid(tri[1]), toGrid(tri[2])};
-        for (const Vec2& v : q) mark(int(std::floor(v.x)), int(std::floor(v.y)));
         if (std::abs(cross(q[1] - q[0], q[2] - q[0])) < 1e-12) continue;
         int x0 = std::max(0, int(std::floor(std::min({q[0].x, q[1].x, q[2].x}))));
         int x1 = std::min(gw - 1, int(std::floor(std::max({q[0].x, q[1].x, q[2].x}))));
         int y0 = std::max(0, int(std::floor(std::min({q[0].y, q[1].y, q[2].y}))));
         int y1 = std::min(gh - 1, int(std::floor(std::max({q[0].y, q[1].y, q[2].y}))));
+        if (x0 > x1) continue;
+        int open = y0;  // the first row with a cell to test
+        while (open <= y1 && allSet(open, x0, x1)) ++open;
+        if (open > y1) continue;
         const TriangleCellTest test(q);
-        for (int y = y0, a = 0, b = 0; y <= y1; ++y)
-            if (test.span(y, x0, x1, a, b)) setSpan(y, a, b);
+        for (int y = open, a = 0, b = 0; y <= y1; ++y)
+            if (!allSet(y, x0, x1) && test.span(y, x0, x1, a, b)) setSpan(y, a, b);
     }
     // The set bits' runs, row by row.
     RowRuns raster;
