@@ -133,6 +133,7 @@ private:
     size_t unionAt(int k, int s) const { return (size_t(k - 1) * size_t(H_) + size_t(s)) * words_; }
     // Row s (k = 0), or the union of rows [s, s + 2^k).
     const uint64_t* level(int k, int s) const { return k == 0 ? bits_.data() + size_t(s) * words_ : unions_.data() + unionAt(k, s); }
+
     int setCells(int y) const {
         const uint64_t* row = bits_.data() + size_t(y) * words_;
         int n = 0;
