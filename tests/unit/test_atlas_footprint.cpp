@@ -1,6 +1,6 @@
 // The page search's private helpers (lib/src/atlas/chart_footprint.h, bitmap_page.h) against
-// brute force: the conservative rasterisation tests each cell's four corners, the core rectangle
-// lies inside its footprint, and the lowest free position is the first (row, then column) that
+// brute force: the conservative rasterisation tests each cell's four corners, the blocks cover
+// their footprint once, and the lowest free position is the first (row, then column) that
 // meets no set texel; a dense chart's orientation is that of its hull's corners.
 #include <gtest/gtest.h>
 
@@ -104,23 +104,74 @@ TEST(ChartFootprint, MaskMatchesTheCellByCellTest) {
     }
 }
 
-TEST(ChartFootprint, CoreRectangleLiesInsideTheFootprint) {
+//   ..#....        radius 1:  .###...
+//   .......                   .#####.
+//   ....#..                   ...###.
+TEST(ChartFootprint, GrowthSetsTheSquareAroundEachCell) {
+    std::mt19937 rng(5);
+    for (int trial = 0; trial < 60; ++trial) {
+        const int w = 1 + trial % 29, h = 1 + trial % 41, radius = trial % 7;
+        std::vector<uint8_t> mask(size_t(w) * size_t(h), 0);
+        std::bernoulli_distribution on(0.03 + 0.01 * (trial % 10));
+        for (auto& m : mask) m = on(rng);
+        RowRuns cells;
+        cells.w = w;
+        cells.h = h;
+        cells.first.assign(1, 0);
+        for (int y = 0; y < h; ++y) {
+            for (int x = 0; x < w; ++x)
+                if (mask[size_t(y) * size_t(w) + size_t(x)]) {
+                    if (x > 0 && mask[size_t(y) * size_t(w) + size_t(x) - 1]) cells.runs.back().second = x;
+                    else cells.runs.push_back({x, x});
+                }
+            cells.first.push_back(cells.runs.size());
+        }
+        const RowRuns grown = growByRadius(cells, radius);
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                bool near = false;
+                for (int j = std::max(0, y - radius); j <= std::min(h - 1, y + radius); ++j)
+                    for (int i = std::max(0, x - radius); i <= std::min(w - 1, x + radius); ++i) near = near || mask[size_t(j) * size_t(w) + size_t(i)];
+                bool set = false;
+                for (size_t k = grown.first[size_t(y)]; k < grown.first[size_t(y) + 1]; ++k)
+                    set = set || (grown.runs[k].first <= x && x <= grown.runs[k].second);
+                ASSERT_EQ(set, near) << "trial " << trial << " cell " << x << ", " << y;
+            }
+        for (int y = 0; y < h; ++y)  // disjoint and not touching
+            for (size_t k = grown.first[size_t(y)] + 1; k < grown.first[size_t(y) + 1]; ++k) {
+                ASSERT_GT(grown.runs[k].first, grown.runs[k - 1].second + 1);
+            }
+    }
+}
+
+//   footprint      blocks (bands of 16, 8, 4, 2, 1 rows)
+//   ..####..       each band's block: the columns all its rows occupy, less its enclosing
+//   .######.       band's; together they hold every occupied cell once
+TEST(ChartFootprint, BlocksCoverTheFootprintOnce) {
     std::mt19937 rng(11);
     for (int trial = 0; trial < 200; ++trial) {
-        const Footprint f = randomFootprint(rng, 1 + trial % 23, 1 + trial % 37, trial % 4);
-        ASSERT_GE(f.coreRows, 1);
-        ASSERT_LE(f.coreRows, kCoreRows);
-        for (int i = f.coreTop; i < f.coreTop + f.coreRows; ++i)
-            for (int x = f.coreA; x <= f.coreB; ++x) {
+        const Footprint f = randomFootprint(rng, 1 + trial % 23, 1 + trial % 37 + (trial % 3) * 20, trial % 4);
+        std::vector<int> covered(size_t(f.w) * size_t(f.h), 0);
+        for (const Footprint::Block& k : f.blocks) {
+            ASSERT_GE(k.rows, 1);
+            ASSERT_LE(k.rows, kBlockRows);
+            ASSERT_LE(1 << k.level, k.rows);
+            ASSERT_GT(2 << k.level, k.rows);
+            for (int i = k.top; i < k.top + k.rows; ++i)
+                for (int x = k.a; x <= k.b; ++x) ++covered[size_t(i) * size_t(f.w) + size_t(x)];
+        }
+        for (int i = 0; i < f.h; ++i)
+            for (int x = 0; x < f.w; ++x) {
                 const auto& runs = f.rows[size_t(i)];
-                EXPECT_TRUE(std::any_of(runs.begin(), runs.end(), [&](auto r) { return r.first <= x && x <= r.second; }));
+                const bool on = std::any_of(runs.begin(), runs.end(), [&](auto r) { return r.first <= x && x <= r.second; });
+                EXPECT_EQ(covered[size_t(i) * size_t(f.w) + size_t(x)], on ? 1 : 0) << "trial " << trial;
             }
     }
 }
 
 //   page (random charts placed)     a footprint's lowest position:
 //   ##..###....                     the first row, then the first column, where none of its
-//   #...#####..                     texels meets a set one (the core rectangle only prunes)
+//   #...#####..                     texels meets a set one
 TEST(BitmapPage, FindsTheLowestFreePosition) {
     std::mt19937 rng(3);
     for (int trial = 0; trial < 30; ++trial) {

@@ -9,9 +9,9 @@
 // Pipeline of packAtlas:
 //   1. chartOrientations: convex hull of each chart's UV points, minimum-area bounding rectangle;
 //      chartOrders: the chart orders tried;
-//   2. footprintsAt: chartMask rasterises each chart (conservatively) at the density and grows it
-//      by the gutter radius; the four quarter turns of the (block-rounded) mask, computed once per
-//      density and shared by every page tried;
+//   2. footprintsAt: chartRuns rasterises each chart (conservatively, as runs of cells per row)
+//      at the density and grows it by the gutter radius; the four quarter turns of its
+//      block-rounded cells, computed once per density and shared by every page tried;
 //   3. page size and density: packFreeSize runs packBitmap at the density limit into twenty strip
 //      widths (five for very many charts), three sorted chart orders plus eight shuffled ones (at
 //      most 32 charts) and two placement rules (smallest page wins; the trials run on
@@ -26,8 +26,9 @@
 //      no gutter along the page border (the samplers clamp to the edge); the search skips rows
 //      whose longest free run is shorter than the chart's row needs (past every position a page
 //      row too full for any of the chart's rows rules out), and jumps over a whole occupied
-//      stretch on a collision, first testing the footprint's core rectangle against the union of
-//      its rows (a set texel there is a collision, and the union's stretches are the longest);
+//      stretch on a collision, testing the footprint as rectangular blocks of up to 16 rows,
+//      each against the union of its rows (a set texel there is a collision, and the union's
+//      stretches are the longest);
 //   4. placeCharts: the affine UV -> texel map of each chart (placementFor); utilisation figures.
 #include "lodbake/atlas/atlas.h"
 

@@ -1,7 +1,7 @@
 // The page of packAtlas as one bit per texel, with per-row free counts and longest free runs: the
 // lowest free position of a chart footprint (bottom-left fill), and placing it. The unions of
-// 2, 4, 8... consecutive rows (a sparse table) test a footprint's core rectangle against a stretch
-// of rows at once.
+// 2, 4, 8... consecutive rows (a sparse table) test each of a footprint's blocks against its rows
+// at once.
 #pragma once
 
 #include <algorithm>
@@ -40,29 +40,28 @@ public:
             bool roomy = true;
             for (int i = f.h - 1; i >= 0 && roomy; --i) roomy = !tooFull(i);
             if (!roomy) continue;
-            // The core rectangle first: it meets a set texel of any of its rows wherever one of the
-            // footprint's rows there does, and on the rows' union its collisions jump furthest.
-            const Rows core = f.coreRows > 1 ? rowsUnion(y + f.coreTop, f.coreRows) : Rows{};
-            int x = 0, hot = 0;  // the footprint row that collided last is tested first, then testOrder
+            // The footprint's blocks (Footprint::blocks), each against the union of its rows: a set
+            // texel there meets the footprint. Large blocks first: they collide most often, and on
+            // a union of rows the set stretches, and so the jumps, are longest. The block that
+            // collided last is tested first (it usually meets the next position too).
+            int x = 0;
+            size_t hot = 0;
             while (x + f.w <= W_) {
                 int next = -1;
-                // Every shift that keeps a run over the first set texel p it meets, or starts it
-                // inside the set stretch from p, collides: the run starts at the stretch's end at least.
-                auto collides = [&](Rows rows, int a, int b) {
-                    const int p = firstSet(rows, x + a, x + b);
-                    if (p >= 0) next = std::max(x + 1, firstClear(rows, p) - a);
+                // Every shift that keeps the block over the first set texel p it meets, or starts
+                // it inside the set stretch from p, collides: it starts at the stretch's end at least.
+                auto collides = [&](const Footprint::Block& k) {
+                    const Rows rows{level(k.level, y + k.top), level(k.level, y + k.top + k.rows - (1 << k.level))};
+                    const int p = firstSet(rows, x + k.a, x + k.b);
+                    if (p >= 0) next = std::max(x + 1, firstClear(rows, p) - k.a);
                     return p >= 0;
                 };
-                if (core.a) collides(core, f.coreA, f.coreB);
-                for (int k = 0; k <= f.h && next < 0; ++k) {
-                    const int i = k == 0 ? hot : f.testOrder[size_t(k - 1)];
-                    if (k > 0 && i == hot) continue;
-                    for (const auto& [a, b] : f.rows[size_t(i)])
-                        if (collides(row(y + i), a, b)) {
-                            hot = i;
+                if (!f.blocks.empty() && !collides(f.blocks[hot]))
+                    for (size_t k = 0; k < f.blocks.size(); ++k)
+                        if (k != hot && collides(f.blocks[k])) {
+                            hot = k;
                             break;
                         }
-                }
                 if (next < 0) { outX = x; outY = y; return true; }
                 x = next;
             }
@@ -89,14 +88,16 @@ public:
             rowFree_[size_t(y + i)] = W_ - setCells(y + i);  // kept charts may overlap
             rowRun_[size_t(y + i)] = longestFreeRun(y + i);
         }
-        // The unions of 2^k rows from s that include a changed row, each from two of half as many.
+        // The unions of 2^k rows from s that include a changed row, each from two of half as many,
+        // over the words the footprint's columns touch.
+        const size_t w0 = size_t(std::max(0, x)) / 64, w1 = std::min(words_ - 1, size_t(std::max(0, x + f.w - 1)) / 64);
         for (int k = 1; k <= kUnionLevels; ++k) {
             const int n = 1 << k, half = n / 2;
             for (int s = std::max(0, y - n + 1); s <= std::min(H_ - n, y + f.h - 1); ++s) {
                 uint64_t* out = unions_.data() + unionAt(k, s);
                 const uint64_t* lo = level(k - 1, s);
                 const uint64_t* hi = level(k - 1, s + half);
-                for (size_t w = 0; w < words_; ++w) out[w] = lo[w] | hi[w];
+                for (size_t w = w0; w <= w1; ++w) out[w] = lo[w] | hi[w];
             }
         }
         usedW_ = std::max(usedW_, x + f.w);
@@ -107,10 +108,10 @@ public:
     int height() const { return H_; }
 
 private:
-    // Union levels kept: 2^1 ... 2^kUnionLevels rows, enough for any core (kCoreRows rows).
+    // Union levels kept: 2^1 ... 2^kUnionLevels rows, enough for any block (kBlockRows rows).
     static constexpr int kUnionLevels = [] {
         int k = 0;
-        while ((2 << k) <= kCoreRows) ++k;
+        while ((2 << k) <= kBlockRows) ++k;
         return k;
     }();
     // One row of the page, or the union of two (of 2^k rows each, which may overlap): a texel is
@@ -132,13 +133,6 @@ private:
     size_t unionAt(int k, int s) const { return (size_t(k - 1) * size_t(H_) + size_t(s)) * words_; }
     // Row s (k = 0), or the union of rows [s, s + 2^k).
     const uint64_t* level(int k, int s) const { return k == 0 ? bits_.data() + size_t(s) * words_ : unions_.data() + unionAt(k, s); }
-    Rows row(int y) const { return {level(0, y), level(0, y)}; }
-    // Rows [s, s + n), 1 <= n <= kCoreRows, as the union of two 2^k-row unions (k = floor(log2 n)).
-    Rows rowsUnion(int s, int n) const {
-        int k = 0;
-        while ((2 << k) <= n) ++k;
-        return {level(k, s), level(k, s + n - (1 << k))};
-    }
 
     int setCells(int y) const {
         const uint64_t* row = bits_.data() + size_t(y) * words_;

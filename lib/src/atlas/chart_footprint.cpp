@@ -120,10 +120,15 @@ public:
     // false when none. Along a row each separation test moves one way (the cell's extent on an
     // axis is monotone in x, in floating point too), so each one cuts the row at one place, found
     // by bisection: the same cells as testing each one, in a few tests per row.
+    // The bisection starts at the cells where the cell's extent reaches the triangle's on the
+    // axis in exact arithmetic (next to where the rounded test changes).
     bool span(int y, int x0, int x1, int& a, int& b) const {
         for (const Axis& ax : axes_) {
             if (ax.skip) continue;
-            if (!narrow(x0, x1, [&](int x) { return !below(ax, x, y); }) || !narrow(x0, x1, [&](int x) { return !above(ax, x, y); }))
+            const double belowEnds = (ax.tMin + ax.margin - ax.n.y * (y + 1 - ax.lowY)) / ax.n.x - (1 - ax.lowX);
+            const double aboveEnds = (ax.tMax - ax.margin - ax.n.y * (y + ax.lowY)) / ax.n.x - ax.lowX;
+            if (!narrow(x0, x1, belowEnds, [&](int x) { return !below(ax, x, y); }) ||
+                !narrow(x0, x1, aboveEnds, [&](int x) { return !above(ax, x, y); }))
                 return false;
         }
         a = x0;
@@ -148,14 +153,24 @@ private:
     static bool below(const Axis& a, int x, int y) { return highest(a, x, y) <= a.tMin + a.margin; }
     static bool above(const Axis& a, int x, int y) { return a.tMax <= lowest(a, x, y) + a.margin; }
     // [x0, x1] narrowed to where `pass` holds, given that it holds on a prefix or a suffix of the
-    // row; false when nowhere.
+    // row; false when nowhere. `guess`: a cell near where it changes (any value, NaN included):
+    // it and its neighbour towards the change are tested first, then the bisection goes on
+    // between the nearest cells on either side.
     template <class Pass>
-    static bool narrow(int& x0, int& x1, Pass&& pass) {
+    static bool narrow(int& x0, int& x1, double guess, Pass&& pass) {
         if (x0 > x1) return false;
         const bool first = pass(x0), last = pass(x1);
         if (first && last) return true;
         if (!first && !last) return false;
         int lo = x0, hi = x1;  // pass(lo) != pass(hi): bisect to the neighbours where it changes
+        auto probe = [&](int x) {
+            if (x > lo && x < hi) (pass(x) == first ? lo : hi) = x;
+        };
+        if (!std::isnan(guess)) {
+            const int g = int(std::clamp(std::floor(guess), double(x0), double(x1)));
+            probe(g);
+            probe(lo == g ? g + 1 : g - 1);
+        }
         while (hi - lo > 1) {
             const int mid = lo + (hi - lo) / 2;
             (pass(mid) == first ? lo : hi) = mid;
@@ -167,75 +182,78 @@ private:
     std::array<Axis, 3> axes_;
 };
 
-// Sets every cell within `radius` cells (a square: the max filter along rows, then along columns)
-// of a set cell. Each pass tracks the nearest set cell before and after, so it costs the grid's
-// cells whatever the radius.
-void growByRadius(std::vector<uint8_t>& mask, int gw, int gh, int radius) {
-    constexpr int kFar = std::numeric_limits<int>::max() / 4;
-    std::vector<uint8_t> rows(mask.size(), 0);
-    for (int y = 0; y < gh; ++y) {
-        const uint8_t* in = &mask[size_t(y) * size_t(gw)];
-        uint8_t* out = &rows[size_t(y) * size_t(gw)];
-        for (int x = 0, last = -kFar; x < gw; ++x) {
-            if (in[x]) last = x;
-            out[x] = x - last <= radius;
-        }
-        for (int x = gw - 1, next = kFar; x >= 0; --x) {
-            if (in[x]) next = x;
-            out[x] |= next - x <= radius;
-        }
-    }
-    std::vector<int> near(size_t(gw), -kFar);  // per column: the last set row seen
-    for (int y = 0; y < gh; ++y) {
-        const uint8_t* in = &rows[size_t(y) * size_t(gw)];
-        uint8_t* out = &mask[size_t(y) * size_t(gw)];
-        for (int x = 0; x < gw; ++x) {
-            if (in[x]) near[size_t(x)] = y;
-            out[x] = y - near[size_t(x)] <= radius;
-        }
-    }
-    std::fill(near.begin(), near.end(), kFar);  // per column: the next set row seen
-    for (int y = gh - 1; y >= 0; --y) {
-        const uint8_t* in = &rows[size_t(y) * size_t(gw)];
-        uint8_t* out = &mask[size_t(y) * size_t(gw)];
-        for (int x = 0; x < gw; ++x) {
-            if (in[x]) near[size_t(x)] = y;
-            out[x] |= near[size_t(x)] - y <= radius;
-        }
+// Sorts the runs [begin, end) and appends their union to `out` (touching runs join).
+void appendUnion(std::vector<std::pair<int, int>>& out, std::pair<int, int>* begin, std::pair<int, int>* end) {
+    std::sort(begin, end);
+    const size_t start = out.size();
+    for (auto* r = begin; r != end; ++r) {
+        if (out.size() > start && r->first <= out.back().second + 1) out.back().second = std::max(out.back().second, r->second);
+        else out.push_back(*r);
     }
 }
 
-// The footprint's core (Footprint::coreTop...): for each row as the rectangle's last, the largest
-// rectangle under the histogram of occupied cells ending there (a stack of rising columns), its
-// height capped at kCoreRows. Ties keep the first found (lowest last row, then leftmost).
-void coreRectangle(Footprint& f) {
-    std::vector<int> height(size_t(f.w), 0);
-    std::vector<uint8_t> on(size_t(f.w), 0);
-    std::vector<int> stack;
-    long best = 0;
-    for (int y = 0; y < f.h; ++y) {
-        std::fill(on.begin(), on.end(), uint8_t(0));
-        for (const auto& [a, b] : f.rows[size_t(y)]) std::fill(on.begin() + a, on.begin() + b + 1, uint8_t(1));
-        for (int x = 0; x < f.w; ++x) height[size_t(x)] = on[size_t(x)] ? std::min(kCoreRows, height[size_t(x)] + 1) : 0;
-        stack.clear();
-        for (int x = 0; x <= f.w; ++x) {
-            const int hx = x < f.w ? height[size_t(x)] : 0;
-            while (!stack.empty() && height[size_t(stack.back())] >= hx) {
-                const int top = height[size_t(stack.back())];
-                stack.pop_back();
-                const int left = stack.empty() ? 0 : stack.back() + 1;
-                const long area = long(top) * (x - left);
-                if (area > best) {
-                    best = area;
-                    f.coreTop = y - top + 1;
-                    f.coreRows = top;
-                    f.coreA = left;
-                    f.coreB = x - 1;
-                }
-            }
-            stack.push_back(x);
-        }
+// Appends the union of the runs [p, pe) and [q, qe), each sorted by start, to `out` (touching
+// runs join).
+void appendUnited(std::vector<std::pair<int, int>>& out, const std::pair<int, int>* p, const std::pair<int, int>* pe,
+                  const std::pair<int, int>* q, const std::pair<int, int>* qe) {
+    const size_t start = out.size();
+    while (p != pe || q != qe) {
+        const std::pair<int, int> r = q == qe || (p != pe && p->first <= q->first) ? *p++ : *q++;
+        if (out.size() > start && r.first <= out.back().second + 1) out.back().second = std::max(out.back().second, r.second);
+        else out.push_back(r);
     }
+}
+
+using Runs = std::vector<std::pair<int, int>>;
+
+// The cells in both run lists.
+Runs intersect(const Runs& p, const Runs& q) {
+    Runs out;
+    for (size_t i = 0, j = 0; i < p.size() && j < q.size();) {
+        const int a = std::max(p[i].first, q[j].first), b = std::min(p[i].second, q[j].second);
+        if (a <= b) out.push_back({a, b});
+        (p[i].second < q[j].second ? i : j)++;
+    }
+    return out;
+}
+
+// The cells of p not in q.
+Runs subtract(const Runs& p, const Runs& q) {
+    Runs out;
+    size_t j = 0;
+    for (auto [a, b] : p) {
+        while (j < q.size() && q[j].second < a) ++j;
+        for (size_t k = j; k < q.size() && q[k].first <= b && a <= b; ++k) {
+            if (q[k].first > a) out.push_back({a, q[k].first - 1});
+            a = std::max(a, q[k].second + 1);
+        }
+        if (a <= b) out.push_back({a, b});
+    }
+    return out;
+}
+
+// The blocks of the band of rows [s, s + n) (clipped to the footprint): the cells every row of
+// it occupies, less those of its enclosing band's (`outer`, which its blocks took), then its two
+// halves' blocks.
+void coverBand(Footprint& f, int s, int n, const Runs& outer) {
+    const int m = std::min(n, f.h - s);
+    Runs all = f.rows[size_t(s)];
+    for (int i = 1; i < m; ++i) all = intersect(all, f.rows[size_t(s + i)]);
+    int level = 0;
+    while ((2 << level) <= m) ++level;
+    for (const auto& [a, b] : subtract(all, outer)) f.blocks.push_back({s, m, a, b, level});
+    if (n == 1) return;
+    coverBand(f, s, n / 2, all);
+    if (s + n / 2 < f.h) coverBand(f, s + n / 2, n / 2, all);
+}
+
+// Footprint::blocks, largest first (ties: in the order the bands are visited).
+void coverBlocks(Footprint& f) {
+    f.blocks.clear();
+    for (int s = 0; s < f.h; s += kBlockRows) coverBand(f, s, kBlockRows, {});
+    std::stable_sort(f.blocks.begin(), f.blocks.end(), [](const Footprint::Block& p, const Footprint::Block& q) {
+        return long(p.rows) * (p.b - p.a + 1) > long(q.rows) * (q.b - q.a + 1);
+    });
 }
 
 }  // namespace
@@ -263,30 +281,146 @@ std::vector<Oriented> chartOrientations(const AtlasChart& chart, bool aligned) {
     return {frameAt(chart, hull, bestC, bestS)};
 }
 
-std::vector<uint8_t> chartMask(const Oriented& c, double t, int radius, int& gw, int& gh, size_t* rasterCells) {
-    gw = texels(c.w, t) + 2 * radius;
-    gh = texels(c.h, t) + 2 * radius;
-    std::vector<uint8_t> mask(size_t(gw) * size_t(gh), 0);
+// Each row's runs widened by the radius, then per row the union of the widened rows within the
+// radius, from the unions of 1, 2, 4... rows (the window is the union of two overlapping
+// power-of-two stretches).
+RowRuns growByRadius(const RowRuns& in, int radius) {
+    const int window = 2 * radius + 1, padded = in.h + 2 * radius;  // padded row i is row i - radius
+    RowRuns rows;  // per padded row i: the union of widened rows [i - radius, i - radius + span), clipped
+    rows.first.assign(1, 0);
+    for (int i = 0; i < padded; ++i) {
+        const int y = i - radius;
+        if (y >= 0 && y < in.h)
+            for (size_t k = in.first[size_t(y)]; k < in.first[size_t(y) + 1]; ++k)
+                rows.runs.push_back({std::max(0, in.runs[k].first - radius), std::min(in.w - 1, in.runs[k].second + radius)});
+        rows.first.push_back(rows.runs.size());
+    }
+    auto row = [](const RowRuns& r, int i) { return std::make_pair(r.runs.data() + r.first[size_t(i)], r.runs.data() + r.first[size_t(i) + 1]); };
+    int span = 1;
+    for (; 2 * span <= window; span *= 2) {
+        RowRuns twice;
+        twice.first.assign(1, 0);
+        for (int i = 0; i < padded; ++i) {
+            const auto [p, pe] = row(rows, i);
+            const auto [q, qe] = i + span < padded ? row(rows, i + span) : std::make_pair(pe, pe);
+            appendUnited(twice.runs, p, pe, q, qe);
+            twice.first.push_back(twice.runs.size());
+        }
+        rows = std::move(twice);
+    }
+    RowRuns out;
+    out.w = in.w;
+    out.h = in.h;
+    out.first.assign(1, 0);
+    for (int y = 0; y < in.h; ++y) {  // padded rows [y, y + window)
+        const auto [p, pe] = row(rows, y);
+        const auto [q, qe] = row(rows, y + window - span);
+        appendUnited(out.runs, p, pe, q, qe);
+        out.first.push_back(out.runs.size());
+    }
+    return out;
+}
+
+size_t RowRuns::cells() const {
+    size_t n = 0;
+    for (const auto& [a, b] : runs) n += size_t(b - a + 1);
+    return n;
+}
+
+RowRuns chartRuns(const Oriented& c, double t, int radius, size_t* rasterCells) {
+    const int gw = texels(c.w, t) + 2 * radius, gh = texels(c.h, t) + 2 * radius;
+    // One bit per cell: each triangle sets its span per row it touches, and its corners' cells
+    // (many small triangles set few cells each, over and over).
+    const size_t words = (size_t(gw) + 63) / 64;
+    std::vector<uint64_t> bits(words * size_t(gh), 0);
+    auto setSpan = [&](int y, int a, int b) {
+        uint64_t* row = &bits[size_t(y) * words];
+        const size_t wa = size_t(a) / 64, wb = size_t(b) / 64;
+        const uint64_t from = ~uint64_t(0) << (a % 64), to = ~uint64_t(0) >> (63 - b % 64);
+        if (wa == wb) {
+            row[wa] |= from & to;
+            return;
+        }
+        row[wa] |= from;
+        for (size_t w = wa + 1; w < wb; ++w) row[w] = ~uint64_t(0);
+        row[wb] |= to;
+    };
+    // Whether cells [a, b] of row y are all set already.
+    auto allSet = [&](int y, int a, int b) {
+        const uint64_t* row = &bits[size_t(y) * words];
+        for (int x = a; x <= b;) {
+            const int w = x / 64, n = std::min(64 - x % 64, b - x + 1);
+            const uint64_t m = n == 64 ? ~uint64_t(0) : ((uint64_t(1) << n) - 1) << (x % 64);
+            if ((row[w] & m) != m) return false;
+            x += n;
+        }
+        return true;
+    };
     auto mark = [&](int x, int y) {
-        if (x >= 0 && y >= 0 && x < gw && y < gh) mask[size_t(y) * size_t(gw) + size_t(x)] = 1;
+        if (x >= 0 && y >= 0 && x < gw && y < gh) bits[size_t(y) * words + size_t(x) / 64] |= uint64_t(1) << (x % 64);
     };
     auto toGrid = [&](Vec2 p) { return Vec2{p.x * t + radius, p.y * t + radius}; };
+    for (const std::array<Vec2, 3>& tri : c.triangles)
+        for (const Vec2& p : tri) {
+            const Vec2 v = toGrid(p);
+            mark(int(std::floor(v.x)), int(std::floor(v.y)));
+        }
+    // The cells a triangle may add lie in its bounding box: a row of it that is set already (the
+    // corners of a dense mesh's triangles fill most cells) needs no test.
     for (const std::array<Vec2, 3>& tri : c.triangles) {
         std::array<Vec2, 3> q{toGrid(tri[0]), toGrid(tri[1]), toGrid(tri[2])};
-        for (const Vec2& v : q) mark(int(std::floor(v.x)), int(std::floor(v.y)));  // corners always show
         if (std::abs(cross(q[1] - q[0], q[2] - q[0])) < 1e-12) continue;
         int x0 = std::max(0, int(std::floor(std::min({q[0].x, q[1].x, q[2].x}))));
         int x1 = std::min(gw - 1, int(std::floor(std::max({q[0].x, q[1].x, q[2].x}))));
         int y0 = std::max(0, int(std::floor(std::min({q[0].y, q[1].y, q[2].y}))));
         int y1 = std::min(gh - 1, int(std::floor(std::max({q[0].y, q[1].y, q[2].y}))));
+        if (x0 > x1) continue;
+        int open = y0;  // the first row with a cell to test
+        while (open <= y1 && allSet(open, x0, x1)) ++open;
+        if (open > y1) continue;
         const TriangleCellTest test(q);
-        for (int y = y0, a = 0, b = 0; y <= y1; ++y)
-            if (test.span(y, x0, x1, a, b)) std::fill_n(&mask[size_t(y) * size_t(gw) + size_t(a)], b - a + 1, uint8_t(1));
+        for (int y = open, a = 0, b = 0; y <= y1; ++y)
+            if (!allSet(y, x0, x1) && test.span(y, x0, x1, a, b)) setSpan(y, a, b);
     }
-    if (rasterCells) *rasterCells = size_t(std::count(mask.begin(), mask.end(), uint8_t(1)));
-    // Grow by the gutter radius (a square, separable max filter): two footprints that do not
-    // overlap keep their charts 2 * radius texels apart.
-    if (radius > 0) growByRadius(mask, gw, gh, radius);
+    // The set bits' runs, row by row.
+    RowRuns raster;
+    raster.w = gw;
+    raster.h = gh;
+    raster.first.assign(1, 0);
+    for (size_t y = 0; y < size_t(gh); ++y) {
+        const uint64_t* row = &bits[y * words];
+        int start = -1;
+        for (size_t w = 0; w < words; ++w) {
+            // Alternate: the next set bit (a run starts), the next clear bit (it ends).
+            for (int pos = 0; pos < 64;) {
+                const uint64_t m = start < 0 ? row[w] : ~row[w];
+                const uint64_t rest = pos == 0 ? m : m & (~uint64_t(0) << pos);
+                if (!rest) break;
+                pos = __builtin_ctzll(rest);
+                if (start < 0) start = int(w * 64) + pos;
+                else {
+                    raster.runs.push_back({start, int(w * 64) + pos - 1});
+                    start = -1;
+                }
+            }
+        }
+        if (start >= 0) raster.runs.push_back({start, gw - 1});  // bits past gw are never set
+        raster.first.push_back(raster.runs.size());
+    }
+    if (rasterCells) *rasterCells = raster.cells();
+    // Grown by the gutter radius: two footprints that do not overlap keep their charts 2 * radius
+    // texels apart.
+    return radius > 0 ? growByRadius(raster, radius) : raster;
+}
+
+std::vector<uint8_t> chartMask(const Oriented& c, double t, int radius, int& gw, int& gh, size_t* rasterCells) {
+    const RowRuns cells = chartRuns(c, t, radius, rasterCells);
+    gw = cells.w;
+    gh = cells.h;
+    std::vector<uint8_t> mask(size_t(gw) * size_t(gh), 0);
+    for (size_t y = 0; y < size_t(gh); ++y)
+        for (size_t k = cells.first[y]; k < cells.first[y + 1]; ++k)
+            std::fill_n(&mask[y * size_t(gw) + size_t(cells.runs[k].first)], cells.runs[k].second - cells.runs[k].first + 1, uint8_t(1));
     return mask;
 }
 
@@ -310,38 +444,31 @@ std::array<double, 6> placementFor(const Oriented& c, const Slot& s, double t, i
     return m;
 }
 
-Footprint rotatedFootprint(const std::vector<uint8_t>& mask, int gw, int gh, int rotation) {
-    Footprint f;
-    f.w = rotation % 2 ? gh : gw;
-    f.h = rotation % 2 ? gw : gh;
-    f.rows.resize(size_t(f.h));
-    f.rowCells.assign(size_t(f.h), 0);
-    f.rowLongest.assign(size_t(f.h), 0);
-    auto at = [&](int x, int y) -> bool {  // (x, y) in the rotated grid -> source cell
-        int sx = x, sy = y;
-        switch (rotation) {
-            case 1: sx = y; sy = gh - 1 - x; break;
-            case 2: sx = gw - 1 - x; sy = gh - 1 - y; break;
-            case 3: sx = gw - 1 - y; sy = x; break;
-            default: break;
-        }
-        return mask[size_t(sy) * size_t(gw) + size_t(sx)] != 0;
-    };
-    for (int y = 0; y < f.h; ++y) {
-        int start = -1;
-        for (int x = 0; x <= f.w; ++x) {
-            bool on = x < f.w && at(x, y);
-            if (on && start < 0) start = x;
-            if (!on && start >= 0) {
-                f.rows[size_t(y)].push_back({start, x - 1});
-                f.rowCells[size_t(y)] += x - start;
-                f.rowLongest[size_t(y)] = std::max(f.rowLongest[size_t(y)], x - start);
-                start = -1;
-            }
+namespace {
+
+// The runs of a line of cells, `on(i)` for i in [0, n).
+template <class On>
+void lineRuns(int n, On&& on, std::vector<std::pair<int, int>>& out) {
+    for (int i = 0, start = -1; i <= n; ++i) {
+        const bool set = i < n && on(i);
+        if (set && start < 0) start = i;
+        if (!set && start >= 0) {
+            out.push_back({start, i - 1});
+            start = -1;
         }
     }
+}
+
+// The per-row figures, order and blocks of a footprint whose rows are set.
+void finishFootprint(Footprint& f) {
+    f.rowCells.assign(size_t(f.h), 0);
+    f.rowLongest.assign(size_t(f.h), 0);
     double cells = 0, moment = 0;
     for (int y = 0; y < f.h; ++y) {
+        for (const auto& [a, b] : f.rows[size_t(y)]) {
+            f.rowCells[size_t(y)] += b - a + 1;
+            f.rowLongest[size_t(y)] = std::max(f.rowLongest[size_t(y)], b - a + 1);
+        }
         cells += f.rowCells[size_t(y)];
         moment += f.rowCells[size_t(y)] * (y + 0.5);
     }
@@ -350,23 +477,77 @@ Footprint rotatedFootprint(const std::vector<uint8_t>& mask, int gw, int gh, int
         f.leastCells = *std::min_element(f.rowCells.begin(), f.rowCells.end());
         f.leastLongest = *std::min_element(f.rowLongest.begin(), f.rowLongest.end());
     }
-    coreRectangle(f);
-    // Rows with the longest runs collide most often: tested first, they end a failed position's
-    // test sooner and jump further (any order finds the same position).
-    f.testOrder.resize(size_t(f.h));
-    std::iota(f.testOrder.begin(), f.testOrder.end(), 0);
-    std::stable_sort(f.testOrder.begin(), f.testOrder.end(), [&](int a, int b) { return f.rowLongest[size_t(a)] > f.rowLongest[size_t(b)]; });
+    coverBlocks(f);
+}
+
+}  // namespace
+
+Footprint rotatedFootprint(const RowRuns& cells, int rotation) {
+    const int gw = cells.w, gh = cells.h;
+    Footprint f;
+    f.w = rotation % 2 ? gh : gw;
+    f.h = rotation % 2 ? gw : gh;
+    f.rows.resize(size_t(f.h));
+    auto runsOf = [&](int y) { return std::make_pair(cells.runs.begin() + long(cells.first[size_t(y)]), cells.runs.begin() + long(cells.first[size_t(y) + 1])); };
+    if (rotation == 0 || rotation == 2) {
+        for (int y = 0; y < f.h; ++y) {
+            auto& row = f.rows[size_t(y)];
+            if (rotation == 0) {
+                const auto [b, e] = runsOf(y);
+                row.assign(b, e);
+            } else {  // row gh-1-y mirrored
+                const auto [b, e] = runsOf(gh - 1 - y);
+                for (auto r = e; r != b;) {
+                    --r;
+                    row.push_back({gw - 1 - r->second, gw - 1 - r->first});
+                }
+            }
+        }
+    } else {
+        // The grid's columns as rows: column sx, cell sy at [sx * gh + sy].
+        std::vector<uint8_t> columns(size_t(gw) * size_t(gh), 0);
+        for (int y = 0; y < gh; ++y) {
+            const auto [b, e] = runsOf(y);
+            for (auto r = b; r != e; ++r)
+                for (int x = r->first; x <= r->second; ++x) columns[size_t(x) * size_t(gh) + size_t(y)] = 1;
+        }
+        for (int y = 0; y < f.h; ++y) {
+            // One turn: row y is column y from its last cell; three: column gw-1-y from its first.
+            const uint8_t* col = &columns[size_t(rotation == 1 ? y : gw - 1 - y) * size_t(gh)];
+            if (rotation == 1) lineRuns(f.w, [&](int x) { return col[gh - 1 - x] != 0; }, f.rows[size_t(y)]);
+            else lineRuns(f.w, [&](int x) { return col[x] != 0; }, f.rows[size_t(y)]);
+        }
+    }
+    finishFootprint(f);
     return f;
 }
 
-std::vector<uint8_t> coarsen(const std::vector<uint8_t>& mask, int gw, int gh, int scale, int& cw, int& ch) {
-    cw = (gw + scale - 1) / scale;
-    ch = (gh + scale - 1) / scale;
-    if (scale == 1) return mask;
-    std::vector<uint8_t> out(size_t(cw) * size_t(ch), 0);
-    for (int y = 0; y < gh; ++y)
-        for (int x = 0; x < gw; ++x)
-            if (mask[size_t(y) * size_t(gw) + size_t(x)]) out[size_t(y / scale) * size_t(cw) + size_t(x / scale)] = 1;
+Footprint rotatedFootprint(const std::vector<uint8_t>& mask, int gw, int gh, int rotation) {
+    RowRuns cells;
+    cells.w = gw;
+    cells.h = gh;
+    cells.first.assign(1, 0);
+    for (int y = 0; y < gh; ++y) {
+        lineRuns(gw, [&](int x) { return mask[size_t(y) * size_t(gw) + size_t(x)] != 0; }, cells.runs);
+        cells.first.push_back(cells.runs.size());
+    }
+    return rotatedFootprint(cells, rotation);
+}
+
+RowRuns coarsen(const RowRuns& cells, int scale) {
+    if (scale == 1) return cells;
+    RowRuns out;
+    out.w = (cells.w + scale - 1) / scale;
+    out.h = (cells.h + scale - 1) / scale;
+    out.first.assign(1, 0);
+    std::vector<std::pair<int, int>> block;
+    for (int cy = 0; cy < out.h; ++cy) {
+        block.clear();
+        for (size_t k = cells.first[size_t(cy * scale)]; k < cells.first[size_t(std::min(cells.h, cy * scale + scale))]; ++k)
+            block.push_back({cells.runs[k].first / scale, cells.runs[k].second / scale});
+        appendUnion(out.runs, block.data(), block.data() + block.size());
+        out.first.push_back(out.runs.size());
+    }
     return out;
 }
 
@@ -377,12 +558,16 @@ namespace {
 ChartFootprints orientedFootprints(const Oriented& o, const Footprints& fp, ChartFootprints* twiceCoarser) {
     ChartFootprints c;
     c.turns = o.turns;
-    std::vector<uint8_t> fine = chartMask(o, fp.t, fp.radius, c.gw, c.gh, &c.raster);
-    c.footprint = size_t(std::count(fine.begin(), fine.end(), uint8_t(1)));
+    const RowRuns fine = chartRuns(o, fp.t, fp.radius, &c.raster);
+    c.gw = fine.w;
+    c.gh = fine.h;
+    c.footprint = fine.cells();
     auto blocks = [&](ChartFootprints& into, int s) {
-        std::vector<uint8_t> mask = coarsen(fine, into.gw, into.gh, s, into.cw, into.ch);
+        const RowRuns cells = coarsen(fine, s);
+        into.cw = cells.w;
+        into.ch = cells.h;
         // Only the quarter turns the placement tries (texel-aligned charts: none).
-        for (int rot = 0; rot < into.turns; ++rot) into.rot[size_t(rot)] = rotatedFootprint(mask, into.cw, into.ch, rot);
+        for (int rot = 0; rot < into.turns; ++rot) into.rot[size_t(rot)] = rotatedFootprint(cells, rot);
     };
     if (twiceCoarser) {
         *twiceCoarser = c;

@@ -50,18 +50,38 @@ struct Footprint {
     std::vector<int> rowLongest;                       // longest run per row
     double centroidRow = 0;                            // mean row of the occupied texels
     int leastCells = 0, leastLongest = 0;              // smallest rowCells and rowLongest
-    std::vector<int> testOrder;                        // rows, longest run first (ties: lower row first)
-    // A rectangle of occupied cells inside the footprint (the largest by area, at most
-    // kCoreRows rows): rows [coreTop, coreTop + coreRows), columns [coreA, coreB]; coreRows 0: none.
-    int coreTop = 0, coreRows = 0, coreA = 0, coreB = -1;
+    // Rectangles of occupied cells that cover the occupied cells exactly once, largest first:
+    // rows [top, top + rows), columns [a, b]; `level` = floor(log2 rows) picks BitmapPage's row
+    // unions. Each lies within a band of kBlockRows rows, 2^k-aligned from row 0, halved down to
+    // single rows: a band's block holds the columns all its rows occupy that the enclosing band's
+    // blocks do not.
+    struct Block {
+        int top = 0, rows = 1, a = 0, b = 0, level = 0;
+    };
+    std::vector<Block> blocks;
 };
 
-// The most rows a footprint's core rectangle spans (BitmapPage keeps the union of up to this many
+// The most rows a footprint's block spans (BitmapPage keeps the union of up to this many
 // consecutive rows).
-constexpr int kCoreRows = 16;
+constexpr int kBlockRows = 16;
+
+// The occupied cells of a w x h grid, row by row: runs [a, b] sorted, disjoint and not touching.
+struct RowRuns {
+    int w = 0, h = 0;
+    std::vector<size_t> first;                 // row y's runs are runs[first[y], first[y + 1])
+    std::vector<std::pair<int, int>> runs;
+    size_t cells() const;
+};
+
+// Every cell within `radius` cells (a square) of an occupied one; radius >= 0.
+RowRuns growByRadius(const RowRuns& cells, int radius);
 
 // The chart rasterised in its oriented frame at density t: cells [pad, pad + ceil(w t)) hold the
-// chart, pad = radius cells on each side hold its half of the gutter.
+// chart, pad = radius cells on each side hold its half of the gutter (the raster grown by a
+// square of that radius). `rasterCells`, when given, receives the raster's cells before growing.
+RowRuns chartRuns(const Oriented& c, double t, int radius, size_t* rasterCells = nullptr);
+
+// The same as one byte per cell (row-major, 1 = occupied).
 std::vector<uint8_t> chartMask(const Oriented& c, double t, int radius, int& gw, int& gh, size_t* rasterCells = nullptr);
 
 // Where a chart lies on the page: its orientation, quarter turn and grid, the turned grid's offset.
@@ -75,12 +95,14 @@ struct Slot {
 // turn, page offset.
 std::array<double, 6> placementFor(const Oriented& c, const Slot& s, double t, int radius);
 
-// Quarter turns of the grid (counter-clockwise in texel space, determinant +1). Cell (x, y) of a
-// gw x gh grid goes to rotateCell(...); continuous points use placementFor's matching formulas.
+// Quarter turns of the grid (counter-clockwise in texel space, determinant +1): cell (x, y) of
+// the turned grid is cell (y, gh-1-x) of the gw x gh grid at one turn, (gw-1-x, gh-1-y) at two,
+// (gw-1-y, x) at three; continuous points use placementFor's matching formulas.
+Footprint rotatedFootprint(const RowRuns& cells, int rotation);
 Footprint rotatedFootprint(const std::vector<uint8_t>& mask, int gw, int gh, int rotation);
 
-// The mask on a grid `scale` times coarser: a coarse cell is set when any of its cells is.
-std::vector<uint8_t> coarsen(const std::vector<uint8_t>& mask, int gw, int gh, int scale, int& cw, int& ch);
+// The cells on a grid `scale` times coarser: a coarse cell is occupied when any of its cells is.
+RowRuns coarsen(const RowRuns& cells, int scale);
 
 // Every chart's footprints at one density, gutter and search scale (the four quarter turns of its
 // block-rounded mask), computed once and shared by every page width and order tried.

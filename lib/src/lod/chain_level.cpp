@@ -165,21 +165,21 @@ bool placeLevel(const ChainInputs& in, const LevelWork& w, ChainCarry& carry, Pa
     LevelUVs luv = w.projected ? ownCharts(mesh, *page.layout, view, levelUVs(mesh, *page.layout, view, view.data))
                                : levelUVs(mesh, *page.layout, view, view.data);
     clock.lap(w.time.wall.uvs, w.time.cpu.uvs);
-    page.la = packLevelPage(*page.layout, luv, request, in.options);
+    page.la = packLevelPage(*page.layout, luv, request, in.options, &carry.pages);
     if (request.sourceTexels && page.la.atlas.texelsPerUnit < 1) {
         r.sourceTexelsNote = "the original's texture islands do not fit a " + std::to_string(in.options.maxSize) + " page";
         request.sourceTexels = false;
         chooseRank(in, w, carry, res);
         page.layout = &in.layouts[r.rank];
         luv = levelUVs(mesh, *page.layout, view, view.data);
-        page.la = packLevelPage(*page.layout, luv, request, in.options);
+        page.la = packLevelPage(*page.layout, luv, request, in.options, &carry.pages);
     }
     page.sourceTexels = r.sourceTexels = request.sourceTexels;
     clock.lap(w.time.wall.page, w.time.cpu.page);
     recordPage(page.la, *page.layout, r);
     carry.capPage = page.la.capPage;
     if (page.sourceTexels && page.capLayout)
-        carry.capPage = packLevelPage(*page.capLayout, levelUVs(mesh, *page.capLayout, view, view.data), request, in.options).capPage;
+        carry.capPage = packLevelPage(*page.capLayout, levelUVs(mesh, *page.capLayout, view, view.data), request, in.options, &carry.pages).capPage;
     r.absorbedIslands = luv.absorbedIslands;
     if (w.original && w.k == 0) return false;
     buildLevelMesh(in.asset, view, luv, page.la, L);

@@ -50,6 +50,7 @@ struct ChainCarry {
     std::optional<LodMaterial> tile;  // the tiled levels' one material, baked at the first of them
     // The previous level's page before its gutters were widened (texels): the next level's cap.
     std::optional<std::array<int, 2>> capPage;
+    PackedPages pages;  // the levels' pages, by charts and options
 };
 
 // Builds level k after levels 0 .. k-1: its report res.reports[k] (the plan's figures, page,

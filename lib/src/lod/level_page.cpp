@@ -231,45 +231,36 @@ bool keepsPage(LevelAtlas& candidate, const PageRequest& request, const std::arr
     return !request.finerPage || double(candidate.atlas.width) * candidate.atlas.height <= finerTexels(request);
 }
 
-// The pages packed for one level's charts, by what they were packed with. Packing is a function
-// of its inputs, and packAtlas's of the gutter its search starts from (atlasStartGutter): a page
-// asked for again, or with a gutter that starts the same search, is the one packed before.
-class PackedPages {
-public:
-    PackedPages(const LayoutData& lay, const LevelUVs& luv) : lay_(lay), luv_(luv) {}
+// The same charts for packAtlas: every point, triangle and figure equal, in the same order.
+bool sameCharts(const std::vector<AtlasChart>& a, const std::vector<AtlasChart>& b) {
+    auto samePoint = [](Vec2 p, Vec2 q) { return p.x == q.x && p.y == q.y; };
+    auto sameTriangle = [&](const std::array<Vec2, 3>& p, const std::array<Vec2, 3>& q) {
+        return samePoint(p[0], q[0]) && samePoint(p[1], q[1]) && samePoint(p[2], q[2]);
+    };
+    return std::equal(a.begin(), a.end(), b.begin(), b.end(), [&](const AtlasChart& p, const AtlasChart& q) {
+        return p.uvArea == q.uvArea && p.inPlace == q.inPlace &&
+               std::equal(p.points.begin(), p.points.end(), q.points.begin(), q.points.end(), samePoint) &&
+               std::equal(p.triangles.begin(), p.triangles.end(), q.triangles.begin(), q.triangles.end(), sameTriangle);
+    });
+}
+
+// The same options but (perhaps) the gutter and the thread count, which leaves the page the same.
+bool sameButGutter(const AtlasOptions& a, const AtlasOptions& b) {
+    return a.maxTexelsPerUnit == b.maxTexelsPerUnit && a.maxSize == b.maxSize && a.powerOfTwo == b.powerOfTwo &&
+           a.texelAligned == b.texelAligned;
+}
+
+// A level's pages, from its charts with or without its original triangles.
+struct LevelPages {
+    const LayoutData& lay;
+    const LevelUVs& luv;
+    PackedPages& packed;
 
     LevelAtlas pack(bool original, const AtlasOptions& ao) {
-        for (const Entry& e : entries_)
-            if (e.original == original && sameButGutter(e.ao, ao) && sameStart(e, ao)) return e.la;
         LevelAtlas la;
-        std::vector<AtlasChart> charts = levelAtlasCharts(lay_, luv_, original, la);
-        la.atlas = packAtlas(charts, ao);
-        const int start = ao.texelAligned ? ao.gutter : atlasStartGutter(charts, ao);
-        entries_.push_back({ao, original, start, la});
+        la.atlas = packed.pack(levelAtlasCharts(lay, luv, original, la), ao);
         return la;
     }
-
-private:
-    struct Entry {
-        AtlasOptions ao;
-        bool original = false;
-        int start = 0;  // the gutter the search started from
-        LevelAtlas la;
-    };
-    static bool sameButGutter(const AtlasOptions& a, const AtlasOptions& b) {
-        return a.maxTexelsPerUnit == b.maxTexelsPerUnit && a.maxSize == b.maxSize && a.powerOfTwo == b.powerOfTwo &&
-               a.texelAligned == b.texelAligned;
-    }
-    bool sameStart(const Entry& e, const AtlasOptions& ao) const {
-        if (e.ao.gutter == ao.gutter) return true;
-        if (ao.texelAligned) return false;
-        LevelAtlas slots;
-        return atlasStartGutter(levelAtlasCharts(lay_, luv_, e.original, slots), ao) == e.start;
-    }
-
-    const LayoutData& lay_;
-    const LevelUVs& luv_;
-    std::vector<Entry> entries_;
 };
 
 // A renderer may sample mips below the level's planned range (a small viewport, minification
@@ -279,7 +270,7 @@ private:
 // the finer level, it shows no more of the texture than the finer one does, while its narrower
 // gutters, fewer model units wide, blend neighbouring charts at the mips a small view samples.
 LevelAtlas widenGutters(const LayoutData& lay, const PageRequest& request, const PackOptions& options, const AtlasOptions& ao,
-                        PackedPages& pages, LevelAtlas la) {
+                        LevelPages& pages, LevelAtlas la) {
     const int mips = std::max(0, int(std::log2(std::max(2, la.atlas.gutter) / 2)));
     const double density = la.atlas.texelsPerUnit;
     const double finer = request.finerDensity && *request.finerDensity > 0 ? *request.finerDensity / lay.uvPerUnit : density;
@@ -309,7 +300,24 @@ LevelAtlas widenGutters(const LayoutData& lay, const PageRequest& request, const
 
 }  // namespace
 
-LevelAtlas packLevelPage(const LayoutData& lay, const LevelUVs& luv, const PageRequest& request, const PackOptions& options) {
+AtlasResult PackedPages::pack(std::vector<AtlasChart> charts, const AtlasOptions& ao) {
+    auto set = std::find_if(sets_.begin(), sets_.end(), [&](const ChartSet& c) { return sameCharts(c.charts, charts); });
+    if (set == sets_.end()) {
+        if (sets_.size() == kKeptChartSets) sets_.erase(sets_.begin());
+        sets_.push_back({std::move(charts), {}});
+    } else {
+        std::rotate(set, set + 1, sets_.end());
+    }
+    ChartSet& c = sets_.back();
+    const int start = ao.texelAligned ? ao.gutter : atlasStartGutter(c.charts, ao);
+    for (const Page& p : c.pages)
+        if (sameButGutter(p.ao, ao) && (p.ao.gutter == ao.gutter || (!ao.texelAligned && p.start == start))) return p.atlas;
+    c.pages.push_back({ao, start, packAtlas(c.charts, ao)});
+    return c.pages.back().atlas;
+}
+
+LevelAtlas packLevelPage(const LayoutData& lay, const LevelUVs& luv, const PageRequest& request, const PackOptions& options,
+                         PackedPages* shared) {
     const double tMax = request.sourceTexels ? 1.0 : request.texelLimit / lay.uvPerUnit;
     // At density d (layout units) the smallest coverage samples mip log2(d / (tMax x cov / maxCov)).
     const double minCoverageRatio = std::max(request.coverage, 1e-12) / request.maxCoverage;
@@ -340,7 +348,8 @@ LevelAtlas packLevelPage(const LayoutData& lay, const LevelUVs& luv, const PageR
                         std::sqrt(usedUv) * tMax / kPageSideFill < options.maxSize &&
                         usedUv * std::pow(tMax / kPageSideFill, 2) > kCappedStart * finerTexels(request);
     if (capped) ao.maxTexelsPerUnit = std::sqrt(finerTexels(request) / usedUv) * kPageSideFill;
-    PackedPages pages(lay, luv);
+    PackedPages own;
+    LevelPages pages{lay, luv, shared ? *shared : own};
     LevelAtlas la = pages.pack(request.originalTriangles, ao);
     // Narrower gutters when the density fell short of the limit. Not for the source texels: their
     // packer narrows the gutter itself, down to 2 texels, so a narrower start repeats its attempts.

@@ -102,6 +102,29 @@ struct PageRequest {
     bool startNearCap = false;
 };
 
+// The pages packed for the chain's levels, by what they were packed with. Packing is a function
+// of its inputs, and packAtlas's of the gutter its search starts from (atlasStartGutter): a page
+// asked for again with the same charts, or with a gutter that starts the same search, is the one
+// packed before. Consecutive levels may pack the same charts (a coarser level whose mesh is the
+// finer one's): the last kKeptChartSets distinct chart sets are kept.
+class PackedPages {
+public:
+    AtlasResult pack(std::vector<AtlasChart> charts, const AtlasOptions& ao);
+
+private:
+    static constexpr size_t kKeptChartSets = 2;
+    struct Page {
+        AtlasOptions ao;
+        int start = 0;  // the gutter the search started from
+        AtlasResult atlas;
+    };
+    struct ChartSet {
+        std::vector<AtlasChart> charts;
+        std::vector<Page> pages;
+    };
+    std::vector<ChartSet> sets_;  // the most recently used last
+};
+
 // The level's page: its charts packed at the density limit (layout units) with gutters for the
 // mips used between its largest and smallest coverage (at most options.maxMips, none for pages
 // below minMipSide). A page held below the density limit (maxSize) is magnified at the largest
@@ -111,7 +134,9 @@ struct PageRequest {
 // does not (at most 8 tries). With request.widenGutters the gutter then widens toward the mips of
 // the page's side where that keeps the density, or lowers it no further than the finer level's
 // (request.finerDensity) (la.capPage: the page before, the coarser levels' cap). Reads maxSize, powerOfTwo, maxMips, minMipSide and threads of `options`.
-LevelAtlas packLevelPage(const LayoutData& lay, const LevelUVs& luv, const PageRequest& request, const PackOptions& options);
+// `pages`, when given, holds the pages packed for other levels (else the level's own are kept).
+LevelAtlas packLevelPage(const LayoutData& lay, const LevelUVs& luv, const PageRequest& request, const PackOptions& options,
+                         PackedPages* pages = nullptr);
 
 // The page figures of the report.
 void recordPage(const LevelAtlas& la, const LayoutData& lay, PackLevelReport& r);
