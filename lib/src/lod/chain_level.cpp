@@ -180,6 +180,7 @@ bool placeLevel(const ChainInputs& in, const LevelWork& w, ChainCarry& carry, Pa
     carry.capPage = page.la.capPage;
     if (page.sourceTexels && page.capLayout)
         carry.capPage = packLevelPage(*page.capLayout, levelUVs(mesh, *page.capLayout, view, view.data), request, in.options, &carry.pages).capPage;
+    carry.pages.forgetLarge();
     r.absorbedIslands = luv.absorbedIslands;
     if (w.original && w.k == 0) return false;
     buildLevelMesh(in.asset, view, luv, page.la, L);

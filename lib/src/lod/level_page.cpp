@@ -316,6 +316,15 @@ AtlasResult PackedPages::pack(std::vector<AtlasChart> charts, const AtlasOptions
     return c.pages.back().atlas;
 }
 
+void PackedPages::forgetLarge() {
+    auto large = [](const ChartSet& s) {
+        size_t corners = 0;
+        for (const AtlasChart& c : s.charts) corners += c.points.size() + 3 * c.triangles.size();
+        return corners > kKeptCorners;
+    };
+    sets_.erase(std::remove_if(sets_.begin(), sets_.end(), large), sets_.end());
+}
+
 LevelAtlas packLevelPage(const LayoutData& lay, const LevelUVs& luv, const PageRequest& request, const PackOptions& options,
                          PackedPages* shared) {
     const double tMax = request.sourceTexels ? 1.0 : request.texelLimit / lay.uvPerUnit;

@@ -110,9 +110,14 @@ struct PageRequest {
 class PackedPages {
 public:
     AtlasResult pack(std::vector<AtlasChart> charts, const AtlasOptions& ao);
+    // Forgets the chart sets of more than kKeptCorners UV corners: a level's page step is done,
+    // and a large set would stay in memory through the bakes (a million-triangle level's charts
+    // are some 100 MB) for a repeat that only saves its packing.
+    void forgetLarge();
 
 private:
     static constexpr size_t kKeptChartSets = 2;
+    static constexpr size_t kKeptCorners = 300000;
     struct Page {
         AtlasOptions ao;
         int start = 0;  // the gutter the search started from
