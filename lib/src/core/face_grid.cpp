@@ -8,9 +8,6 @@
 
 namespace lodbake {
 
-namespace {
-
-// Every face of the mesh that is not index-degenerate, ascending.
 std::vector<uint32_t> indexedFaces(const TriMesh& mesh) {
     std::vector<uint32_t> out;
     out.reserve(mesh.triangleCount());
@@ -18,8 +15,6 @@ std::vector<uint32_t> indexedFaces(const TriMesh& mesh) {
         if (!degenerateIndices(mesh.triangles[f])) out.push_back(f);
     return out;
 }
-
-}  // namespace
 
 FaceGrid::FaceGrid(const TriMesh& mesh, double cellsPerFace) : FaceGrid(mesh, indexedFaces(mesh), mesh.triangleCount(), cellsPerFace) {}
 

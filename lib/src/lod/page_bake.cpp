@@ -67,13 +67,7 @@ BakeResult bakePage(const BakeSources& sources, LayoutData& L, const LevelAtlas&
     return bakeMaterial(sources, uv, bo, islands, target);
 }
 
-FaceGrid projectionGrid(const TriMesh& mesh) {
-    std::vector<uint32_t> faces;
-    faces.reserve(mesh.triangleCount());
-    for (uint32_t f = 0; f < mesh.triangleCount(); ++f)
-        if (!degenerateIndices(mesh.triangles[f])) faces.push_back(f);
-    return FaceGrid(mesh, withoutCopies(mesh, faces));
-}
+FaceGrid projectionGrid(const TriMesh& mesh) { return FaceGrid(mesh, withoutCopies(mesh, indexedFaces(mesh))); }
 
 BakeResult bakeProjected(const BakeSources& sources, const FaceGrid& grid, const LodLevelData& L, size_t front, int width,
                          int height, double reach, double diagonal, const BakeChannels& channels, const BakeTarget* target,

@@ -13,6 +13,9 @@
 
 namespace lodbake {
 
+// Every face of the mesh that is not index-degenerate (the faces a FaceGrid can list), ascending.
+std::vector<uint32_t> indexedFaces(const TriMesh& mesh);
+
 class FaceGrid {
 public:
     // About `cellsPerFace` cells per face over the mesh's bounding box (degenerate faces skipped).
