@@ -407,6 +407,34 @@ TEST(PackAtlas, TrialBoundsKeepTheLayoutForAnyThreadCount) {
     EXPECT_GT(one.utilisation, 0.4);
 }
 
+// A caller that packs the same charts again hands packAtlas and atlasStartGutter the frames it
+// found once: the page and every chart map are those found without them, for free and
+// texel-aligned charts alike.
+TEST(PackAtlas, GivenFramesPackAsFoundFrames) {
+    const std::vector<AtlasChart> charts = seededTriangles(24, 0.5);
+    for (bool aligned : {false, true}) {
+        AtlasOptions o;
+        o.maxTexelsPerUnit = aligned ? 1 : 256;
+        o.gutter = 8;
+        o.texelAligned = aligned;
+        std::vector<AtlasChart> scaled = charts;
+        if (aligned)
+            for (AtlasChart& c : scaled) {
+                for (Vec2& p : c.points) p = p * 200.0;
+                for (auto& t : c.triangles) for (Vec2& p : t) p = p * 200.0;
+                c.uvArea *= 200.0 * 200.0;
+            }
+        const std::vector<ChartFrame> frames = chartFrames(scaled, o);
+        ASSERT_EQ(frames.size(), scaled.size());
+        EXPECT_EQ(atlasStartGutter(scaled, o, &frames), atlasStartGutter(scaled, o));
+        const AtlasResult found = packAtlas(scaled, o), given = packAtlas(scaled, o, &frames);
+        EXPECT_EQ(given.width, found.width);
+        EXPECT_EQ(given.height, found.height);
+        EXPECT_EQ(given.texelsPerUnit, found.texelsPerUnit);
+        for (size_t i = 0; i < scaled.size(); ++i) EXPECT_EQ(given.charts[i].m, found.charts[i].m) << "chart " << i;
+    }
+}
+
 // The T0 shelf packer: more items than a 64-texel page holds at any density (each box is at least
 // 2 texels with 4-texel gutters: 10 x 10 of them; 12 x 12 would fit only at density 0) grow the
 // page up to maxSize, and without maxSize they throw.

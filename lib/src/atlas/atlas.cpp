@@ -7,7 +7,7 @@
 // chart packing as in Lévy et al., "Least Squares Conformal Maps" (2002), section 5.
 //
 // Pipeline of packAtlas:
-//   1. chartOrientations: convex hull of each chart's UV points, minimum-area bounding rectangle;
+//   1. chartFrames: convex hull of each chart's UV points, minimum-area bounding rectangle;
 //      chartOrders: the chart orders tried;
 //   2. footprintsAt: chartRuns rasterises each chart (conservatively, as runs of cells per row)
 //      at the density and grows it by the gutter radius; the four quarter turns of its
@@ -624,15 +624,22 @@ void placeCharts(const Orientations& turned, const std::vector<Oriented>& charts
 
 }  // namespace
 
-AtlasResult packAtlas(const std::vector<AtlasChart>& input, const AtlasOptions& options) {
+std::vector<ChartFrame> chartFrames(const std::vector<AtlasChart>& charts, const AtlasOptions& options) {
+    std::vector<ChartFrame> frames(charts.size());
+    parallelFor(charts.size(), options.threads, [&](size_t i) { frames[i] = chartFrame(charts[i], options.texelAligned); });
+    return frames;
+}
+
+AtlasResult packAtlas(const std::vector<AtlasChart>& input, const AtlasOptions& options, const std::vector<ChartFrame>* frames) {
     // 1. Orientation: each chart turned to its minimum-area rectangle.
-    Orientations turned;
-    std::vector<Oriented> charts;  // each chart's first orientation (sizes and orders)
-    turned.reserve(input.size());
-    for (const AtlasChart& c : input) {
-        turned.push_back(chartOrientations(c, options.texelAligned));
-        charts.push_back(turned.back()[0]);
-    }
+    std::vector<ChartFrame> found;
+    if (!frames) frames = &(found = chartFrames(input, options));
+    Orientations turned(input.size());
+    std::vector<Oriented> charts(input.size());  // each chart's first orientation (sizes and orders)
+    parallelFor(input.size(), options.threads, [&](size_t i) {
+        turned[i] = {orientedIn(input[i], (*frames)[i], options.texelAligned)};
+        charts[i] = turned[i][0];
+    });
     const std::vector<std::vector<size_t>> orders = chartOrders(charts);
     const int maxSize = std::max(8, options.maxSize);
     const double tMax = options.maxTexelsPerUnit;
@@ -676,10 +683,16 @@ AtlasResult packAtlas(const std::vector<AtlasChart>& input, const AtlasOptions& 
     return res;
 }
 
-int atlasStartGutter(const std::vector<AtlasChart>& input, const AtlasOptions& options) {
-    std::vector<Oriented> charts;
-    charts.reserve(input.size());
-    for (const AtlasChart& c : input) charts.push_back(chartOrientations(c, options.texelAligned)[0]);
+int atlasStartGutter(const std::vector<AtlasChart>& input, const AtlasOptions& options, const std::vector<ChartFrame>* frames) {
+    std::vector<ChartFrame> found;
+    if (!frames) frames = &(found = chartFrames(input, options));
+    // The rectangles alone: narrowedGutter reads no triangles.
+    std::vector<Oriented> charts(input.size());
+    for (size_t i = 0; i < input.size(); ++i) {
+        const ChartFrame& f = (*frames)[i];
+        charts[i].w = f.w;
+        charts[i].h = f.h;
+    }
     return narrowedGutter(charts, options.maxTexelsPerUnit, std::max(0, options.gutter));
 }
 

@@ -65,13 +65,12 @@ std::vector<Vec2> convexHull(std::vector<Vec2> p) {
     return h;
 }
 
-// The chart in the frame rotated by the angle (c, s) = (cos, sin), moved to [0, w] x [0, h]
-// (aligned: by whole units, so that unit cell centres stay cell centres).
-Oriented frameAt(const AtlasChart& chart, const std::vector<Vec2>& hull, double c, double s, bool aligned = false) {
-    Oriented o;
-    o.uvArea = chart.uvArea;
-    o.c = c;
-    o.s = s;
+// The frame rotated by the angle (c, s) = (cos, sin) around the hull, moved to [0, w] x [0, h]
+// (aligned: by whole blocks, so that unit cell centres stay cell centres).
+ChartFrame frameAt(const std::vector<Vec2>& hull, double c, double s, bool aligned = false) {
+    ChartFrame f;
+    f.c = c;
+    f.s = s;
     double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
     for (const Vec2& q : hull) {
         double x = c * q.x + s * q.y, y = -s * q.x + c * q.y;
@@ -82,18 +81,9 @@ Oriented frameAt(const AtlasChart& chart, const std::vector<Vec2>& hull, double 
     if (aligned) {
         x0 = std::floor(x0 / kAlignedBlock) * kAlignedBlock;
         y0 = std::floor(y0 / kAlignedBlock) * kAlignedBlock;
-        o.aligned = true;
-        o.turns = 1;
     }
-    o.minX = x0; o.minY = y0; o.w = x1 - x0; o.h = y1 - y0;
-    auto turn = [&](Vec2 q) { return Vec2{c * q.x + s * q.y - x0, -s * q.x + c * q.y - y0}; };
-    if (!chart.triangles.empty()) {
-        for (const auto& tri : chart.triangles) o.triangles.push_back({turn(tri[0]), turn(tri[1]), turn(tri[2])});
-    } else {
-        for (size_t i = 1; i + 1 < hull.size(); ++i) o.triangles.push_back({turn(hull[0]), turn(hull[i]), turn(hull[i + 1])});
-        if (hull.size() < 3) for (const Vec2& q : hull) o.triangles.push_back({turn(q), turn(q), turn(q)});
-    }
-    return o;
+    f.minX = x0; f.minY = y0; f.w = x1 - x0; f.h = y1 - y0;
+    return f;
 }
 
 // Whether a triangle and a unit cell [x, x+1] x [y, y+1] overlap by more than a hair (separating
@@ -258,9 +248,9 @@ void coverBlocks(Footprint& f) {
 
 }  // namespace
 
-std::vector<Oriented> chartOrientations(const AtlasChart& chart, bool aligned) {
+ChartFrame chartFrame(const AtlasChart& chart, bool aligned) {
     std::vector<Vec2> hull = convexHull(chart.points);
-    if (aligned) return {frameAt(chart, hull, 1, 0, true)};
+    if (aligned) return frameAt(hull, 1, 0, true);
     double bestC = 1, bestS = 0, bestArea = 1e300;
     auto tryAngle = [&](double c, double s) {
         double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
@@ -278,7 +268,28 @@ std::vector<Oriented> chartOrientations(const AtlasChart& chart, bool aligned) {
         double l = std::sqrt(dot(e, e));
         if (l > 0) tryAngle(e.x / l, e.y / l);
     }
-    return {frameAt(chart, hull, bestC, bestS)};
+    return frameAt(hull, bestC, bestS);
+}
+
+Oriented orientedIn(const AtlasChart& chart, const ChartFrame& f, bool aligned) {
+    Oriented o;
+    o.uvArea = chart.uvArea;
+    o.c = f.c; o.s = f.s;
+    o.minX = f.minX; o.minY = f.minY; o.w = f.w; o.h = f.h;
+    if (aligned) {
+        o.aligned = true;
+        o.turns = 1;
+    }
+    auto turn = [&](Vec2 q) { return Vec2{f.c * q.x + f.s * q.y - f.minX, -f.s * q.x + f.c * q.y - f.minY}; };
+    if (!chart.triangles.empty()) {
+        o.triangles.reserve(chart.triangles.size());
+        for (const auto& tri : chart.triangles) o.triangles.push_back({turn(tri[0]), turn(tri[1]), turn(tri[2])});
+    } else {
+        const std::vector<Vec2> hull = convexHull(chart.points);
+        for (size_t i = 1; i + 1 < hull.size(); ++i) o.triangles.push_back({turn(hull[0]), turn(hull[i]), turn(hull[i + 1])});
+        if (hull.size() < 3) for (const Vec2& q : hull) o.triangles.push_back({turn(q), turn(q), turn(q)});
+    }
+    return o;
 }
 
 // Each row's runs widened by the radius, then per row the union of the widened rows within the

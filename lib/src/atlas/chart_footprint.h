@@ -32,10 +32,19 @@ struct Oriented {
     std::vector<std::array<Vec2, 3>> triangles;  // in the rotated frame, [0, w] x [0, h]
 };
 
-// The orientations a chart is tried in (each with the placement's four quarter turns): as it is
-// when texel-aligned, else its minimum-area rectangle only (further angles cost time in proportion and pack no tighter; see
-// docs/benchmarks.md).
-std::vector<Oriented> chartOrientations(const AtlasChart& chart, bool aligned);
+// The frame a chart is tried in (with the placement's four quarter turns): as it is when
+// texel-aligned, else its minimum-area rectangle only (further angles cost time in proportion and
+// pack no tighter; see docs/benchmarks.md).
+ChartFrame chartFrame(const AtlasChart& chart, bool aligned);
+
+// The chart in its frame: the rectangle and the UV triangles turned into [0, w] x [0, h] (a chart
+// without triangles: its hull's fan).
+Oriented orientedIn(const AtlasChart& chart, const ChartFrame& frame, bool aligned);
+
+// The orientations a chart is tried in: its one frame.
+inline std::vector<Oriented> chartOrientations(const AtlasChart& chart, bool aligned) {
+    return {orientedIn(chart, chartFrame(chart, aligned), aligned)};
+}
 
 // Texels an extent takes at density t; held below 2^30 so that sums and gutters stay in int range
 // at any density asked for.

@@ -304,15 +304,17 @@ AtlasResult PackedPages::pack(std::vector<AtlasChart> charts, const AtlasOptions
     auto set = std::find_if(sets_.begin(), sets_.end(), [&](const ChartSet& c) { return sameCharts(c.charts, charts); });
     if (set == sets_.end()) {
         if (sets_.size() == kKeptChartSets) sets_.erase(sets_.begin());
-        sets_.push_back({std::move(charts), {}});
+        sets_.push_back({std::move(charts), {}, {}});
     } else {
         std::rotate(set, set + 1, sets_.end());
     }
     ChartSet& c = sets_.back();
-    const int start = ao.texelAligned ? ao.gutter : atlasStartGutter(c.charts, ao);
+    std::vector<ChartFrame>& frames = c.frames[ao.texelAligned ? 1 : 0];
+    if (frames.size() != c.charts.size()) frames = chartFrames(c.charts, ao);
+    const int start = ao.texelAligned ? ao.gutter : atlasStartGutter(c.charts, ao, &frames);
     for (const Page& p : c.pages)
         if (sameButGutter(p.ao, ao) && (p.ao.gutter == ao.gutter || (!ao.texelAligned && p.start == start))) return p.atlas;
-    c.pages.push_back({ao, start, packAtlas(c.charts, ao)});
+    c.pages.push_back({ao, start, packAtlas(c.charts, ao, &frames)});
     return c.pages.back().atlas;
 }
 

@@ -126,6 +126,7 @@ private:
     struct ChartSet {
         std::vector<AtlasChart> charts;
         std::vector<Page> pages;
+        std::array<std::vector<ChartFrame>, 2> frames;  // chartFrames, free and texel-aligned (found when first asked)
     };
     std::vector<ChartSet> sets_;  // the most recently used last
 };

@@ -106,15 +106,29 @@ struct AtlasResult {
     int gutter = 0;                      // the gutter used (may be narrower than asked)
 };
 
-// \pre every chart has >= 1 point; options.maxTexelsPerUnit > 0; maxSize >= 8.
+// A chart's frame on a page: turned by the angle (c, s) = (cos, sin), its rectangle is
+// [minX, minX + w] x [minY, minY + h] (texel-aligned: unturned, the corner on a block of texels).
+struct ChartFrame {
+    double c = 1, s = 0;
+    double minX = 0, minY = 0, w = 0, h = 0;
+};
+
+// Each chart's frame, as packAtlas and atlasStartGutter find it first (the minimum-area rectangle
+// of its UV hull, a function of the chart and options.texelAligned alone). A caller that packs
+// the same charts many times finds the frames once and hands them to both.
+std::vector<ChartFrame> chartFrames(const std::vector<AtlasChart>& charts, const AtlasOptions& options);
+
+// \pre every chart has >= 1 point; options.maxTexelsPerUnit > 0; maxSize >= 8; `frames`, when
+// given, is chartFrames(charts, options).
 // Never fails: when the charts do not fit at the density limit the density is lowered until they
 // fit in maxSize x maxSize.
-AtlasResult packAtlas(const std::vector<AtlasChart>& charts, const AtlasOptions& options);
+AtlasResult packAtlas(const std::vector<AtlasChart>& charts, const AtlasOptions& options,
+                      const std::vector<ChartFrame>* frames = nullptr);
 
 // The gutter packAtlas's search starts from: options.gutter, halved while the gutters take more
 // than half of the charts' padded area at the density limit. Unless options.texelAligned (whose
 // in-place fallback starts from options.gutter itself), packAtlas returns the same result for two
 // options that differ in the gutter alone when this is the same for both.
-int atlasStartGutter(const std::vector<AtlasChart>& charts, const AtlasOptions& options);
+int atlasStartGutter(const std::vector<AtlasChart>& charts, const AtlasOptions& options, const std::vector<ChartFrame>* frames = nullptr);
 
 }  // namespace lodbake
