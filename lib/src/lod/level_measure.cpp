@@ -1,13 +1,17 @@
 // Each level's measured deviation from the original (level_measure.h), after vertex placement.
 #include "lod/level_measure.h"
 
+#include "lodbake/core/parallel.h"
 #include "lodbake/core/pose_samples.h"
 #include "lodbake/core/timing.h"
 #include "lodbake/metrics/distance.h"
 #include "lodbake/metrics/posed_distance.h"
 #include "lod/vertex_placement.h"
 
+#include <algorithm>
+#include <mutex>
 #include <optional>
+#include <utility>
 
 namespace lodbake::lod_detail {
 namespace {
@@ -92,32 +96,61 @@ void measureLevels(const Asset& asset, std::vector<LevelView>& views, const Pack
     // The original's trees, built once for every level and placement and freed before the bakes.
     PosedDistanceReference original(asset.rig, asset.morph, asset.mesh, poses);
     const bool posed = !poses.empty();
-    // Level k - 1's figures before vertex placement, when measured in full.
-    std::optional<GeometricDistance> previous;
     for (size_t k = 0; k < n; ++k) {
-        PackLevelReport& r = res.reports[k];
-        r.source = views[k].source;
-        r.maxDeviation = views[k].maxDeviation;
-        if (k == 0) continue;
-        // A level that repeats the one before it (unmoved) measures the same.
-        const TriMesh level = measuredMesh(asset, views[k], posed);
-        PosedDistanceReference::Measure before =
-            k > 1 && previous && sameSurface(views[k], views[k - 1]) ? PosedDistanceReference::Measure(*previous) : original.measure(level);
-        GeometricDistance d;
-        if (options.vertexPlacement && options.projectLevels && views[k].data) {
-            d = placeVertices(asset, views[k], posed, original, dopt, before, r.placement, time[k]);
-        } else {
-            while (!before.done()) before.step(dopt);
-            d = before.figures();
-        }
-        previous.reset();
-        if (before.done() && !before.figures().stopped) previous = before.figures();
-        r.hausdorff = d.hausdorff;
-        r.relHausdorff = d.relHausdorff;
-        r.rms = d.rms;
-        r.relRms = d.relRms;
-        progress(0.3 * double(k) / double(n));
+        res.reports[k].source = views[k].source;
+        res.reports[k].maxDeviation = views[k].maxDeviation;
     }
+    // Levels k-1 and k of the same triangles may show the same surface: level k then takes k-1's
+    // figures, so they are measured in one run, in order. Runs are independent of each other: an
+    // unposed original is read only (its bind pose's trees built first), and the runs take the
+    // threads, largest first (each level's placement still splits its own queries). A posed
+    // original builds its poses' trees as measures first reach them: one run after another.
+    std::vector<std::pair<size_t, size_t>> runs;  // [first, last) level
+    for (size_t k = 1; k < n; ++k) {
+        const LevelView& a = views[k - 1];
+        const bool sameTriangles = k > 1 && a.triangles == views[k].triangles && a.cornerWedges == views[k].cornerWedges && a.faces == views[k].faces;
+        if (sameTriangles) runs.back().second = k + 1;
+        else runs.push_back({k, k + 1});
+    }
+    const bool place = options.vertexPlacement && options.projectLevels;
+    if (!posed) {
+        // Built here, not by the first query of whichever run comes first: the closest-point
+        // ranks the placements read are set on the tree the measures search.
+        const DistanceReference& bind = original.bind();
+        if (place) bind.closestPoints({}, 1);
+    }
+    std::stable_sort(runs.begin(), runs.end(), [&](const auto& x, const auto& y) {
+        return views[x.first].triangles.size() > views[y.first].triangles.size();
+    });
+    std::mutex progressMutex;
+    size_t measured = 0;
+    auto measureRun = [&](std::pair<size_t, size_t> run) {
+        // Level k - 1's figures before vertex placement, when measured in full.
+        std::optional<GeometricDistance> previous;
+        for (size_t k = run.first; k < run.second; ++k) {
+            PackLevelReport& r = res.reports[k];
+            const TriMesh level = measuredMesh(asset, views[k], posed);
+            PosedDistanceReference::Measure before =
+                k > run.first && previous && sameSurface(views[k], views[k - 1]) ? PosedDistanceReference::Measure(*previous)
+                                                                                  : original.measure(level);
+            GeometricDistance d;
+            if (place && views[k].data) {
+                d = placeVertices(asset, views[k], posed, original, dopt, before, r.placement, time[k]);
+            } else {
+                while (!before.done()) before.step(dopt);
+                d = before.figures();
+            }
+            previous.reset();
+            if (before.done() && !before.figures().stopped) previous = before.figures();
+            r.hausdorff = d.hausdorff;
+            r.relHausdorff = d.relHausdorff;
+            r.rms = d.rms;
+            r.relRms = d.relRms;
+            std::lock_guard<std::mutex> lock(progressMutex);
+            progress(0.3 * double(++measured) / double(n));
+        }
+    };
+    parallelFor(runs.size(), posed ? 1 : options.threads, [&](size_t i) { measureRun(runs[i]); });
 }
 
 }  // namespace lodbake::lod_detail
