@@ -39,6 +39,67 @@ struct Combination {
     }
 };
 
+// The simplification pairs' terms of the normal equations. A pair's vertices are the same every
+// round (only its weight changes), so the matrix entries its products add to are found once: a
+// round sums each entry's products in the pairs' order, the order setFromTriplets sums the
+// triplets of one entry in, and hands the sums on as one triplet per entry, ahead of the other
+// terms' triplets. Entries of row r (an unknown): [rowStart[r], rowStart[r + 1]) of `column`.
+struct PairTerms {
+    std::vector<Combination> combination;  // per pair with a term, the level point it pulls
+    std::vector<Vec3> target;               // and the removed vertex it pulls towards
+    std::vector<uint32_t> entry;            // per pair in order, the entry of each unknown x unknown product
+    std::vector<uint32_t> rowStart, column;
+};
+
+// Calls fn(uj, uk) for each product of two unknowns of c, in the order the normal equations add them.
+template <class Fn>
+void forEachProduct(const Combination& c, const std::vector<uint32_t>& unknown, Fn&& fn) {
+    for (int j = 0; j < c.count; ++j) {
+        const uint32_t uj = unknown[c.vertex[size_t(j)]];
+        if (uj == UINT32_MAX) continue;
+        for (int k = 0; k < c.count; ++k) {
+            const uint32_t uk = unknown[c.vertex[size_t(k)]];
+            if (uk != UINT32_MAX) fn(uj, uk);
+        }
+    }
+}
+
+PairTerms pairTerms(const TriMesh& original, const Level& level, const std::vector<uint32_t>& local,
+                    const std::vector<uint32_t>& unknown, uint32_t unknowns) {
+    PairTerms pt;
+    for (const SimplificationPair& p : level.pairs) {
+        if (p.vertex >= original.vertexCount()) continue;
+        Combination c;
+        bool valid = true;
+        for (size_t k = 0; k < 3; ++k) {
+            if (p.coarse[k] >= local.size() || local[p.coarse[k]] == UINT32_MAX) { valid = false; break; }
+            c.add(local[p.coarse[k]], double(p.bary[k]));
+        }
+        if (!valid || c.count == 0) continue;
+        pt.combination.push_back(c);
+        pt.target.push_back(original.positions[p.vertex]);
+    }
+    std::vector<std::vector<uint32_t>> columns(unknowns);
+    for (const Combination& c : pt.combination)
+        forEachProduct(c, unknown, [&](uint32_t uj, uint32_t uk) {
+            std::vector<uint32_t>& row = columns[uj];
+            if (std::find(row.begin(), row.end(), uk) == row.end()) row.push_back(uk);
+        });
+    pt.rowStart.assign(size_t(unknowns) + 1, 0);
+    for (uint32_t r = 0; r < unknowns; ++r) pt.rowStart[r + 1] = pt.rowStart[r] + uint32_t(columns[r].size());
+    pt.column.reserve(pt.rowStart.back());
+    for (std::vector<uint32_t>& row : columns) {
+        pt.column.insert(pt.column.end(), row.begin(), row.end());
+        std::vector<uint32_t>().swap(row);
+    }
+    for (const Combination& c : pt.combination)
+        forEachProduct(c, unknown, [&](uint32_t uj, uint32_t uk) {
+            const auto first = pt.column.begin() + pt.rowStart[uj], last = pt.column.begin() + pt.rowStart[uj + 1];
+            pt.entry.push_back(uint32_t(std::find(first, last, uk) - pt.column.begin()));
+        });
+    return pt;
+}
+
 // Points spread over triangles by area: stratified along the cumulative area, barycentrics from
 // the R2 low-discrepancy sequence. Each sample is (triangle index, barycentrics).
 struct SurfaceSample {
@@ -158,6 +219,14 @@ PlacementResult placeLevelVertices(const TriMesh& original, const DistanceRefere
     for (size_t i = 0; i < originalSamples.size(); ++i)
         originalPoints[i] = pointOf(original.positions, original.triangles[originalSamples[i].triangle], originalSamples[i].bary);
 
+    // The unknowns: the free vertices, three coordinates each.
+    std::vector<uint32_t> unknown(nv, UINT32_MAX);
+    uint32_t nu = 0;
+    for (size_t i = 0; i < nv; ++i)
+        if (!fixed[i]) unknown[i] = nu++;
+    const PairTerms pairs = pairTerms(original, level, local, unknown, nu);
+    const double pairWeight = level.pairs.empty() ? 0 : 0.5 * originalArea / double(level.pairs.size());
+
     std::vector<char> movedEver(nv, 0);
     // Each original sample's closest point on the level (face, barycentrics), kept round to round.
     std::vector<std::pair<uint32_t, std::array<double, 3>>> onLevel(originalPoints.size(), {UINT32_MAX, {}});
@@ -228,19 +297,19 @@ PlacementResult placeLevelVertices(const TriMesh& original, const DistanceRefere
         }
         // The linear least squares of this round, as normal equations over the free vertices:
         // N x = rhs, one column per coordinate; fixed vertices move their terms to the right side.
-        std::vector<uint32_t> unknown(nv, UINT32_MAX);
-        uint32_t nu = 0;
-        for (size_t i = 0; i < nv; ++i)
-            if (!fixed[i]) unknown[i] = nu++;
         std::vector<Eigen::Triplet<double>> entries;
         Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(nu, 3);
-        auto addTerm = [&](const Combination& c, Vec3 target, double weight) {
-            if (c.count == 0) return;
+        auto reweighted = [&](const Combination& c, Vec3 target, double weight) {
             if (options.reweightPower > 0 && rms > 0) {
                 Vec3 p{0, 0, 0};
                 for (int k = 0; k < c.count; ++k) p += pos[verts[c.vertex[size_t(k)]]] * c.weight[size_t(k)];
                 weight *= 1 + std::pow(length(p - target) / rms, options.reweightPower);
             }
+            return weight;
+        };
+        // Adds the term's products through `product` (the entry's row, column and value) and its
+        // right-hand side, with its weight as reweighted.
+        auto addWeighted = [&](const Combination& c, Vec3 target, double weight, auto&& product) {
             Vec3 known = target;
             for (int k = 0; k < c.count; ++k)
                 if (fixed[c.vertex[size_t(k)]]) known -= pos[verts[c.vertex[size_t(k)]]] * c.weight[size_t(k)];
@@ -250,26 +319,35 @@ PlacementResult placeLevelVertices(const TriMesh& original, const DistanceRefere
                 const double wj = weight * c.weight[size_t(j)];
                 for (int k = 0; k < c.count; ++k) {
                     const uint32_t uk = unknown[c.vertex[size_t(k)]];
-                    if (uk != UINT32_MAX) entries.emplace_back(uj, uk, wj * c.weight[size_t(k)]);
+                    if (uk != UINT32_MAX) product(uj, uk, wj * c.weight[size_t(k)]);
                 }
                 for (int a = 0; a < 3; ++a) rhs(uj, a) += wj * known[a];
             }
+        };
+        auto addTerm = [&](const Combination& c, Vec3 target, double weight) {
+            if (c.count == 0) return;
+            addWeighted(c, target, reweighted(c, target, weight),
+                        [&](uint32_t uj, uint32_t uk, double v) { entries.emplace_back(uj, uk, v); });
         };
         auto combinationOf = [&](const Tri& t, const std::array<double, 3>& b) {
             Combination c;
             for (size_t k = 0; k < 3; ++k) c.add(local[t[k]], b[k]);
             return c;
         };
-        const double pairWeight = level.pairs.empty() ? 0 : 0.5 * originalArea / double(level.pairs.size());
-        for (const SimplificationPair& p : level.pairs) {
-            if (p.vertex >= original.vertexCount()) continue;
-            Combination c;
-            bool valid = true;
-            for (size_t k = 0; k < 3; ++k) {
-                if (p.coarse[k] >= local.size() || local[p.coarse[k]] == UINT32_MAX) { valid = false; break; }
-                c.add(local[p.coarse[k]], double(p.bary[k]));
-            }
-            if (valid) addTerm(c, original.positions[p.vertex], pairWeight);
+        {
+            const size_t np = pairs.combination.size();
+            std::vector<double> weight(np);
+            parallelChunks(np, 4096, options.threads, [&](size_t begin, size_t end, size_t) {
+                for (size_t i = begin; i < end; ++i) weight[i] = reweighted(pairs.combination[i], pairs.target[i], pairWeight);
+            });
+            std::vector<double> sum(pairs.column.size(), -0.0);  // -0.0 + x == x for every x: the first product as it is
+            size_t e = 0;
+            for (size_t i = 0; i < np; ++i)
+                addWeighted(pairs.combination[i], pairs.target[i], weight[i],
+                            [&](uint32_t, uint32_t, double v) { sum[pairs.entry[e++]] += v; });
+            entries.reserve(sum.size());
+            for (uint32_t r = 0; r < nu; ++r)
+                for (uint32_t k = pairs.rowStart[r]; k < pairs.rowStart[r + 1]; ++k) entries.emplace_back(r, pairs.column[k], sum[k]);
         }
         const double originalWeight = originalArea / double(std::max<size_t>(1, originalPoints.size()));
         for (size_t i = 0; i < originalPoints.size(); ++i)
