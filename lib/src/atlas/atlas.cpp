@@ -352,12 +352,33 @@ bool mayFit(const std::vector<Oriented>& charts, double t, int binW, int binH) {
     return area <= kCoverageSlack * double(binW) * binH;
 }
 
+// A chart's orientation without its triangles: what the size, order and fit rules read (a
+// million-triangle chart set's triangles are some 100 MB a copy).
+Oriented rectangleOf(const Oriented& o) {
+    Oriented r;
+    r.c = o.c;
+    r.s = o.s;
+    r.minX = o.minX;
+    r.minY = o.minY;
+    r.w = o.w;
+    r.h = o.h;
+    r.aligned = o.aligned;
+    r.turns = o.turns;
+    r.uvArea = o.uvArea;
+    return r;
+}
+
+std::vector<Oriented> firstRectangles(const Orientations& charts) {
+    std::vector<Oriented> first;
+    first.reserve(charts.size());
+    for (const auto& c : charts) first.push_back(rectangleOf(c.front()));
+    return first;
+}
+
 // The charts packed in binW x binH at density t, when they fit.
 std::optional<std::pair<double, Packing>> fitAt(const Orientations& charts, const std::vector<size_t>& order, int threads,
                                                 double t, int gutter, int binW, int binH) {
-    std::vector<Oriented> first;
-    for (const auto& c : charts) first.push_back(c.front());
-    if (!mayFit(first, t, binW, binH)) return std::nullopt;
+    if (!mayFit(firstRectangles(charts), t, binW, binH)) return std::nullopt;
     if (auto p = packBitmap(charts, order, t, gutter, binW, binH, searchScale(std::max(binW, binH), charts), threads))
         return std::make_pair(t, *p);
     return std::nullopt;
@@ -370,8 +391,7 @@ std::optional<std::pair<double, Packing>> densestFit(const Orientations& charts,
     if (auto p = fitAt(charts, order, threads, hi, gutter, binW, binH)) return p;
     const int scale = searchScale(std::max(binW, binH), charts);
     auto fit = [&](double t) { return packBitmap(charts, order, t, gutter, binW, binH, scale, threads); };
-    std::vector<Oriented> first;
-    for (const auto& c : charts) first.push_back(c.front());
+    const std::vector<Oriented> first = firstRectangles(charts);
     double t = std::min(hi, hi * std::sqrt(0.75 * double(binW) * binH / std::max(1e-300, paddedArea(first, hi, gutter))));
     // The charts' coverage bounds the start too (it binds only when texels() saturates at a huge hi).
     double uvArea = 0;
@@ -635,10 +655,10 @@ AtlasResult packAtlas(const std::vector<AtlasChart>& input, const AtlasOptions& 
     std::vector<ChartFrame> found;
     if (!frames) frames = &(found = chartFrames(input, options));
     Orientations turned(input.size());
-    std::vector<Oriented> charts(input.size());  // each chart's first orientation (sizes and orders)
+    std::vector<Oriented> charts(input.size());  // each chart's first orientation, its rectangle (sizes and orders)
     parallelFor(input.size(), options.threads, [&](size_t i) {
         turned[i] = {orientedIn(input[i], (*frames)[i], options.texelAligned)};
-        charts[i] = turned[i][0];
+        charts[i] = rectangleOf(turned[i][0]);
     });
     const std::vector<std::vector<size_t>> orders = chartOrders(charts);
     const int maxSize = std::max(8, options.maxSize);
@@ -686,7 +706,6 @@ AtlasResult packAtlas(const std::vector<AtlasChart>& input, const AtlasOptions& 
 int atlasStartGutter(const std::vector<AtlasChart>& input, const AtlasOptions& options, const std::vector<ChartFrame>* frames) {
     std::vector<ChartFrame> found;
     if (!frames) frames = &(found = chartFrames(input, options));
-    // The rectangles alone: narrowedGutter reads no triangles.
     std::vector<Oriented> charts(input.size());
     for (size_t i = 0; i < input.size(); ++i) {
         const ChartFrame& f = (*frames)[i];

@@ -150,12 +150,26 @@ std::vector<AtlasChart> levelAtlasCharts(const LayoutData& L, const LevelUVs& lu
     const ChartLayout& ch = *L.ch;
     const bool own = !luv.ownChartArea.empty();
     la.chartSlot.assign(own ? luv.ownChartArea.size() : L.chartUvArea.size(), -1);
+    // Each chart's triangles, counted first: a million-triangle level's charts are some 100 MB,
+    // and grown by doubling they would take up to twice that.
+    std::vector<size_t> triangleCount(la.chartSlot.size(), 0);
+    std::vector<char> counted(la.chartSlot.size(), 0);
+    for (uint32_t c : luv.chart) {
+        if (!original) ++triangleCount[c];
+        if (counted[c]) continue;
+        counted[c] = 1;
+        const uint32_t source = layoutChartOf(luv, c);
+        if (!own && c >= ch.chartCount) triangleCount[c] += 1;
+        else if (source < ch.chartCount) triangleCount[c] += L.chartFaces[source].size();
+    }
     std::vector<AtlasChart> charts;
     for (size_t t = 0; t < luv.chart.size(); ++t) {
         uint32_t c = luv.chart[t];
         if (la.chartSlot[c] < 0) {
             la.chartSlot[c] = int(charts.size());
             AtlasChart a;
+            a.triangles.reserve(triangleCount[c]);
+            a.points.reserve(3 * triangleCount[c]);
             a.uvArea = levelChartArea(L, luv, c);
             a.inPlace = !own && c < L.inPlaceCharts;
             // A layout chart's footprint includes its original faces: the layout bake reads them,
