@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <map>
 #include <memory>
 #include <utility>
 
@@ -79,19 +78,23 @@ PairTerms pairTerms(const TriMesh& original, const Level& level, const std::vect
         pt.combination.push_back(c);
         pt.target.push_back(original.positions[p.vertex]);
     }
-    std::vector<std::vector<uint32_t>> columns(unknowns);
+    // Each row's distinct columns in the order first met: every row gets room for all the products
+    // it receives, then the rows are packed.
+    std::vector<uint32_t> room(size_t(unknowns) + 1, 0);
+    for (const Combination& c : pt.combination) forEachProduct(c, unknown, [&](uint32_t uj, uint32_t) { ++room[uj + 1]; });
+    for (uint32_t r = 0; r < unknowns; ++r) room[r + 1] += room[r];
+    std::vector<uint32_t> columns(room.back()), used(unknowns, 0);
     for (const Combination& c : pt.combination)
         forEachProduct(c, unknown, [&](uint32_t uj, uint32_t uk) {
-            std::vector<uint32_t>& row = columns[uj];
-            if (std::find(row.begin(), row.end(), uk) == row.end()) row.push_back(uk);
+            uint32_t* const first = columns.data() + room[uj];
+            uint32_t* const last = first + used[uj];
+            if (std::find(first, last, uk) == last) *last = uk, ++used[uj];
         });
     pt.rowStart.assign(size_t(unknowns) + 1, 0);
-    for (uint32_t r = 0; r < unknowns; ++r) pt.rowStart[r + 1] = pt.rowStart[r] + uint32_t(columns[r].size());
+    for (uint32_t r = 0; r < unknowns; ++r) pt.rowStart[r + 1] = pt.rowStart[r] + used[r];
     pt.column.reserve(pt.rowStart.back());
-    for (std::vector<uint32_t>& row : columns) {
-        pt.column.insert(pt.column.end(), row.begin(), row.end());
-        std::vector<uint32_t>().swap(row);
-    }
+    for (uint32_t r = 0; r < unknowns; ++r) pt.column.insert(pt.column.end(), columns.begin() + room[r], columns.begin() + room[r] + used[r]);
+    std::vector<uint32_t>().swap(columns);
     for (const Combination& c : pt.combination)
         forEachProduct(c, unknown, [&](uint32_t uj, uint32_t uk) {
             const auto first = pt.column.begin() + pt.rowStart[uj], last = pt.column.begin() + pt.rowStart[uj + 1];
@@ -176,14 +179,23 @@ PlacementResult placeLevelVertices(const TriMesh& original, const DistanceRefere
     const size_t nv = verts.size();
 
     // Vertices on an edge used by one level triangle or by more than two stay put.
-    std::map<std::pair<uint32_t, uint32_t>, int> edgeUse;
-    for (const Tri& t : level.triangles) {
-        if (degenerateIndices(t)) continue;
-        for (size_t k = 0; k < 3; ++k) ++edgeUse[std::minmax(t[k], t[(k + 1) % 3])];
-    }
     std::vector<char> fixed(nv, 0);
-    for (const auto& [e, n] : edgeUse)
-        if (n != 2) fixed[local[e.first]] = fixed[local[e.second]] = 1;
+    {
+        std::vector<uint64_t> edges;  // (lower id, higher id), once per use
+        edges.reserve(3 * level.triangles.size());
+        for (const Tri& t : level.triangles) {
+            if (degenerateIndices(t)) continue;
+            for (size_t k = 0; k < 3; ++k) {
+                const auto [a, b] = std::minmax(t[k], t[(k + 1) % 3]);
+                edges.push_back(uint64_t(a) << 32 | b);
+            }
+        }
+        std::sort(edges.begin(), edges.end());
+        for (size_t i = 0, j = 0; i < edges.size(); i = j) {
+            while (j < edges.size() && edges[j] == edges[i]) ++j;
+            if (j - i != 2) fixed[local[uint32_t(edges[i] >> 32)]] = fixed[local[uint32_t(edges[i])]] = 1;
+        }
+    }
     for (char f : fixed) res.fixed += size_t(f);
     if (res.fixed == nv) return res;
 

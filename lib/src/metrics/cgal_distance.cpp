@@ -66,6 +66,11 @@ struct Surface {
 
 Surface collectSurface(const TriMesh& m) {
     Surface s;
+    // Reserved for every face (degenerate ones are few): a million triangles are 70 MB here, and
+    // grown by doubling they would take up to twice that.
+    s.triangles.reserve(m.triangles.size());
+    s.faces.reserve(m.triangles.size());
+    s.cumulativeArea.reserve(m.triangles.size());
     std::vector<uint8_t> used(m.positions.size(), 0);
     double total = 0;
     for (const Tri& t : m.triangles) {
@@ -80,6 +85,7 @@ Surface collectSurface(const TriMesh& m) {
         total += area;
         s.cumulativeArea.push_back(total);
     }
+    s.vertices.reserve(size_t(std::count(used.begin(), used.end(), uint8_t(1))));
     for (size_t v = 0; v < used.size(); ++v)
         if (used[v]) s.vertices.push_back(m.positions[v]);
     return s;
@@ -100,11 +106,13 @@ struct Measured {
     explicit Measured(const TriMesh& m) : surface(collectSurface(m)) {
         if (surface.triangles.empty()) return;
         const std::vector<uint32_t> kept = withoutCopies(m, surface.faces);
-        if (kept.size() < surface.faces.size())
+        if (kept.size() < surface.faces.size()) {
+            distinct.reserve(kept.size());
             for (uint32_t f : kept) {
                 const Tri& t = m.triangles[f];
                 distinct.emplace_back(toPoint(m.positions[t[0]]), toPoint(m.positions[t[1]]), toPoint(m.positions[t[2]]));
             }
+        }
         const TriangleList& held = kept.size() < surface.faces.size() ? distinct : surface.triangles;
         tree = Tree(held);
     }
