@@ -24,6 +24,8 @@ void extractCharts(const TriMesh& mesh, const ChartResult& cr, std::vector<Local
         std::sort(c.vertices.begin(), c.vertices.end());
         c.vertices.erase(std::unique(c.vertices.begin(), c.vertices.end()), c.vertices.end());
         c.local.reserve(c.vertices.size());
+        c.mesh.positions.reserve(c.vertices.size());
+        c.mesh.triangles.reserve(c.faces.size());
         for (uint32_t i = 0; i < c.vertices.size(); ++i) {
             c.local.emplace(c.vertices[i], i);
             c.mesh.positions.push_back(mesh.positions[c.vertices[i]]);
@@ -63,6 +65,8 @@ void gatherPairs(const TriMesh& mesh, const Multires& mr, std::vector<LocalChart
                 if (ok) ch.pairs.push_back(cp);
             }
         }
+    // Without the slack of growing: a million-triangle asset's pairs are some 50 MB.
+    for (LocalChart& c : charts) c.pairs.shrink_to_fit();
 }
 
 // Level triangles of every level, per chart of their face (deduplicated across levels), with
@@ -107,6 +111,7 @@ void gatherLevelTriangles(const TriMesh& mesh, const ChartResult& cr, const Mult
             ch.mesh.levelTriangles.push_back(lt);
         }
     }
+    for (LocalChart& c : charts) c.mesh.levelTriangles.shrink_to_fit();
 }
 
 }  // namespace

@@ -56,6 +56,7 @@ EnergyTerms buildEnergyTerms(const ChartMesh& chart, const std::vector<ChartPair
     t.areaWeight = o.resolution * o.beta * (1 - o.alpha);
     t.polyWeight = o.resolution * (1 - o.beta);
     double floor = o.deviationFloor * std::sqrt(std::max(area, 1e-300));
+    t.pairs.reserve(pairs.size());
     for (const ChartPair& p : pairs) t.pairs.push_back({p, std::max(p.deviation, floor)});
     return t;
 }
