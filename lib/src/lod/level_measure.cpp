@@ -122,12 +122,19 @@ void measureLevels(const Asset& asset, std::vector<LevelView>& views, const Pack
     std::stable_sort(runs.begin(), runs.end(), [&](const auto& x, const auto& y) {
         return views[x.first].triangles.size() > views[y.first].triangles.size();
     });
+    // Progress is reported one level at a time; once it throws (the caller cancels), no run
+    // reports or starts another level.
     std::mutex progressMutex;
     size_t measured = 0;
+    bool stopped = false;
     auto measureRun = [&](std::pair<size_t, size_t> run) {
         // Level k - 1's figures before vertex placement, when measured in full.
         std::optional<GeometricDistance> previous;
         for (size_t k = run.first; k < run.second; ++k) {
+            {
+                std::lock_guard<std::mutex> lock(progressMutex);
+                if (stopped) return;
+            }
             PackLevelReport& r = res.reports[k];
             const TriMesh level = measuredMesh(asset, views[k], posed);
             PosedDistanceReference::Measure before =
@@ -147,7 +154,10 @@ void measureLevels(const Asset& asset, std::vector<LevelView>& views, const Pack
             r.rms = d.rms;
             r.relRms = d.relRms;
             std::lock_guard<std::mutex> lock(progressMutex);
+            if (stopped) return;
+            stopped = true;  // stays set when progress throws
             progress(0.3 * double(++measured) / double(n));
+            stopped = false;
         }
     };
     parallelFor(runs.size(), posed ? 1 : options.threads, [&](size_t i) { measureRun(runs[i]); });
