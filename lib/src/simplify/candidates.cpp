@@ -192,12 +192,26 @@ size_t evaluateCandidates(CandidateState& c, const RuleContext& ctx, std::vector
         for (uint32_t v = uint32_t(begin); v < end; ++v) {
             // Evaluation stalls on the fan's faces and the ring's positions, scattered in memory:
             // fetch them a few vertices ahead for the vertices likely to be evaluated.
-            if (v + 6 < end && likelyEvaluated(c, v + 6))
-                for (uint32_t f : s.vfaces[v + 6]) __builtin_prefetch(&s.tri.rec[f]);
+            // (Then the rules' reads: the fan's regions and their stats, the farthest point, the
+            // component.)
+            if (v + 6 < end && likelyEvaluated(c, v + 6)) {
+                for (uint32_t f : s.vfaces[v + 6]) {
+                    __builtin_prefetch(&s.tri.rec[f]);
+                    __builtin_prefetch(&ctx.regions.faceRegion[f]);
+                }
+                __builtin_prefetch(&s.farPoint[v + 6]);
+                __builtin_prefetch(&s.components.label[v + 6]);
+            }
             if (v + 3 < end && likelyEvaluated(c, v + 3)) {
                 __builtin_prefetch(&s.quadric[v + 3]);
-                for (uint32_t f : s.vfaces[v + 3])
-                    for (uint32_t u : s.tri[f]) __builtin_prefetch(&s.mesh.positions[u]);
+                for (uint32_t f : s.vfaces[v + 3]) {
+                    for (uint32_t u : s.tri[f]) {
+                        __builtin_prefetch(&s.mesh.positions[u]);
+                        __builtin_prefetch(&s.vfaces[u]);
+                    }
+                    __builtin_prefetch(&ctx.regions.stats[ctx.regions.faceRegion[f]]);
+                }
+                if (s.farPoint[v + 3] != kNone) __builtin_prefetch(&s.mesh.positions[s.farPoint[v + 3]]);
             }
             if (s.removed[v] || s.vfaces[v].empty()) continue;
             if (!evaluateOrDefer(c, ctx, work[t], v, bound)) {

@@ -60,6 +60,12 @@ void buildAdjacency(CollapseState& s) {
     s.tri.rec.resize(m.triangles.size());
     for (size_t f = 0; f < m.triangles.size(); ++f) s.tri.rec[f] = {m.triangles[f], {0, 0, 0}};
     if (s.input.cornerWedges.size() == m.triangles.size()) s.wedge = s.input.cornerWedges;
+    const std::vector<int32_t>& mat = s.input.triangleMaterial;
+    const size_t withMat = std::min(mat.size(), m.triangles.size());
+    // Faces past the material array read -1: one material only when that is also every listed one.
+    const int32_t first = withMat ? mat[0] : -1;
+    s.oneMaterial = (withMat == m.triangles.size() || first == -1) &&
+                    std::all_of(mat.begin(), mat.begin() + ptrdiff_t(withMat), [&](int32_t x) { return x == first; });
     const Wedges& W = s.input.wedges;
     if (!s.wedge.empty() && W.joints.size() == W.size() && W.weights.size() == W.size()) {
         s.influenceWedge.assign(m.positions.size(), kNone - 1);  // kNone - 1: not seen yet

@@ -166,6 +166,7 @@ struct CollapseState {
     FaceArray tri;                    // current corners (+ original normals)
     std::vector<Tri> wedge;           // current corner wedges (empty when the mesh has none)
     std::vector<uint8_t> faceAlive;
+    bool oneMaterial = true;          // every face has the same material (or none)
     size_t aliveFaces = 0;
     std::vector<FaceList> vfaces;  // live faces around each vertex
     std::vector<uint8_t> locked, border, removed;
@@ -200,8 +201,10 @@ struct CollapseState {
         const Tri& t = tri[f];
         return t[0] == v ? 0 : (t[1] == v ? 1 : (t[2] == v ? 2 : -1));
     }
+    // Materials are only compared with each other: with one material for all faces every face
+    // reads -1 and the random read of the input's material array is skipped.
     int32_t material(uint32_t f) const {
-        return f < input.triangleMaterial.size() ? input.triangleMaterial[f] : -1;
+        return !oneMaterial && f < input.triangleMaterial.size() ? input.triangleMaterial[f] : -1;
     }
     uint32_t componentOf(uint32_t v) const { return components.label[v]; }
 };

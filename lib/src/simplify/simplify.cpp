@@ -121,15 +121,21 @@ size_t walkCandidates(Simplifier& s, const PlannedLevel& plan, double limit) {
             __builtin_prefetch(&cs.cand[a]);
             __builtin_prefetch(&m.vfaces[a]);
             __builtin_prefetch(&cs.touchedPass[a]);
+            __builtin_prefetch(&cs.dirtyPass[a]);
+            __builtin_prefetch(&m.removed[a]);
+            __builtin_prefetch(&m.components.label[a]);
         }
         if (k + 8 < entryCount) {
             uint32_t a = cs.entries[k + 8].vertex;
             for (uint32_t f : m.vfaces[a]) {
                 __builtin_prefetch(&m.tri.rec[f]);
                 __builtin_prefetch(&s.regions.faceRegion[f]);
+                __builtin_prefetch(&s.regions.faceRelabelPass[f]);
                 if (!m.wedge.empty()) __builtin_prefetch(&m.wedge[f]);
             }
             __builtin_prefetch(&cs.touchedPass[cs.cand[a].target]);
+            __builtin_prefetch(&cs.dirtyPass[cs.cand[a].target]);
+            __builtin_prefetch(&m.farPoint[a]);
             __builtin_prefetch(&m.quadric[a]);
         }
         if (k + 4 < entryCount) {
