@@ -33,7 +33,7 @@ double ringOptions(const RuleContext& ctx, EvalScratch& w, uint32_t vi) {
     for (size_t k = 0; k < n; ++k) {
         const uint32_t t = w.ring[k].w;
         double q = Q.distance(s.mesh.positions[t]);
-        w.options[k] = {q > noise ? q : 0.0, uint32_t(k), s.oldId[t]};
+        w.options[k] = {q > noise ? q : 0.0, uint32_t(k)};
         bound = std::min(bound, w.options[k].q);
     }
     return bound;
@@ -49,10 +49,10 @@ int64_t deviationBucket(const RuleSettings& settings, double dev) {
 // Moves the option that comes first in (quadric term, target input id) order among o[k .. n) to
 // slot k. Keys are distinct (one option per target), so taking options this way visits them in the
 // order a sort gives; the walk below usually stops after one or two, which a sort would order all.
-static void selectNext(Option* o, size_t k, size_t n) {
+static void selectNext(const CollapseState& s, const std::vector<RingEntry>& ring, Option* o, size_t k, size_t n) {
     size_t m = k;
     for (size_t j = k + 1; j < n; ++j)
-        if (o[j].q < o[m].q || (o[j].q == o[m].q && o[j].key < o[m].key)) m = j;
+        if (o[j].q < o[m].q || (o[j].q == o[m].q && s.oldId[ring[o[j].k].w] < s.oldId[ring[o[m].k].w])) m = j;
     if (m != k) std::swap(o[k], o[m]);
 }
 
@@ -84,7 +84,7 @@ static Candidate evaluateVertex(const RuleContext& ctx, EvalScratch& w, uint32_t
     best.reason = Reject::Isolated;
     bool found = false;
     for (size_t k = 0; k < n; ++k) {
-        selectNext(o, k, n);
+        selectNext(s, w.ring, o, k, n);
         if (found && o[k].q >= best.dev) break;  // the cost is at least the quadric term
         const CollapseProfile profile(ctx, vi, w.ring[o[k].k], w.ring, w.fan);
         double dev = 0;
@@ -204,12 +204,15 @@ size_t evaluateCandidates(CandidateState& c, const RuleContext& ctx, std::vector
             }
             if (v + 3 < end && likelyEvaluated(c, v + 3)) {
                 __builtin_prefetch(&s.quadric[v + 3]);
+                __builtin_prefetch(reinterpret_cast<const char*>(&s.quadric[v + 3]) + sizeof(Quadric) - 1);
                 for (uint32_t f : s.vfaces[v + 3]) {
                     for (uint32_t u : s.tri[f]) {
                         __builtin_prefetch(&s.mesh.positions[u]);
                         __builtin_prefetch(&s.vfaces[u]);
                     }
-                    __builtin_prefetch(&ctx.regions.stats[ctx.regions.faceRegion[f]]);
+                    const RegionStats* st = &ctx.regions.stats[ctx.regions.faceRegion[f]];
+                    __builtin_prefetch(st);
+                    __builtin_prefetch(reinterpret_cast<const char*>(st) + sizeof(RegionStats) - 1);
                 }
                 if (s.farPoint[v + 3] != kNone) __builtin_prefetch(&s.mesh.positions[s.farPoint[v + 3]]);
             }

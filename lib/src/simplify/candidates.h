@@ -28,12 +28,11 @@ struct PassEntry {
     }
 };
 
-// An outgoing half-edge of the vertex being evaluated: its quadric term, ring slot and the input id
-// of its target (the tie-break, kept here so sorting reads no per-vertex array).
+// An outgoing half-edge of the vertex being evaluated: its quadric term and ring slot. Equal terms
+// go to the smaller input id of the target (read only on a tie: most terms differ).
 struct Option {
     double q;
     uint32_t k;
-    uint32_t key;
 };
 
 // Per-thread scratch of candidate evaluation; each on its own cache lines (the threads write their

@@ -137,6 +137,7 @@ size_t walkCandidates(Simplifier& s, const PlannedLevel& plan, double limit) {
             __builtin_prefetch(&cs.dirtyPass[cs.cand[a].target]);
             __builtin_prefetch(&m.farPoint[a]);
             __builtin_prefetch(&m.quadric[a]);
+            __builtin_prefetch(reinterpret_cast<const char*>(&m.quadric[a]) + sizeof(Quadric) - 1);
         }
         if (k + 4 < entryCount) {
             uint32_t a = cs.entries[k + 4].vertex;
