@@ -11,6 +11,7 @@ namespace lodbake::simplify_detail {
 
 constexpr size_t kChunk = 4096;        // vertices per evaluation chunk (fixed: thread-independent)
 constexpr double kDeferFactor = 1.5;   // deferral bound of a pass: this times the previous pass's limit
+constexpr size_t kMinSortPart = 32768;  // smallest part of a pass's entries sorted on its own thread
 
 void initCandidates(CandidateState& c, size_t vertexCount) {
     c.cand.assign(vertexCount, Candidate{});
@@ -306,12 +307,23 @@ double passLimit(CandidateState& c, const RuleContext& ctx, std::vector<EvalScra
     return limit;
 }
 
-void orderEntries(CandidateState& c, const RuleSettings& settings, double limit) {
+void orderEntries(CandidateState& c, const RuleSettings& settings, double limit, int threads) {
     size_t o = 0;
     for (const PassEntry& e : c.entries)
         if (e.dev <= limit) c.entries[o++] = {deviationBucket(settings, e.dev), e.shape, e.dev, e.vertex, e.key};
     c.entries.resize(o);
-    std::sort(c.entries.begin(), c.entries.end());
+    // Entries differ in their input id, so the order is total and any sort gives the same list:
+    // large lists are sorted in parts on the threads, then merged.
+    const size_t parts = std::min<size_t>(size_t(resolveThreads(threads)), o / kMinSortPart);
+    if (parts < 2) {
+        std::sort(c.entries.begin(), c.entries.end());
+        return;
+    }
+    std::vector<size_t> cut(parts + 1);
+    for (size_t k = 0; k <= parts; ++k) cut[k] = o * k / parts;
+    auto at = [&](size_t k) { return c.entries.begin() + ptrdiff_t(cut[k]); };
+    parallelFor(parts, threads, [&](size_t k) { std::sort(at(k), at(k + 1)); });
+    for (size_t k = 1; k < parts; ++k) std::inplace_merge(at(0), at(k), at(k + 1));
 }
 
 bool candidateStale(const CandidateState& c, const RuleContext& ctx, uint32_t vi, const Candidate& cand) {

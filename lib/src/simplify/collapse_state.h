@@ -143,6 +143,12 @@ struct RingEntry {
 
 enum class FanKind { Manifold, Pinch, NonManifold };
 
+// Scratch of classifying one vertex's fan: its ring, faces per spoke, union-find of its faces.
+struct FanScratch {
+    std::vector<RingEntry> ring;
+    std::vector<uint32_t> count, parent;
+};
+
 // Connected components of the input (over shared vertices), for rule 1 and pruning.
 struct Components {
     std::vector<uint32_t> label;   // per vertex; kNone for a vertex no face uses
@@ -188,9 +194,8 @@ struct CollapseState {
     // read under an error target (measureAttached).
     std::vector<uint32_t> attachHead, attachTail, attachNext;
 
-    // Scratch of classifyFan and applyCollapse.
-    std::vector<RingEntry> classRing;
-    std::vector<uint32_t> classCount, classParent;
+    // Scratch of applyCollapse (and its classifyFan).
+    FanScratch classScratch;
     std::vector<uint32_t> fanScratch, ringScratch, keptScratch, removedScratch;
 
     CollapseState(const TriMesh& m, const TriMesh& in) : mesh(m), input(in) {}
@@ -231,8 +236,9 @@ void restoreInputIds(const std::vector<uint32_t>& oldId, Multires& out);
 
 // Live faces per vertex (a face that repeats a vertex is listed once), corners and wedges.
 void buildAdjacency(CollapseState& s);
-// Locked, pinch and border vertices; component labels and open-vertex counts.
-void classifyVertices(CollapseState& s);
+// Locked, pinch and border vertices (on up to `threads` threads); component labels and open-vertex
+// counts.
+void classifyVertices(CollapseState& s, int threads);
 // Component sizes, face counts and vertex lists.
 void measureComponents(CollapseState& s);
 // Area-weighted plane quadrics per vertex, plus planes through open border edges.

@@ -7,10 +7,13 @@
 #include <numeric>
 
 #include "lodbake/core/math.h"
+#include "lodbake/core/parallel.h"
 
 namespace lodbake::simplify_detail {
 
-void initRegions(RegionState& r, const CollapseState& s) {
+constexpr size_t kStatsChunk = 16384;  // faces per chunk of the initial region stats
+
+void initRegions(RegionState& r, const CollapseState& s, int threads) {
     const auto& P = s.mesh.positions;
     r.faceRelabelPass.assign(s.faceCount, 0);
     r.faceRegion.resize(s.faceCount);
@@ -21,18 +24,20 @@ void initRegions(RegionState& r, const CollapseState& s) {
     r.regionTail = r.regionHead;
     r.regionSize.assign(s.faceCount, 1);
     r.stats.resize(s.faceCount);
-    for (uint32_t f = 0; f < s.faceCount; ++f) {
-        const Tri& t = s.tri[f];
-        Vec3 n = cross(P[t[1]] - P[t[0]], P[t[2]] - P[t[0]]);
-        RegionStats& st = r.stats[f];
-        st.area = 0.5 * length(n);
-        st.normalSum = n * 0.5;
-        r.totalArea += st.area;
-        for (int k = 0; k < 3; ++k) {
-            st.bmin[k] = float(std::min({P[t[0]][k], P[t[1]][k], P[t[2]][k]}));
-            st.bmax[k] = float(std::max({P[t[0]][k], P[t[1]][k], P[t[2]][k]}));
+    parallelChunks(s.faceCount, kStatsChunk, threads, [&](size_t begin, size_t end, size_t) {
+        for (size_t f = begin; f < end; ++f) {
+            const Tri& t = s.tri[f];
+            Vec3 n = cross(P[t[1]] - P[t[0]], P[t[2]] - P[t[0]]);
+            RegionStats& st = r.stats[f];
+            st.area = 0.5 * length(n);
+            st.normalSum = n * 0.5;
+            for (int k = 0; k < 3; ++k) {
+                st.bmin[k] = float(std::min({P[t[0]][k], P[t[1]][k], P[t[2]][k]}));
+                st.bmax[k] = float(std::max({P[t[0]][k], P[t[1]][k], P[t[2]][k]}));
+            }
         }
-    }
+    });
+    for (const RegionStats& st : r.stats) r.totalArea += st.area;  // in face order, one sum for any threads
     r.regionCount = uint32_t(s.faceCount);
     r.componentRegions.assign(s.components.count(), 0);
     for (const Tri& t : s.mesh.triangles) ++r.componentRegions[s.componentOf(t[0])];

@@ -45,8 +45,8 @@ struct RegionState {
     MergeGroups groupScratch;
 };
 
-// Every face is its own region.
-void initRegions(RegionState& r, const CollapseState& s);
+// Every face is its own region (stats on up to `threads` threads).
+void initRegions(RegionState& r, const CollapseState& s, int threads);
 
 void mergeStats(RegionStats& a, const RegionStats& b);
 // E_region approximation of a region (docs/simplify.md, rule 2); 0 for an empty region.

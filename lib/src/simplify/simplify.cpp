@@ -238,7 +238,7 @@ PassResult runPass(Simplifier& s, const PlannedLevel& plan) {
     }
     if (cs.entries.empty()) return anyValid ? PassResult::ErrorReached : PassResult::NoCandidate;
     // d. Candidates under the limit in (bucket, E_region, deviation, vertex) order, applied.
-    orderEntries(cs, s.settings, limit);
+    orderEntries(cs, s.settings, limit, int(s.work.size()));
     return walkCandidates(s, plan, limit) ? PassResult::Progress : PassResult::Idle;
 }
 
@@ -316,12 +316,12 @@ SimplifyResult simplify(const TriMesh& mesh, const SimplifyOptions& options) {
         w.markJ.assign(m.vertexCount, 0);
     }
     // 3. Locked, pinch and border vertices; components and their sizes.
-    classifyVertices(m);
+    classifyVertices(m, int(s.work.size()));
     measureComponents(m);
     if (options.visualWeight) orderByVisualWeight(m);
     // 4. Quadrics. 5. Every face its own region.
     initQuadrics(m);
-    initRegions(s.regions, m);
+    initRegions(s.regions, m, int(s.work.size()));
     // 6. Targets, finest first.
     std::vector<PlannedLevel> plan = planLevels(options.levels, m.faceCount, m.diagonal);
     initCandidates(s.candidates, m.vertexCount);
