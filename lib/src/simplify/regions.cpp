@@ -19,10 +19,8 @@ void initRegions(RegionState& r, const CollapseState& s, int threads) {
     r.faceRegion.resize(s.faceCount);
     std::iota(r.faceRegion.begin(), r.faceRegion.end(), 0u);
     r.regionNext.assign(s.faceCount, kNone);
-    r.regionHead.resize(s.faceCount);
-    std::iota(r.regionHead.begin(), r.regionHead.end(), 0u);
-    r.regionTail = r.regionHead;
-    r.regionSize.assign(s.faceCount, 1);
+    r.lists.resize(s.faceCount);
+    for (uint32_t f = 0; f < s.faceCount; ++f) r.lists[f] = {f, f, 1};
     r.stats.resize(s.faceCount);
     parallelChunks(s.faceCount, kStatsChunk, threads, [&](size_t begin, size_t end, size_t) {
         for (size_t f = begin; f < end; ++f) {
@@ -109,8 +107,8 @@ static void mergeRegionGroup(RegionState& r, const CollapseState& s, HierarchyRe
     for (size_t k = 0; k < n; ++k) {
         uint32_t g = reps[k];
         bool alive = s.faceAlive[g] && !(s.corner(g, vi) >= 0 && s.corner(g, vj) >= 0);
-        if (newRep == kNone || r.regionSize[g] > r.regionSize[newRep] ||
-            (r.regionSize[g] == r.regionSize[newRep] && alive && !newAlive)) {
+        if (newRep == kNone || r.lists[g].size > r.lists[newRep].size ||
+            (r.lists[g].size == r.lists[newRep].size && alive && !newAlive)) {
             newRep = g;
             newAlive = alive;
         }
@@ -119,15 +117,15 @@ static void mergeRegionGroup(RegionState& r, const CollapseState& s, HierarchyRe
         uint32_t g = reps[k];
         if (g == newRep) continue;
         rec.regionMoved(g, newRep);
-        for (uint32_t f = r.regionHead[g]; f != kNone; f = r.regionNext[f]) {
+        for (uint32_t f = r.lists[g].head; f != kNone; f = r.regionNext[f]) {
             r.faceRegion[f] = newRep;
             r.faceRelabelPass[f] = pass;
         }
-        r.regionNext[r.regionTail[newRep]] = r.regionHead[g];
-        r.regionTail[newRep] = r.regionTail[g];
-        r.regionSize[newRep] += r.regionSize[g];
+        r.regionNext[r.lists[newRep].tail] = r.lists[g].head;
+        r.lists[newRep].tail = r.lists[g].tail;
+        r.lists[newRep].size += r.lists[g].size;
         mergeStats(r.stats[newRep], r.stats[g]);
-        r.regionSize[g] = 0;
+        r.lists[g].size = 0;
     }
     r.regionCount -= uint32_t(n - 1);
 }
@@ -156,21 +154,19 @@ void updateRegions(RegionState& r, const CollapseState& s, HierarchyRecorder& re
 void fixDeadRepresentatives(RegionState& r, const CollapseState& s, HierarchyRecorder& rec, uint32_t pass) {
     if (rec.out.collapses.empty()) return;
     for (uint32_t g = 0; g < s.faceCount; ++g) {
-        if (s.faceAlive[g] || r.regionSize[g] == 0 || r.faceRegion[g] != g) continue;
+        if (s.faceAlive[g] || r.lists[g].size == 0 || r.faceRegion[g] != g) continue;
         uint32_t m = kNone;
-        for (uint32_t f = r.regionHead[g]; f != kNone; f = r.regionNext[f])
+        for (uint32_t f = r.lists[g].head; f != kNone; f = r.regionNext[f])
             if (s.faceAlive[f] && f < m) m = f;
         if (m == kNone) continue;  // cannot happen: every region keeps a surviving face
         rec.regionMoved(g, m);
-        for (uint32_t f = r.regionHead[g]; f != kNone; f = r.regionNext[f]) {
+        for (uint32_t f = r.lists[g].head; f != kNone; f = r.regionNext[f]) {
             r.faceRegion[f] = m;
             r.faceRelabelPass[f] = pass;
         }
-        r.regionHead[m] = r.regionHead[g];
-        r.regionTail[m] = r.regionTail[g];
-        r.regionSize[m] = r.regionSize[g];
+        r.lists[m] = r.lists[g];
         r.stats[m] = r.stats[g];
-        r.regionSize[g] = 0;
+        r.lists[g].size = 0;
     }
     rec.out.collapses.back().regionEnd = rec.regionMark();
 }

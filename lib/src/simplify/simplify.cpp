@@ -142,7 +142,12 @@ size_t walkCandidates(Simplifier& s, const PlannedLevel& plan, double limit) {
         if (k + 4 < entryCount) {
             uint32_t a = cs.entries[k + 4].vertex;
             for (uint32_t f : m.vfaces[a]) {
-                __builtin_prefetch(&s.regions.stats[s.regions.faceRegion[f]]);
+                // (The region's record and representative face: a merge reads them.)
+                const uint32_t rep = s.regions.faceRegion[f];
+                __builtin_prefetch(&s.regions.stats[rep]);
+                __builtin_prefetch(&s.regions.lists[rep]);
+                __builtin_prefetch(&m.tri.rec[rep]);
+                __builtin_prefetch(&m.faceAlive[rep]);
                 for (uint32_t u : m.tri[f]) {
                     __builtin_prefetch(&m.mesh.positions[u]);
                     __builtin_prefetch(&m.vfaces[u]);
