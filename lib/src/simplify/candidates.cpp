@@ -11,6 +11,7 @@ namespace lodbake::simplify_detail {
 
 constexpr size_t kChunk = 4096;        // vertices per evaluation chunk (fixed: thread-independent)
 constexpr double kDeferFactor = 1.5;   // deferral bound of a pass: this times the previous pass's limit
+constexpr size_t kMinSortPart = 32768;  // smallest part of a pass's entries sorted on its own thread
 
 void initCandidates(CandidateState& c, size_t vertexCount) {
     c.cand.assign(vertexCount, Candidate{});
@@ -33,7 +34,7 @@ double ringOptions(const RuleContext& ctx, EvalScratch& w, uint32_t vi) {
     for (size_t k = 0; k < n; ++k) {
         const uint32_t t = w.ring[k].w;
         double q = Q.distance(s.mesh.positions[t]);
-        w.options[k] = {q > noise ? q : 0.0, uint32_t(k), s.oldId[t]};
+        w.options[k] = {q > noise ? q : 0.0, uint32_t(k)};
         bound = std::min(bound, w.options[k].q);
     }
     return bound;
@@ -49,10 +50,10 @@ int64_t deviationBucket(const RuleSettings& settings, double dev) {
 // Moves the option that comes first in (quadric term, target input id) order among o[k .. n) to
 // slot k. Keys are distinct (one option per target), so taking options this way visits them in the
 // order a sort gives; the walk below usually stops after one or two, which a sort would order all.
-static void selectNext(Option* o, size_t k, size_t n) {
+static void selectNext(const CollapseState& s, const std::vector<RingEntry>& ring, Option* o, size_t k, size_t n) {
     size_t m = k;
     for (size_t j = k + 1; j < n; ++j)
-        if (o[j].q < o[m].q || (o[j].q == o[m].q && o[j].key < o[m].key)) m = j;
+        if (o[j].q < o[m].q || (o[j].q == o[m].q && s.oldId[ring[o[j].k].w] < s.oldId[ring[o[m].k].w])) m = j;
     if (m != k) std::swap(o[k], o[m]);
 }
 
@@ -84,7 +85,7 @@ static Candidate evaluateVertex(const RuleContext& ctx, EvalScratch& w, uint32_t
     best.reason = Reject::Isolated;
     bool found = false;
     for (size_t k = 0; k < n; ++k) {
-        selectNext(o, k, n);
+        selectNext(s, w.ring, o, k, n);
         if (found && o[k].q >= best.dev) break;  // the cost is at least the quadric term
         const CollapseProfile profile(ctx, vi, w.ring[o[k].k], w.ring, w.fan);
         double dev = 0;
@@ -192,12 +193,29 @@ size_t evaluateCandidates(CandidateState& c, const RuleContext& ctx, std::vector
         for (uint32_t v = uint32_t(begin); v < end; ++v) {
             // Evaluation stalls on the fan's faces and the ring's positions, scattered in memory:
             // fetch them a few vertices ahead for the vertices likely to be evaluated.
-            if (v + 6 < end && likelyEvaluated(c, v + 6))
-                for (uint32_t f : s.vfaces[v + 6]) __builtin_prefetch(&s.tri.rec[f]);
+            // (Then the rules' reads: the fan's regions and their stats, the farthest point, the
+            // component.)
+            if (v + 6 < end && likelyEvaluated(c, v + 6)) {
+                for (uint32_t f : s.vfaces[v + 6]) {
+                    __builtin_prefetch(&s.tri.rec[f]);
+                    __builtin_prefetch(&ctx.regions.faceRegion[f]);
+                }
+                __builtin_prefetch(&s.farPoint[v + 6]);
+                __builtin_prefetch(&s.components.label[v + 6]);
+            }
             if (v + 3 < end && likelyEvaluated(c, v + 3)) {
                 __builtin_prefetch(&s.quadric[v + 3]);
-                for (uint32_t f : s.vfaces[v + 3])
-                    for (uint32_t u : s.tri[f]) __builtin_prefetch(&s.mesh.positions[u]);
+                __builtin_prefetch(reinterpret_cast<const char*>(&s.quadric[v + 3]) + sizeof(Quadric) - 1);
+                for (uint32_t f : s.vfaces[v + 3]) {
+                    for (uint32_t u : s.tri[f]) {
+                        __builtin_prefetch(&s.mesh.positions[u]);
+                        __builtin_prefetch(&s.vfaces[u]);
+                    }
+                    const RegionStats* st = &ctx.regions.stats[ctx.regions.faceRegion[f]];
+                    __builtin_prefetch(st);
+                    __builtin_prefetch(reinterpret_cast<const char*>(st) + sizeof(RegionStats) - 1);
+                }
+                if (s.farPoint[v + 3] != kNone) __builtin_prefetch(&s.mesh.positions[s.farPoint[v + 3]]);
             }
             if (s.removed[v] || s.vfaces[v].empty()) continue;
             if (!evaluateOrDefer(c, ctx, work[t], v, bound)) {
@@ -289,12 +307,23 @@ double passLimit(CandidateState& c, const RuleContext& ctx, std::vector<EvalScra
     return limit;
 }
 
-void orderEntries(CandidateState& c, const RuleSettings& settings, double limit) {
+void orderEntries(CandidateState& c, const RuleSettings& settings, double limit, int threads) {
     size_t o = 0;
     for (const PassEntry& e : c.entries)
         if (e.dev <= limit) c.entries[o++] = {deviationBucket(settings, e.dev), e.shape, e.dev, e.vertex, e.key};
     c.entries.resize(o);
-    std::sort(c.entries.begin(), c.entries.end());
+    // Entries differ in their input id, so the order is total and any sort gives the same list:
+    // large lists are sorted in parts on the threads, then merged.
+    const size_t parts = std::min<size_t>(size_t(resolveThreads(threads)), o / kMinSortPart);
+    if (parts < 2) {
+        std::sort(c.entries.begin(), c.entries.end());
+        return;
+    }
+    std::vector<size_t> cut(parts + 1);
+    for (size_t k = 0; k <= parts; ++k) cut[k] = o * k / parts;
+    auto at = [&](size_t k) { return c.entries.begin() + ptrdiff_t(cut[k]); };
+    parallelFor(parts, threads, [&](size_t k) { std::sort(at(k), at(k + 1)); });
+    for (size_t k = 1; k < parts; ++k) std::inplace_merge(at(0), at(k), at(k + 1));
 }
 
 bool candidateStale(const CandidateState& c, const RuleContext& ctx, uint32_t vi, const Candidate& cand) {

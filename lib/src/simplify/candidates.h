@@ -28,12 +28,11 @@ struct PassEntry {
     }
 };
 
-// An outgoing half-edge of the vertex being evaluated: its quadric term, ring slot and the input id
-// of its target (the tie-break, kept here so sorting reads no per-vertex array).
+// An outgoing half-edge of the vertex being evaluated: its quadric term and ring slot. Equal terms
+// go to the smaller input id of the target (read only on a tie: most terms differ).
 struct Option {
     double q;
     uint32_t k;
-    uint32_t key;
 };
 
 // Per-thread scratch of candidate evaluation; each on its own cache lines (the threads write their
@@ -82,8 +81,9 @@ size_t resolveDeferred(CandidateState& c, const RuleContext& ctx, std::vector<Ev
 double passLimit(CandidateState& c, const RuleContext& ctx, std::vector<EvalScratch>& work, size_t deferred,
                  size_t need, double maxCost, bool& anyValid);
 
-// d. Keeps the entries under `limit`, in (bucket, E_region, deviation, input id) order.
-void orderEntries(CandidateState& c, const RuleSettings& settings, double limit);
+// d. Keeps the entries under `limit`, in (bucket, E_region, deviation, input id) order (the same
+// for any `threads`).
+void orderEntries(CandidateState& c, const RuleSettings& settings, double limit, int threads);
 
 // Whether a cached candidate of vi may have changed since it was evaluated: the fans of vi or of
 // its target changed, a face of vi's fan was relabelled, rule 1 may apply (closed component) or

@@ -5,8 +5,11 @@
 #include <numeric>
 
 #include "lodbake/core/adjacency.h"
+#include "lodbake/core/parallel.h"
 
 namespace lodbake::simplify_detail {
+
+constexpr size_t kClassifyChunk = 16384;  // vertices per classification chunk
 
 // Inputs often list vertices far from the faces that use them (subdivided or re-indexed meshes:
 // the three corners of a face hundreds of thousands of ids apart), and every per-vertex array is
@@ -60,6 +63,12 @@ void buildAdjacency(CollapseState& s) {
     s.tri.rec.resize(m.triangles.size());
     for (size_t f = 0; f < m.triangles.size(); ++f) s.tri.rec[f] = {m.triangles[f], {0, 0, 0}};
     if (s.input.cornerWedges.size() == m.triangles.size()) s.wedge = s.input.cornerWedges;
+    const std::vector<int32_t>& mat = s.input.triangleMaterial;
+    const size_t withMat = std::min(mat.size(), m.triangles.size());
+    // Faces past the material array read -1: one material only when that is also every listed one.
+    const int32_t first = withMat ? mat[0] : -1;
+    s.oneMaterial = (withMat == m.triangles.size() || first == -1) &&
+                    std::all_of(mat.begin(), mat.begin() + ptrdiff_t(withMat), [&](int32_t x) { return x == first; });
     const Wedges& W = s.input.wedges;
     if (!s.wedge.empty() && W.joints.size() == W.size() && W.weights.size() == W.size()) {
         s.influenceWedge.assign(m.positions.size(), kNone - 1);  // kNone - 1: not seen yet
@@ -107,12 +116,12 @@ static uint32_t findRoot(std::vector<uint32_t>& parent, uint32_t x) {
 // form several fans. Orientation is not required: two faces sharing an edge in the same direction
 // (inconsistently wound neighbours) are a manifold edge like any other; every geometric test
 // compares a face with its own normal. `open`: some edge around v has one face.
-static FanKind classifyFan(CollapseState& s, uint32_t v, bool& open) {
+static FanKind classifyFan(const CollapseState& s, uint32_t v, FanScratch& scratch, bool& open) {
     const auto& fs = s.vfaces[v];
     size_t n = fs.size();
-    std::vector<RingEntry>& ring = s.classRing;
-    std::vector<uint32_t>& faceCount = s.classCount;
-    std::vector<uint32_t>& parent = s.classParent;
+    std::vector<RingEntry>& ring = scratch.ring;
+    std::vector<uint32_t>& faceCount = scratch.count;
+    std::vector<uint32_t>& parent = scratch.parent;
     ring.clear();
     faceCount.clear();
     parent.resize(n);
@@ -143,7 +152,7 @@ static FanKind classifyFan(CollapseState& s, uint32_t v, bool& open) {
     return FanKind::Manifold;
 }
 
-void classifyVertices(CollapseState& s) {
+void classifyVertices(CollapseState& s, int threads) {
     s.locked.assign(s.vertexCount, 0);
     s.pinch.assign(s.vertexCount, 0);
     s.border.assign(s.vertexCount, 0);
@@ -153,14 +162,18 @@ void classifyVertices(CollapseState& s) {
         if (degenerateIndices(t))
             for (uint32_t v : t) s.locked[v] = 1;
 
-    for (uint32_t v = 0; v < s.vertexCount; ++v) {
-        if (s.vfaces[v].empty() || s.locked[v]) continue;
-        bool open = false;
-        FanKind k = classifyFan(s, v, open);
-        s.locked[v] = k == FanKind::NonManifold;
-        s.pinch[v] = k == FanKind::Pinch;
-        s.border[v] = open;
-    }
+    // Each fan is classified on its own (per-vertex results, per-thread scratch).
+    std::vector<FanScratch> scratch(size_t(resolveThreads(threads)));
+    parallelChunks(s.vertexCount, kClassifyChunk, threads, [&](size_t begin, size_t end, size_t t) {
+        for (uint32_t v = uint32_t(begin); v < end; ++v) {
+            if (s.vfaces[v].empty() || s.locked[v]) continue;
+            bool open = false;
+            FanKind k = classifyFan(s, v, scratch[t], open);
+            s.locked[v] = k == FanKind::NonManifold;
+            s.pinch[v] = k == FanKind::Pinch;
+            s.border[v] = open;
+        }
+    });
     // Only the non-manifold vertices themselves are locked (every vertex of a non-manifold edge has
     // a non-manifold fan): a manifold neighbour may still collapse, never into a locked vertex, and
     // the link condition keeps the non-manifold edges intact.
@@ -331,7 +344,7 @@ static void reclassifyRing(CollapseState& s, uint32_t vi, const std::vector<uint
     for (uint32_t u : ring) {
         if (s.vfaces[u].empty()) continue;
         bool wasOpen = s.isOpen(u), isOpen = false;
-        FanKind k = classifyFan(s, u, isOpen);
+        FanKind k = classifyFan(s, u, s.classScratch, isOpen);
         s.locked[u] |= k == FanKind::NonManifold;
         s.pinch[u] |= k == FanKind::Pinch;
         s.border[u] = isOpen;

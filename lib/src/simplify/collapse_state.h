@@ -143,6 +143,12 @@ struct RingEntry {
 
 enum class FanKind { Manifold, Pinch, NonManifold };
 
+// Scratch of classifying one vertex's fan: its ring, faces per spoke, union-find of its faces.
+struct FanScratch {
+    std::vector<RingEntry> ring;
+    std::vector<uint32_t> count, parent;
+};
+
 // Connected components of the input (over shared vertices), for rule 1 and pruning.
 struct Components {
     std::vector<uint32_t> label;   // per vertex; kNone for a vertex no face uses
@@ -166,6 +172,7 @@ struct CollapseState {
     FaceArray tri;                    // current corners (+ original normals)
     std::vector<Tri> wedge;           // current corner wedges (empty when the mesh has none)
     std::vector<uint8_t> faceAlive;
+    bool oneMaterial = true;          // every face has the same material (or none)
     size_t aliveFaces = 0;
     std::vector<FaceList> vfaces;  // live faces around each vertex
     std::vector<uint8_t> locked, border, removed;
@@ -187,9 +194,8 @@ struct CollapseState {
     // read under an error target (measureAttached).
     std::vector<uint32_t> attachHead, attachTail, attachNext;
 
-    // Scratch of classifyFan and applyCollapse.
-    std::vector<RingEntry> classRing;
-    std::vector<uint32_t> classCount, classParent;
+    // Scratch of applyCollapse (and its classifyFan).
+    FanScratch classScratch;
     std::vector<uint32_t> fanScratch, ringScratch, keptScratch, removedScratch;
 
     CollapseState(const TriMesh& m, const TriMesh& in) : mesh(m), input(in) {}
@@ -200,8 +206,10 @@ struct CollapseState {
         const Tri& t = tri[f];
         return t[0] == v ? 0 : (t[1] == v ? 1 : (t[2] == v ? 2 : -1));
     }
+    // Materials are only compared with each other: with one material for all faces every face
+    // reads -1 and the random read of the input's material array is skipped.
     int32_t material(uint32_t f) const {
-        return f < input.triangleMaterial.size() ? input.triangleMaterial[f] : -1;
+        return !oneMaterial && f < input.triangleMaterial.size() ? input.triangleMaterial[f] : -1;
     }
     uint32_t componentOf(uint32_t v) const { return components.label[v]; }
 };
@@ -228,8 +236,9 @@ void restoreInputIds(const std::vector<uint32_t>& oldId, Multires& out);
 
 // Live faces per vertex (a face that repeats a vertex is listed once), corners and wedges.
 void buildAdjacency(CollapseState& s);
-// Locked, pinch and border vertices; component labels and open-vertex counts.
-void classifyVertices(CollapseState& s);
+// Locked, pinch and border vertices (on up to `threads` threads); component labels and open-vertex
+// counts.
+void classifyVertices(CollapseState& s, int threads);
 // Component sizes, face counts and vertex lists.
 void measureComponents(CollapseState& s);
 // Area-weighted plane quadrics per vertex, plus planes through open border edges.

@@ -7,32 +7,35 @@
 #include <numeric>
 
 #include "lodbake/core/math.h"
+#include "lodbake/core/parallel.h"
 
 namespace lodbake::simplify_detail {
 
-void initRegions(RegionState& r, const CollapseState& s) {
+constexpr size_t kStatsChunk = 16384;  // faces per chunk of the initial region stats
+
+void initRegions(RegionState& r, const CollapseState& s, int threads) {
     const auto& P = s.mesh.positions;
     r.faceRelabelPass.assign(s.faceCount, 0);
     r.faceRegion.resize(s.faceCount);
     std::iota(r.faceRegion.begin(), r.faceRegion.end(), 0u);
     r.regionNext.assign(s.faceCount, kNone);
-    r.regionHead.resize(s.faceCount);
-    std::iota(r.regionHead.begin(), r.regionHead.end(), 0u);
-    r.regionTail = r.regionHead;
-    r.regionSize.assign(s.faceCount, 1);
+    r.lists.resize(s.faceCount);
+    for (uint32_t f = 0; f < s.faceCount; ++f) r.lists[f] = {f, f, 1};
     r.stats.resize(s.faceCount);
-    for (uint32_t f = 0; f < s.faceCount; ++f) {
-        const Tri& t = s.tri[f];
-        Vec3 n = cross(P[t[1]] - P[t[0]], P[t[2]] - P[t[0]]);
-        RegionStats& st = r.stats[f];
-        st.area = 0.5 * length(n);
-        st.normalSum = n * 0.5;
-        r.totalArea += st.area;
-        for (int k = 0; k < 3; ++k) {
-            st.bmin[k] = float(std::min({P[t[0]][k], P[t[1]][k], P[t[2]][k]}));
-            st.bmax[k] = float(std::max({P[t[0]][k], P[t[1]][k], P[t[2]][k]}));
+    parallelChunks(s.faceCount, kStatsChunk, threads, [&](size_t begin, size_t end, size_t) {
+        for (size_t f = begin; f < end; ++f) {
+            const Tri& t = s.tri[f];
+            Vec3 n = cross(P[t[1]] - P[t[0]], P[t[2]] - P[t[0]]);
+            RegionStats& st = r.stats[f];
+            st.area = 0.5 * length(n);
+            st.normalSum = n * 0.5;
+            for (int k = 0; k < 3; ++k) {
+                st.bmin[k] = float(std::min({P[t[0]][k], P[t[1]][k], P[t[2]][k]}));
+                st.bmax[k] = float(std::max({P[t[0]][k], P[t[1]][k], P[t[2]][k]}));
+            }
         }
-    }
+    });
+    for (const RegionStats& st : r.stats) r.totalArea += st.area;  // in face order, one sum for any threads
     r.regionCount = uint32_t(s.faceCount);
     r.componentRegions.assign(s.components.count(), 0);
     for (const Tri& t : s.mesh.triangles) ++r.componentRegions[s.componentOf(t[0])];
@@ -104,8 +107,8 @@ static void mergeRegionGroup(RegionState& r, const CollapseState& s, HierarchyRe
     for (size_t k = 0; k < n; ++k) {
         uint32_t g = reps[k];
         bool alive = s.faceAlive[g] && !(s.corner(g, vi) >= 0 && s.corner(g, vj) >= 0);
-        if (newRep == kNone || r.regionSize[g] > r.regionSize[newRep] ||
-            (r.regionSize[g] == r.regionSize[newRep] && alive && !newAlive)) {
+        if (newRep == kNone || r.lists[g].size > r.lists[newRep].size ||
+            (r.lists[g].size == r.lists[newRep].size && alive && !newAlive)) {
             newRep = g;
             newAlive = alive;
         }
@@ -114,15 +117,15 @@ static void mergeRegionGroup(RegionState& r, const CollapseState& s, HierarchyRe
         uint32_t g = reps[k];
         if (g == newRep) continue;
         rec.regionMoved(g, newRep);
-        for (uint32_t f = r.regionHead[g]; f != kNone; f = r.regionNext[f]) {
+        for (uint32_t f = r.lists[g].head; f != kNone; f = r.regionNext[f]) {
             r.faceRegion[f] = newRep;
             r.faceRelabelPass[f] = pass;
         }
-        r.regionNext[r.regionTail[newRep]] = r.regionHead[g];
-        r.regionTail[newRep] = r.regionTail[g];
-        r.regionSize[newRep] += r.regionSize[g];
+        r.regionNext[r.lists[newRep].tail] = r.lists[g].head;
+        r.lists[newRep].tail = r.lists[g].tail;
+        r.lists[newRep].size += r.lists[g].size;
         mergeStats(r.stats[newRep], r.stats[g]);
-        r.regionSize[g] = 0;
+        r.lists[g].size = 0;
     }
     r.regionCount -= uint32_t(n - 1);
 }
@@ -151,21 +154,19 @@ void updateRegions(RegionState& r, const CollapseState& s, HierarchyRecorder& re
 void fixDeadRepresentatives(RegionState& r, const CollapseState& s, HierarchyRecorder& rec, uint32_t pass) {
     if (rec.out.collapses.empty()) return;
     for (uint32_t g = 0; g < s.faceCount; ++g) {
-        if (s.faceAlive[g] || r.regionSize[g] == 0 || r.faceRegion[g] != g) continue;
+        if (s.faceAlive[g] || r.lists[g].size == 0 || r.faceRegion[g] != g) continue;
         uint32_t m = kNone;
-        for (uint32_t f = r.regionHead[g]; f != kNone; f = r.regionNext[f])
+        for (uint32_t f = r.lists[g].head; f != kNone; f = r.regionNext[f])
             if (s.faceAlive[f] && f < m) m = f;
         if (m == kNone) continue;  // cannot happen: every region keeps a surviving face
         rec.regionMoved(g, m);
-        for (uint32_t f = r.regionHead[g]; f != kNone; f = r.regionNext[f]) {
+        for (uint32_t f = r.lists[g].head; f != kNone; f = r.regionNext[f]) {
             r.faceRegion[f] = m;
             r.faceRelabelPass[f] = pass;
         }
-        r.regionHead[m] = r.regionHead[g];
-        r.regionTail[m] = r.regionTail[g];
-        r.regionSize[m] = r.regionSize[g];
+        r.lists[m] = r.lists[g];
         r.stats[m] = r.stats[g];
-        r.regionSize[g] = 0;
+        r.lists[g].size = 0;
     }
     rec.out.collapses.back().regionEnd = rec.regionMark();
 }

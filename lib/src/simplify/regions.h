@@ -30,10 +30,16 @@ struct RegionStats {
     float bmin[3], bmax[3];
 };
 
+// The face list of one region: first and last face of its intrusive list, and its length.
+struct RegionList {
+    uint32_t head, tail, size;
+};
+
 struct RegionState {
     std::vector<uint32_t> faceRegion;       // representative face of each face's region
     std::vector<uint32_t> faceRelabelPass;  // pass of each face's last relabel
-    std::vector<uint32_t> regionNext, regionHead, regionTail, regionSize;  // per representative
+    std::vector<uint32_t> regionNext;       // next face of the same region (intrusive list)
+    std::vector<RegionList> lists;          // per representative (one record: a merge reads all three)
     std::vector<RegionStats> stats;         // per representative
     uint32_t regionCount = 0;
     std::vector<uint32_t> componentRegions;  // regions per component (rule 1)
@@ -45,8 +51,8 @@ struct RegionState {
     MergeGroups groupScratch;
 };
 
-// Every face is its own region.
-void initRegions(RegionState& r, const CollapseState& s);
+// Every face is its own region (stats on up to `threads` threads).
+void initRegions(RegionState& r, const CollapseState& s, int threads);
 
 void mergeStats(RegionStats& a, const RegionStats& b);
 // E_region approximation of a region (docs/simplify.md, rule 2); 0 for an empty region.

@@ -121,21 +121,33 @@ size_t walkCandidates(Simplifier& s, const PlannedLevel& plan, double limit) {
             __builtin_prefetch(&cs.cand[a]);
             __builtin_prefetch(&m.vfaces[a]);
             __builtin_prefetch(&cs.touchedPass[a]);
+            __builtin_prefetch(&cs.dirtyPass[a]);
+            __builtin_prefetch(&m.removed[a]);
+            __builtin_prefetch(&m.components.label[a]);
         }
         if (k + 8 < entryCount) {
             uint32_t a = cs.entries[k + 8].vertex;
             for (uint32_t f : m.vfaces[a]) {
                 __builtin_prefetch(&m.tri.rec[f]);
                 __builtin_prefetch(&s.regions.faceRegion[f]);
+                __builtin_prefetch(&s.regions.faceRelabelPass[f]);
                 if (!m.wedge.empty()) __builtin_prefetch(&m.wedge[f]);
             }
             __builtin_prefetch(&cs.touchedPass[cs.cand[a].target]);
+            __builtin_prefetch(&cs.dirtyPass[cs.cand[a].target]);
+            __builtin_prefetch(&m.farPoint[a]);
             __builtin_prefetch(&m.quadric[a]);
+            __builtin_prefetch(reinterpret_cast<const char*>(&m.quadric[a]) + sizeof(Quadric) - 1);
         }
         if (k + 4 < entryCount) {
             uint32_t a = cs.entries[k + 4].vertex;
             for (uint32_t f : m.vfaces[a]) {
-                __builtin_prefetch(&s.regions.stats[s.regions.faceRegion[f]]);
+                // (The region's record and representative face: a merge reads them.)
+                const uint32_t rep = s.regions.faceRegion[f];
+                __builtin_prefetch(&s.regions.stats[rep]);
+                __builtin_prefetch(&s.regions.lists[rep]);
+                __builtin_prefetch(&m.tri.rec[rep]);
+                __builtin_prefetch(&m.faceAlive[rep]);
                 for (uint32_t u : m.tri[f]) {
                     __builtin_prefetch(&m.mesh.positions[u]);
                     __builtin_prefetch(&m.vfaces[u]);
@@ -231,7 +243,7 @@ PassResult runPass(Simplifier& s, const PlannedLevel& plan) {
     }
     if (cs.entries.empty()) return anyValid ? PassResult::ErrorReached : PassResult::NoCandidate;
     // d. Candidates under the limit in (bucket, E_region, deviation, vertex) order, applied.
-    orderEntries(cs, s.settings, limit);
+    orderEntries(cs, s.settings, limit, int(s.work.size()));
     return walkCandidates(s, plan, limit) ? PassResult::Progress : PassResult::Idle;
 }
 
@@ -309,12 +321,12 @@ SimplifyResult simplify(const TriMesh& mesh, const SimplifyOptions& options) {
         w.markJ.assign(m.vertexCount, 0);
     }
     // 3. Locked, pinch and border vertices; components and their sizes.
-    classifyVertices(m);
+    classifyVertices(m, int(s.work.size()));
     measureComponents(m);
     if (options.visualWeight) orderByVisualWeight(m);
     // 4. Quadrics. 5. Every face its own region.
     initQuadrics(m);
-    initRegions(s.regions, m);
+    initRegions(s.regions, m, int(s.work.size()));
     // 6. Targets, finest first.
     std::vector<PlannedLevel> plan = planLevels(options.levels, m.faceCount, m.diagonal);
     initCandidates(s.candidates, m.vertexCount);
