@@ -155,9 +155,12 @@ void measureLevels(const Asset& asset, std::vector<LevelView>& views, const Pack
             r.relRms = d.relRms;
             std::lock_guard<std::mutex> lock(progressMutex);
             if (stopped) return;
-            stopped = true;  // stays set when progress throws
-            progress(0.3 * double(++measured) / double(n));
-            stopped = false;
+            try {
+                progress(0.3 * double(++measured) / double(n));
+            } catch (...) {
+                stopped = true;
+                throw;
+            }
         }
     };
     parallelFor(runs.size(), posed ? 1 : options.threads, [&](size_t i) { measureRun(runs[i]); });
