@@ -4,6 +4,7 @@
 // index-degenerate faces too.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 
 #include "lodbake/core/closest_point.h"
@@ -57,6 +58,17 @@ TEST(FaceGrid, ClosestFaceInMatchesTheScanWithTies) {
     std::vector<uint32_t> corner;
     for (uint32_t f = 0; f < 200; ++f) corner.push_back(f);
     expectSameAsScan(mesh, grid, corner, {Vec3{60, 60, 0}, Vec3{59.5, 0.5, 1}}, 1.0);
+    // The faces numbered against the cells' order (the grid meets the higher id first), every
+    // face in the set: at a vertex every face around it lies at distance 0 (exact ties), and the
+    // box's faces keep the scan's lowest id.
+    TriMesh reversed = mesh;
+    std::reverse(reversed.triangles.begin(), reversed.triangles.end());
+    const FaceGrid reversedGrid(reversed);
+    std::vector<uint32_t> all(reversed.triangleCount());
+    for (uint32_t f = 0; f < all.size(); ++f) all[f] = f;
+    std::vector<Vec3> vertices;
+    for (uint32_t v = 0; v < reversed.vertexCount(); v += 5) vertices.push_back(reversed.positions[v]);
+    expectSameAsScan(reversed, reversedGrid, all, vertices, 1.0);
 }
 
 TEST(FaceGrid, ClosestFaceInOfNoFacesIsFalse) {

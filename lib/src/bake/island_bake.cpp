@@ -87,8 +87,9 @@ bool inNear(const TriMesh& mesh, const IslandNear& near, Vec3 n, uint32_t f) {
 
 // Cubes around p doubling from `start`, each clipped to the described region (the box [lo, hi]
 // and the cube of half-side reach around the centre: a face of the set meets both), until the
-// closest face found lies inside the cube: every face as close has its box inside it too, and the
-// cube's faces come in ascending ids, so the first closest is the first of the whole set.
+// closest face found lies inside the cube: every face as close has its box inside it too, and of
+// the cube's faces (in cell order) the least (distance, id) pair wins, so the first closest is
+// the first of the whole set. A box pruned against the best so far is strictly farther than it.
 double closestNearFace(const TriMesh& mesh, const IslandNear& near, Vec3 n, Vec3 p, double start, uint32_t& face,
                        std::array<double, 3>& bary) {
     Vec3 lo, hi;
@@ -99,17 +100,19 @@ double closestNearFace(const TriMesh& mesh, const IslandNear& near, Vec3 n, Vec3
         for (int a = 0; a < 3; ++a) covers = covers && p[a] - rho <= lo[a] && p[a] + rho >= hi[a];
         Vec3 qlo, qhi;
         double best = 1e300;
+        bool found = false;
         if (clipToBox(p, rho, lo, hi, qlo, qhi))
-            for (uint32_t f : near.grid->facesIn(qlo, qhi)) {
-                if (boxFarther(faceBox(mesh, f), p, best, scale) || !inNear(mesh, near, n, f)) continue;
+            near.grid->forEachFaceIn(qlo, qhi, [&](uint32_t f) {
+                if (boxFarther(faceBox(mesh, f), p, best, scale) || !inNear(mesh, near, n, f)) return;
                 std::array<double, 3> b;
                 const double d = faceDistance2(mesh, f, p, &b);
-                if (d < best) {
+                if (d < best || (found && d == best && f < face)) {
                     best = d;
                     face = f;
                     bary = b;
+                    found = true;
                 }
-            }
+            });
         if (covers || (best < 1e300 && std::sqrt(best) * (1 + 1e-6) + scale <= rho)) return best;
     }
 }
@@ -325,15 +328,16 @@ bool projectedIslandNear(const TriMesh& mesh, const FaceGrid& grid, const std::a
         for (int a = 0; a < 3; ++a) covers = covers && c[a] - rho <= lo[a] && c[a] + rho >= hi[a];
         Vec3 qlo, qhi;
         facing = any = 1e300;
+        // Minima: the faces' order does not matter.
         if (bake_detail::clipToBox(c, rho, lo, hi, qlo, qhi))
-            for (uint32_t f : grid.facesIn(qlo, qhi)) {
+            grid.forEachFaceIn(qlo, qhi, [&](uint32_t f) {
                 const bool way = bake_detail::facesIslandWay(mesh, f, n);
                 // any <= facing: a box farther than the face's minimum changes neither
-                if (bake_detail::boxFarther(faceBox(mesh, f), c, way ? facing : any, scale)) continue;
+                if (bake_detail::boxFarther(faceBox(mesh, f), c, way ? facing : any, scale)) return;
                 const double d = faceDistance2(mesh, f, c, nullptr);
                 any = std::min(any, d);
                 if (way) facing = std::min(facing, d);
-            }
+            });
         if (covers || (facing < 1e300 && std::sqrt(facing) * (1 + 1e-6) + scale <= rho)) break;
     }
     near.allFaces = !(facing < 1e300);  // no face of S faces the island's way: facingFaces keeps all

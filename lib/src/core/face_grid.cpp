@@ -61,34 +61,6 @@ void FaceGrid::cellRange(Vec3 lo, Vec3 hi, int (&a)[3], int (&b)[3]) const {
     }
 }
 
-// A face listed in several cells of the range is visited in one of them only: the first cell of
-// the range it is listed in (its own first cell on each axis, or the range's when that lies below),
-// so no deduplication is needed. The face's first cell is found as the build found it (cellRange
-// of its box), and only off the range's first row, column or layer.
-template <class Visit>
-void FaceGrid::forEachFaceIn(Vec3 lo, Vec3 hi, Visit&& visit) const {
-    if (faces_.empty()) return;
-    int a[3], b[3];
-    cellRange(lo, hi, a, b);
-    auto firstCell = [&](const std::array<double, 6>& bx, int axis) {
-        return std::clamp(int(std::floor((bx[size_t(axis)] - origin_[axis]) / cell_)), 0, n_[axis] - 1);
-    };
-    for (int z = a[2]; z <= b[2]; ++z)
-        for (int y = a[1]; y <= b[1]; ++y)
-            for (int x = a[0]; x <= b[0]; ++x) {
-                const size_t c = (size_t(z) * size_t(n_[1]) + size_t(y)) * size_t(n_[0]) + size_t(x);
-                for (uint32_t i = start_[c]; i < start_[c + 1]; ++i) {
-                    const uint32_t f = faces_[i];
-                    const auto& bx = boxes_[f];
-                    if (!(bx[0] <= hi.x && bx[3] >= lo.x && bx[1] <= hi.y && bx[4] >= lo.y && bx[2] <= hi.z && bx[5] >= lo.z)) continue;
-                    if ((x != a[0] && firstCell(bx, 0) != x) || (y != a[1] && firstCell(bx, 1) != y) ||
-                        (z != a[2] && firstCell(bx, 2) != z))
-                        continue;
-                    visit(f);
-                }
-            }
-}
-
 std::vector<uint32_t> FaceGrid::facesIn(Vec3 lo, Vec3 hi) const {
     std::vector<uint32_t> out;
     forEachFaceIn(lo, hi, [&](uint32_t f) { out.push_back(f); });
@@ -128,6 +100,10 @@ size_t FaceGrid::entriesIn(Vec3 lo, Vec3 hi) const {
     return n;
 }
 
+// A box's grid entries beyond this many times the set's faces: the set is scanned instead (a
+// face's distance costs several box tests).
+constexpr size_t kScanRatio = 4;
+
 // Every face at least as close as the best one found has its box within that distance of p, so
 // inside the query box once the box reaches past it: the first closest by id among the box's
 // faces is the first closest of the whole set.
@@ -138,21 +114,27 @@ bool closestFaceIn(const TriMesh& mesh, const FaceGrid& grid, const std::vector<
     const double scale = 1e-9 * (1 + std::abs(p.x) + std::abs(p.y) + std::abs(p.z));
     // Small sets, and a box still empty of them after 24 doublings, are scanned whole.
     double r = std::max(radius, scale);
+    // The box's faces come in cell order: the least (distance, position) pair is the first closest
+    // of an ascending scan.
     for (int grow = 0; grow < 24 && faces.size() > 64; ++grow, r *= 2) {
+        // A box listing many more of the mesh's faces than the set holds (a point far from the
+        // set, or a set of few faces) costs more than the scan of the set, which finds the same.
+        if (grid.entriesIn(p - Vec3{r, r, r}, p + Vec3{r, r, r}) > kScanRatio * faces.size()) break;
         double best = 1e300;
         bool found = false;
-        for (uint32_t f : grid.facesIn(p - Vec3{r, r, r}, p + Vec3{r, r, r})) {
+        grid.forEachFaceIn(p - Vec3{r, r, r}, p + Vec3{r, r, r}, [&](uint32_t f) {
             auto it = std::lower_bound(faces.begin(), faces.end(), f);
-            if (it == faces.end() || *it != f) continue;
+            if (it == faces.end() || *it != f) return;
+            const size_t i = size_t(it - faces.begin());
             std::array<double, 3> b;
             const double d = distance2(f, b);
-            if (d < best) {
+            if (d < best || (found && d == best && i < index)) {
                 best = d;
-                index = size_t(it - faces.begin());
+                index = i;
                 bary = b;
                 found = true;
             }
-        }
+        });
         // Faces as close as the best have boxes within its distance of p: inside the box.
         if (found && std::sqrt(best) * (1 + 1e-6) + scale <= r) return true;
     }

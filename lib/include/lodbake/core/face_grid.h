@@ -3,7 +3,9 @@
 // subset of the faces (parameterize's level-corner projections).
 #pragma once
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -25,6 +27,10 @@ public:
     FaceGrid(const TriMesh& mesh, const std::vector<uint32_t>& faces, double cellsPerFace = 1.0);
     // Ids of every face whose bounding box overlaps box [lo, hi], ascending.
     std::vector<uint32_t> facesIn(Vec3 lo, Vec3 hi) const;
+    // visit(f) once for every face facesIn(lo, hi) lists, in cell order (not ascending): for
+    // callers whose answer does not depend on the order, without the list's allocation and sort.
+    template <class Visit>
+    void forEachFaceIn(Vec3 lo, Vec3 hi, Visit&& visit) const;
     // closestSurfacePoint(mesh, facesIn(lo, hi), p, face, bary) without the list (mesh: the one the
     // grid was built over): the squared distance to the first closest face by id, 1e300 when none
     // is at a finite distance; `any` tells whether the box holds a face at all.
@@ -45,10 +51,35 @@ private:
     // The faces `held` listed, with cells sized for `nf` faces.
     FaceGrid(const TriMesh& mesh, const std::vector<uint32_t>& held, size_t nf, double cellsPerFace);
     void cellRange(Vec3 lo, Vec3 hi, int (&a)[3], int (&b)[3]) const;
-    // visit(f) once for every face whose box overlaps [lo, hi], in cell order.
-    template <class Visit>
-    void forEachFaceIn(Vec3 lo, Vec3 hi, Visit&& visit) const;
 };
+
+// A face listed in several cells of the range is visited in one of them only: the first cell of
+// the range it is listed in (its own first cell on each axis, or the range's when that lies below),
+// so no deduplication is needed. The face's first cell is found as the build found it (cellRange
+// of its box), and only off the range's first row, column or layer.
+template <class Visit>
+void FaceGrid::forEachFaceIn(Vec3 lo, Vec3 hi, Visit&& visit) const {
+    if (faces_.empty()) return;
+    int a[3], b[3];
+    cellRange(lo, hi, a, b);
+    auto firstCell = [&](const std::array<double, 6>& bx, int axis) {
+        return std::clamp(int(std::floor((bx[size_t(axis)] - origin_[axis]) / cell_)), 0, n_[axis] - 1);
+    };
+    for (int z = a[2]; z <= b[2]; ++z)
+        for (int y = a[1]; y <= b[1]; ++y)
+            for (int x = a[0]; x <= b[0]; ++x) {
+                const size_t c = (size_t(z) * size_t(n_[1]) + size_t(y)) * size_t(n_[0]) + size_t(x);
+                for (uint32_t i = start_[c]; i < start_[c + 1]; ++i) {
+                    const uint32_t f = faces_[i];
+                    const auto& bx = boxes_[f];
+                    if (!(bx[0] <= hi.x && bx[3] >= lo.x && bx[1] <= hi.y && bx[4] >= lo.y && bx[2] <= hi.z && bx[5] >= lo.z)) continue;
+                    if ((x != a[0] && firstCell(bx, 0) != x) || (y != a[1] && firstCell(bx, 1) != y) ||
+                        (z != a[2] && firstCell(bx, 2) != z))
+                        continue;
+                    visit(f);
+                }
+            }
+}
 
 // The point of `faces` (ascending ids, none index-degenerate) closest to p, exactly as
 // closestSurfacePoint's scan of `faces` in order finds it (the first of equally close faces): its
