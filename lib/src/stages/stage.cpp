@@ -11,11 +11,11 @@
 namespace lodbake {
 
 Asset loadStageInput(const StageCommon& common, double& seconds, std::optional<Multires>* multires,
-                     void (*check)(Asset&, ImageCheck, int)) {
+                     void (*check)(Asset&, ImageCheck)) {
     Clock::time_point t0 = Clock::now();
     Asset asset = common.inputBytes ? readGltfBytes(common.input, std::move(*common.inputBytes), {}, multires)
                                     : readGltf(common.input, {}, multires);
-    if (check) check(asset, common.inputImagesDecoded ? ImageCheck::Header : ImageCheck::Decode, common.threads);
+    if (check) check(asset, common.inputImagesDecoded ? ImageCheck::Header : ImageCheck::Decode);
     seconds = secondsSince(t0);
     if (common.warning)
         for (const std::string& w : asset.warnings) common.warning(w);

@@ -6,7 +6,6 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <exception>
 
 #include <fcntl.h>
 #include <unistd.h>
@@ -15,7 +14,6 @@
 #include <OpenImageIO/imageio.h>
 
 #include "lodbake/core/errors.h"
-#include "lodbake/core/parallel.h"
 
 namespace lodbake {
 namespace {
@@ -93,7 +91,6 @@ bool jpegFrameHeader(const std::vector<unsigned char>& b, int& width, int& heigh
     return false;
 }
 
-// The caller keeps stderr quiet (QuietStderr) while images are checked.
 void checkImage(const std::string& path, Image& img, size_t index, ImageCheck check) {
     auto fail = [&](const std::string& problem) {
         throw InvalidInput(path + ": image " + std::to_string(index) + (img.name.empty() ? "" : " '" + img.name + "'") +
@@ -108,6 +105,7 @@ void checkImage(const std::string& path, Image& img, size_t index, ImageCheck ch
     if (check == ImageCheck::Header && img.mimeType == "image/jpeg" && jpegFrameHeader(img.encoded, img.width, img.height, img.channels))
         return;
     std::string name = img.mimeType == "image/jpeg" ? "image.jpg" : "image.png";
+    QuietStderr quiet;
     OIIO::Filesystem::IOMemReader reader(img.encoded.data(), img.encoded.size());
     OIIO::Filesystem::IOProxy* proxy = &reader;
     OIIO::ImageSpec config;
@@ -248,23 +246,8 @@ std::pair<int, int> imageSize(const Image& image) {
     return size;
 }
 
-void checkImages(Asset& asset, ImageCheck check, int threads) {
-    // Each image on its own (decoded on `threads` threads); the first failing image in index order
-    // is the one reported, as when they are checked one after another. stderr is redirected once
-    // around them all: redirections of one process-wide stream cannot nest across threads.
-    std::vector<std::exception_ptr> failed(asset.images.size());
-    {
-        QuietStderr quiet;
-        parallelFor(asset.images.size(), threads, [&](size_t i) {
-            try {
-                checkImage(asset.sourcePath, asset.images[i], i, check);
-            } catch (...) {
-                failed[i] = std::current_exception();
-            }
-        });
-    }
-    for (const std::exception_ptr& e : failed)
-        if (e) std::rethrow_exception(e);
+void checkImages(Asset& asset, ImageCheck check) {
+    for (size_t i = 0; i < asset.images.size(); ++i) checkImage(asset.sourcePath, asset.images[i], i, check);
 }
 
 Image encodeImage(const std::vector<float>& rgb, int width, int height, ImageFormat format, int jpegQuality,
