@@ -435,6 +435,24 @@ TEST(PackAtlas, GivenFramesPackAsFoundFrames) {
     }
 }
 
+// shelfPackCapacity is the count shelfPack places on the page at some density: one more item
+// with area never fits there.
+TEST(ShelfPack, CapacityIsTheMostItemsThatFit) {
+    for (int gutter : {0, 2, 4}) {
+        const size_t capacity = shelfPackCapacity(64, gutter);
+        std::vector<std::vector<Vec2>> squares(capacity + 1, std::vector<Vec2>{{0, 0}, {1, 0}, {1, 1}, {0, 1}});
+        std::vector<const std::vector<Vec2>*> items;
+        for (const auto& sq : squares) items.push_back(&sq);
+        ShelfPackOptions o;
+        o.size = 64;
+        o.gutter = gutter;
+        items.pop_back();
+        EXPECT_EQ(shelfPack(items, double(items.size()), o).size, 64) << "gutter " << gutter;
+        items.push_back(&squares.back());
+        EXPECT_ANY_THROW(shelfPack(items, double(items.size()), o)) << "gutter " << gutter;
+    }
+}
+
 // The T0 shelf packer: more items than a 64-texel page holds at any density (each box is at least
 // 2 texels with 4-texel gutters: 10 x 10 of them; 12 x 12 would fit only at density 0) grow the
 // page up to maxSize, and without maxSize they throw.

@@ -48,6 +48,13 @@ bool shelvesAt(const std::vector<const std::vector<Vec2>*>& sets, double d, int 
 
 }  // namespace
 
+size_t shelfPackCapacity(int size, int gutter) {
+    // shelvesAt's rows and shelves of 2 x 2 boxes: a box at x needs x + 2 + gutter <= size.
+    const int step = 2 + gutter, room = size - gutter - step;
+    const size_t perRow = room < 0 ? 0 : size_t(room / step + 1);
+    return perRow * perRow;
+}
+
 ShelfPackResult shelfPack(const std::vector<const std::vector<Vec2>*>& items, double area, const ShelfPackOptions& options) {
     constexpr double kStartFill = 0.7;  // fraction of the page the items' area fills at the start density
     constexpr double kShrink = 0.95;    // density factor per failed attempt

@@ -16,6 +16,7 @@
 #include <optional>
 #include <unordered_map>
 
+#include "lodbake/atlas/atlas.h"
 #include "lodbake/bake/bake.h"
 #include "lodbake/core/errors.h"
 #include "lodbake/core/timing.h"
@@ -456,7 +457,18 @@ RefineResult refineTextures(const Asset& asset, const Multires& mr, const Refine
             continue;
         }
         // A rank only refines T0: when its (more numerous) charts cannot fit the texture, the
-        // hierarchy stops at the ranks it has, and the report says why.
+        // hierarchy stops at the ranks it has, and the report says why. A split already past what
+        // the page holds at any density stops it before its solves: those could only keep whole
+        // the parents whose pieces come out worse in every round, and a rank of that many charts
+        // that fits only so would be all gutters.
+        const size_t capacity = shelfPackCapacity(o.param.textureSize, o.param.gutter);
+        if (cand.count > capacity) {
+            res.rejected.push_back({cand.level, cand.count,
+                                    "its charts do not fit the texture (" + std::to_string(cand.count) + " charts; a " +
+                                        std::to_string(o.param.textureSize) + " atlas holds at most " + std::to_string(capacity) +
+                                        " at any density)"});
+            break;
+        }
         // Re-split rounds re-solve the unchanged charts of the candidate: its solves are remembered
         // (another candidate serves other levels, so its charts have other pairs: none would hit).
         o.param.solveCache = makeChartSolveCache();

@@ -56,6 +56,11 @@ struct ShelfPackResult {
 // \throw Impossible when nothing fits after 400 attempts.
 ShelfPackResult shelfPack(const std::vector<const std::vector<Vec2>*>& items, double area, const ShelfPackOptions& options);
 
+// The most items with UV area shelfPack places on a `size` page at any density: however small
+// the density, such an item's box takes 2 x 2 texels and the gutter around it. More charts than
+// this never fit that page.
+size_t shelfPackCapacity(int size, int gutter);
+
 // ---- Shape-aware page packing (pack) ----
 
 // One chart to place: the UV points it covers and its UV area (T0 units).
