@@ -34,6 +34,28 @@ AtlasState atlasState(const TriMesh& mesh, const Multires& multires, const Chart
     st.vertexCharts.resize(mesh.vertexCount());
     for (uint32_t c = 0; c < charts.size(); ++c)
         for (uint32_t v : charts[c].vertices) st.vertexCharts[v].push_back(c);
+    // The charts' local indices do not change between rounds (only islands and the packing do):
+    // looked up once here instead of once per round.
+    auto localIn = [&](const LocalChart& ch, uint32_t v, uint32_t missing) {
+        auto it = ch.local.find(v);
+        return it != ch.local.end() ? it->second : missing;
+    };
+    st.faceCornerLocal.assign(nf, {});
+    for (uint32_t f = 0; f < nf; ++f) {
+        const int32_t c = cr.faceChart[f];
+        if (c < 0 || charts[size_t(c)].uv.empty()) continue;
+        for (size_t k = 0; k < 3; ++k) st.faceCornerLocal[f][k] = localIn(charts[size_t(c)], mesh.triangles[f][k], 0);
+    }
+    st.levelCornerLocal.resize(multires.levels.size());
+    for (size_t li = 0; li < multires.levels.size(); ++li) {
+        const Level& L = multires.levels[li];
+        st.levelCornerLocal[li].resize(L.triangles.size());
+        for (size_t t = 0; t < L.triangles.size(); ++t) {
+            const uint32_t c = st.levelTriChart[li][t];
+            for (size_t k = 0; k < 3; ++k)
+                st.levelCornerLocal[li][t][k] = c < charts.size() ? localIn(charts[c], L.triangles[t][k], kNotInChart) : kNotInChart;
+        }
+    }
     return st;
 }
 
@@ -73,11 +95,7 @@ void writeCornerUVs(const TriMesh& mesh, const std::vector<LocalChart>& charts, 
     for (uint32_t f = 0; f < nf; ++f) {
         int32_t c = res.charts.faceChart[f];
         if (c < 0 || charts[size_t(c)].uv.empty()) continue;
-        for (int k = 0; k < 3; ++k) {
-            auto it = charts[size_t(c)].local.find(mesh.triangles[f][k]);
-            uint32_t local = it != charts[size_t(c)].local.end() ? it->second : 0;
-            res.cornerUV[f][size_t(k)] = atlas.atlasUV(size_t(c), charts[size_t(c)].uv[local]);
-        }
+        for (size_t k = 0; k < 3; ++k) res.cornerUV[f][k] = atlas.atlasUV(size_t(c), charts[size_t(c)].uv[st.faceCornerLocal[f][k]]);
     }
     res.islands.resize(st.islandModel.size());
     for (size_t i = 0; i < st.islandModel.size(); ++i)
@@ -123,9 +141,9 @@ void writeLevelUVs(const TriMesh& mesh, const Multires& multires, const std::vec
             const LocalChart& ch = charts[c];
             for (size_t k = 0; k < 3; ++k) {
                 const uint32_t v = L.triangles[t][k];
-                auto it = ch.local.find(v);
-                if (it != ch.local.end()) {
-                    out.uv[t][k] = atlas.atlasUV(c, ch.uv[it->second]);
+                const uint32_t local = st.levelCornerLocal[li][t][k];
+                if (local != kNotInChart) {
+                    out.uv[t][k] = atlas.atlasUV(c, ch.uv[local]);
                     continue;
                 }
                 ++st.projectedCount[li][t];

@@ -21,6 +21,9 @@ struct Projection {
     std::array<double, 3> bary{1, 0, 0};
 };
 
+// A level corner that is not a vertex of its triangle's chart (levelCornerLocal).
+constexpr uint32_t kNotInChart = UINT32_MAX;
+
 // The chart tables and island state shared by the packing rounds (islands grow between rounds).
 struct AtlasState {
     AtlasState(const FaceGrid& g, double r) : grid(g), radius(r) {}
@@ -29,6 +32,8 @@ struct AtlasState {
     std::vector<uint32_t> faceChart;                    // chart per original face (unassigned -> 0)
     std::vector<std::vector<uint32_t>> levelTriChart;   // per level: chart each triangle takes UVs from
     std::vector<std::vector<uint32_t>> vertexCharts;    // per vertex: the charts holding it
+    std::vector<std::array<uint32_t, 3>> faceCornerLocal;  // per face corner: local index in its chart (0 if none)
+    std::vector<std::vector<std::array<uint32_t, 3>>> levelCornerLocal;  // per level corner: in its chart, or kNotInChart
     std::map<Tri, uint32_t> islandOf;                   // level vertex triple -> island
     std::vector<std::vector<Vec2>> islandModel;         // island UVs, model units
     std::unordered_map<uint64_t, Projection> projections;  // (chart << 32 | vertex) -> closest chart point

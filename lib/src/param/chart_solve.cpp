@@ -8,10 +8,14 @@
 #include <string>
 #include <thread>
 #include <unordered_map>
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 
 #include "lodbake/core/errors.h"
 #include "lodbake/core/parallel.h"
 #include "lodbake/core/timing.h"
+#include "param/solve_schedule.h"
 
 namespace lodbake {
 namespace {
@@ -124,6 +128,15 @@ void solveChart(LocalChart& c, const ParameterizeOptions& o, double resolution, 
     rep.seconds = secondsSince(t0);
 }
 
+// Hands a large factorisation's freed pages back to the system. glibc keeps them in the arena of
+// the thread that freed them (and after a large free raises its mmap threshold, so the next
+// chart's buffers come from the heap too): the next large chart's peak would sit on top of them.
+void returnFreedPages() {
+#if defined(__GLIBC__)
+    malloc_trim(0);
+#endif
+}
+
 template <class T>
 void appendBytes(std::string& key, const T& x) {
     key.append(reinterpret_cast<const char*>(&x), sizeof(T));
@@ -183,10 +196,14 @@ void solveCharts(std::vector<LocalChart>& charts, const ParameterizeOptions& opt
             auto it = cache->entries.find(keys[c]);
             if (it != cache->entries.end()) known[c] = &it->second;
         }
+    // What a chart's solve holds at its peak: an LSCM-only chart its factorisation, about in
+    // proportion to its vertices; a chart the Ceres solve refines (or a remembered one) little.
+    std::vector<size_t> lscmWeight(charts.size(), 0);
+    for (size_t c = 0; c < charts.size(); ++c)
+        if (!known[c] && charts[c].vertices.size() > kKeepLscmAboveVertices) lscmWeight[c] = charts[c].vertices.size();
     std::atomic<size_t> solved{0};
     const std::thread::id caller = std::this_thread::get_id();
-    parallelFor(charts.size(), options.threads, [&](size_t i) {
-        size_t c = bySize[i];
+    runWithinBudget(bySize, lscmWeight, kLscmVerticesTogether, options.threads, [&](size_t c) {
         ChartReport& rep = res.chartReports[c];
         if (known[c]) {
             charts[c].uv = known[c]->uv;
@@ -197,6 +214,7 @@ void solveCharts(std::vector<LocalChart>& charts, const ParameterizeOptions& opt
             rep.pairs = uint32_t(charts[c].pairs.size());
             if (!charts[c].faces.empty()) solveChart(charts[c], options, resolution, rep);
         }
+        if (lscmWeight[c] > 0) returnFreedPages();
         size_t done = ++solved;
         if (options.progress && std::this_thread::get_id() == caller) options.progress(0.9 * double(done) / double(charts.size()));
     });

@@ -11,7 +11,8 @@
 namespace lodbake::param_detail {
 
 // (3) Tutte, Ceres and checks per chart. Charts are independent: solved on up to options.threads
-// threads, largest first, results kept per chart and summed in chart order (identical for any
+// threads, largest first except that the largest LSCM-only charts do not run side by side past
+// kLscmVerticesTogether vertices (solve_schedule.h), results kept per chart and summed in chart order (identical for any
 // thread count). A chart options.solveCache remembers takes the remembered result (looked up and
 // stored outside the parallel loop). Progress runs to 0.9.
 void solveCharts(std::vector<LocalChart>& charts, const ParameterizeOptions& options, ParameterizeResult& res);

@@ -211,10 +211,10 @@ std::vector<uint32_t> foldedAtlasFaces(const TriMesh& mesh, int threads, Paramet
             tris.push_back(res.cornerUV[f]);
             which.push_back(f);
         }
-    param_detail::UVFolds folds = param_detail::findUVFolds(tris, 1e-7, threads);
-    std::vector<char> pick(tris.size(), 0);
+    param_detail::UVFolds folds = param_detail::findUVFolds(std::move(tris), 1e-7, threads);
+    std::vector<char> pick(which.size(), 0);
     res.flips = 0;
-    for (size_t i = 0; i < tris.size(); ++i) {
+    for (size_t i = 0; i < which.size(); ++i) {
         pick[i] = folds.flipped[i];
         res.flips += size_t(folds.flipped[i]);
     }
@@ -231,7 +231,7 @@ std::vector<uint32_t> foldedAtlasFaces(const TriMesh& mesh, int threads, Paramet
     }
     res.overlaps = overlapping.size();
     std::vector<uint32_t> faces;
-    for (size_t i = 0; i < tris.size(); ++i)
+    for (size_t i = 0; i < which.size(); ++i)
         if (pick[i]) faces.push_back(which[i]);
     return faces;
 }
@@ -261,9 +261,9 @@ size_t addFoldIslands(const TriMesh& mesh, const Multires& multires, const std::
             tris.push_back(res.levels[li].uv[t]);
             which.push_back(uint32_t(t));
         }
-        param_detail::UVFolds folds = param_detail::findUVFolds(tris, 1e-7, threads);
-        std::vector<char> pick(tris.size(), 0);
-        for (size_t i = 0; i < tris.size(); ++i)
+        param_detail::UVFolds folds = param_detail::findUVFolds(std::move(tris), 1e-7, threads);
+        std::vector<char> pick(which.size(), 0);
+        for (size_t i = 0; i < which.size(); ++i)
             pick[i] = folds.flipped[i] || (crossing && st.projectedCount[li][which[i]] > 0);
         auto area3 = [&](uint32_t t) {
             const Tri& v = L.triangles[t];
@@ -275,7 +275,7 @@ size_t addFoldIslands(const TriMesh& mesh, const Multires& multires, const std::
             bool takeI = pi != pjc ? pi > pjc : area3(which[i]) < area3(which[j]);
             pick[takeI ? i : j] = 1;
         }
-        for (size_t i = 0; i < tris.size(); ++i) {
+        for (size_t i = 0; i < which.size(); ++i) {
             if (!pick[i]) continue;
             const uint32_t t = which[i];
             const Tri& v = L.triangles[t];

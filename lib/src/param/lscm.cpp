@@ -126,6 +126,9 @@ std::vector<Vec2> lscmEmbedding(const ChartMesh& chart) {
     if (m > 0) {
         // Only the normal equations stay for the factorisation (on a large chart its memory peak):
         // the triplets and A go first.
+        // CHOLMOD reads only the lower triangle of a symmetric matrix it is handed as such, so
+        // only that half is kept for it: the same entries, half the matrix held beside its factor.
+        const bool supernodal = 2 * long(m) >= kSupernodalFrom;
         Eigen::SparseMatrix<double> AtA;
         Eigen::VectorXd b;
         {
@@ -134,11 +137,16 @@ std::vector<Vec2> lscmEmbedding(const ChartMesh& chart) {
             std::vector<Eigen::Triplet<double>>().swap(trip);
             AtA = A.transpose() * A;
             b = A.transpose() * rhs.head(row);
+            if (supernodal) {
+                A = Eigen::SparseMatrix<double>();
+                Eigen::SparseMatrix<double> lower = AtA.triangularView<Eigen::Lower>();
+                AtA.swap(lower);
+            }
         }
         Eigen::VectorXd x;
         silenceSolverOutput();  // CHOLMOD's warnings (a matrix not positive definite) are the result's
         keepSolverThreadsSerial();
-        const bool solved = 2 * long(m) >= kSupernodalFrom
+        const bool solved = supernodal
                                 ? solveNormal<Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>>>(AtA, b, x)
                                 : solveNormal<Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>>(AtA, b, x);
         if (!solved) throw SolverError("LSCM system could not be factorised or solved");

@@ -4,6 +4,7 @@
 // narrow phase with a tolerance so that triangles sharing an edge or a vertex do not count).
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "lodbake/core/grid2d.h"
 #include "lodbake/core/parallel.h"
@@ -18,16 +19,33 @@ double signedAreaGltf(const std::array<Vec2, 3>& t) {
     return signedArea({t[0].x, -t[0].y}, {t[1].x, -t[1].y}, {t[2].x, -t[2].y});
 }
 
+// A triangle's three edge axes as the overlap test takes them: the edge's normal scaled to unit
+// length, a zero-length edge giving no axis (bit k of the mask). Computed once per triangle with
+// the same operations in the same order as a test of any pair would, so every pair test sees the
+// same bits; the projections are cheap next to the square root and stay per pair.
+using EdgeAxes = std::array<Vec2, 3>;
+
+uint8_t edgeAxes(const std::array<Vec2, 3>& t, EdgeAxes& axes) {
+    uint8_t mask = 0;
+    for (int k = 0; k < 3; ++k) {
+        Vec2 e = t[size_t((k + 1) % 3)] - t[size_t(k)];
+        Vec2 n{-e.y, e.x};
+        double len = std::sqrt(dot(n, n));
+        if (!(len > 0)) continue;
+        axes[size_t(k)] = n * (1.0 / len);
+        mask = uint8_t(mask | (1u << k));
+    }
+    return mask;
+}
+
 // True when the projections of a and b on the axes of both triangles' edges all overlap by more
 // than a tolerance (interiors intersect). Both triangles are non-degenerate.
-bool interiorsOverlap(const std::array<Vec2, 3>& a, const std::array<Vec2, 3>& b, double eps) {
-    for (const auto* t : {&a, &b})
+bool interiorsOverlap(const std::array<Vec2, 3>& a, const EdgeAxes& axA, uint8_t maskA, const std::array<Vec2, 3>& b,
+                      const EdgeAxes& axB, uint8_t maskB, double eps) {
+    for (int side = 0; side < 2; ++side)
         for (int k = 0; k < 3; ++k) {
-            Vec2 e = (*t)[size_t((k + 1) % 3)] - (*t)[size_t(k)];
-            Vec2 n{-e.y, e.x};
-            double len = std::sqrt(dot(n, n));
-            if (!(len > 0)) continue;
-            n = n * (1.0 / len);
+            if (!((side == 0 ? maskA : maskB) >> k & 1u)) continue;
+            const Vec2 n = (side == 0 ? axA : axB)[size_t(k)];
             double amin = 1e300, amax = -1e300, bmin = 1e300, bmax = -1e300;
             for (const Vec2& p : a) { double d = dot(n, p); amin = std::min(amin, d); amax = std::max(amax, d); }
             for (const Vec2& p : b) { double d = dot(n, p); bmin = std::min(bmin, d); bmax = std::max(bmax, d); }
@@ -44,10 +62,11 @@ namespace param_detail {
 constexpr size_t kSweepFrom = 32;
 // Grid rows per parallel task.
 constexpr size_t kRowsPerChunk = 16;
+// Triangles per parallel task of the per-triangle tables.
+constexpr size_t kTrianglesPerChunk = 1 << 14;
 
-UVFolds findUVFolds(const std::vector<std::array<Vec2, 3>>& input, double tolerance, int threads) {
+UVFolds findUVFolds(std::vector<std::array<Vec2, 3>> tris, double tolerance, int threads) {
     // Checked as written: glTF stores float UVs, and rounding can flip a sliver triangle.
-    std::vector<std::array<Vec2, 3>> tris(input);
     for (auto& t : tris)
         for (Vec2& p : t) p = {double(float(p.x)), double(float(p.y))};
     UVFolds r;
@@ -81,6 +100,13 @@ UVFolds findUVFolds(const std::vector<std::array<Vec2, 3>>& input, double tolera
         box[i] = {std::min({t[0].x, t[1].x, t[2].x}), std::min({t[0].y, t[1].y, t[2].y}), std::max({t[0].x, t[1].x, t[2].x}),
                   std::max({t[0].y, t[1].y, t[2].y})};
     }
+    std::vector<GridItem2>().swap(items);  // the grid holds its own lists
+    std::vector<EdgeAxes> axes(n);
+    std::vector<uint8_t> axisMask(n, 0);
+    parallelChunks(n, kTrianglesPerChunk, threads, [&](size_t begin, size_t end, size_t) {
+        for (size_t i = begin; i < end; ++i)
+            if (!r.flipped[i]) axisMask[i] = edgeAxes(tris[i], axes[i]);
+    });
     auto apart = [&](uint32_t i, uint32_t j) {
         const auto &a = box[i], &b = box[j];
         return a[2] < b[0] || b[2] < a[0] || a[3] < b[1] || b[3] < a[1];
@@ -94,7 +120,7 @@ UVFolds findUVFolds(const std::vector<std::array<Vec2, 3>>& input, double tolera
             const uint32_t i = std::min(a, b), j = std::max(a, b);
             if (apart(i, j) || grid.cellX(std::max(box[i][0], box[j][0])) != x || grid.cellY(std::max(box[i][1], box[j][1])) != y)
                 return;
-            if (interiorsOverlap(tris[i], tris[j], tolerance)) out.push_back({i, j});
+            if (interiorsOverlap(tris[i], axes[i], axisMask[i], tris[j], axes[j], axisMask[j], tolerance)) out.push_back({i, j});
         };
         std::vector<uint32_t> byX;
         for (int y = int(rowBegin); y < int(rowEnd); ++y)
@@ -123,11 +149,16 @@ UVFolds findUVFolds(const std::vector<std::array<Vec2, 3>>& input, double tolera
 }  // namespace param_detail
 
 UVInjectivity checkUVInjectivity(const std::vector<std::array<Vec2, 3>>& tris, double tolerance, int threads) {
-    param_detail::UVFolds f = param_detail::findUVFolds(tris, tolerance, threads);
+    return checkUVInjectivity(std::vector<std::array<Vec2, 3>>(tris), tolerance, threads);
+}
+
+UVInjectivity checkUVInjectivity(std::vector<std::array<Vec2, 3>>&& tris, double tolerance, int threads) {
+    const size_t n = tris.size();
+    param_detail::UVFolds f = param_detail::findUVFolds(std::move(tris), tolerance, threads);
     UVInjectivity r;
-    r.triangles = tris.size();
+    r.triangles = n;
     r.flips = size_t(std::count(f.flipped.begin(), f.flipped.end(), 1));
-    std::vector<char> bad(tris.size(), 0);
+    std::vector<char> bad(n, 0);
     for (const auto& [i, j] : f.overlapping) bad[i] = bad[j] = 1;
     r.overlaps = size_t(std::count(bad.begin(), bad.end(), 1));
     return r;
@@ -147,7 +178,7 @@ UVInjectivity checkLevelUVs(const TriMesh& mesh, const std::vector<Tri>& triangl
         }
         tris.push_back(uv);
     }
-    return checkUVInjectivity(tris, tolerance, threads);
+    return checkUVInjectivity(std::move(tris), tolerance, threads);
 }
 
 }  // namespace lodbake

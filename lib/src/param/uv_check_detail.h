@@ -18,7 +18,8 @@ struct UVFolds {
 
 // Same conventions as checkUVInjectivity (glTF UVs rounded to float, flipped triangles not tested
 // for overlap). Every overlapping pair is listed (no early out). Rows of the grid on `threads`
-// threads (0 = all cores); the result does not depend on the count.
-UVFolds findUVFolds(const std::vector<std::array<Vec2, 3>>& tris, double tolerance, int threads = 1);
+// threads (0 = all cores); the result does not depend on the count. `tris` is taken by value (it
+// is rounded in place): callers done with theirs move it in rather than hold two copies.
+UVFolds findUVFolds(std::vector<std::array<Vec2, 3>> tris, double tolerance, int threads = 1);
 
 }  // namespace lodbake::param_detail

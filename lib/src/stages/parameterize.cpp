@@ -38,7 +38,7 @@ std::vector<UVInjectivity> checkLevels(const TriMesh& mesh, const Multires& mult
         const Tri& v = mesh.triangles[f];
         if (v[0] != v[1] && v[1] != v[2] && v[0] != v[2]) atlas0.push_back(param.cornerUV[f]);
     }
-    checks.push_back(checkUVInjectivity(atlas0, 1e-7, threads));
+    checks.push_back(checkUVInjectivity(std::move(atlas0), 1e-7, threads));
     for (const Level& L : multires.levels) checks.push_back(checkLevelUVs(mesh, L.triangles, L.cornerWedges, 1e-7, threads));
     return checks;
 }
