@@ -384,6 +384,42 @@ std::optional<std::pair<double, Packing>> fitAt(const Orientations& charts, cons
     return std::nullopt;
 }
 
+// The bisection of densestFit: [lo, hi] narrowed to 0.5% of hi, `loPack` the packing at lo (lo
+// fits, hi does not). Each step packs at the middle (fit(t, threads)). On two threads or more the
+// step after it is packed at once, on the branch the packing at lo predicts (a packing's area grows
+// as t^2): the points packed and what they give are the serial bisection's, so only the time
+// depends on the thread count (the packing's own threads, mostly idle while it places charts, are
+// shared by both).
+template <class Fit>
+void bisectFit(const std::vector<Oriented>& first, double& lo, double& hi, Packing& loPack, int binW, int binH, int threads,
+               Fit&& fit) {
+    const int n = resolveThreads(threads);
+    // The packing at mid (or none) narrows the bracket as the serial step does.
+    auto apply = [&](double mid, std::optional<Packing>& p) {
+        if (p) lo = mid, loPack = std::move(*p);
+        else hi = mid;
+    };
+    while (hi - lo > 0.005 * hi) {
+        const double mid = 0.5 * (lo + hi);
+        if (!mayFit(first, mid, binW, binH)) {
+            hi = mid;
+            continue;
+        }
+        const double filled = double(loPack.width) * loPack.height / (double(binW) * binH);
+        const bool guessFits = filled * (mid / lo) * (mid / lo) <= 1;
+        const double nextLo = guessFits ? mid : lo, nextHi = guessFits ? hi : mid, next = 0.5 * (nextLo + nextHi);
+        std::optional<Packing> now, then;
+        if (n < 2 || !(nextHi - nextLo > 0.005 * nextHi) || !mayFit(first, next, binW, binH)) {
+            now = fit(mid, threads);
+            apply(mid, now);
+            continue;
+        }
+        parallelFor(2, 2, [&](size_t k) { (k == 0 ? now : then) = fit(k == 0 ? mid : next, std::max(1, n / 2)); });
+        apply(mid, now);
+        if (bool(now) == guessFits) apply(next, then);
+    }
+}
+
 // The densest t in (0, hi] at which the charts fit in binW x binH, to 0.5%: a bracket around the
 // density whose padded area fills 3/4 of the page (area grows as t^2), narrowed by bisection.
 std::optional<std::pair<double, Packing>> densestFit(const Orientations& charts, const std::vector<size_t>& order, int threads,
@@ -409,12 +445,8 @@ std::optional<std::pair<double, Packing>> densestFit(const Orientations& charts,
         if (!loPack) return std::nullopt;
         lo = 1e-12;
     }
-    while (hi - lo > 0.005 * hi) {
-        double mid = 0.5 * (lo + hi);
-        if (!mayFit(first, mid, binW, binH)) hi = mid;
-        else if (auto p = fit(mid)) { lo = mid; loPack = p; }
-        else hi = mid;
-    }
+    bisectFit(first, lo, hi, *loPack, binW, binH, threads,
+              [&](double t, int th) { return packBitmap(charts, order, t, gutter, binW, binH, scale, th); });
     return std::make_pair(std::max(lo, 1e-12), *loPack);
 }
 

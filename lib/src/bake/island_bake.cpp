@@ -323,7 +323,10 @@ bool projectedIslandNear(const TriMesh& mesh, const FaceGrid& grid, const std::a
     for (const Vec3& q : tri) r = std::max(r, length(q - c));
     const double scale = 1e-9 * (1 + std::abs(c.x) + std::abs(c.y) + std::abs(c.z));
     double facing = 1e300, any = 1e300;  // squared distances from c to S's facing faces, to all of S
-    for (double rho = std::max(r, scale);; rho *= 2) {
+    // From a grid cell (or r, when smaller): the centroid of a coarse island lies far nearer the
+    // original than r, and a cube's scan costs as the faces in it (the doublings sum to a few
+    // times the last one's).
+    for (double rho = std::max(std::min(r, grid.cellSide()), scale);; rho *= 2) {
         bool covers = true;
         for (int a = 0; a < 3; ++a) covers = covers && c[a] - rho <= lo[a] && c[a] + rho >= hi[a];
         Vec3 qlo, qhi;

@@ -118,9 +118,10 @@ struct Measured {
     }
 };
 
-// Nearest points of consecutive queries on `to`: the previous answer c0, |q - c0| away, bounds
-// the search of the next (samples along a surface lie close together). The bound only prunes: the
-// answer is the tree's canonical closest point either way.
+// Nearest points of consecutive queries on `to`: the previous answer's triangle (q's nearest point
+// on it, no farther than the answer c0 itself) bounds the search of the next (samples along a
+// surface lie close together). The bound only prunes: the answer is the tree's canonical closest
+// point either way.
 class NearestWalk {
 public:
     explicit NearestWalk(const Tree& tree) : tree_(tree) {}
@@ -133,12 +134,13 @@ public:
 private:
     static constexpr double kFar = std::numeric_limits<double>::infinity();
     Point next(const Point& q, double bound2) {
-        c0_ = tree_.closest(q, bound2);
+        c0_ = tree_.closest(q, bound2, &t0_);
         hinted_ = true;
         return c0_;
     }
     const Tree& tree_;
     Point c0_{0, 0, 0};
+    uint32_t t0_ = UINT32_MAX;  // c0_'s triangle
     bool hinted_ = false;
 };
 

@@ -6,9 +6,11 @@
 // the highest rank (setTieRanks). Boxes only prune triangles certainly farther than the best point
 // found (each box is widened by 1e-9 of the coordinates' scale, far beyond the rounding of a
 // projection), so the answer does not depend on the tree's shape, the visiting order, a starting
-// bound or the thread count. Ranked in the order CGAL's AABB tree visits the triangles, it is that
-// tree's closest_point (the last of equally close points it visits); they could differ only where
-// CGAL's search keeps its starting hint or skips a box by a rounding error.
+// bound or the thread count. A triangle's plane prunes it too when it is well shaped (its unit
+// normal then holds to far below the widening): no point of it lies nearer than its plane. Ranked
+// in the order CGAL's AABB tree visits the triangles, it is that tree's closest_point (the last of
+// equally close points it visits); they could differ only where CGAL's search keeps its starting
+// hint or skips a box by a rounding error.
 #pragma once
 
 #include <algorithm>
@@ -41,11 +43,17 @@ public:
 
     // The closest point to q (the tree must hold a triangle). `bound2` (optional) is a squared distance that some point of the
     // triangles is known to lie within (a nearby query's answer, measured from q): it only prunes.
-    Point closest(const Point& q, double bound2 = std::numeric_limits<double>::infinity()) const {
+    // `near` (optional, in and out) names a triangle in the tree's own numbering whose point nearest
+    // q bounds the search too (a nearby query's answer lies on it: q's point on it is mostly the
+    // answer, a far tighter bound than that answer itself); on return it names the answer's.
+    Point closest(const Point& q, double bound2 = std::numeric_limits<double>::infinity(), uint32_t* near = nullptr) const {
         Point best(0, 0, 0);
+        uint32_t at = 0;
+        if (near && *near < triangles_.size())
+            bound2 = std::min(bound2, CGAL::squared_distance(q, Kernel().construct_projected_point_3_object()(triangles_[*near], q)));
         // The bound widened past rounding: the point it came from is no projection of q.
-        if (search(q, bound2 * (1 + 1e-9) + tiny2_, best)) return best;
-        search(q, std::numeric_limits<double>::infinity(), best);
+        if (!search(q, bound2 * (1 + 1e-9) + tiny2_, best, at)) search(q, std::numeric_limits<double>::infinity(), best, at);
+        if (near) *near = at;
         return best;
     }
 
@@ -59,9 +67,18 @@ private:
         uint32_t count = 0;  // leaf: its triangles; inner: 0
     };
     static constexpr uint32_t kLeaf = 4;
+    static constexpr int kBins = 16;
+    // Below this depth median splits: the search's stack (64) outlasts kSahDepth + log2 of any count.
+    static constexpr int kSahDepth = 28;
 
     std::vector<Triangle> triangles_;  // in leaf order
     std::vector<Box> boxes_;           // each triangle's widened box
+    struct Plane {
+        std::array<double, 3> normal{};  // unit; zero for a sliver (its plane prunes nothing)
+        std::array<double, 3> corner{};
+    };
+    std::vector<Plane> planes_;        // each triangle's plane
+    double widen_ = 0;                 // the boxes' widening
     std::vector<uint32_t> input_;      // each triangle's index in the input
     std::vector<uint32_t> tieRank_;    // of equally close points, the one of the highest rank wins
     std::vector<Node> nodes_;
@@ -79,11 +96,21 @@ private:
         return d2;
     }
 
-    bool search(const Point& q, double limit2, Point& best) const {
+    // Whether every point of the triangle lies farther than best2 from q, by its plane: the
+    // distance to the plane less a slack far past the rounding of the normal (a relative error
+    // below 1e-12 for a triangle whose sine exceeds 1e-4), of the product and of a projection.
+    bool beyondPlane(const Plane& pl, const Point& q, double best2) const {
+        const double d[3] = {q.x() - pl.corner[0], q.y() - pl.corner[1], q.z() - pl.corner[2]};
+        const double along = pl.normal[0] * d[0] + pl.normal[1] * d[1] + pl.normal[2] * d[2];
+        const double lower = std::abs(along) - widen_ - 1e-9 * (std::abs(d[0]) + std::abs(d[1]) + std::abs(d[2]));
+        return lower > 0 && lower * lower > best2;
+    }
+
+    bool search(const Point& q, double limit2, Point& best, uint32_t& at) const {
         bool found = false;
         double best2 = limit2;
         uint32_t bestRank = 0;
-        uint32_t stack[64];  // median splits: the depth is below log2 of the triangle count
+        uint32_t stack[64];  // the depth is below kSahDepth + log2 of the triangle count
         double stackD2[64];
         int top = 0;
         uint32_t node = 0;
@@ -93,13 +120,14 @@ private:
                 const Node& n = nodes_[node];
                 if (n.count > 0) {
                     for (uint32_t t = n.first; t < n.first + n.count; ++t) {
-                        if (boxDistance2(boxes_[t], q) > best2) continue;
+                        if (boxDistance2(boxes_[t], q) > best2 || beyondPlane(planes_[t], q, best2)) continue;
                         const Point p = Kernel().construct_projected_point_3_object()(triangles_[t], q);
                         const double d2 = CGAL::squared_distance(q, p);
                         if (d2 < best2 || (d2 == best2 && (!found || tieRank_[t] > bestRank))) {
                             best2 = d2;
                             best = p;
                             bestRank = tieRank_[t];
+                            at = t;
                             found = true;
                         }
                     }
@@ -122,6 +150,80 @@ private:
         return found;
     }
 
+    static Plane planeOf(const Triangle& tr) {
+        Plane pl;
+        double e1[3], e2[3];
+        for (int a = 0; a < 3; ++a) {
+            pl.corner[size_t(a)] = tr.vertex(0)[a];
+            e1[a] = tr.vertex(1)[a] - tr.vertex(0)[a];
+            e2[a] = tr.vertex(2)[a] - tr.vertex(0)[a];
+        }
+        const double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+        const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        const double l1 = std::sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
+        const double l2 = std::sqrt(e2[0] * e2[0] + e2[1] * e2[1] + e2[2] * e2[2]);
+        if (!(len > 1e-4 * l1 * l2) || !std::isfinite(len)) return pl;
+        for (size_t a = 0; a < 3; ++a) pl.normal[a] = n[a] / len;
+        return pl;
+    }
+
+    // The surface area heuristic's split of order[begin, end) (centres' box c): the bin boundary
+    // along an axis of least area x count summed over both sides, order partitioned there (stable:
+    // deterministic). Returns its position, or begin when no boundary has centres on both sides.
+    static uint32_t sahSplit(std::vector<uint32_t>& order, uint32_t begin, uint32_t end, const std::vector<std::array<double, 6>>& box,
+                             const std::vector<std::array<double, 3>>& centre, const std::array<double, 6>& c) {
+        auto area = [](const std::array<double, 6>& b) {
+            const double x = b[3] - b[0], y = b[4] - b[1], z = b[5] - b[2];
+            return x * y + y * z + z * x;
+        };
+        const std::array<double, 6> none{1e300, 1e300, 1e300, -1e300, -1e300, -1e300};
+        auto grow = [](std::array<double, 6>& b, const std::array<double, 6>& o) {
+            for (size_t a = 0; a < 3; ++a) {
+                b[a] = std::min(b[a], o[a]);
+                b[a + 3] = std::max(b[a + 3], o[a + 3]);
+            }
+        };
+        double bestCost = std::numeric_limits<double>::infinity();
+        size_t bestAxis = 0;
+        int bestBin = 0;
+        auto binOf = [&](uint32_t t, size_t a) {
+            const double extent = c[a + 3] - c[a];
+            return std::min(kBins - 1, int(double(kBins) * (centre[t][a] - c[a]) / extent));
+        };
+        for (size_t a = 0; a < 3; ++a) {
+            if (!(c[a + 3] - c[a] > 0)) continue;
+            std::array<std::array<double, 6>, kBins> bins;
+            bins.fill(none);
+            std::array<uint32_t, kBins> count{};
+            for (uint32_t i = begin; i < end; ++i) {
+                const int k = binOf(order[i], a);
+                grow(bins[size_t(k)], box[order[i]]);
+                ++count[size_t(k)];
+            }
+            std::array<double, kBins> rightCost{};
+            std::array<double, 6> acc = none;
+            uint32_t n = 0;
+            for (int k = kBins - 1; k > 0; --k) {
+                grow(acc, bins[size_t(k)]);
+                n += count[size_t(k)];
+                rightCost[size_t(k)] = n ? area(acc) * n : 0;
+            }
+            acc = none;
+            n = 0;
+            for (int k = 1; k < kBins; ++k) {  // boundary before bin k
+                grow(acc, bins[size_t(k - 1)]);
+                n += count[size_t(k - 1)];
+                if (n == 0 || n == end - begin) continue;
+                const double cost = area(acc) * n + rightCost[size_t(k)];
+                if (cost < bestCost) bestCost = cost, bestAxis = a, bestBin = k;
+            }
+        }
+        if (bestCost == std::numeric_limits<double>::infinity()) return begin;
+        const auto split = std::stable_partition(order.begin() + begin, order.begin() + end,
+                                                 [&](uint32_t t) { return binOf(t, bestAxis) < bestBin; });
+        return uint32_t(split - order.begin());
+    }
+
     void build(const std::vector<Triangle>& triangles) {
         const size_t n = triangles.size();
         if (n == 0) return;
@@ -141,6 +243,7 @@ private:
         }
         const double widen = 1e-9 * scale;
         tiny2_ = widen * widen;
+        widen_ = widen;
         auto toBox = [&](const std::array<double, 6>& b) {
             Box f;
             for (size_t a = 0; a < 3; ++a) {
@@ -152,8 +255,11 @@ private:
         std::vector<uint32_t> order(n);
         for (uint32_t t = 0; t < n; ++t) order[t] = t;
         nodes_.reserve(2 * n / kLeaf + 2);
-        // Median splits along the longest side of the centres' box, nodes in depth-first order.
-        auto node = [&](auto&& self, uint32_t begin, uint32_t end) -> uint32_t {
+        // Nodes in depth-first order, split by the surface area heuristic over kBins bins of the
+        // centres along each axis (tighter boxes than median splits where triangle sizes vary, as
+        // on CAD parts: fewer boxes lie near a query); by the median along the longest side of
+        // the centres' box where no bin boundary splits them, and below depth kSahDepth.
+        auto node = [&](auto&& self, uint32_t begin, uint32_t end, int depth) -> uint32_t {
             const uint32_t index = uint32_t(nodes_.size());
             nodes_.emplace_back();
             std::array<double, 6> b{1e300, 1e300, 1e300, -1e300, -1e300, -1e300}, c = b;
@@ -172,24 +278,29 @@ private:
                 nodes_[index].count = end - begin;
                 return index;
             }
-            size_t axis = 0;
-            for (size_t a = 1; a < 3; ++a)
-                if (c[a + 3] - c[a] > c[axis + 3] - c[axis]) axis = a;
-            const uint32_t mid = begin + (end - begin) / 2;
-            std::nth_element(order.begin() + begin, order.begin() + mid, order.begin() + end, [&](uint32_t x, uint32_t y) {
-                return centre[x][axis] < centre[y][axis] || (centre[x][axis] == centre[y][axis] && x < y);
-            });
-            self(self, begin, mid);  // the first child follows its parent
-            const uint32_t second = self(self, mid, end);
+            uint32_t mid = depth < kSahDepth ? sahSplit(order, begin, end, box, centre, c) : begin;
+            if (mid == begin) {
+                size_t axis = 0;
+                for (size_t a = 1; a < 3; ++a)
+                    if (c[a + 3] - c[a] > c[axis + 3] - c[axis]) axis = a;
+                mid = begin + (end - begin) / 2;
+                std::nth_element(order.begin() + begin, order.begin() + mid, order.begin() + end, [&](uint32_t x, uint32_t y) {
+                    return centre[x][axis] < centre[y][axis] || (centre[x][axis] == centre[y][axis] && x < y);
+                });
+            }
+            self(self, begin, mid, depth + 1);  // the first child follows its parent
+            const uint32_t second = self(self, mid, end, depth + 1);
             nodes_[index].first = second;
             return index;
         };
-        node(node, 0, uint32_t(n));
+        node(node, 0, uint32_t(n), 0);
         triangles_.reserve(n);
         boxes_.reserve(n);
+        planes_.reserve(n);
         for (uint32_t t : order) {
             triangles_.push_back(triangles[t]);
             boxes_.push_back(toBox(box[t]));
+            planes_.push_back(planeOf(triangles[t]));
         }
         input_ = order;
         tieRank_ = order;
