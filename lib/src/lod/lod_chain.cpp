@@ -27,6 +27,7 @@
 #include "lodbake/bake/draw_split.h"
 #include "lodbake/bake/material_plan.h"
 #include "lodbake/core/errors.h"
+#include "lodbake/core/free_pages.h"
 #include "lodbake/core/math.h"
 #include "lodbake/core/timing.h"
 #include "lod/chain_level.h"
@@ -189,6 +190,7 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
     measureLevels(asset, views, options, res, profile.levels, progress);  // 2
     profile.measureSeconds = secondsSince(tMeasure);
     profile.measureCpuSeconds = processCpuSeconds() - cpuMeasure;
+    returnFreedPages();  // the measure's trees and samples, freed on both threads' arenas
     const LevelPlanInput planned = planInput(asset, mr, views, layouts, res, hierarchy);
     const LevelPlan plan = planLevels(planned, planOptions(options));  // 3
     res.screenCoverage = plan.screenCoverage;
@@ -213,6 +215,7 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
     res.levels.resize(original ? n - 1 : n);
     for (size_t k = 0; k < n; ++k) {
         buildLevel(chain, k, carry, res, triangleGroups[k], profile.levels[k]);
+        returnFreedPages();  // the level's bake buffers: the next level's peak starts clean
         progress(0.3 + 0.7 * double(k + 1) / double(n));
     }
     // 6. Levels whose triangles span several draw groups: ordered by group, one primitive each

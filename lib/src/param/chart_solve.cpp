@@ -8,11 +8,9 @@
 #include <string>
 #include <thread>
 #include <unordered_map>
-#if defined(__GLIBC__)
-#include <malloc.h>
-#endif
 
 #include "lodbake/core/errors.h"
+#include "lodbake/core/free_pages.h"
 #include "lodbake/core/parallel.h"
 #include "lodbake/core/timing.h"
 #include "param/solve_schedule.h"
@@ -126,15 +124,6 @@ void solveChart(LocalChart& c, const ParameterizeOptions& o, double resolution, 
     rep.flips = countFlips(c.mesh, c.uv);
     rep.overlaps = countOverlaps(c.mesh, c.uv);
     rep.seconds = secondsSince(t0);
-}
-
-// Hands a large factorisation's freed pages back to the system. glibc keeps them in the arena of
-// the thread that freed them (and after a large free raises its mmap threshold, so the next
-// chart's buffers come from the heap too): the next large chart's peak would sit on top of them.
-void returnFreedPages() {
-#if defined(__GLIBC__)
-    malloc_trim(0);
-#endif
 }
 
 template <class T>

@@ -2,11 +2,9 @@
 #include "lodbake/stages/chain.h"
 
 #include <filesystem>
-#if defined(__GLIBC__)
-#include <malloc.h>
-#endif
 
 #include "chain_review.h"
+#include "lodbake/core/free_pages.h"
 #include "lodbake/core/timing.h"
 #include "lodbake/gltf/gltf.h"
 
@@ -74,16 +72,7 @@ struct ChainRun {
         }
         reports.push_back(std::move(r.report));
         if (settings.common.verbose) statistics += stage + ":\n" + r.statistics;
-        returnFreedPages();
-    }
-
-    // Hands the heap pages the stage freed back to the system. glibc keeps them in the arenas of
-    // the threads that freed them (and after large frees raises its mmap threshold, so later large
-    // buffers come from the heap as well): the next stage's peak would sit on top of them.
-    static void returnFreedPages() {
-#if defined(__GLIBC__)
-        malloc_trim(0);
-#endif
+        returnFreedPages();  // the next stage's peak does not sit on this one's freed pages
     }
 };
 
