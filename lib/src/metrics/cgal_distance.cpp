@@ -116,6 +116,8 @@ struct Measured {
         const TriangleList& held = kept.size() < surface.faces.size() ? distinct : surface.triangles;
         tree = Tree(held);
     }
+    Measured(const Measured&) = delete;  // a copy's tree would read the original's triangles
+    Measured& operator=(const Measured&) = delete;
 };
 
 // Nearest points of consecutive queries on `to`: the previous answer's triangle (q's nearest point

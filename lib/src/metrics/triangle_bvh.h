@@ -11,6 +11,9 @@
 // in the order CGAL's AABB tree visits the triangles, it is that tree's closest_point (the last of
 // equally close points it visits); they could differ only where CGAL's search keeps its starting
 // hint or skips a box by a rounding error.
+//
+// The tree reads the caller's triangles where they are (a million CGAL triangles are 78 MB): the
+// vector it is built from must outlive it and keep its elements (moving the vector keeps them).
 #pragma once
 
 #include <algorithm>
@@ -31,9 +34,9 @@ public:
     using Triangle = Kernel::Triangle_3;
 
     TriangleBvh() = default;
-    explicit TriangleBvh(const std::vector<Triangle>& triangles) { build(triangles); }
+    explicit TriangleBvh(const std::vector<Triangle>& triangles) : list_(triangles.data()) { build(triangles); }
 
-    bool empty() const { return triangles_.empty(); }
+    bool empty() const { return input_.empty(); }
 
     // Which of equally close points closest() returns: the one of the triangle with the highest
     // rank (rank[i] for input triangle i; by default i itself).
@@ -49,8 +52,8 @@ public:
     Point closest(const Point& q, double bound2 = std::numeric_limits<double>::infinity(), uint32_t* near = nullptr) const {
         Point best(0, 0, 0);
         uint32_t at = 0;
-        if (near && *near < triangles_.size())
-            bound2 = std::min(bound2, CGAL::squared_distance(q, Kernel().construct_projected_point_3_object()(triangles_[*near], q)));
+        if (near && *near < input_.size())
+            bound2 = std::min(bound2, CGAL::squared_distance(q, Kernel().construct_projected_point_3_object()(triangle(*near), q)));
         // The bound widened past rounding: the point it came from is no projection of q.
         if (!search(q, bound2 * (1 + 1e-9) + tiny2_, best, at)) search(q, std::numeric_limits<double>::infinity(), best, at);
         if (near) *near = at;
@@ -58,6 +61,9 @@ public:
     }
 
 private:
+    // Triangle t of the leaf order.
+    const Triangle& triangle(uint32_t t) const { return list_[input_[t]]; }
+
     struct Box {
         std::array<float, 3> lo, hi;
     };
@@ -71,7 +77,7 @@ private:
     // Below this depth median splits: the search's stack (64) outlasts kSahDepth + log2 of any count.
     static constexpr int kSahDepth = 28;
 
-    std::vector<Triangle> triangles_;  // in leaf order
+    const Triangle* list_ = nullptr;   // the caller's triangles, in input order
     std::vector<Box> boxes_;           // each triangle's widened box
     struct Plane {
         std::array<double, 3> normal{};  // unit; zero for a sliver (its plane prunes nothing)
@@ -121,7 +127,7 @@ private:
                 if (n.count > 0) {
                     for (uint32_t t = n.first; t < n.first + n.count; ++t) {
                         if (boxDistance2(boxes_[t], q) > best2 || beyondPlane(planes_[t], q, best2)) continue;
-                        const Point p = Kernel().construct_projected_point_3_object()(triangles_[t], q);
+                        const Point p = Kernel().construct_projected_point_3_object()(triangle(t), q);
                         const double d2 = CGAL::squared_distance(q, p);
                         if (d2 < best2 || (d2 == best2 && (!found || tieRank_[t] > bestRank))) {
                             best2 = d2;
@@ -294,11 +300,9 @@ private:
             return index;
         };
         node(node, 0, uint32_t(n), 0);
-        triangles_.reserve(n);
         boxes_.reserve(n);
         planes_.reserve(n);
         for (uint32_t t : order) {
-            triangles_.push_back(triangles[t]);
             boxes_.push_back(toBox(box[t]));
             planes_.push_back(planeOf(triangles[t]));
         }
