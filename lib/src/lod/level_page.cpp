@@ -264,15 +264,32 @@ bool sameButGutter(const AtlasOptions& a, const AtlasOptions& b) {
            a.texelAligned == b.texelAligned;
 }
 
-// A level's pages, from its charts with or without its original triangles.
+// A level's pages, from its charts with or without its original triangles. Each list is built
+// once: later pages of it pack the set kept from the first (while it is kept).
 struct LevelPages {
     const LayoutData& lay;
     const LevelUVs& luv;
     PackedPages& packed;
+    struct Built {
+        uint64_t set = 0;
+        std::vector<int> chartSlot;
+        size_t charts = 0;
+    };
+    std::array<std::optional<Built>, 2> built{};  // without, with the original triangles
 
     LevelAtlas pack(bool original, const AtlasOptions& ao) {
         LevelAtlas la;
+        std::optional<Built>& b = built[original ? 1 : 0];
+        if (b) {
+            if (std::optional<AtlasResult> again = packed.packKept(b->set, ao)) {
+                la.atlas = std::move(*again);
+                la.chartSlot = b->chartSlot;
+                la.charts = b->charts;
+                return la;
+            }
+        }
         la.atlas = packed.pack(levelAtlasCharts(lay, luv, original, la), ao);
+        b = Built{packed.lastSet(), la.chartSlot, la.charts};
         return la;
     }
 };
@@ -318,11 +335,21 @@ AtlasResult PackedPages::pack(std::vector<AtlasChart> charts, const AtlasOptions
     auto set = std::find_if(sets_.begin(), sets_.end(), [&](const ChartSet& c) { return sameCharts(c.charts, charts); });
     if (set == sets_.end()) {
         if (sets_.size() == kKeptChartSets) sets_.erase(sets_.begin());
-        sets_.push_back({std::move(charts), {}, {}});
+        sets_.push_back({nextId_++, std::move(charts), {}, {}});
     } else {
         std::rotate(set, set + 1, sets_.end());
     }
-    ChartSet& c = sets_.back();
+    return packSet(sets_.back(), ao);
+}
+
+std::optional<AtlasResult> PackedPages::packKept(uint64_t id, const AtlasOptions& ao) {
+    auto set = std::find_if(sets_.begin(), sets_.end(), [&](const ChartSet& c) { return c.id == id; });
+    if (set == sets_.end()) return std::nullopt;
+    std::rotate(set, set + 1, sets_.end());
+    return packSet(sets_.back(), ao);
+}
+
+AtlasResult PackedPages::packSet(ChartSet& c, const AtlasOptions& ao) {
     std::vector<ChartFrame>& frames = c.frames[ao.texelAligned ? 1 : 0];
     if (frames.size() != c.charts.size()) frames = chartFrames(c.charts, ao);
     const int start = ao.texelAligned ? ao.gutter : atlasStartGutter(c.charts, ao, &frames);

@@ -110,6 +110,12 @@ struct PageRequest {
 class PackedPages {
 public:
     AtlasResult pack(std::vector<AtlasChart> charts, const AtlasOptions& ao);
+    // The set the last pack() packed, to be packed again by packKept without building and
+    // comparing its charts anew (a million-triangle level's list is some 100 MB: two side by side
+    // were a level's peak).
+    uint64_t lastSet() const { return sets_.back().id; }
+    // pack() of the charts of set `id` (a lastSet()), if it is still kept.
+    std::optional<AtlasResult> packKept(uint64_t id, const AtlasOptions& ao);
     // Forgets the chart sets of more than kKeptCorners UV corners: a level's page step is done,
     // and a large set would stay in memory through the bakes (a million-triangle level's charts
     // are some 100 MB) for a repeat that only saves its packing.
@@ -124,11 +130,15 @@ private:
         AtlasResult atlas;
     };
     struct ChartSet {
+        uint64_t id = 0;
         std::vector<AtlasChart> charts;
         std::vector<Page> pages;
         std::array<std::vector<ChartFrame>, 2> frames;  // chartFrames, free and texel-aligned (found when first asked)
     };
     std::vector<ChartSet> sets_;  // the most recently used last
+    uint64_t nextId_ = 0;
+
+    AtlasResult packSet(ChartSet& c, const AtlasOptions& ao);
 };
 
 // The level's page: its charts packed at the density limit (layout units) with gutters for the
