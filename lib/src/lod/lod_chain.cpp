@@ -68,7 +68,6 @@ void checkInput(const Asset& asset, const Multires& mr) {
 
 // 5. The original as LOD0: it must be the chain's input (same flattened triangles).
 SourceScene readOriginal(const Asset& asset, const PackOptions& options) {
-    if (options.original.empty()) throw InvalidInput(asset.sourcePath + ": LOD0 'original' needs the original asset's path");
     SourceScene s = readSourceScene(options.original);
     if (s.triangles != asset.mesh.triangleCount())
         throw InvalidInput(options.original + ": not the original of " + asset.sourcePath + " (" + std::to_string(s.triangles) +
@@ -171,7 +170,8 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
     const TriMesh& mesh = asset.mesh;
     PackResult res;
     const bool original = options.lod0 == Lod0::Original;
-    if (original) res.original = readOriginal(asset, options);
+    if (original && options.original.empty())
+        throw InvalidInput(asset.sourcePath + ": LOD0 'original' needs the original asset's path");
     res.diagonal = bounds(mesh).diagonal();
     res.radius = 0.5 * res.diagonal;
     if (!(res.radius > 0)) throw Impossible(asset.sourcePath + ": the mesh has no extent");
@@ -223,6 +223,9 @@ PackResult packLodChain(const Asset& asset, const Multires& mr, const PackOption
     for (size_t k = original ? 1 : 0; k < n && split.groups.size() > 1; ++k)
         splitLevel(split, triangleGroups[k], draws.selectionOfVariant, res.levels[original ? k - 1 : k], res.reports[k]);
     if (original) {  // LOD0's report describes the original, which none of the steps made
+        // Read last: no step reads it, and its decoded file (some 100 MB on a million triangles)
+        // would sit under the measure's and every level's peak.
+        res.original = readOriginal(asset, options);
         describeOriginal(*res.original, res.reports[0]);
         profile.levels[0] = {};
     }
