@@ -66,6 +66,10 @@ void forEachProduct(const Combination& c, const std::vector<uint32_t>& unknown, 
 PairTerms pairTerms(const TriMesh& original, const Level& level, const std::vector<uint32_t>& local,
                     const std::vector<uint32_t>& unknown, uint32_t unknowns) {
     PairTerms pt;
+    // Reserved, not grown by doubling: a million-triangle level's terms are some 60 MB, and two
+    // levels are placed side by side at the measure's peak.
+    pt.combination.reserve(level.pairs.size());
+    pt.target.reserve(level.pairs.size());
     for (const SimplificationPair& p : level.pairs) {
         if (p.vertex >= original.vertexCount()) continue;
         Combination c;
@@ -95,6 +99,7 @@ PairTerms pairTerms(const TriMesh& original, const Level& level, const std::vect
     pt.column.reserve(pt.rowStart.back());
     for (uint32_t r = 0; r < unknowns; ++r) pt.column.insert(pt.column.end(), columns.begin() + room[r], columns.begin() + room[r] + used[r]);
     std::vector<uint32_t>().swap(columns);
+    pt.entry.reserve(room.back());
     for (const Combination& c : pt.combination)
         forEachProduct(c, unknown, [&](uint32_t uj, uint32_t uk) {
             const auto first = pt.column.begin() + pt.rowStart[uj], last = pt.column.begin() + pt.rowStart[uj + 1];
