@@ -144,9 +144,14 @@ size_t writeGltfFiles(const std::string& path, json& root, BufferBuilder& buffer
     }
     bin.insert(bin.begin(), {head, binHead});
     if (memory) {
+        // Each chunk is freed once copied: the container and the whole buffer are not held at once.
         memory->clear();
         memory->reserve(total);
-        for (std::string_view part : bin) memory->insert(memory->end(), part.begin(), part.end());
+        for (const std::string& part : {head, binHead}) memory->insert(memory->end(), part.begin(), part.end());
+        for (std::string& chunk : buffer.chunks) {
+            memory->insert(memory->end(), chunk.begin(), chunk.end());
+            std::string().swap(chunk);
+        }
     } else {
         writeFileAtomic(path, bin);
     }

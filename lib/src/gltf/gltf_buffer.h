@@ -44,7 +44,7 @@ struct BufferBuilder {
 // Adds buffer 0 (when the buffer is non-empty), the fallback buffer 1 (when used), bufferViews and accessors to `root`, then writes
 // `path` atomically: a GLB container when `glb`, else the JSON plus PATH-stem.bin beside it.
 // Returns the bytes written. With `memory` (and `glb`), the container goes there instead of a
-// file. \throw IOError.
+// file, and the buffer's chunks are emptied as they are copied. \throw IOError.
 size_t writeGltfFiles(const std::string& path, nlohmann::json& root, BufferBuilder& buffer, bool glb,
                       std::vector<unsigned char>* memory = nullptr);
 

@@ -4,6 +4,7 @@
 #include <cstdarg>
 #include <cstdio>
 
+#include "lodbake/core/free_pages.h"
 #include "lodbake/core/timing.h"
 #include "lodbake/gltf/gltf.h"
 #include "lodbake/texture/codec.h"
@@ -16,6 +17,7 @@ Asset loadStageInput(const StageCommon& common, double& seconds, std::optional<M
     Asset asset = common.inputBytes ? readGltfBytes(common.input, std::move(*common.inputBytes), {}, multires)
                                     : readGltf(common.input, {}, multires);
     if (check) check(asset, common.inputImagesDecoded ? ImageCheck::Header : ImageCheck::Decode);
+    returnFreedPages();  // the file's bytes and the parser's tree: the stage's peak comes later
     seconds = secondsSince(t0);
     if (common.warning)
         for (const std::string& w : asset.warnings) common.warning(w);
@@ -24,6 +26,8 @@ Asset loadStageInput(const StageCommon& common, double& seconds, std::optional<M
 
 double writeStageOutput(const StageCommon& common, const Asset& asset, const Multires* multires, const std::string& tool) {
     Clock::time_point t0 = Clock::now();
+    // The encoded file is as large as the asset again: it should not sit on the work's freed pages.
+    returnFreedPages();
     WriteOptions options;
     options.generator = "lodbake " + tool + " 0.1.0";
     if (common.outputBytes)
