@@ -390,8 +390,10 @@ std::optional<std::pair<double, Packing>> fitAt(const Orientations& charts, cons
 // as t^2): the points packed and what they give are the serial bisection's, so only the time
 // depends on the thread count (the packing's own threads, mostly idle while it places charts, are
 // shared by both).
-// The densest fit lies below hi: once hi is at most `wanted` (> 0), the search stops, where the
-// serial bisection would (the speculative step is not applied past that point).
+// Every density the bisection packs from a bracket [lo, hi] lies below 0.9975 hi (a middle, while
+// hi - lo > 0.005 hi): with lo below `wanted` (> 1e-12, densestFit's least) and 0.998 hi at most `wanted`, the densest fit
+// is known to lie below `wanted` and the search stops, where the serial bisection would (the
+// speculative step is not applied past that point).
 template <class Fit>
 void bisectFit(const std::vector<Oriented>& first, double& lo, double& hi, Packing& loPack, int binW, int binH, int threads,
                double wanted, Fit&& fit) {
@@ -401,7 +403,7 @@ void bisectFit(const std::vector<Oriented>& first, double& lo, double& hi, Packi
         if (p) lo = mid, loPack = std::move(*p);
         else hi = mid;
     };
-    auto below = [&] { return wanted > 0 && hi <= wanted; };
+    auto below = [&] { return wanted > 1e-12 && lo < wanted && 0.998 * hi <= wanted; };
     while (hi - lo > 0.005 * hi && !below()) {
         const double mid = 0.5 * (lo + hi);
         if (!mayFit(first, mid, binW, binH)) {
