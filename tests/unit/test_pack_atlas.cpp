@@ -267,6 +267,35 @@ TEST(PackAtlas, HugeDensityLimitPacksTheDensestFitOfThePage) {
     }
 }
 
+// A minimum density (AtlasOptions::minTexelsPerUnit) changes nothing at or below the densest fit,
+// the same placements and figures; above it the search may stop early, with a page still below it.
+TEST(PackAtlas, MinimumDensityKeepsTheDensestFitAndStopsShortBelowIt) {
+    std::vector<AtlasChart> charts;
+    for (int i = 0; i < 40; ++i) charts.push_back(rectChart(0, 0, 0.05 + 0.01 * (i % 7), 0.04));
+    for (int threads : {1, 2}) {
+        AtlasOptions o;
+        o.maxTexelsPerUnit = 1e4;
+        o.gutter = 4;
+        o.maxSize = 512;
+        o.threads = threads;
+        const AtlasResult densest = packAtlas(charts, o);
+        ASSERT_LT(densest.texelsPerUnit, o.maxTexelsPerUnit);  // the density search ran
+        for (double min : {densest.texelsPerUnit * 0.5, densest.texelsPerUnit}) {
+            o.minTexelsPerUnit = min;
+            const AtlasResult same = packAtlas(charts, o);
+            EXPECT_EQ(same.texelsPerUnit, densest.texelsPerUnit);
+            EXPECT_EQ(same.width, densest.width);
+            EXPECT_EQ(same.height, densest.height);
+            for (size_t i = 0; i < charts.size(); ++i) EXPECT_EQ(same.charts[i].m, densest.charts[i].m);
+        }
+        o.minTexelsPerUnit = densest.texelsPerUnit * 1.001;
+        const AtlasResult below = packAtlas(charts, o);
+        EXPECT_LT(below.texelsPerUnit, o.minTexelsPerUnit);
+        EXPECT_LE(below.texelsPerUnit, densest.texelsPerUnit);
+        EXPECT_GT(below.texelsPerUnit, 0);
+    }
+}
+
 // Shapes, not boxes: two right triangles whose bounding boxes cannot share a row or column
 // without wasting half of each box nest into one square (one turned by 180 degrees), and their
 // placed triangles stay at least the gutter apart.

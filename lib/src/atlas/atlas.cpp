@@ -390,16 +390,21 @@ std::optional<std::pair<double, Packing>> fitAt(const Orientations& charts, cons
 // as t^2): the points packed and what they give are the serial bisection's, so only the time
 // depends on the thread count (the packing's own threads, mostly idle while it places charts, are
 // shared by both).
+// Every density the bisection packs from a bracket [lo, hi] lies below 0.9975 hi (a middle, while
+// hi - lo > 0.005 hi): with lo below `wanted` (> 1e-12, densestFit's least) and 0.998 hi at most `wanted`, the densest fit
+// is known to lie below `wanted` and the search stops, where the serial bisection would (the
+// speculative step is not applied past that point).
 template <class Fit>
 void bisectFit(const std::vector<Oriented>& first, double& lo, double& hi, Packing& loPack, int binW, int binH, int threads,
-               Fit&& fit) {
+               double wanted, Fit&& fit) {
     const int n = resolveThreads(threads);
     // The packing at mid (or none) narrows the bracket as the serial step does.
     auto apply = [&](double mid, std::optional<Packing>& p) {
         if (p) lo = mid, loPack = std::move(*p);
         else hi = mid;
     };
-    while (hi - lo > 0.005 * hi) {
+    auto below = [&] { return wanted > 1e-12 && lo < wanted && 0.998 * hi <= wanted; };
+    while (hi - lo > 0.005 * hi && !below()) {
         const double mid = 0.5 * (lo + hi);
         if (!mayFit(first, mid, binW, binH)) {
             hi = mid;
@@ -416,14 +421,17 @@ void bisectFit(const std::vector<Oriented>& first, double& lo, double& hi, Packi
         }
         parallelFor(2, 2, [&](size_t k) { (k == 0 ? now : then) = fit(k == 0 ? mid : next, std::max(1, n / 2)); });
         apply(mid, now);
-        if (bool(now) == guessFits) apply(next, then);
+        if (bool(now) == guessFits && !below()) apply(next, then);
     }
 }
 
 // The densest t in (0, hi] at which the charts fit in binW x binH, to 0.5%: a bracket around the
 // density whose padded area fills 3/4 of the page (area grows as t^2), narrowed by bisection.
+// With `wanted` > 0 (AtlasOptions::minTexelsPerUnit) the bisection stops once the densest fit is
+// known to lie below it: the fit returned is then a looser one, at a density below `wanted`. A fit
+// exists then as it does without: the search for one is the same.
 std::optional<std::pair<double, Packing>> densestFit(const Orientations& charts, const std::vector<size_t>& order, int threads,
-                                                     double hi, int gutter, int binW, int binH) {
+                                                     double hi, int gutter, int binW, int binH, double wanted = 0) {
     if (auto p = fitAt(charts, order, threads, hi, gutter, binW, binH)) return p;
     const int scale = searchScale(std::max(binW, binH), charts);
     auto fit = [&](double t) { return packBitmap(charts, order, t, gutter, binW, binH, scale, threads); };
@@ -445,7 +453,7 @@ std::optional<std::pair<double, Packing>> densestFit(const Orientations& charts,
         if (!loPack) return std::nullopt;
         lo = 1e-12;
     }
-    bisectFit(first, lo, hi, *loPack, binW, binH, threads,
+    bisectFit(first, lo, hi, *loPack, binW, binH, threads, wanted,
               [&](double t, int th) { return packBitmap(charts, order, t, gutter, binW, binH, scale, th); });
     return std::make_pair(std::max(lo, 1e-12), *loPack);
 }
@@ -501,10 +509,10 @@ struct PagePick {
 // padded area (their coverage plus a gutter ring). For few charts a local search of pairwise
 // swaps on the winner's order follows. Very many charts try one rule and every
 // kManyChartsWidthStride-th width only (the page area varies little across widths there). When
-// the padded area exceeds the page, or nothing fits, the densest fit of maxSize x maxSize; with
-// `exact` (texel-aligned charts, which only the density limit serves) a fit at tMax or none.
+// the padded area exceeds the page, or nothing fits, the densest fit of maxSize x maxSize (a
+// looser one when that lies below `wanted`: densestFit); with `exact` (texel-aligned charts, which only the density limit serves) a fit at tMax or none.
 PagePick packFreeSize(const Orientations& turned, const std::vector<Oriented>& charts, const std::vector<std::vector<size_t>>& orders,
-                      double tMax, int gutter, int maxSize, int threads, bool exact) {
+                      double tMax, int gutter, int maxSize, int threads, bool exact, double wanted) {
     PagePick pick;
     double a = 0;
     for (const Oriented& c : charts) a += std::pow(std::sqrt(c.uvArea) * tMax + gutter, 2);
@@ -586,7 +594,7 @@ PagePick packFreeSize(const Orientations& turned, const std::vector<Oriented>& c
             if (auto p = packBitmap(fp, orders[0], maxSize, maxSize)) pick.best = std::make_pair(tMax, std::move(*p));
         } else {
             pick.best = exact ? fitAt(turned, orders[0], threads, tMax, gutter, maxSize, maxSize)
-                              : densestFit(turned, orders[0], threads, tMax, gutter, maxSize, maxSize);
+                              : densestFit(turned, orders[0], threads, tMax, gutter, maxSize, maxSize, wanted);
         }
         if (pick.best) { pick.width = pick.best->second.width; pick.height = pick.best->second.height; }
     }
@@ -704,7 +712,8 @@ AtlasResult packAtlas(const std::vector<AtlasChart>& input, const AtlasOptions& 
     const int narrowest = options.texelAligned ? std::min(gutter, 2) : 0;
     for (;;) {
         pick = options.powerOfTwo ? packPowerOfTwo(turned, charts, orders[0], tMax, gutter, maxSize, options.threads)
-                                  : packFreeSize(turned, charts, orders, tMax, gutter, maxSize, options.threads, options.texelAligned);
+                                  : packFreeSize(turned, charts, orders, tMax, gutter, maxSize, options.threads, options.texelAligned,
+                                                 options.minTexelsPerUnit);
         if ((pick.best && (!options.texelAligned || pick.best->first >= tMax)) || gutter <= narrowest) break;
         gutter = std::max(narrowest, gutter / 2);
     }

@@ -259,9 +259,11 @@ bool sameCharts(const std::vector<AtlasChart>& a, const std::vector<AtlasChart>&
 }
 
 // The same options but (perhaps) the gutter and the thread count, which leaves the page the same.
+// A page packed with options `a` serves options `b`: the densest page serves any minimum density
+// (AtlasOptions::minTexelsPerUnit), one that may have stopped short only the same minimum.
 bool sameButGutter(const AtlasOptions& a, const AtlasOptions& b) {
     return a.maxTexelsPerUnit == b.maxTexelsPerUnit && a.maxSize == b.maxSize && a.powerOfTwo == b.powerOfTwo &&
-           a.texelAligned == b.texelAligned;
+           a.texelAligned == b.texelAligned && (a.minTexelsPerUnit == 0 || a.minTexelsPerUnit == b.minTexelsPerUnit);
 }
 
 // A level's pages, from its charts with or without its original triangles. Each list is built
@@ -310,6 +312,9 @@ LevelAtlas widenGutters(const LayoutData& lay, const PageRequest& request, const
         AtlasOptions wide = ao;
         wide.gutter = 2 << m;
         wide.maxTexelsPerUnit = density;
+        // Without a lower floor a candidate below the density is dropped (keepsPage): its search
+        // may stop once it is known to fall short.
+        if (!(floor < density)) wide.minTexelsPerUnit = density * (1 - 1e-9);
         LevelAtlas candidate = pages.pack(request.originalTriangles, wide);
         const double reached = candidate.atlas.texelsPerUnit;
         const double texels = double(candidate.atlas.width) * candidate.atlas.height;

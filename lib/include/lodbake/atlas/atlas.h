@@ -85,6 +85,10 @@ struct AtlasOptions {
     // source texels and maxTexelsPerUnit 1, every page texel centre maps to a source texel centre
     // (check AtlasResult::texelsPerUnit: the density is lowered when the charts do not fit).
     bool texelAligned = false;
+    // A page below this density is of no use to the caller (it discards it): the density search
+    // may stop once the densest page is known to lie below it, and return a page that fits at a
+    // lower density than the densest. A page at this density or above is the same as with 0.
+    double minTexelsPerUnit = 0;
 };
 
 // Maps T0 UV to page texel coordinates: x = m[0] u + m[1] v + m[2], y = m[3] u + m[4] v + m[5].
