@@ -434,7 +434,7 @@ std::optional<std::pair<double, Packing>> densestFit(const Orientations& charts,
                                                      double hi, int gutter, int binW, int binH, double wanted = 0) {
     if (auto p = fitAt(charts, order, threads, hi, gutter, binW, binH)) return p;
     const int scale = searchScale(std::max(binW, binH), charts);
-    auto fit = [&](double t) { return packBitmap(charts, order, t, gutter, binW, binH, scale, threads); };
+    auto fit = [&](double t, int th) { return packBitmap(charts, order, t, gutter, binW, binH, scale, th); };
     const std::vector<Oriented> first = firstRectangles(charts);
     double t = std::min(hi, hi * std::sqrt(0.75 * double(binW) * binH / std::max(1e-300, paddedArea(first, hi, gutter))));
     // The charts' coverage bounds the start too (it binds only when texels() saturates at a huge hi).
@@ -445,16 +445,15 @@ std::optional<std::pair<double, Packing>> densestFit(const Orientations& charts,
     std::optional<Packing> loPack;
     for (int k = 0; k < 64 && !loPack; ++k, t *= 0.8) {
         if (!mayFit(first, t, binW, binH)) hi = t;
-        else if (auto p = fit(t)) { lo = t; loPack = p; }
+        else if (auto p = fit(t, threads)) { lo = t; loPack = p; }
         else hi = t;
     }
     if (!loPack) {
-        loPack = fit(1e-12);
+        loPack = fit(1e-12, threads);
         if (!loPack) return std::nullopt;
         lo = 1e-12;
     }
-    bisectFit(first, lo, hi, *loPack, binW, binH, threads, wanted,
-              [&](double t, int th) { return packBitmap(charts, order, t, gutter, binW, binH, scale, th); });
+    bisectFit(first, lo, hi, *loPack, binW, binH, threads, wanted, fit);
     return std::make_pair(std::max(lo, 1e-12), *loPack);
 }
 
