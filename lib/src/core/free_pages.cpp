@@ -1,5 +1,7 @@
 #include "lodbake/core/free_pages.h"
 
+#include <cstdlib>  // any C library header defines __GLIBC__ where glibc is the C library
+
 #if defined(__GLIBC__)
 #include <malloc.h>
 #endif
