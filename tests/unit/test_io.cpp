@@ -680,6 +680,53 @@ TEST(IoRead, FileOfSeveralBlocksReadsWhole) {
     }
 }
 
+// A GLB's BIN chunk moves into the reader's buffer instead of being copied: what it reads is the
+// .gltf's mesh whether buffer 0 fills the chunk or not, no file of the URI the hand-over uses is
+// looked up (a .gltf may name one), and a buffer longer than the chunk is still an error.
+TEST(IoRead, GlbBinChunkHandedOverReadsAsTheGltf) {
+    auto dir = tempDir("binchunk");
+    std::vector<float> pos, nrm;
+    std::vector<uint16_t> idx;
+    cubeData(pos, nrm, idx);
+    TestGltf g;
+    meshNode(g, {prim(json{{"POSITION", g.add(pos, kF32, "VEC3")}, {"NORMAL", g.add(nrm, kF32, "VEC3")}}, g.add(idx, kU16, "SCALAR"))});
+    TestGltf named = g;
+    const Asset reference = readGltf(g.writeGltf(dir, "cube"));
+    const Asset plain = readGltf(g.writeGlb(dir, "cube.glb"));
+    expectSameMesh(reference.mesh, plain.mesh);
+
+    auto glb = [](const json& j, const std::string& bin) {
+        std::string text = j.dump();
+        while (text.size() % 4) text.push_back(' ');
+        auto u32 = [](std::string& s, uint32_t v) { s.append(reinterpret_cast<const char*>(&v), 4); };
+        std::string out;
+        for (uint32_t v : {0x46546C67u, 2u, uint32_t(28 + text.size() + bin.size()), uint32_t(text.size()), 0x4E4F534Au}) u32(out, v);
+        out += text;
+        u32(out, uint32_t(bin.size()));
+        u32(out, 0x004E4942u);
+        return out + bin;
+    };
+    // Buffer 0 shorter than its chunk, beside a file named as the hand-over's URI.
+    writeBytes(dir / "lodbake-glb-bin-chunk", "not a buffer");
+    const std::string padded = (dir / "padded.glb").string();
+    writeBytes(padded, glb(g.j, g.bin + std::string(8, '\0')));
+    expectSameMesh(reference.mesh, readGltf(padded).mesh);
+    const std::string bytes = readBytes(padded);
+    expectSameMesh(reference.mesh, readGltfBytes(padded, std::vector<unsigned char>(bytes.begin(), bytes.end())).mesh);
+
+    // A .gltf whose buffer file has that name reads the file.
+    named.finishBuffer("lodbake-glb-bin-chunk");
+    writeBytes(dir / "lodbake-glb-bin-chunk", named.bin);
+    writeBytes(dir / "named.gltf", named.j.dump());
+    expectSameMesh(reference.mesh, readGltf((dir / "named.gltf").string()).mesh);
+
+    json longer = g.j;
+    longer["buffers"][0]["byteLength"] = g.bin.size() + 4;
+    const std::string bad = (dir / "longer.glb").string();
+    writeBytes(bad, glb(longer, g.bin));
+    expectError([&] { readGltf(bad); }, ErrorKind::InvalidInput, bad, "byteLength");
+}
+
 // In memory (the lodbake chain): encodeGlb gives the bytes writeGltf writes to a .glb, and
 // readGltfBytes reads them as readGltf reads the file, messages naming the given path.
 TEST(IoWrite, InMemoryGlbMatchesTheFile) {

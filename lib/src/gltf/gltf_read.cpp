@@ -14,17 +14,16 @@
 
 #include <algorithm>
 #include <cctype>
-#include <cerrno>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <limits>
 #include <optional>
 
 #include <nlohmann/json.hpp>
 #include <tiny_gltf.h>
 
+#include "gltf/gltf_files.h"
 #include "gltf/gltf_internal.h"
 #include "gltf/gltf_read_context.h"
 #include "gltf/material_json.h"
@@ -50,39 +49,6 @@ using SceneNode = std::pair<int, Mat4>;
 
 // ---------------------------------------------------------------------------------------------
 // 1. Loading
-
-std::vector<unsigned char> readFileBytes(const std::string& path) {
-    std::ifstream f(path, std::ios::binary);
-    if (!f) throw IOError(path + ": cannot open: " + std::strerror(errno));
-    // Block reads into a vector sized from the file (a stream iterator copies byte by byte: seconds
-    // for a stage's 100 MB intermediate); a file that is not regular just grows the vector.
-    std::vector<unsigned char> bytes;
-    std::error_code ec;
-    const auto size = std::filesystem::file_size(path, ec);
-    if (!ec) bytes.reserve(size_t(size));
-    char block[1 << 16];
-    while (f.read(block, sizeof block) || f.gcount() > 0) bytes.insert(bytes.end(), block, block + f.gcount());
-    if (f.bad()) throw IOError(path + ": cannot read: " + std::strerror(errno));
-    return bytes;
-}
-
-// tinygltf's reader of the files a .gltf's URIs name. Its default sizes the buffer from tellg,
-// which is -1 for a directory (a URI "/" or "."): a request for 2^63 bytes. Only regular files
-// are read (a FIFO or device would block or never end); anything else is a read error.
-bool readUriFile(std::vector<unsigned char>* out, std::string* err, const std::string& filePath, void*) {
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(filePath, ec)) {
-        if (err) *err += "not a regular file";
-        return false;
-    }
-    try {
-        *out = readFileBytes(filePath);
-    } catch (const IOError& e) {
-        if (err) *err += e.what();
-        return false;
-    }
-    return true;
-}
 
 // tinygltf's image callback; user data: the model being loaded (its buffers are in place). tinygltf
 // hands over a bufferView's bytes without checking them against the buffer: do it here.
@@ -217,7 +183,6 @@ void loadModel(ReadContext& c, tinygltf::Model& model) {
 
     tinygltf::TinyGLTF loader;
     loader.SetImageLoader(keepImageBytes, &model);
-    loader.SetFsCallbacks({&tinygltf::FileExists, &tinygltf::ExpandFilePath, &readUriFile, &tinygltf::WriteWholeFile, nullptr});
     std::string err, warn;
     std::string baseDir = std::filesystem::path(path).parent_path().string();
     if (baseDir.empty()) baseDir = ".";
@@ -234,7 +199,15 @@ void loadModel(ReadContext& c, tinygltf::Model& model) {
     std::optional<json> patched;  // the JSON tinygltf sees, when it differs from the file's
     bool changed = hideDracoIndices(c.root, patched);
     changed = hideMeshoptFallbackBuffers(c.root, patched) || changed;
-    if (changed) replaceJson(*patched, isGlb, bytes, jsonText);
+    GlbBinChunk bin;
+    const bool binTaken = isGlb && takeGlbBinChunk(c.root, patched, bytes, bin);
+    if (binTaken) {
+        isGlb = false;  // tinygltf parses the JSON alone and takes buffer 0 from `bin`
+        jsonText = patched->dump();
+    } else if (changed) {
+        replaceJson(*patched, isGlb, bytes, jsonText);
+    }
+    loader.SetFsCallbacks(fileCallbacks(binTaken ? &bin : nullptr));
     bool ok = false;
     try {
         ok = isGlb ? loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), unsigned(bytes.size()), baseDir)
