@@ -1,6 +1,6 @@
-// Shape-aware page packing of `pack` (packAtlas): the page search. The T0 shelf packer is
-// shelf_pack.cpp; a chart's orientation and footprints are chart_footprint.cpp, the page bitmap
-// bitmap_page.h.
+// Shape-aware page packing of `pack` (packAtlas): the page search. Placing the charts on a page in
+// one order is bitmap_pack.cpp; the T0 shelf packer is shelf_pack.cpp; a chart's orientation and
+// footprints are chart_footprint.cpp, the page bitmap bitmap_page.h.
 //
 // References: Freeman & Shapira, "Determining the minimum-area encasing rectangle for an
 // arbitrary closed curve" (1975), minimum-area rectangle from a hull edge; bitmap ("tetris")
@@ -33,14 +33,12 @@
 #include "lodbake/atlas/atlas.h"
 
 #include <algorithm>
-#include <atomic>
-#include <chrono>
 #include <cmath>
 #include <iterator>
 #include <numeric>
 #include <optional>
 
-#include "atlas/bitmap_page.h"
+#include "atlas/bitmap_pack.h"
 #include "atlas/chart_footprint.h"
 #include "lodbake/core/parallel.h"
 
@@ -48,12 +46,6 @@ namespace lodbake {
 namespace {
 
 using namespace atlas_detail;
-
-struct Packing {
-    std::vector<Slot> slots;  // per chart
-    int width = 0, height = 0;
-    size_t rasterTexels = 0, footprintTexels = 0;  // charts' conservative raster, and with gutters
-};
 
 // Strip widths tried, relative to the side of the charts' padded area.
 constexpr double kStripWidths[] = {0.6, 0.65, 0.7, 0.75, 0.8, 0.85, 0.9, 0.95, 1.0, 1.05,
@@ -78,177 +70,6 @@ constexpr size_t kRankFromTrials = 64;
 constexpr double kRankSlack = 1.03;
 constexpr size_t kFineTrials = 16;
 constexpr double kCoverageSlack = 4;  // mayFit: chart coverage may exceed the page this many times
-
-// Placement search on large pages runs on a grid of scale x scale texel blocks (charts and their
-// gutters rounded up to whole blocks), keeping the search near 512 blocks across.
-int searchScale(double side) { return std::clamp(int(side / 512), 1, 8); }
-
-// The search grid for these charts: texel-aligned ones are placed on whole kAlignedBlock blocks
-// (a multiple of every searchScale, so their offsets stay multiples of it).
-int searchScale(double side, const Orientations& charts) {
-    for (const auto& c : charts)
-        if (!c.empty() && c.front().aligned) return kAlignedBlock;
-    return searchScale(side);
-}
-
-// Page side rounded up to a multiple of 4 texels (block-compression friendly, aligned rows).
-int roundToFour(int side, int maxSize) { return std::min(maxSize, (std::max(side, 4) + 3) / 4 * 4); }
-
-// What packFreeSize minimises: the page area (sides rounded to 4 texels), then the longer side.
-// It never decreases as a packing's used width and height grow.
-double pageCost(int width, int height, int maxSize) {
-    const int pw = roundToFour(width, maxSize), ph = roundToFour(height, maxSize);
-    return double(pw) * ph + 1e-3 * std::max(pw, ph);
-}
-
-// The smallest pageCost of the packings finished so far, shared by trials that run at once. A
-// trial whose partial packing already costs more gives up: it could not have won, and every trial
-// that can win (cost at most the final minimum, which no finished trial undercuts) runs to the
-// end, so the winner does not depend on which trials finished first.
-//
-// With a slack s > 1 a trial gives up only above s times the smallest page: every trial whose page
-// costs at most s times the final minimum runs to the end (a ranking of the near-best trials).
-class CostBound {
-public:
-    CostBound(int maxSize, double best = 1e300, double slack = 1) : maxSize_(maxSize), slack_(slack), best_(best) {}
-    int maxSize() const { return maxSize_; }
-    double best() const { return best_.load(std::memory_order_relaxed); }
-    // The cost above which a partial packing gives up.
-    double limit() const { return best() * slack_; }
-    void offer(double cost) {
-        double b = best_.load(std::memory_order_relaxed);
-        while (cost < b && !best_.compare_exchange_weak(b, cost, std::memory_order_relaxed)) {}
-    }
-
-private:
-    int maxSize_;
-    double slack_;
-    std::atomic<double> best_;
-};
-
-// Where a chart goes: the free position with the lowest top edge (bottom-left fill), or with the
-// lowest centre of gravity (nests irregular charts differently: neither wins on every asset).
-enum class Placement { TopEdge, Gravity };
-
-// Places the charts (in `order`) on a binW x binH page, each at its lowest position over the four
-// quarter turns. Returns nothing when one does not fit. The samplers clamp to the page edge, so
-// no gutter is kept along the page border: the bitmap extends `radius` texels beyond every side of
-// the page and a chart's gutter ring may lie out there.
-// A packing under way: the page and the slots of the charts placed so far.
-struct PackState {
-    BitmapPage page;
-    Packing packing;
-};
-
-// A packing's start: the empty page.
-PackState emptyPack(const Footprints& fp, int binW, int binH) {
-    PackState state{BitmapPage((binW + 2 * fp.radius) / fp.scale, (binH + 2 * fp.radius) / fp.scale), Packing{}};
-    state.packing.slots.resize(fp.charts.size());
-    return state;
-}
-
-// Places the charts order[first, last) into `state`; false when one finds no place (or, with a
-// bound, costs too much). See packBitmap for `prefix` and `inPlace`.
-bool packSteps(const Footprints& fp, const std::vector<size_t>& order, size_t first, size_t last, PackState& state, Placement placement,
-               CostBound* bound, std::vector<PackState>* prefix, const std::vector<std::array<int, 2>>* inPlace) {
-    const int scale = fp.scale, r = fp.radius;
-    BitmapPage& page = state.page;
-    Packing& p = state.packing;
-    // The page's cost when the bitmap's used part is w x h blocks.
-    auto costOf = [&](int w, int h) { return pageCost(std::max(1, w * scale - 2 * r), std::max(1, h * scale - 2 * r), bound->maxSize()); };
-    for (size_t step = first; step < last; ++step) {
-        if (prefix) prefix->push_back(state);
-        const size_t i = order[step];
-        Slot& s = p.slots[i];
-        // With the top-edge rule a chart's key is its top edge: positions whose top edge costs more
-        // than the bound are not searched (the lowest one that remains is the rule's choice).
-        double firstLimit = 1e300;
-        if (bound && placement == Placement::TopEdge) {
-            const double b = bound->limit();
-            int lo = page.usedHeight(), hi = page.height();  // the highest top edge within the bound
-            if (costOf(page.usedWidth(), lo) > b) return false;
-            while (lo < hi) {
-                const int mid = lo + (hi - lo + 1) / 2;
-                if (costOf(page.usedWidth(), mid) > b) hi = mid - 1;
-                else lo = mid;
-            }
-            firstLimit = lo + 1;
-        }
-        double bestKey = firstLimit;
-        const bool kept = inPlace && page.onPage(fp.charts[i][0].rot[0], (*inPlace)[i][0], (*inPlace)[i][1]);
-        if (kept) {
-            s.x = (*inPlace)[i][0]; s.y = (*inPlace)[i][1]; s.rotation = 0; s.orientation = 0;
-            bestKey = -1;
-        }
-        for (size_t v = 0; v < fp.charts[i].size() && !kept; ++v)
-            for (int rot = 0; rot < fp.charts[i][v].turns; ++rot) {
-                const Footprint& f = fp.charts[i][v].rot[size_t(rot)];
-                const double key = placement == Placement::Gravity ? f.centroidRow : f.h;
-                int x, y;
-                if (page.find(f, key, bestKey, x, y)) {
-                    bestKey = y + key;
-                    s.x = x; s.y = y; s.rotation = rot; s.orientation = v;
-                }
-            }
-        if (bestKey == firstLimit) return false;
-        const ChartFootprints& c = fp.charts[i][s.orientation];
-        s.gw = c.gw;
-        s.gh = c.gh;
-        p.rasterTexels += c.raster;
-        p.footprintTexels += c.footprint;
-        page.place(c.rot[size_t(s.rotation)], s.x, s.y);
-        if (bound && costOf(page.usedWidth(), page.usedHeight()) > bound->limit()) return false;
-        // Back to texels: the chart's grid turns inside its block-rounded footprint.
-        int fw = c.cw * scale, fh = c.ch * scale;
-        s.x *= scale;
-        s.y *= scale;
-        if (s.rotation == 1) s.x += fh - s.gh;
-        if (s.rotation == 2) { s.x += fw - s.gw; s.y += fh - s.gh; }
-        if (s.rotation == 3) s.y += fw - s.gw;
-        s.x -= r;  // page coordinates: the bitmap starts `radius` texels before the page
-        s.y -= r;
-    }
-    return true;
-}
-
-// The packing of every chart placed in `state`: its page size (offered to the bound).
-Packing packed(const Footprints& fp, PackState& state, CostBound* bound) {
-    Packing& p = state.packing;
-    p.width = std::max(1, state.page.usedWidth() * fp.scale - 2 * fp.radius);
-    p.height = std::max(1, state.page.usedHeight() * fp.scale - 2 * fp.radius);
-    if (bound) bound->offer(pageCost(p.width, p.height, bound->maxSize()));
-    return std::move(p);
-}
-
-// `prefix`, when given, receives the state before each chart of `order` is placed; `from`, when
-// given, is such a state of an order that agrees with `order` on its first `fromIndex` charts:
-// the packing resumes there (the same charts placed the same way). `inPlace`, when given, holds
-// per chart a cell its first orientation takes, unturned, when it lies on the page ({-1, -1}:
-// none); such charts come first in `order` and may overlap each other (AtlasChart::inPlace).
-std::optional<Packing> packBitmap(const Footprints& fp, const std::vector<size_t>& order, int binW, int binH,
-                                  Placement placement = Placement::TopEdge, CostBound* bound = nullptr,
-                                  std::vector<PackState>* prefix = nullptr, const PackState* from = nullptr, size_t fromIndex = 0,
-                                  const std::vector<std::array<int, 2>>* inPlace = nullptr) {
-    PackState state = from ? *from : emptyPack(fp, binW, binH);
-    if (!packSteps(fp, order, from ? fromIndex : 0, order.size(), state, placement, bound, prefix, inPlace)) return std::nullopt;
-    return packed(fp, state, bound);
-}
-
-// The same at density t from the charts: their footprints are rasterised in the packing order, in
-// batches that double, so a packing that fails at a chart has not rasterised most of the charts
-// after it (on pages the charts overfill, the large ones first fail early).
-std::optional<Packing> packBitmap(const Orientations& charts, const std::vector<size_t>& order, double t,
-                                  int gutter, int binW, int binH, int scale, int threads) {
-    if (!footprintsFit(charts, t, gutter, scale, binW, binH)) return std::nullopt;
-    Footprints fp = noFootprints(charts.size(), t, gutter, scale);
-    PackState state = emptyPack(fp, binW, binH);
-    for (size_t first = 0, batch = size_t(8 * std::max(1, threads)); first < order.size(); first += batch, batch *= 2) {
-        const size_t last = std::min(order.size(), first + batch);
-        addFootprints(charts, std::vector<size_t>(order.begin() + long(first), order.begin() + long(last)), fp, threads);
-        if (!packSteps(fp, order, first, last, state, Placement::TopEdge, nullptr, nullptr, nullptr)) return std::nullopt;
-    }
-    return packed(fp, state, nullptr);
-}
 
 // The trials worth packing on the search grid after a coarse ranking: those whose coarse cost is
 // within `limit` (a CostBound's with slack), at most kFineTrials of the cheapest (earlier trials
