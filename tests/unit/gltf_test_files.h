@@ -126,20 +126,25 @@ struct TestGltf {
 
     std::string glbBytes() {
         finishBuffer("");
-        std::string text = j.dump();
+        return glbOf(j, bin);
+    }
+
+    // A GLB of this JSON and BIN chunk (none when empty), whatever buffer 0 declares.
+    static std::string glbOf(const nlohmann::json& json, const std::string& binChunk) {
+        std::string text = json.dump();
         while (text.size() % 4) text.push_back(' ');
         auto u32 = [](std::string& s, uint32_t v) { s.append(reinterpret_cast<const char*>(&v), 4); };
         std::string out;
         u32(out, 0x46546C67u);
         u32(out, 2);
-        u32(out, uint32_t(12 + 8 + text.size() + (bin.empty() ? 0 : 8 + bin.size())));
+        u32(out, uint32_t(12 + 8 + text.size() + (binChunk.empty() ? 0 : 8 + binChunk.size())));
         u32(out, uint32_t(text.size()));
         u32(out, 0x4E4F534Au);
         out += text;
-        if (!bin.empty()) {
-            u32(out, uint32_t(bin.size()));
+        if (!binChunk.empty()) {
+            u32(out, uint32_t(binChunk.size()));
             u32(out, 0x004E4942u);
-            out += bin;
+            out += binChunk;
         }
         return out;
     }

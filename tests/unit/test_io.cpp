@@ -695,21 +695,10 @@ TEST(IoRead, GlbBinChunkHandedOverReadsAsTheGltf) {
     const Asset plain = readGltf(g.writeGlb(dir, "cube.glb"));
     expectSameMesh(reference.mesh, plain.mesh);
 
-    auto glb = [](const json& j, const std::string& bin) {
-        std::string text = j.dump();
-        while (text.size() % 4) text.push_back(' ');
-        auto u32 = [](std::string& s, uint32_t v) { s.append(reinterpret_cast<const char*>(&v), 4); };
-        std::string out;
-        for (uint32_t v : {0x46546C67u, 2u, uint32_t(28 + text.size() + bin.size()), uint32_t(text.size()), 0x4E4F534Au}) u32(out, v);
-        out += text;
-        u32(out, uint32_t(bin.size()));
-        u32(out, 0x004E4942u);
-        return out + bin;
-    };
     // Buffer 0 shorter than its chunk, beside a file named as the hand-over's URI.
     writeBytes(dir / "lodbake-glb-bin-chunk", "not a buffer");
     const std::string padded = (dir / "padded.glb").string();
-    writeBytes(padded, glb(g.j, g.bin + std::string(8, '\0')));
+    writeBytes(padded, TestGltf::glbOf(g.j, g.bin + std::string(8, '\0')));
     expectSameMesh(reference.mesh, readGltf(padded).mesh);
     const std::string bytes = readBytes(padded);
     expectSameMesh(reference.mesh, readGltfBytes(padded, std::vector<unsigned char>(bytes.begin(), bytes.end())).mesh);
@@ -723,7 +712,7 @@ TEST(IoRead, GlbBinChunkHandedOverReadsAsTheGltf) {
     json longer = g.j;
     longer["buffers"][0]["byteLength"] = g.bin.size() + 4;
     const std::string bad = (dir / "longer.glb").string();
-    writeBytes(bad, glb(longer, g.bin));
+    writeBytes(bad, TestGltf::glbOf(longer, g.bin));
     expectError([&] { readGltf(bad); }, ErrorKind::InvalidInput, bad, "byteLength");
 }
 
