@@ -15,6 +15,7 @@
 #include <map>
 #include <optional>
 #include <unordered_map>
+#include <utility>
 
 #include "lodbake/atlas/atlas.h"
 #include "lodbake/bake/bake.h"
@@ -333,12 +334,20 @@ void solveRankLayout(const TriMesh& mesh, const Multires& mr, const ChartLayout&
     const std::vector<ChartEnergy> parentE =
         parentIsT0 ? base.upTo(cand.level).chartEnergies : measureLayout(mesh, mr, parent, cand.level, eo, o.param.threads).chartEnergies;
     rr.parameterizeSeconds = 0;
+    std::vector<uint32_t> bad;
+    bool changed = true;
     for (int attempt = 0; attempt < 3; ++attempt) {
-        const ParameterizeResult solved = parameterizeRank(mesh, mr, rr.lastLevel, cand.charts, o, false, rr);
-        const std::vector<uint32_t> bad = worseParents(mesh, solved, o, parent.faceChart, parentE);
+        // A re-split that left every chart as it was (its parents cannot be split finer) solves to
+        // the same pieces: the same parents stay worse, without solving them again.
+        if (changed) {
+            const ParameterizeResult solved = parameterizeRank(mesh, mr, rr.lastLevel, cand.charts, o, false, rr);
+            bad = worseParents(mesh, solved, o, parent.faceChart, parentE);
+        }
         if (bad.empty()) break;
         for (uint32_t p : bad) per[p] = attempt < 2 ? per[p] * 2 : 1;
-        cand.charts = splitCharts(mesh, parent.faceChart, parent.chartCount, cand.regions, per, cand.count, &cand.memo);
+        std::vector<uint32_t> charts = splitCharts(mesh, parent.faceChart, parent.chartCount, cand.regions, per, cand.count, &cand.memo);
+        changed = charts != cand.charts;
+        cand.charts = std::move(charts);
         ++rr.resplits;
     }
     rr.layout = rankLayout(mesh, mr, rr.lastLevel, cand.charts, o, rr);
