@@ -9,7 +9,7 @@ export DEBIAN_FRONTEND=noninteractive
 $SUDO apt-get update -qq
 $SUDO apt-get install -y -qq \
   cmake ninja-build g++ make pkg-config python3 time \
-  libtinygltf-dev libdraco-dev libmeshoptimizer-dev libceres-dev libsuitesparse-dev libcgal-dev libeigen3-dev \
+  libtinygltf-dev libdraco-dev libmeshoptimizer-dev libceres-dev libsuitesparse-dev libcgal-dev libeigen3-dev libjemalloc-dev \
   libopenimageio-dev openimageio-tools nlohmann-json3-dev libgtest-dev \
   gltfpack chromium python3-numpy python3-jsonschema dpkg-dev assimp-testmodels snakemake >/dev/null
 if ! command -v npm >/dev/null 2>&1; then

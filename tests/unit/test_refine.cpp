@@ -114,6 +114,30 @@ TEST(RefineMeasure, T0IsInjectiveOnTheOriginalAndEnergyGrowsWithLevels) {
     EXPECT_GT(all.areaRatioStdDev, 0);
 }
 
+// The measures of every prefix of levels from one pass are exactly those measured one by one.
+TEST(RefineMeasure, EveryLevelAtOnceEqualsEachLevelAlone) {
+    const Parameterized& p = hemisphereAsset();
+    const uint32_t n = uint32_t(p.mr.levels.size());
+    const std::vector<LayoutMeasure> byLevel = measureLayoutLevels(p.asset.mesh, p.mr, p.mr.charts, n);
+    ASSERT_EQ(byLevel.size(), n + 1);
+    for (uint32_t v = 0; v <= n; ++v) {
+        const LayoutMeasure alone = measureLayout(p.asset.mesh, p.mr, p.mr.charts, v);
+        const LayoutMeasure& m = byLevel[v];
+        EXPECT_EQ(m.lastLevel, v);
+        EXPECT_EQ(m.pairs, alone.pairs);
+        EXPECT_EQ(m.energy.E, alone.energy.E);
+        EXPECT_EQ(m.energy.poly, alone.energy.poly);
+        EXPECT_EQ(m.areaRatioStdDev, alone.areaRatioStdDev);
+        EXPECT_EQ(m.areaRatioHistogram, alone.areaRatioHistogram);
+        EXPECT_EQ(m.triangles, alone.triangles);
+        EXPECT_EQ(m.crossing, alone.crossing);
+        EXPECT_EQ(m.flips, alone.flips);
+        EXPECT_EQ(m.overlaps, alone.overlaps);
+        ASSERT_EQ(m.chartEnergies.size(), alone.chartEnergies.size());
+        for (size_t c = 0; c < m.chartEnergies.size(); ++c) EXPECT_EQ(m.chartEnergies[c].E, alone.chartEnergies[c].E);
+    }
+}
+
 TEST(RefineHierarchy, RanksLowerEnergyAndAreaRatioSpread) {
     const Parameterized& p = hemisphereAsset();
     RefineOptions o;

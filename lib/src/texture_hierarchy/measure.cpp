@@ -4,6 +4,7 @@
 #include <cmath>
 #include <map>
 #include <unordered_map>
+#include <utility>
 
 #include "lodbake/chart/chart_lookup.h"
 #include "lodbake/chart/level_charts.h"
@@ -17,14 +18,20 @@ namespace lodbake {
 
 LayoutMeasure measureLayout(const TriMesh& mesh, const Multires& mr, const ChartLayout& lay, uint32_t lastLevel,
                             const ChartEnergyOptions& eo, int threads) {
+    return std::move(measureLayoutLevels(mesh, mr, lay, lastLevel, eo, threads).back());
+}
+
+// Every figure of the measure over 0..v is built from per-level parts in level order (the pairs of
+// levels 1..v are a prefix of each chart's pairs, the ratios of levels 0..v a prefix of the
+// ratios, the area sums running sums): the measure over 0..v takes the same operations on the same
+// values as measuring 0..v alone.
+std::vector<LayoutMeasure> measureLayoutLevels(const TriMesh& mesh, const Multires& mr, const ChartLayout& lay,
+                                               uint32_t lastLevel, const ChartEnergyOptions& eo, int threads) {
     const size_t nf = mesh.triangleCount();
     if (lay.faceChart.size() != nf || lay.cornerUV.size() != nf) throw InvalidInput("measureLayout: layout does not match the mesh");
     if (lastLevel > mr.levels.size()) throw InvalidInput("measureLayout: level out of range");
     for (uint32_t c : lay.faceChart)
         if (c >= lay.chartCount) throw InvalidInput("measureLayout: chart id out of range");
-    LayoutMeasure m;
-    m.lastLevel = lastLevel;
-    m.charts = lay.chartCount;
 
     // Model-unit scale of the layout: UV area = 3D area over the original faces.
     double uvArea = 0, area3 = 0;
@@ -60,7 +67,9 @@ LayoutMeasure measureLayout(const TriMesh& mesh, const Multires& mr, const Chart
         charts[c].triangles.push_back(lt);
     }
     std::vector<std::vector<ChartPair>> pairs(lay.chartCount);
-    for (uint32_t l = 1; l <= lastLevel; ++l)
+    // pairEnd[v][c]: chart c's pairs of levels 1..v (a prefix of pairs[c]).
+    std::vector<std::vector<size_t>> pairEnd(lastLevel + 1, std::vector<size_t>(lay.chartCount, 0));
+    for (uint32_t l = 1; l <= lastLevel; ++l) {
         for (const SimplificationPair& p : mr.levels[l - 1].pairs) {
             if (p.vertex >= mesh.vertexCount()) throw InvalidInput("measureLayout: pair vertex out of range");
             for (uint32_t c : vertexCharts[p.vertex]) {
@@ -82,21 +91,34 @@ LayoutMeasure measureLayout(const TriMesh& mesh, const Multires& mr, const Chart
                 if (ok) pairs[c].push_back(cp);
             }
         }
+        for (uint32_t c = 0; c < lay.chartCount; ++c) pairEnd[l][c] = pairs[c].size();
+    }
+    std::vector<LayoutMeasure> out(lastLevel + 1);
     ChartEnergyOptions unit = eo;
     unit.resolution = 1;
-    m.chartEnergies.assign(lay.chartCount, ChartEnergy{});
-    parallelFor(lay.chartCount, threads, [&](size_t c) {
-        if (!charts[c].triangles.empty()) m.chartEnergies[c] = chartEnergy(charts[c], pairs[c], uvs[c], unit);
-    });
-    for (uint32_t c = 0; c < lay.chartCount; ++c) {  // summed in chart order, as for one thread
-        if (charts[c].triangles.empty()) continue;
-        const ChartEnergy& e = m.chartEnergies[c];
-        m.energy.E += e.E;
-        m.energy.pixel += e.pixel;
-        m.energy.poly += e.poly;
-        m.energy.edge += e.edge;
-        m.energy.area += e.area;
-        m.pairs += pairs[c].size();
+    // Coarsest first: a chart without pairs on level v + 1 keeps the energy of 0..v + 1.
+    for (uint32_t v = lastLevel + 1; v-- > 0;) {
+        LayoutMeasure& m = out[v];
+        m.lastLevel = v;
+        m.charts = lay.chartCount;
+        m.chartEnergies.assign(lay.chartCount, ChartEnergy{});
+        parallelFor(lay.chartCount, threads, [&](size_t c) {
+            if (charts[c].triangles.empty()) return;
+            const size_t k = pairEnd[v][c];
+            if (v < lastLevel && pairEnd[v + 1][c] == k) m.chartEnergies[c] = out[v + 1].chartEnergies[c];
+            else if (k == pairs[c].size()) m.chartEnergies[c] = chartEnergy(charts[c], pairs[c], uvs[c], unit);
+            else m.chartEnergies[c] = chartEnergy(charts[c], std::vector<ChartPair>(pairs[c].begin(), pairs[c].begin() + k), uvs[c], unit);
+        });
+        for (uint32_t c = 0; c < lay.chartCount; ++c) {  // summed in chart order, as for one thread
+            if (charts[c].triangles.empty()) continue;
+            const ChartEnergy& e = m.chartEnergies[c];
+            m.energy.E += e.E;
+            m.energy.pixel += e.pixel;
+            m.energy.poly += e.poly;
+            m.energy.edge += e.edge;
+            m.energy.area += e.area;
+            m.pairs += pairEnd[v][c];
+        }
     }
 
     // Area ratios and injectivity of every served level, UVs as pack assigns them.
@@ -108,6 +130,10 @@ LayoutMeasure measureLayout(const TriMesh& mesh, const Multires& mr, const Chart
     FaceSetSearch search(mesh);
     std::vector<double> ratios;
     double sumUV = 0, sum3 = 0;
+    std::vector<size_t> ratioEnd(lastLevel + 1);   // ratios of levels 0..l
+    std::vector<double> sumUVTo(lastLevel + 1), sum3To(lastLevel + 1);
+    std::vector<UVInjectivity> levels;
+    std::vector<size_t> crossings;
     for (uint32_t l = 0; l <= lastLevel; ++l) {
         std::vector<std::array<Vec2, 3>> tris;
         size_t crossing = 0;
@@ -138,24 +164,33 @@ LayoutMeasure measureLayout(const TriMesh& mesh, const Multires& mr, const Chart
             sumUV += a2;
             sum3 += a3;
         }
-        UVInjectivity inj = checkUVInjectivity(tris, 1e-7, threads);
-        m.flips += inj.flips;
-        m.overlaps += inj.overlaps;
-        m.levels.push_back(inj);
-        m.crossing.push_back(crossing);
+        levels.push_back(checkUVInjectivity(tris, 1e-7, threads));
+        crossings.push_back(crossing);
+        ratioEnd[l] = ratios.size();
+        sumUVTo[l] = sumUV;
+        sum3To[l] = sum3;
     }
-    m.triangles = ratios.size();
-    double mean = sum3 > 0 ? sumUV / sum3 : 0;
-    if (mean > 0 && !ratios.empty()) {
-        double acc = 0;
-        for (double r : ratios) {
-            double x = r / mean;
-            acc += (x - 1) * (x - 1);
-            ++m.areaRatioHistogram[size_t(std::clamp(int(x / 0.2), 0, 9))];
+    for (uint32_t v = 0; v <= lastLevel; ++v) {
+        LayoutMeasure& m = out[v];
+        for (uint32_t l = 0; l <= v; ++l) {
+            m.flips += levels[l].flips;
+            m.overlaps += levels[l].overlaps;
         }
-        m.areaRatioStdDev = std::sqrt(acc / double(ratios.size()));
+        m.levels.assign(levels.begin(), levels.begin() + v + 1);
+        m.crossing.assign(crossings.begin(), crossings.begin() + v + 1);
+        m.triangles = ratioEnd[v];
+        double mean = sum3To[v] > 0 ? sumUVTo[v] / sum3To[v] : 0;
+        if (mean > 0 && ratioEnd[v] > 0) {
+            double acc = 0;
+            for (size_t i = 0; i < ratioEnd[v]; ++i) {
+                double x = ratios[i] / mean;
+                acc += (x - 1) * (x - 1);
+                ++m.areaRatioHistogram[size_t(std::clamp(int(x / 0.2), 0, 9))];
+            }
+            m.areaRatioStdDev = std::sqrt(acc / double(ratioEnd[v]));
+        }
     }
-    return m;
+    return out;
 }
 
 }  // namespace lodbake

@@ -15,6 +15,7 @@
 #include <map>
 #include <optional>
 #include <unordered_map>
+#include <utility>
 
 #include "lodbake/atlas/atlas.h"
 #include "lodbake/bake/bake.h"
@@ -235,15 +236,15 @@ void checkRefineInput(const Asset& asset, const Multires& mr, const RefineOption
     if (o.sizes.empty()) throw InvalidInput("no texture sizes");
 }
 
-// T0's measure over levels 0..l, made once per l: every candidate and rank compares against it.
+// T0's measure over levels 0..l: every candidate and rank compares against it. The first call
+// (rankZero's, over every level) measures every l at once.
 class BaseMeasures {
 public:
     BaseMeasures(const TriMesh& mesh, const Multires& mr, const ChartEnergyOptions& eo, int threads)
         : mesh_(mesh), mr_(mr), eo_(eo), threads_(threads) {}
     const LayoutMeasure& upTo(uint32_t lastLevel) {
-        auto it = byLevel_.find(lastLevel);
-        if (it == byLevel_.end()) it = byLevel_.emplace(lastLevel, measureLayout(mesh_, mr_, mr_.charts, lastLevel, eo_, threads_)).first;
-        return it->second;
+        if (lastLevel >= byLevel_.size()) byLevel_ = measureLayoutLevels(mesh_, mr_, mr_.charts, lastLevel, eo_, threads_);
+        return byLevel_[lastLevel];
     }
 
 private:
@@ -251,7 +252,7 @@ private:
     const Multires& mr_;
     ChartEnergyOptions eo_;
     int threads_;
-    std::map<uint32_t, LayoutMeasure> byLevel_;
+    std::vector<LayoutMeasure> byLevel_;  // index l: over levels 0..l
 };
 
 // Rank 0: T0 as it is, valid for every level.
@@ -333,12 +334,20 @@ void solveRankLayout(const TriMesh& mesh, const Multires& mr, const ChartLayout&
     const std::vector<ChartEnergy> parentE =
         parentIsT0 ? base.upTo(cand.level).chartEnergies : measureLayout(mesh, mr, parent, cand.level, eo, o.param.threads).chartEnergies;
     rr.parameterizeSeconds = 0;
+    std::vector<uint32_t> bad;
+    bool changed = true;
     for (int attempt = 0; attempt < 3; ++attempt) {
-        const ParameterizeResult solved = parameterizeRank(mesh, mr, rr.lastLevel, cand.charts, o, false, rr);
-        const std::vector<uint32_t> bad = worseParents(mesh, solved, o, parent.faceChart, parentE);
+        // A re-split that left every chart as it was (its parents cannot be split finer) solves to
+        // the same pieces: the same parents stay worse, without solving them again.
+        if (changed) {
+            const ParameterizeResult solved = parameterizeRank(mesh, mr, rr.lastLevel, cand.charts, o, false, rr);
+            bad = worseParents(mesh, solved, o, parent.faceChart, parentE);
+        }
         if (bad.empty()) break;
         for (uint32_t p : bad) per[p] = attempt < 2 ? per[p] * 2 : 1;
-        cand.charts = splitCharts(mesh, parent.faceChart, parent.chartCount, cand.regions, per, cand.count, &cand.memo);
+        std::vector<uint32_t> charts = splitCharts(mesh, parent.faceChart, parent.chartCount, cand.regions, per, cand.count, &cand.memo);
+        changed = charts != cand.charts;
+        cand.charts = std::move(charts);
         ++rr.resplits;
     }
     rr.layout = rankLayout(mesh, mr, rr.lastLevel, cand.charts, o, rr);
@@ -353,7 +362,8 @@ void solveRankLayout(const TriMesh& mesh, const Multires& mr, const ChartLayout&
 // Sets rr.lastLevel, rr.measure and rr.base; returns whether such a run exists.
 bool trimServedLevels(const TriMesh& mesh, const Multires& mr, const RefineOptions& o, const ChartEnergyOptions& eo,
                       BaseMeasures& base, RankResult& rr) {
-    rr.measure = measureLayout(mesh, mr, rr.layout, rr.lastLevel, eo, o.param.threads);
+    std::vector<LayoutMeasure> byLevel = measureLayoutLevels(mesh, mr, rr.layout, rr.lastLevel, eo, o.param.threads);
+    rr.measure = byLevel.back();
     rr.base = base.upTo(rr.lastLevel);
     auto serves = [&](uint32_t l) {
         const UVInjectivity& a = rr.measure.levels[l];
@@ -365,7 +375,7 @@ bool trimServedLevels(const TriMesh& mesh, const Multires& mr, const RefineOptio
     for (;;) {
         if (valid < rr.lastLevel) {
             rr.lastLevel = valid;
-            rr.measure = measureLayout(mesh, mr, rr.layout, rr.lastLevel, eo, o.param.threads);
+            rr.measure = byLevel[rr.lastLevel];
             rr.base = base.upTo(rr.lastLevel);
         }
         const bool better = rr.measure.energy.E < rr.base.energy.E && rr.measure.areaRatioStdDev < rr.base.areaRatioStdDev;

@@ -59,6 +59,10 @@ struct LayoutMeasure {
 // \pre layout matches mesh; lastLevel <= multires.levels.size().
 LayoutMeasure measureLayout(const TriMesh& mesh, const Multires& multires, const ChartLayout& layout,
                             uint32_t lastLevel, const ChartEnergyOptions& energy = {}, int threads = 1);
+// measureLayout over levels 0..v for every v <= lastLevel (index v), each equal to measureLayout's
+// for v, from one pass over the levels: each level's UVs, injectivity and crossings are made once.
+std::vector<LayoutMeasure> measureLayoutLevels(const TriMesh& mesh, const Multires& multires, const ChartLayout& layout,
+                                               uint32_t lastLevel, const ChartEnergyOptions& energy = {}, int threads = 1);
 
 // Splits every chart of `parentChart` (chart id per original face, < parentCount) into about
 // `perChart` charts: the parts of the regions `faceRegion` (representative face per face) inside
