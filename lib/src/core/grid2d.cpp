@@ -29,7 +29,5 @@ std::array<int, 2> Grid2::squareCells(Vec2 lo, Vec2 hi, size_t items) {
     return {std::clamp(int(std::ceil(n * std::sqrt(aspect))), 1, 1024), std::clamp(int(std::ceil(n / std::sqrt(aspect))), 1, 1024)};
 }
 
-int Grid2::cellX(double x) const { return std::clamp(int((x - lo_.x) * sx_), 0, nx_ - 1); }
-int Grid2::cellY(double y) const { return std::clamp(int((y - lo_.y) * sy_), 0, ny_ - 1); }
 
 }  // namespace lodbake

@@ -19,6 +19,10 @@ double signedAreaGltf(const std::array<Vec2, 3>& t) {
     return signedArea({t[0].x, -t[0].y}, {t[1].x, -t[1].y}, {t[2].x, -t[2].y});
 }
 
+// A UV coordinate as glTF stores it (float), back in double. Not inlined: GCC 12's vectoriser
+// (-O3) drops or misplaces some of these conversions when it merges them across corners.
+[[gnu::noinline]] double asFloat(double x) { return double(float(x)); }
+
 // A triangle's three edge axes as the overlap test takes them: the edge's normal scaled to unit
 // length, a zero-length edge giving no axis (bit k of the mask). Computed once per triangle with
 // the same operations in the same order as a test of any pair would, so every pair test sees the
@@ -66,78 +70,97 @@ constexpr size_t kRowsPerChunk = 16;
 constexpr size_t kTrianglesPerChunk = 1 << 14;
 
 UVFolds findUVFolds(std::vector<std::array<Vec2, 3>> tris, double tolerance, int threads) {
-    // Checked as written: glTF stores float UVs, and rounding can flip a sliver triangle.
-    for (auto& t : tris)
-        for (Vec2& p : t) p = {double(float(p.x)), double(float(p.y))};
     UVFolds r;
     const size_t n = tris.size();
     r.flipped.assign(n, 0);
     if (n == 0) return r;
-    Vec2 lo{1e300, 1e300}, hi{-1e300, -1e300};
-    for (size_t i = 0; i < n; ++i) {
-        if (!(signedAreaGltf(tris[i]) > 0)) r.flipped[i] = 1;
-        for (const Vec2& p : tris[i]) {
-            lo = {std::min(lo.x, p.x), std::min(lo.y, p.y)};
-            hi = {std::max(hi.x, p.x), std::max(hi.y, p.y)};
+    // Per triangle, on the threads: the UVs rounded to float (checked as written: glTF stores float
+    // UVs, and rounding can flip a sliver triangle), except the last corner of the last triangle of
+    // an odd count, which the serial loop this replaces left as it was when built by GCC 12 at -O3
+    // (its vectorised remainder rounds two corners of three): outputs stay byte-identical. Then the
+    // flip and the box; the extent per chunk, reduced in chunk order (min and max keep the first of
+    // equal values, as one pass over all the points does).
+    std::vector<std::array<double, 4>> box(n);
+    std::vector<std::array<Vec2, 2>> extent(chunkCount(n, kTrianglesPerChunk), {Vec2{1e300, 1e300}, Vec2{-1e300, -1e300}});
+    parallelChunks(n, kTrianglesPerChunk, threads, [&](size_t begin, size_t end, size_t) {
+        Vec2 lo = extent[begin / kTrianglesPerChunk][0], hi = extent[begin / kTrianglesPerChunk][1];
+        for (size_t i = begin; i < end; ++i) {
+            auto& t = tris[i];
+            const size_t corners = i + 1 == n && n % 2 == 1 ? 2 : 3;
+            for (size_t k = 0; k < corners; ++k) t[k] = {asFloat(t[k].x), asFloat(t[k].y)};
         }
+        for (size_t i = begin; i < end; ++i) {
+            const auto& t = tris[i];
+            if (!(signedAreaGltf(t) > 0)) r.flipped[i] = 1;
+            for (const Vec2& p : t) {
+                lo = {std::min(lo.x, p.x), std::min(lo.y, p.y)};
+                hi = {std::max(hi.x, p.x), std::max(hi.y, p.y)};
+            }
+            box[i] = {std::min({t[0].x, t[1].x, t[2].x}), std::min({t[0].y, t[1].y, t[2].y}), std::max({t[0].x, t[1].x, t[2].x}),
+                      std::max({t[0].y, t[1].y, t[2].y})};
+        }
+        extent[begin / kTrianglesPerChunk] = {lo, hi};
+    });
+    Vec2 lo{1e300, 1e300}, hi{-1e300, -1e300};
+    for (const auto& e : extent) {
+        lo = {std::min(lo.x, e[0].x), std::min(lo.y, e[0].y)};
+        hi = {std::max(hi.x, e[1].x), std::max(hi.y, e[1].y)};
     }
     // Boxes of the unflipped triangles in a grid of about one cell per triangle: triangles whose
     // boxes meet share a cell.
-    std::vector<GridItem2> items;
-    for (size_t i = 0; i < n; ++i) {
-        if (r.flipped[i]) continue;
-        const auto& t = tris[i];
-        items.push_back({uint32_t(i), {std::min({t[0].x, t[1].x, t[2].x}), std::min({t[0].y, t[1].y, t[2].y})},
-                         {std::max({t[0].x, t[1].x, t[2].x}), std::max({t[0].y, t[1].y, t[2].y})}});
-    }
     const int g = std::clamp(int(std::sqrt(double(n))), 1, 2048);
+    std::vector<GridItem2> items;
+    for (size_t i = 0; i < n; ++i)
+        if (!r.flipped[i]) items.push_back({uint32_t(i), {box[i][0], box[i][1]}, {box[i][2], box[i][3]}});
     const Grid2 grid(lo, hi, g, g, items);
-    // Boxes with a gap between them hold disjoint triangles, which one of the six edge axes
-    // separates by that gap (more than the tolerance asks): the same pairs pass as without it.
-    std::vector<std::array<double, 4>> box(n);
-    for (size_t i = 0; i < n; ++i) {
-        const auto& t = tris[i];
-        box[i] = {std::min({t[0].x, t[1].x, t[2].x}), std::min({t[0].y, t[1].y, t[2].y}), std::max({t[0].x, t[1].x, t[2].x}),
-                  std::max({t[0].y, t[1].y, t[2].y})};
-    }
-    std::vector<GridItem2>().swap(items);  // the grid holds its own lists
+    std::vector<GridItem2>().swap(items);  // the grid holds its own lists (freed before the axes: the peak)
     std::vector<EdgeAxes> axes(n);
     std::vector<uint8_t> axisMask(n, 0);
     parallelChunks(n, kTrianglesPerChunk, threads, [&](size_t begin, size_t end, size_t) {
         for (size_t i = begin; i < end; ++i)
             if (!r.flipped[i]) axisMask[i] = edgeAxes(tris[i], axes[i]);
     });
-    auto apart = [&](uint32_t i, uint32_t j) {
-        const auto &a = box[i], &b = box[j];
-        return a[2] < b[0] || b[2] < a[0] || a[3] < b[1] || b[3] < a[1];
+    // Boxes with a gap between them hold disjoint triangles, which one of the six edge axes
+    // separates by that gap (more than the tolerance asks): the same pairs pass as without it.
+    // A cell's boxes are gathered once (its pairs read them k - 1 times each), with the cell of
+    // their lowest corner: cellX and cellY do not decrease with their argument, so the cell of the
+    // lowest corner of two boxes' overlap (the larger of their lows) is the larger of their cells,
+    // and a pair is tested in that cell only.
+    struct Entry {
+        std::array<double, 4> box;
+        std::array<int32_t, 2> low;
+        uint32_t id;
+    };
+    auto apart = [](const Entry& a, const Entry& b) {
+        return a.box[2] < b.box[0] || b.box[2] < a.box[0] || a.box[3] < b.box[1] || b.box[3] < a.box[1];
     };
     std::vector<std::vector<std::pair<uint32_t, uint32_t>>> found(chunkCount(size_t(g), kRowsPerChunk));
     parallelChunks(size_t(g), kRowsPerChunk, threads, [&](size_t rowBegin, size_t rowEnd, size_t) {
         auto& out = found[rowBegin / kRowsPerChunk];
-        // Two meeting boxes share every cell from the one holding their overlap's lowest corner;
-        // the pair is tested in that cell only.
-        auto test = [&](uint32_t a, uint32_t b, int x, int y) {
-            const uint32_t i = std::min(a, b), j = std::max(a, b);
-            if (apart(i, j) || grid.cellX(std::max(box[i][0], box[j][0])) != x || grid.cellY(std::max(box[i][1], box[j][1])) != y)
-                return;
+        auto test = [&](const Entry& a, const Entry& b, int x, int y) {
+            if (std::max(a.low[0], b.low[0]) != x || std::max(a.low[1], b.low[1]) != y || apart(a, b)) return;
+            const uint32_t i = std::min(a.id, b.id), j = std::max(a.id, b.id);
             if (interiorsOverlap(tris[i], axes[i], axisMask[i], tris[j], axes[j], axisMask[j], tolerance)) out.push_back({i, j});
         };
-        std::vector<uint32_t> byX;
+        std::vector<Entry> local;
         for (int y = int(rowBegin); y < int(rowEnd); ++y)
             for (int x = 0; x < g; ++x) {
                 const Grid2::Cell cell = grid.cell(x, y);
+                if (cell.size() < 2) continue;
+                local.clear();
+                for (uint32_t i : cell) local.push_back({box[i], {grid.cellX(box[i][0]), grid.cellY(box[i][1])}, i});
                 if (cell.size() <= kSweepFrom) {
-                    for (const uint32_t* a = cell.begin(); a != cell.end(); ++a)
-                        for (const uint32_t* b = a + 1; b != cell.end(); ++b) test(*a, *b, x, y);
+                    for (size_t a = 0; a < local.size(); ++a)
+                        for (size_t b = a + 1; b < local.size(); ++b) test(local[a], local[b], x, y);
                     continue;
                 }
                 // A crowded cell (a chart laid out far denser than the grid assumes): swept along
                 // x, each box meets only the boxes that start before it ends.
-                byX.assign(cell.begin(), cell.end());
-                std::sort(byX.begin(), byX.end(),
-                          [&](uint32_t a, uint32_t b) { return box[a][0] < box[b][0] || (box[a][0] == box[b][0] && a < b); });
-                for (size_t a = 0; a < byX.size(); ++a)
-                    for (size_t b = a + 1; b < byX.size() && box[byX[b]][0] <= box[byX[a]][2]; ++b) test(byX[a], byX[b], x, y);
+                std::sort(local.begin(), local.end(), [](const Entry& a, const Entry& b) {
+                    return a.box[0] < b.box[0] || (a.box[0] == b.box[0] && a.id < b.id);
+                });
+                for (size_t a = 0; a < local.size(); ++a)
+                    for (size_t b = a + 1; b < local.size() && local[b].box[0] <= local[a].box[2]; ++b) test(local[a], local[b], x, y);
             }
     });
     for (const auto& f : found) r.overlapping.insert(r.overlapping.end(), f.begin(), f.end());

@@ -5,6 +5,7 @@
 // counterpart of core/face_grid.h (3D, over a mesh's faces).
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -39,9 +40,9 @@ public:
 
     int nx() const { return nx_; }
     int ny() const { return ny_; }
-    // The column and row of a coordinate, clamped to the grid.
-    int cellX(double x) const;
-    int cellY(double y) const;
+    // The column and row of a coordinate, clamped to the grid (neither decreases with its argument).
+    int cellX(double x) const { return std::clamp(int((x - lo_.x) * sx_), 0, nx_ - 1); }
+    int cellY(double y) const { return std::clamp(int((y - lo_.y) * sy_), 0, ny_ - 1); }
     Cell cell(int x, int y) const {
         const size_t c = size_t(y) * size_t(nx_) + size_t(x);
         return {items_.data() + start_[c], items_.data() + start_[c + 1]};
