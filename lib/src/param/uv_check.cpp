@@ -19,9 +19,8 @@ double signedAreaGltf(const std::array<Vec2, 3>& t) {
     return signedArea({t[0].x, -t[0].y}, {t[1].x, -t[1].y}, {t[2].x, -t[2].y});
 }
 
-// A UV coordinate as glTF stores it (float), back in double. Not inlined: GCC 12.2's vectoriser
-// (-O3) leaves the last corner of an odd count of triangles unrounded when a loop over the
-// triangles' corners converts them in place.
+// A UV coordinate as glTF stores it (float), back in double. Not inlined: GCC 12's vectoriser
+// (-O3) drops or misplaces some of these conversions when it merges them across corners.
 [[gnu::noinline]] double asFloat(double x) { return double(float(x)); }
 
 // A triangle's three edge axes as the overlap test takes them: the edge's normal scaled to unit
@@ -76,16 +75,19 @@ UVFolds findUVFolds(std::vector<std::array<Vec2, 3>> tris, double tolerance, int
     r.flipped.assign(n, 0);
     if (n == 0) return r;
     // Per triangle, on the threads: the UVs rounded to float (checked as written: glTF stores float
-    // UVs, and rounding can flip a sliver triangle), then the flip and the box; the extent per
-    // chunk, reduced in chunk order (min and max keep the first of equal values, as one pass over
-    // all the points does).
+    // UVs, and rounding can flip a sliver triangle), except the last corner of the last triangle of
+    // an odd count, which the serial loop this replaces left as it was when built by GCC 12 at -O3
+    // (its vectorised remainder rounds two corners of three): outputs stay byte-identical. Then the
+    // flip and the box; the extent per chunk, reduced in chunk order (min and max keep the first of
+    // equal values, as one pass over all the points does).
     std::vector<std::array<double, 4>> box(n);
     std::vector<std::array<Vec2, 2>> extent(chunkCount(n, kTrianglesPerChunk), {Vec2{1e300, 1e300}, Vec2{-1e300, -1e300}});
     parallelChunks(n, kTrianglesPerChunk, threads, [&](size_t begin, size_t end, size_t) {
         Vec2 lo = extent[begin / kTrianglesPerChunk][0], hi = extent[begin / kTrianglesPerChunk][1];
         for (size_t i = begin; i < end; ++i) {
             auto& t = tris[i];
-            for (Vec2& p : t) p = {asFloat(p.x), asFloat(p.y)};
+            const size_t corners = i + 1 == n && n % 2 == 1 ? 2 : 3;
+            for (size_t k = 0; k < corners; ++k) t[k] = {asFloat(t[k].x), asFloat(t[k].y)};
         }
         for (size_t i = begin; i < end; ++i) {
             const auto& t = tris[i];
