@@ -16,17 +16,15 @@
 
 namespace lodbake {
 
-LayoutMeasure measureLayout(const TriMesh& mesh, const Multires& mr, const ChartLayout& lay, uint32_t lastLevel,
-                            const ChartEnergyOptions& eo, int threads) {
-    return std::move(measureLayoutLevels(mesh, mr, lay, lastLevel, eo, threads).back());
-}
+namespace {
 
-// Every figure of the measure over 0..v is built from per-level parts in level order (the pairs of
-// levels 1..v are a prefix of each chart's pairs, the ratios of levels 0..v a prefix of the
-// ratios, the area sums running sums): the measure over 0..v takes the same operations on the same
-// values as measuring 0..v alone.
-std::vector<LayoutMeasure> measureLayoutLevels(const TriMesh& mesh, const Multires& mr, const ChartLayout& lay,
-                                               uint32_t lastLevel, const ChartEnergyOptions& eo, int threads) {
+// The measures over 0..v for v in [firstLevel, lastLevel] (index v; those below firstLevel stay
+// empty). Every figure of the measure over 0..v is built from per-level parts in level order (the
+// pairs of levels 1..v are a prefix of each chart's pairs, the ratios of levels 0..v a prefix of
+// the ratios, the area sums running sums): the measure over 0..v takes the same operations on the
+// same values as measuring 0..v alone.
+std::vector<LayoutMeasure> measureLevels(const TriMesh& mesh, const Multires& mr, const ChartLayout& lay, uint32_t firstLevel,
+                                         uint32_t lastLevel, const ChartEnergyOptions& eo, int threads) {
     const size_t nf = mesh.triangleCount();
     if (lay.faceChart.size() != nf || lay.cornerUV.size() != nf) throw InvalidInput("measureLayout: layout does not match the mesh");
     if (lastLevel > mr.levels.size()) throw InvalidInput("measureLayout: level out of range");
@@ -97,7 +95,7 @@ std::vector<LayoutMeasure> measureLayoutLevels(const TriMesh& mesh, const Multir
     ChartEnergyOptions unit = eo;
     unit.resolution = 1;
     // Coarsest first: a chart without pairs on level v + 1 keeps the energy of 0..v + 1.
-    for (uint32_t v = lastLevel + 1; v-- > 0;) {
+    for (uint32_t v = lastLevel + 1; v-- > firstLevel;) {
         LayoutMeasure& m = out[v];
         m.lastLevel = v;
         m.charts = lay.chartCount;
@@ -170,7 +168,7 @@ std::vector<LayoutMeasure> measureLayoutLevels(const TriMesh& mesh, const Multir
         sumUVTo[l] = sumUV;
         sum3To[l] = sum3;
     }
-    for (uint32_t v = 0; v <= lastLevel; ++v) {
+    for (uint32_t v = firstLevel; v <= lastLevel; ++v) {
         LayoutMeasure& m = out[v];
         for (uint32_t l = 0; l <= v; ++l) {
             m.flips += levels[l].flips;
@@ -191,6 +189,18 @@ std::vector<LayoutMeasure> measureLayoutLevels(const TriMesh& mesh, const Multir
         }
     }
     return out;
+}
+
+}  // namespace
+
+LayoutMeasure measureLayout(const TriMesh& mesh, const Multires& mr, const ChartLayout& lay, uint32_t lastLevel,
+                            const ChartEnergyOptions& eo, int threads) {
+    return std::move(measureLevels(mesh, mr, lay, lastLevel, lastLevel, eo, threads).back());
+}
+
+std::vector<LayoutMeasure> measureLayoutLevels(const TriMesh& mesh, const Multires& mr, const ChartLayout& lay,
+                                               uint32_t lastLevel, const ChartEnergyOptions& eo, int threads) {
+    return measureLevels(mesh, mr, lay, 0, lastLevel, eo, threads);
 }
 
 }  // namespace lodbake
