@@ -13,7 +13,6 @@
 #include <iterator>
 #include <map>
 #include <unordered_map>
-#include <unordered_set>
 
 #include "lodbake/core/adjacency.h"
 #include "lodbake/core/errors.h"
@@ -374,16 +373,17 @@ std::vector<std::vector<uint32_t>> components(const CompressedRows& adj, const s
 std::pair<std::vector<uint32_t>, std::vector<uint32_t>> splitInTwo(const CompressedRows& adj,
                                                                    const std::vector<uint32_t>& faces,
                                                                    std::vector<int32_t>& mark) {
-    const int32_t inSet = -2;
+    const int32_t inSet = -2, reached = -3;
     for (uint32_t f : faces) mark[f] = inSet;
     auto farthest = [&](uint32_t seed) {
         std::vector<uint32_t> order{seed};
-        std::unordered_set<uint32_t> seen{seed};
+        mark[seed] = reached;
         for (size_t i = 0; i < order.size(); ++i)
             for (uint32_t k = adj.offsets[order[i]]; k < adj.offsets[order[i] + 1]; ++k) {
                 uint32_t g = adj.items[k];
-                if (mark[g] == inSet && seen.insert(g).second) order.push_back(g);
+                if (mark[g] == inSet) mark[g] = reached, order.push_back(g);
             }
+        for (uint32_t f : order) mark[f] = inSet;
         return order.back();
     };
     uint32_t a = farthest(faces.front());

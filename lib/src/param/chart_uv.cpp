@@ -3,15 +3,14 @@
 // uses the same terms (chart_energy_terms.h).
 #include <algorithm>
 #include <cmath>
-#include <unordered_map>
 
+#include "lodbake/core/adjacency.h"
+#include "lodbake/core/key_set.h"
 #include "lodbake/param/chart_uv.h"
 #include "param/chart_energy_terms.h"
 
 namespace lodbake {
 namespace {
-
-uint64_t directedKey(uint32_t a, uint32_t b) { return (uint64_t(a) << 32) | b; }
 
 double orient(Vec2 a, Vec2 b, Vec2 c) { return cross(b - a, c - a); }
 
@@ -30,7 +29,7 @@ EnergyTerms buildEnergyTerms(const ChartMesh& chart, const std::vector<ChartPair
                              const ChartEnergyOptions& o) {
     EnergyTerms t;
     double area = 0, meanA2 = 0, meanL2 = 0;
-    std::unordered_map<uint64_t, bool> seen;
+    KeySet seen(chart.triangles.size() * 3 / 2);
     for (const Tri& tri : chart.triangles) {
         const Vec3 &a = chart.positions[tri[0]], &b = chart.positions[tri[1]], &c = chart.positions[tri[2]];
         double a2 = length(cross(b - a, c - a));
@@ -38,8 +37,7 @@ EnergyTerms buildEnergyTerms(const ChartMesh& chart, const std::vector<ChartPair
         meanA2 += a2;
         for (int k = 0; k < 3; ++k) {
             uint32_t i = tri[k], j = tri[(k + 1) % 3];
-            uint64_t key = directedKey(std::min(i, j), std::max(i, j));
-            if (!seen.emplace(key, true).second) continue;
+            if (!seen.insert(edgeKey(i, j))) continue;
             double l2 = length2(chart.positions[i] - chart.positions[j]);
             t.edges.push_back({i, j, l2});
             meanL2 += l2;
@@ -111,10 +109,9 @@ size_t countLevelFlips(const ChartMesh& chart, const std::vector<Vec2>& uv) {
 
 size_t countOverlaps(const ChartMesh& chart, const std::vector<Vec2>& uv) {
     // Boundary half-edges: those whose twin is absent.
-    std::unordered_map<uint64_t, uint32_t> half;
-    half.reserve(chart.triangles.size() * 3);
-    for (uint32_t f = 0; f < chart.triangles.size(); ++f)
-        for (int k = 0; k < 3; ++k) half.emplace(directedKey(chart.triangles[f][k], chart.triangles[f][(k + 1) % 3]), f);
+    KeySet half(chart.triangles.size() * 3);
+    for (const Tri& t : chart.triangles)
+        for (int k = 0; k < 3; ++k) half.insert(directedEdgeKey(t[k], t[(k + 1) % 3]));
     struct Seg {
         uint32_t a, b, face;
         double minx, maxx, miny, maxy;
@@ -123,7 +120,7 @@ size_t countOverlaps(const ChartMesh& chart, const std::vector<Vec2>& uv) {
     for (uint32_t f = 0; f < chart.triangles.size(); ++f)
         for (int k = 0; k < 3; ++k) {
             uint32_t a = chart.triangles[f][k], b = chart.triangles[f][(k + 1) % 3];
-            if (half.count(directedKey(b, a))) continue;
+            if (half.contains(directedEdgeKey(b, a))) continue;
             Vec2 p = uv[a], q = uv[b];
             segs.push_back({a, b, f, std::min(p.x, q.x), std::max(p.x, q.x), std::min(p.y, q.y), std::max(p.y, q.y)});
         }

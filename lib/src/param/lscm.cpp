@@ -9,13 +9,14 @@
 // the normal equations (SPD once two vertices are pinned on a connected chart).
 #include <algorithm>
 #include <cmath>
-#include <unordered_map>
 
 #include <Eigen/CholmodSupport>
 #include <Eigen/Sparse>
 #include <Eigen/SparseCholesky>
 
+#include "lodbake/core/adjacency.h"
 #include "lodbake/core/errors.h"
+#include "lodbake/core/key_set.h"
 #include "lodbake/param/chart_uv.h"
 #include "param/solver_output.h"
 #include "param/solver_threads.h"
@@ -41,19 +42,16 @@ bool solveNormal(const Eigen::SparseMatrix<double>& AtA, const Eigen::VectorXd& 
 }  // namespace
 namespace {
 
-uint64_t directedKey(uint32_t a, uint32_t b) { return (uint64_t(a) << 32) | b; }
-
 // The two boundary vertices farthest apart along the chart's longest bounding-box axis (lowest
 // index on ties): pinned at (0, 0) and (their 3D distance, 0).
 std::pair<uint32_t, uint32_t> pinPair(const ChartMesh& chart) {
-    std::unordered_map<uint64_t, char> half;
-    half.reserve(chart.triangles.size() * 3);
+    KeySet half(chart.triangles.size() * 3);
     for (const Tri& t : chart.triangles)
-        for (int k = 0; k < 3; ++k) half.emplace(directedKey(t[k], t[(k + 1) % 3]), 1);
+        for (int k = 0; k < 3; ++k) half.insert(directedEdgeKey(t[k], t[(k + 1) % 3]));
     std::vector<uint32_t> boundary;
     for (const Tri& t : chart.triangles)
         for (int k = 0; k < 3; ++k)
-            if (!half.count(directedKey(t[(k + 1) % 3], t[k]))) boundary.push_back(t[k]);
+            if (!half.contains(directedEdgeKey(t[(k + 1) % 3], t[k]))) boundary.push_back(t[k]);
     if (boundary.size() < 3) throw Impossible("chart has no boundary (closed surface); it cannot be flattened");
     std::sort(boundary.begin(), boundary.end());
     boundary.erase(std::unique(boundary.begin(), boundary.end()), boundary.end());

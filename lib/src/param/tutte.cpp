@@ -7,28 +7,27 @@
 #include <Eigen/Sparse>
 #include <Eigen/SparseLU>
 
+#include "lodbake/core/adjacency.h"
 #include "lodbake/core/errors.h"
+#include "lodbake/core/key_set.h"
 #include "lodbake/core/math.h"
 #include "lodbake/param/chart_uv.h"
 
 namespace lodbake {
 namespace {
 
-uint64_t directedKey(uint32_t a, uint32_t b) { return (uint64_t(a) << 32) | b; }
-
 // The boundary loop, oriented like the triangles (interior on the left).
 std::vector<uint32_t> findBoundaryLoop(const ChartMesh& chart) {
-    std::unordered_map<uint64_t, char> half;
-    half.reserve(chart.triangles.size() * 3);
+    KeySet half(chart.triangles.size() * 3);
     for (const Tri& t : chart.triangles)
-        for (int k = 0; k < 3; ++k) half.emplace(directedKey(t[k], t[(k + 1) % 3]), 1);
+        for (int k = 0; k < 3; ++k) half.insert(directedEdgeKey(t[k], t[(k + 1) % 3]));
     std::unordered_map<uint32_t, uint32_t> next;
     size_t count = 0;
     uint32_t start = UINT32_MAX;
     for (const Tri& t : chart.triangles)
         for (int k = 0; k < 3; ++k) {
             uint32_t a = t[k], b = t[(k + 1) % 3];
-            if (half.count(directedKey(b, a))) continue;
+            if (half.contains(directedEdgeKey(b, a))) continue;
             if (!next.emplace(a, b).second) throw Impossible("chart boundary is not a simple loop");
             ++count;
             start = std::min(start, a);

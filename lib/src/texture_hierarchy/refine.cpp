@@ -20,6 +20,7 @@
 #include "lodbake/atlas/atlas.h"
 #include "lodbake/bake/bake.h"
 #include "lodbake/core/errors.h"
+#include "lodbake/core/key_set.h"
 #include "lodbake/core/timing.h"
 #include "lodbake/chart/charts.h"
 #include "lodbake/chart/level_charts.h"
@@ -121,9 +122,9 @@ std::vector<size_t> crossingPerParent(const TriMesh& mesh, const Multires& mr, u
         for (uint32_t c : faceChart) count = std::max(count, c + 1);
     }
     // Vertices of each chart.
-    std::unordered_map<uint64_t, char> member;
+    KeySet member(mesh.triangleCount());
     for (size_t f = 0; f < mesh.triangleCount(); ++f)
-        for (uint32_t v : mesh.triangles[f]) member.emplace((uint64_t(v) << 32) | faceChart[f], 1);
+        for (uint32_t v : mesh.triangles[f]) member.insert((uint64_t(v) << 32) | faceChart[f]);
     std::vector<size_t> out(parentCount, 0);
     for (uint32_t l = 1; l <= last; ++l) {
         const Level& L = mr.levels[l - 1];
@@ -132,7 +133,7 @@ std::vector<size_t> crossingPerParent(const TriMesh& mesh, const Multires& mr, u
             const Tri& v = L.triangles[t];
             if (degenerateIndices(v)) continue;
             for (uint32_t x : v)
-                if (!member.count((uint64_t(x) << 32) | tc[t])) {
+                if (!member.contains((uint64_t(x) << 32) | tc[t])) {
                     ++out[parentChart[L.faces[t]]];
                     break;
                 }
