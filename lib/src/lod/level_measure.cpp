@@ -94,7 +94,7 @@ void measureLevels(const Asset& asset, std::vector<LevelView>& views, const Pack
     // samples, which alone are sampled densely.
     dopt.refineStride = kMeasureStride;
     // The original's trees, built once for every level and placement and freed before the bakes.
-    PosedDistanceReference original(asset.rig, asset.morph, asset.mesh, poses);
+    PosedDistanceReference original(asset.rig, asset.morph, asset.mesh, poses, options.threads);
     const bool posed = !poses.empty();
     for (size_t k = 0; k < n; ++k) {
         res.reports[k].source = views[k].source;

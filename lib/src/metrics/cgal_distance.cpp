@@ -103,7 +103,8 @@ struct Measured {
     TriangleList distinct;
     Tree tree;
     const TriangleList& held() const { return distinct.empty() ? surface.triangles : distinct; }
-    explicit Measured(const TriMesh& m) : surface(collectSurface(m)) {
+    // `threads` build the tree (never changes it).
+    Measured(const TriMesh& m, int threads) : surface(collectSurface(m)) {
         if (surface.triangles.empty()) return;
         const std::vector<uint32_t> kept = withoutCopies(m, surface.faces);
         if (kept.size() < surface.faces.size()) {
@@ -114,7 +115,7 @@ struct Measured {
             }
         }
         const TriangleList& held = kept.size() < surface.faces.size() ? distinct : surface.triangles;
-        tree = Tree(held);
+        tree = Tree(held, threads);
     }
     Measured(const Measured&) = delete;  // a copy's tree would read the original's triangles
     Measured& operator=(const Measured&) = delete;
@@ -421,7 +422,7 @@ std::vector<uint32_t> cgalVisitRanks(const TriangleList& triangles) {
 struct DistanceReference::Prepared {
     Measured measured;
     double diagonal = 0;
-    explicit Prepared(const TriMesh& a) : measured(a), diagonal(bounds(a).diagonal()) {}
+    Prepared(const TriMesh& a, int threads) : measured(a, threads), diagonal(bounds(a).diagonal()) {}
     // closestPoint(s) answer points, not only distances: their ties are broken as CGAL's tree
     // over the same triangles breaks them, ranked before the first query.
     std::once_flag ranked;
@@ -431,7 +432,7 @@ struct DistanceReference::Prepared {
     }
 };
 
-DistanceReference::DistanceReference(const TriMesh& a) : prepared_(std::make_unique<Prepared>(a)) {
+DistanceReference::DistanceReference(const TriMesh& a, int threads) : prepared_(std::make_unique<Prepared>(a, threads)) {
     if (prepared_->measured.surface.triangles.empty()) throw Impossible("first mesh has no triangle with non-zero area");
 }
 DistanceReference::~DistanceReference() = default;
@@ -455,7 +456,7 @@ std::vector<Vec3> DistanceReference::closestPoints(const std::vector<Vec3>& poin
 
 GeometricDistance surfaceDistance(const DistanceReference& reference, const TriMesh& b, const DistanceOptions& options) {
     const Measured& ma = reference.prepared().measured;
-    const Measured mb(b);
+    const Measured mb(b, options.threads);
     if (mb.surface.triangles.empty()) throw Impossible("second mesh has no triangle with non-zero area");
 
     GeometricDistance r;
@@ -480,7 +481,7 @@ GeometricDistance surfaceDistance(const DistanceReference& reference, const TriM
 }
 
 GeometricDistance surfaceDistance(const TriMesh& a, const TriMesh& b, const DistanceOptions& options) {
-    return surfaceDistance(DistanceReference(a), b, options);
+    return surfaceDistance(DistanceReference(a, options.threads), b, options);
 }
 
 }  // namespace lodbake

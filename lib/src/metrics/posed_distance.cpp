@@ -29,11 +29,12 @@ bool sameSurface(const TriMesh& x, const TriMesh& y) {
 }  // namespace
 
 PosedDistanceReference::PosedDistanceReference(const Rig& rig, const MorphTargets& morph, const TriMesh& a,
-                                               std::vector<PoseSample> poses)
+                                               std::vector<PoseSample> poses, int threads)
     : rig_(rig),
       morph_(morph),
       a_(a),
       poses_(std::move(poses)),
+      threads_(threads),
       posed_(poses_.size()),
       posedTried_(poses_.size(), 0),
       posedMeshes_(poses_.size()),
@@ -53,14 +54,14 @@ void PosedDistanceReference::prepare(size_t k) {
         if (sameAs_[j] == int(j) && sameSurface(m, posedMeshes_[j])) sameAs_[k] = int(j);
     if (sameAs_[k] != int(k)) return;  // measured through the bind pose or pose sameAs_[k]
     try {
-        posed_[k].emplace(m);
+        posed_[k].emplace(m, threads_);
     } catch (const Impossible&) {
         // the pose scales the original to no area: nothing to see there
     }
 }
 
 const DistanceReference& PosedDistanceReference::bind() {
-    if (!bind_) bind_.emplace(a_);
+    if (!bind_) bind_.emplace(a_, threads_);
     return *bind_;
 }
 
@@ -127,7 +128,7 @@ void PosedDistanceReference::Measure::step(const DistanceOptions& options) {
 
 GeometricDistance posedSurfaceDistance(const Rig& rig, const MorphTargets& morph, const TriMesh& a, const TriMesh& b,
                                        const std::vector<PoseSample>& poses, const DistanceOptions& options) {
-    return PosedDistanceReference(rig, morph, a, poses).distance(b, options);
+    return PosedDistanceReference(rig, morph, a, poses, options.threads).distance(b, options);
 }
 
 }  // namespace lodbake

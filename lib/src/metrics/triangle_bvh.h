@@ -25,6 +25,8 @@
 
 #include <CGAL/Simple_cartesian.h>
 
+#include "lodbake/core/parallel.h"
+
 namespace lodbake::distance_detail {
 
 class TriangleBvh {
@@ -34,7 +36,11 @@ public:
     using Triangle = Kernel::Triangle_3;
 
     TriangleBvh() = default;
-    explicit TriangleBvh(const std::vector<Triangle>& triangles) : list_(triangles.data()) { build(triangles); }
+    // `threads` build the subtrees below the top levels side by side (the tree is the same for any
+    // count).
+    explicit TriangleBvh(const std::vector<Triangle>& triangles, int threads = 1) : list_(triangles.data()) {
+        build(triangles, threads);
+    }
 
     bool empty() const { return input_.empty(); }
 
@@ -76,6 +82,10 @@ private:
     static constexpr int kBins = 16;
     // Below this depth median splits: the search's stack (64) outlasts kSahDepth + log2 of any count.
     static constexpr int kSahDepth = 28;
+    // The build splits the top kTopDepth levels first (ranges above kTopMin triangles); the subtrees
+    // below them are the tasks the threads share.
+    static constexpr int kTopDepth = 4;
+    static constexpr uint32_t kTopMin = 8192;
 
     const Triangle* list_ = nullptr;   // the caller's triangles, in input order
     std::vector<Box> boxes_;           // each triangle's widened box
@@ -230,7 +240,7 @@ private:
         return uint32_t(split - order.begin());
     }
 
-    void build(const std::vector<Triangle>& triangles) {
+    void build(const std::vector<Triangle>& triangles, int threads) {
         const size_t n = triangles.size();
         if (n == 0) return;
         double scale = 0;
@@ -260,15 +270,10 @@ private:
         };
         std::vector<uint32_t> order(n);
         for (uint32_t t = 0; t < n; ++t) order[t] = t;
-        nodes_.reserve(2 * n / kLeaf + 2);
-        // Nodes in depth-first order, split by the surface area heuristic over kBins bins of the
-        // centres along each axis (tighter boxes than median splits where triangle sizes vary, as
-        // on CAD parts: fewer boxes lie near a query); by the median along the longest side of
-        // the centres' box where no bin boundary splits them, and below depth kSahDepth.
-        auto node = [&](auto&& self, uint32_t begin, uint32_t end, int depth) -> uint32_t {
-            const uint32_t index = uint32_t(nodes_.size());
-            nodes_.emplace_back();
-            std::array<double, 6> b{1e300, 1e300, 1e300, -1e300, -1e300, -1e300}, c = b;
+        // The triangles' box and their centres' box of order[begin, end).
+        auto bounds = [&](uint32_t begin, uint32_t end, std::array<double, 6>& b, std::array<double, 6>& c) {
+            b = {1e300, 1e300, 1e300, -1e300, -1e300, -1e300};
+            c = b;
             for (uint32_t i = begin; i < end; ++i) {
                 const uint32_t t = order[i];
                 for (size_t a = 0; a < 3; ++a) {
@@ -278,12 +283,12 @@ private:
                     c[a + 3] = std::max(c[a + 3], centre[t][a]);
                 }
             }
-            nodes_[index].box = toBox(b);
-            if (end - begin <= kLeaf) {
-                nodes_[index].first = begin;
-                nodes_[index].count = end - begin;
-                return index;
-            }
+        };
+        // Nodes are split by the surface area heuristic over kBins bins of the centres along each
+        // axis (tighter boxes than median splits where triangle sizes vary, as on CAD parts: fewer
+        // boxes lie near a query); by the median along the longest side of the centres' box where
+        // no bin boundary splits them, and below depth kSahDepth. Reorders order[begin, end) only.
+        auto split = [&](uint32_t begin, uint32_t end, int depth, const std::array<double, 6>& c) {
             uint32_t mid = depth < kSahDepth ? sahSplit(order, begin, end, box, centre, c) : begin;
             if (mid == begin) {
                 size_t axis = 0;
@@ -294,12 +299,75 @@ private:
                     return centre[x][axis] < centre[y][axis] || (centre[x][axis] == centre[y][axis] && x < y);
                 });
             }
-            self(self, begin, mid, depth + 1);  // the first child follows its parent
-            const uint32_t second = self(self, mid, end, depth + 1);
+            return mid;
+        };
+        // The subtree of order[begin, end) appended to `out` in depth-first order, each inner node's
+        // second child counted from out's start. Returns its root's index in `out`.
+        auto subtree = [&](auto&& self, std::vector<Node>& out, uint32_t begin, uint32_t end, int depth) -> uint32_t {
+            const uint32_t index = uint32_t(out.size());
+            out.emplace_back();
+            std::array<double, 6> b, c;
+            bounds(begin, end, b, c);
+            out[index].box = toBox(b);
+            if (end - begin <= kLeaf) {
+                out[index].first = begin;
+                out[index].count = end - begin;
+                return index;
+            }
+            const uint32_t mid = split(begin, end, depth, c);
+            self(self, out, begin, mid, depth + 1);  // the first child follows its parent
+            const uint32_t second = self(self, out, mid, end, depth + 1);
+            out[index].first = second;
+            return index;
+        };
+        // The top levels first, in depth-first order: inner nodes with their boxes, and the
+        // subtrees below them as tasks (disjoint ranges of order), built side by side.
+        struct Top {
+            std::array<double, 6> box;
+            size_t task = SIZE_MAX;  // SIZE_MAX: an inner node of the top levels
+        };
+        std::vector<Top> top;
+        std::vector<std::array<uint32_t, 3>> tasks;  // begin, end, depth
+        auto plan = [&](auto&& self, uint32_t begin, uint32_t end, int depth) -> void {
+            if (depth == kTopDepth || end - begin <= kTopMin) {
+                top.push_back({{}, tasks.size()});
+                tasks.push_back({begin, end, uint32_t(depth)});
+                return;
+            }
+            std::array<double, 6> b, c;
+            bounds(begin, end, b, c);
+            top.push_back({b, SIZE_MAX});
+            const uint32_t mid = split(begin, end, depth, c);
+            self(self, begin, mid, depth + 1);
+            self(self, mid, end, depth + 1);
+        };
+        plan(plan, 0, uint32_t(n), 0);
+        std::vector<std::vector<Node>> built(tasks.size());
+        parallelFor(tasks.size(), threads, [&](size_t k) {
+            built[k].reserve(2 * size_t(tasks[k][1] - tasks[k][0]) / kLeaf + 2);
+            subtree(subtree, built[k], tasks[k][0], tasks[k][1], int(tasks[k][2]));
+        });
+        nodes_.reserve(2 * n / kLeaf + 2);
+        size_t next = 0;  // in top
+        auto lay = [&](auto&& self) -> uint32_t {
+            const Top& t = top[next++];
+            const uint32_t index = uint32_t(nodes_.size());
+            if (t.task != SIZE_MAX) {
+                for (Node node : built[t.task]) {
+                    if (node.count == 0) node.first += index;
+                    nodes_.push_back(node);
+                }
+                std::vector<Node>().swap(built[t.task]);
+                return index;
+            }
+            nodes_.emplace_back();
+            nodes_[index].box = toBox(t.box);
+            self(self);
+            const uint32_t second = self(self);
             nodes_[index].first = second;
             return index;
         };
-        node(node, 0, uint32_t(n), 0);
+        lay(lay);
         boxes_.reserve(n);
         planes_.reserve(n);
         for (uint32_t t : order) {

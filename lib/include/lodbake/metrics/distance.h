@@ -74,8 +74,9 @@ GeometricDistance surfaceDistance(const TriMesh& a, const TriMesh& b, const Dist
 // measure many surfaces against it: the figures are surfaceDistance(a, b)'s exactly.
 class DistanceReference {
 public:
-    // \throw Impossible when `a` has no non-degenerate triangle.
-    explicit DistanceReference(const TriMesh& a);
+    // \throw Impossible when `a` has no non-degenerate triangle. `threads` prepare it (0 = all
+    // cores; never changes a figure).
+    explicit DistanceReference(const TriMesh& a, int threads = 1);
     ~DistanceReference();
     DistanceReference(DistanceReference&&) noexcept;
     DistanceReference& operator=(DistanceReference&&) noexcept;

@@ -27,8 +27,9 @@ GeometricDistance posedSurfaceDistance(const Rig& rig, const MorphTargets& morph
 class PosedDistanceReference {
 public:
     class Measure;
-    // `rig`, `morph` and `a` must outlive the reference.
-    PosedDistanceReference(const Rig& rig, const MorphTargets& morph, const TriMesh& a, std::vector<PoseSample> poses);
+    // `rig`, `morph` and `a` must outlive the reference; `threads` build its trees (0 = all cores).
+    PosedDistanceReference(const Rig& rig, const MorphTargets& morph, const TriMesh& a, std::vector<PoseSample> poses,
+                           int threads = 1);
 
     GeometricDistance distance(const TriMesh& b, const DistanceOptions& options = {});
     // distance(b) taken one pose at a time (Measure::step); `b` must outlive the measure.
@@ -41,6 +42,7 @@ private:
     const MorphTargets& morph_;
     const TriMesh& a_;
     std::vector<PoseSample> poses_;
+    int threads_ = 1;
     std::optional<DistanceReference> bind_;
     std::vector<std::optional<DistanceReference>> posed_;  // per pose; empty when the pose leaves `a` no area
     std::vector<char> posedTried_;
