@@ -9,6 +9,7 @@
 
 #include "lodbake/core/closest_point.h"
 #include "lodbake/core/face_grid.h"
+#include "lodbake/core/parallel.h"
 #include "synthetic_meshes.h"
 
 using namespace lodbake;
@@ -185,4 +186,27 @@ TEST(FaceGrid, FaceSetSearchMatchesTheScanWithDegenerateFaces) {
     uint32_t f = 0;
     std::array<double, 3> bary{};
     EXPECT_EQ(search.closest({}, Vec3{}, f, bary), 1e300);
+}
+
+// Threads sharing one search (its grid and its sets' degenerate faces found by whichever thread
+// asks first) answer as one thread alone does.
+TEST(FaceGrid, FaceSetSearchSharedByThreadsAnswersAsAlone) {
+    TriMesh mesh = test::grid(40, 40, [](int i, int j) { return 0.3 * std::cos(0.4 * i - 0.3 * j); });
+    mesh.triangles.push_back({7, 7, 1200});  // index-degenerate
+    std::vector<uint32_t> sets[4];
+    for (uint32_t f = 0; f < mesh.triangleCount(); ++f) sets[f % 4].push_back(f);
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> u(-2, 42), h(-1, 1);
+    std::vector<Vec3> points;
+    for (int i = 0; i < 2000; ++i) points.push_back({u(rng), u(rng), h(rng)});
+    auto answers = [&](FaceSetSearch& search, int threads) {
+        std::vector<std::pair<uint32_t, double>> out(points.size());
+        parallelFor(points.size(), threads, [&](size_t i) {
+            std::array<double, 3> bary{};
+            out[i].second = search.closest(sets[i % 4], points[i], out[i].first, bary);
+        });
+        return out;
+    };
+    FaceSetSearch alone(mesh), shared(mesh);
+    EXPECT_EQ(answers(shared, 2), answers(alone, 1));
 }

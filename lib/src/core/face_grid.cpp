@@ -156,11 +156,16 @@ bool closestFaceIn(const TriMesh& mesh, const FaceGrid& grid, const std::vector<
 double FaceSetSearch::closest(const std::vector<uint32_t>& faces, Vec3 p, uint32_t& face, std::array<double, 3>& bary) {
     double best = 1e300;
     if (faces.empty()) return best;
-    if (!grid_) grid_ = std::make_unique<FaceGrid>(mesh_);
-    auto [it, added] = degenerate_.try_emplace(&faces);
-    if (added)
-        for (uint32_t f : faces)
-            if (degenerateIndices(mesh_.triangles[f])) it->second.push_back(f);
+    std::call_once(gridBuilt_, [this] { grid_ = std::make_unique<FaceGrid>(mesh_); });
+    const std::vector<uint32_t>* degenerate = nullptr;  // a map's elements stay in place
+    {
+        const std::lock_guard<std::mutex> lock(degenerateMutex_);
+        auto [it, added] = degenerate_.try_emplace(&faces);
+        if (added)
+            for (uint32_t f : faces)
+                if (degenerateIndices(mesh_.triangles[f])) it->second.push_back(f);
+        degenerate = &it->second;
+    }
     size_t index = 0;
     std::array<double, 3> b{};
     const bool found = closestFaceIn(mesh_, *grid_, faces, p, grid_->cellSide(), index, b);
@@ -169,7 +174,7 @@ double FaceSetSearch::closest(const std::vector<uint32_t>& faces, Vec3 p, uint32
         bary = b;
         best = faceDistance2(mesh_, face, p, nullptr);
     }
-    for (uint32_t f : it->second) {
+    for (uint32_t f : *degenerate) {
         const double d = faceDistance2(mesh_, f, p, &b);
         if (d < best || (found && d == best && f < face)) {
             best = d;

@@ -162,8 +162,9 @@ bool placeLevel(const ChainInputs& in, const LevelWork& w, ChainCarry& carry, Pa
         return true;
     }
     // The level's layout UVs end with its mesh, before the bake.
-    LevelUVs luv = w.projected ? ownCharts(mesh, *page.layout, view, levelUVs(mesh, *page.layout, view, view.data))
-                               : levelUVs(mesh, *page.layout, view, view.data);
+    const int threads = in.options.threads;
+    LevelUVs luv = w.projected ? ownCharts(mesh, *page.layout, view, levelUVs(mesh, *page.layout, view, view.data, threads))
+                               : levelUVs(mesh, *page.layout, view, view.data, threads);
     clock.lap(w.time.wall.uvs, w.time.cpu.uvs);
     page.la = packLevelPage(*page.layout, luv, request, in.options, &carry.pages);
     if (request.sourceTexels && page.la.atlas.texelsPerUnit < 1) {
@@ -171,7 +172,7 @@ bool placeLevel(const ChainInputs& in, const LevelWork& w, ChainCarry& carry, Pa
         request.sourceTexels = false;
         chooseRank(in, w, carry, res);
         page.layout = &in.layouts[r.rank];
-        luv = levelUVs(mesh, *page.layout, view, view.data);
+        luv = levelUVs(mesh, *page.layout, view, view.data, threads);
         page.la = packLevelPage(*page.layout, luv, request, in.options, &carry.pages);
     }
     page.sourceTexels = r.sourceTexels = request.sourceTexels;
@@ -179,7 +180,8 @@ bool placeLevel(const ChainInputs& in, const LevelWork& w, ChainCarry& carry, Pa
     recordPage(page.la, *page.layout, r);
     carry.capPage = page.la.capPage;
     if (page.sourceTexels && page.capLayout)
-        carry.capPage = packLevelPage(*page.capLayout, levelUVs(mesh, *page.capLayout, view, view.data), request, in.options, &carry.pages).capPage;
+        carry.capPage = packLevelPage(*page.capLayout, levelUVs(mesh, *page.capLayout, view, view.data, threads), request, in.options, &carry.pages)
+                             .capPage;
     carry.pages.forgetLarge();
     r.absorbedIslands = luv.absorbedIslands;
     if (w.original && w.k == 0) return false;

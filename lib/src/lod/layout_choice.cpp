@@ -86,8 +86,8 @@ LayoutChoice chooseLayoutByBake(const BakeSources& sources, std::vector<LayoutDa
     std::vector<RankCandidate> candidates;
     for (uint32_t rank : planned.eligibleRanks) {
         LayoutData& lay = layouts[rank];
-        const LevelUVs luv = projected ? ownCharts(mesh, lay, view, levelUVs(mesh, lay, view, view.data))
-                                       : levelUVs(mesh, lay, view, view.data);
+        const LevelUVs luv = projected ? ownCharts(mesh, lay, view, levelUVs(mesh, lay, view, view.data, options.threads))
+                                       : levelUVs(mesh, lay, view, view.data, options.threads);
         const LevelAtlas la = packLevelPage(lay, luv, request, half);
         const int w = la.atlas.width, h = la.atlas.height, size = std::max(w, h);
         LodLevelData L;

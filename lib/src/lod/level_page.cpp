@@ -10,6 +10,7 @@
 #include "lodbake/core/errors.h"
 #include "lodbake/core/face_grid.h"
 #include "lodbake/core/math.h"
+#include "lodbake/core/parallel.h"
 #include "lod/level_islands.h"
 #include "lod/level_plan.h"
 
@@ -88,7 +89,7 @@ std::vector<LayoutData> layoutsOf(const Asset& asset, const Multires& mr, bool h
 // surface: the level UVs parameterize writes and guards against folds for that layout. A level
 // triangle with an island's vertex triple takes the island (parameterize's fallback for a level
 // triangle that would fold in its chart).
-LevelUVs levelUVs(const TriMesh& mesh, const LayoutData& L, const LevelView& lv, const Level* level) {
+LevelUVs levelUVs(const TriMesh& mesh, const LayoutData& L, const LevelView& lv, const Level* level, int threads) {
     const ChartLayout& ch = *L.ch;
     LevelUVs out;
     const size_t n = lv.triangles.size();
@@ -102,33 +103,58 @@ LevelUVs levelUVs(const TriMesh& mesh, const LayoutData& L, const LevelView& lv,
         return out;
     }
     out.chart = levelTriangleCharts(mesh, ch.faceChart, ch.chartCount, *level);
-    std::map<std::pair<uint32_t, uint32_t>, Vec2> projected;
+    // (1) Islands and the corners their chart holds; the others, (chart << 32 | vertex), listed
+    // per chunk of triangles and marked in `outsideCorners` (bit j of triangle t).
+    constexpr size_t kChunk = 16384;
+    std::vector<std::vector<uint64_t>> outside(chunkCount(n, kChunk));
+    std::vector<uint8_t> outsideCorners(n, 0);
+    parallelChunks(n, kChunk, threads, [&](size_t begin, size_t end, size_t) {
+        std::vector<uint64_t>& list = outside[begin / kChunk];
+        for (size_t t = begin; t < end; ++t) {
+            if (!L.island.empty()) {
+                auto isl = L.island.find(islandKey(lv.triangles[t]));
+                if (isl != L.island.end()) {
+                    const LayoutIsland& island = ch.islands[isl->second];
+                    out.chart[t] = ch.chartCount + isl->second;
+                    for (size_t j = 0; j < 3; ++j) out.uv[t][j] = island.uvOf(lv.triangles[t][j]);
+                    continue;
+                }
+            }
+            const uint32_t c = out.chart[t];
+            for (size_t j = 0; j < 3; ++j) {
+                const uint32_t v = lv.triangles[t][j];
+                if (L.lookup->has(v, c)) {
+                    out.uv[t][j] = (*L.lookup)(v, c);
+                } else {
+                    outsideCorners[t] |= uint8_t(1u << j);
+                    list.push_back(uint64_t(c) << 32 | v);
+                }
+            }
+        }
+    });
+    // (2) Each outside corner's UV: the closest point of its chart's surface, once per pair.
+    std::vector<uint64_t> pairs;
+    for (std::vector<uint64_t>& list : outside) pairs.insert(pairs.end(), list.begin(), list.end()), std::vector<uint64_t>().swap(list);
+    std::sort(pairs.begin(), pairs.end());
+    pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+    // The search's grid over the original is built for the first pair and freed with it: held
+    // for the whole chain it would sit under every later peak.
     FaceSetSearch search(mesh);
-    for (size_t t = 0; t < n; ++t) {
-        if (!L.island.empty()) {
-            auto isl = L.island.find(islandKey(lv.triangles[t]));
-            if (isl != L.island.end()) {
-                const LayoutIsland& island = ch.islands[isl->second];
-                out.chart[t] = ch.chartCount + isl->second;
-                for (size_t j = 0; j < 3; ++j) out.uv[t][j] = island.uvOf(lv.triangles[t][j]);
-                continue;
-            }
-        }
-        uint32_t c = out.chart[t];
-        for (size_t j = 0; j < 3; ++j) {
-            uint32_t v = lv.triangles[t][j];
-            if (L.lookup->has(v, c)) {
-                out.uv[t][j] = (*L.lookup)(v, c);
-                continue;
-            }
-            auto it = projected.find({c, v});
-            if (it == projected.end()) {
-                Vec2 uv = search.closestUV(ch.cornerUV, L.chartFaces[c], mesh.positions[v]);
-                it = projected.emplace(std::make_pair(c, v), uv).first;
-            }
-            out.uv[t][j] = it->second;
-        }
-    }
+    std::vector<Vec2> projected(pairs.size());
+    parallelFor(pairs.size(), threads, [&](size_t i) {
+        const uint32_t c = uint32_t(pairs[i] >> 32), v = uint32_t(pairs[i]);
+        projected[i] = search.closestUV(ch.cornerUV, L.chartFaces[c], mesh.positions[v]);
+    });
+    // (3) The marked corners take them.
+    if (!pairs.empty())
+        parallelChunks(n, kChunk, threads, [&](size_t begin, size_t end, size_t) {
+            for (size_t t = begin; t < end; ++t)
+                for (size_t j = 0; j < 3; ++j)
+                    if (outsideCorners[t] >> j & 1u) {
+                        const uint64_t key = uint64_t(out.chart[t]) << 32 | lv.triangles[t][j];
+                        out.uv[t][j] = projected[size_t(std::lower_bound(pairs.begin(), pairs.end(), key) - pairs.begin())];
+                    }
+        });
     return out;
 }
 

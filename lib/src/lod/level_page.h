@@ -63,8 +63,9 @@ struct LevelUVs {
 };
 
 // The layout UVs of every corner of level `lv` (`level`: its multires level, null for the original
-// triangles).
-LevelUVs levelUVs(const TriMesh& mesh, const LayoutData& L, const LevelView& lv, const Level* level);
+// triangles). `threads` split the level's triangles and corner projections (never changes the
+// UVs).
+LevelUVs levelUVs(const TriMesh& mesh, const LayoutData& L, const LevelView& lv, const Level* level, int threads);
 
 // A level baked by projection: islands unfolded onto neighbouring charts (level_islands.h).
 LevelUVs ownCharts(const TriMesh& mesh, const LayoutData& L, const LevelView& lv, LevelUVs luv);

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <vector>
 
 #include "lodbake/core/mesh.h"
@@ -94,6 +95,7 @@ bool closestFaceIn(const TriMesh& mesh, const FaceGrid& grid, const std::vector<
 // for many points, each point measuring only the faces near it: closestFaceIn over the faces the
 // grid lists, and a set's index-degenerate faces (the grid lists none) measured beside them, ties
 // to the lower id as the scan breaks them. The grid is built over the mesh on the first query.
+// Threads may query one search at once.
 class FaceSetSearch {
 public:
     explicit FaceSetSearch(const TriMesh& mesh) : mesh_(mesh) {}
@@ -111,7 +113,9 @@ public:
 
 private:
     const TriMesh& mesh_;
+    std::once_flag gridBuilt_;
     std::unique_ptr<FaceGrid> grid_;
+    std::mutex degenerateMutex_;
     std::map<const std::vector<uint32_t>*, std::vector<uint32_t>> degenerate_;  // per set asked for
 };
 
