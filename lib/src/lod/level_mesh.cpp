@@ -3,6 +3,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <map>
 #include <tuple>
 #include <unordered_map>
@@ -66,6 +67,33 @@ void splitRoundedSliverCorners(const std::vector<std::array<Vec2, 3>>& placed, L
         idx[k] = copy;
     }
 }
+
+// What a level vertex is welded by: vertex, chart, normal, chart UV (a level's own charts may give
+// a vertex two UVs in one chart), influences. Keys are equal by value (+0 and -0 alike); the
+// vertices are numbered in the order their first corner comes, whatever the table's order.
+using CornerKey = std::tuple<uint32_t, uint32_t, float, float, float, double, double, uint32_t>;
+
+struct CornerKeyHash {
+    size_t operator()(const CornerKey& k) const {
+        uint64_t h = 0;
+        auto mix = [&h](uint64_t x) { h = (h ^ x) * 0x9E3779B97F4A7C15ull + (h >> 29); };
+        auto bitsOf = [](auto x) {  // + 0 turns -0 into +0
+            x += decltype(x)(0);
+            uint64_t b = 0;
+            std::memcpy(&b, &x, sizeof x);
+            return b;
+        };
+        mix(std::get<0>(k));
+        mix(std::get<1>(k));
+        mix(bitsOf(std::get<2>(k)));
+        mix(bitsOf(std::get<3>(k)));
+        mix(bitsOf(std::get<4>(k)));
+        mix(bitsOf(std::get<5>(k)));
+        mix(bitsOf(std::get<6>(k)));
+        mix(std::get<7>(k));
+        return size_t(h ^ (h >> 32));
+    }
+};
 
 }  // namespace
 
@@ -144,10 +172,8 @@ void buildLevelMesh(const Asset& asset, const LevelView& lv, const LevelUVs& luv
     auto pushDeltas = [&](const std::vector<Vec3>& d, std::vector<float>& to, uint32_t w) {
         if (!d.empty()) to.insert(to.end(), {float(d[w].x), float(d[w].y), float(d[w].z)});
     };
-    // vertex, chart, normal, chart UV (a level's own charts may give a vertex two UVs in one
-    // chart), influences
-    using Key = std::tuple<uint32_t, uint32_t, float, float, float, double, double, uint32_t>;
-    std::map<Key, uint32_t> index;
+    std::unordered_map<CornerKey, uint32_t, CornerKeyHash> index;
+    index.reserve(lv.triangles.size());
     for (size_t t = 0; t < lv.triangles.size(); ++t) {
         uint32_t c = luv.chart[t];
         const ChartPlacement& P = a.charts[size_t(la.chartSlot[c])];
@@ -161,7 +187,7 @@ void buildLevelMesh(const Asset& asset, const LevelView& lv, const LevelUVs& luv
                 n = length(fn) > 0.5 ? fn : Vec3{0, 0, 1};
             }
             const uint32_t w = lv.cornerWedges[t][j];
-            Key key{v, c, float(n.x), float(n.y), float(n.z), luv.uv[t][j].x, luv.uv[t][j].y, motionOf(w)};
+            CornerKey key{v, c, float(n.x), float(n.y), float(n.z), luv.uv[t][j].x, luv.uv[t][j].y, motionOf(w)};
             auto [it, inserted] = index.emplace(key, uint32_t(out.positions.size() / 3));
             if (inserted) {
                 const Vec3& p = positions[v];
