@@ -243,20 +243,26 @@ private:
     void build(const std::vector<Triangle>& triangles, int threads) {
         const size_t n = triangles.size();
         if (n == 0) return;
-        double scale = 0;
         std::vector<std::array<double, 6>> box(n);
         std::vector<std::array<double, 3>> centre(n);
-        for (size_t t = 0; t < n; ++t) {
-            std::array<double, 6> b{};
-            for (int a = 0; a < 3; ++a) {
-                const double x = triangles[t].vertex(0)[a], y = triangles[t].vertex(1)[a], z = triangles[t].vertex(2)[a];
-                b[size_t(a)] = std::min({x, y, z});
-                b[size_t(a) + 3] = std::max({x, y, z});
-                centre[t][size_t(a)] = 0.5 * (b[size_t(a)] + b[size_t(a) + 3]);
-                scale = std::max({scale, std::abs(b[size_t(a)]), std::abs(b[size_t(a) + 3])});
+        constexpr size_t kChunk = 65536;  // triangles per task of the per-triangle loops
+        std::vector<double> chunkScale(chunkCount(n, kChunk), 0);
+        parallelChunks(n, kChunk, threads, [&](size_t begin, size_t end, size_t) {
+            double scale = 0;
+            for (size_t t = begin; t < end; ++t) {
+                std::array<double, 6> b{};
+                for (int a = 0; a < 3; ++a) {
+                    const double x = triangles[t].vertex(0)[a], y = triangles[t].vertex(1)[a], z = triangles[t].vertex(2)[a];
+                    b[size_t(a)] = std::min({x, y, z});
+                    b[size_t(a) + 3] = std::max({x, y, z});
+                    centre[t][size_t(a)] = 0.5 * (b[size_t(a)] + b[size_t(a) + 3]);
+                    scale = std::max({scale, std::abs(b[size_t(a)]), std::abs(b[size_t(a) + 3])});
+                }
+                box[t] = b;
             }
-            box[t] = b;
-        }
+            chunkScale[begin / kChunk] = scale;
+        });
+        const double scale = *std::max_element(chunkScale.begin(), chunkScale.end());
         const double widen = 1e-9 * scale;
         tiny2_ = widen * widen;
         widen_ = widen;
@@ -368,12 +374,14 @@ private:
             return index;
         };
         lay(lay);
-        boxes_.reserve(n);
-        planes_.reserve(n);
-        for (uint32_t t : order) {
-            boxes_.push_back(toBox(box[t]));
-            planes_.push_back(planeOf(triangles[t]));
-        }
+        boxes_.resize(n);
+        planes_.resize(n);
+        parallelChunks(n, kChunk, threads, [&](size_t begin, size_t end, size_t) {
+            for (size_t i = begin; i < end; ++i) {
+                boxes_[i] = toBox(box[order[i]]);
+                planes_[i] = planeOf(triangles[order[i]]);
+            }
+        });
         input_ = order;
         tieRank_ = order;
     }
