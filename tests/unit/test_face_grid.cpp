@@ -210,3 +210,25 @@ TEST(FaceGrid, FaceSetSearchSharedByThreadsAnswersAsAlone) {
     FaceSetSearch alone(mesh), shared(mesh);
     EXPECT_EQ(answers(shared, 2), answers(alone, 1));
 }
+
+// A grid built in parts (its faces counted and listed side by side) lists each cell's faces in
+// ascending ids, as one pass over them does, whatever the threads: a point's cell is visited in
+// ascending order, and any box's visits come in the same sequence on 1 and 3 threads.
+TEST(FaceGrid, BuiltInPartsListsEachCellInFaceOrder) {
+    const TriMesh mesh = test::grid(300, 300, [](int i, int j) { return 0.5 * std::sin(0.05 * i) * std::cos(0.07 * j); });
+    ASSERT_GT(mesh.triangleCount(), 2u * 65536u);  // two parts or more
+    const FaceGrid one(mesh, 1.0, 1), three(mesh, 1.0, 3);
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> u(-5, 305), r(0.1, 20);
+    for (int q = 0; q < 200; ++q) {
+        const Vec3 c{u(rng), u(rng), 0};
+        std::vector<uint32_t> cell;
+        three.forEachFaceIn(c, c, [&](uint32_t f) { cell.push_back(f); });
+        EXPECT_TRUE(std::is_sorted(cell.begin(), cell.end()));
+        const double h = r(rng);
+        std::vector<uint32_t> a, b;
+        one.forEachFaceIn(c - Vec3{h, h, 1}, c + Vec3{h, h, 1}, [&](uint32_t f) { a.push_back(f); });
+        three.forEachFaceIn(c - Vec3{h, h, 1}, c + Vec3{h, h, 1}, [&](uint32_t f) { b.push_back(f); });
+        ASSERT_EQ(a, b);
+    }
+}

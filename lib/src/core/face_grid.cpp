@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "lodbake/core/closest_point.h"
+#include "lodbake/core/parallel.h"
 
 namespace lodbake {
 
@@ -16,15 +17,19 @@ std::vector<uint32_t> indexedFaces(const TriMesh& mesh) {
     return out;
 }
 
-FaceGrid::FaceGrid(const TriMesh& mesh, double cellsPerFace) : FaceGrid(mesh, indexedFaces(mesh), mesh.triangleCount(), cellsPerFace) {}
+FaceGrid::FaceGrid(const TriMesh& mesh, double cellsPerFace, int threads)
+    : FaceGrid(mesh, indexedFaces(mesh), mesh.triangleCount(), cellsPerFace, threads) {}
 
-FaceGrid::FaceGrid(const TriMesh& mesh, const std::vector<uint32_t>& faces, double cellsPerFace)
-    : FaceGrid(mesh, faces, faces.size(), cellsPerFace) {}
+FaceGrid::FaceGrid(const TriMesh& mesh, const std::vector<uint32_t>& faces, double cellsPerFace, int threads)
+    : FaceGrid(mesh, faces, faces.size(), cellsPerFace, threads) {}
 
-FaceGrid::FaceGrid(const TriMesh& mesh, const std::vector<uint32_t>& held, size_t nf, double cellsPerFace) {
+FaceGrid::FaceGrid(const TriMesh& mesh, const std::vector<uint32_t>& held, size_t nf, double cellsPerFace, int threads) {
     const Box3 box = bounds(mesh);
     boxes_.resize(mesh.triangleCount());
-    for (uint32_t f = 0; f < mesh.triangleCount(); ++f) boxes_[f] = faceBox(mesh, f);
+    constexpr size_t kChunk = 65536;
+    parallelChunks(mesh.triangleCount(), kChunk, threads, [&](size_t begin, size_t end, size_t) {
+        for (size_t f = begin; f < end; ++f) boxes_[f] = faceBox(mesh, uint32_t(f));
+    });
     if (box.empty() || nf == 0) {
         start_.assign(2, 0);
         return;
@@ -37,7 +42,6 @@ FaceGrid::FaceGrid(const TriMesh& mesh, const std::vector<uint32_t>& held, size_
     cell_ = std::max({cell_, box.longestSide() / 2048.0, 1e-12});
     for (int a = 0; a < 3; ++a) n_[a] = std::max(1, int(std::ceil(ext[a] / cell_)));
     const size_t cells = size_t(n_[0]) * size_t(n_[1]) * size_t(n_[2]);
-    std::vector<uint32_t> count(cells + 1, 0);
     auto forCells = [&](uint32_t f, auto&& fn) {
         const auto& b = boxes_[f];
         int lo[3], hi[3];
@@ -46,12 +50,26 @@ FaceGrid::FaceGrid(const TriMesh& mesh, const std::vector<uint32_t>& held, size_
             for (int y = lo[1]; y <= hi[1]; ++y)
                 for (int x = lo[0]; x <= hi[0]; ++x) fn((size_t(z) * size_t(n_[1]) + size_t(y)) * size_t(n_[0]) + size_t(x));
     };
-    for (uint32_t f : held) forCells(f, [&](size_t c) { ++count[c + 1]; });
-    for (size_t c = 0; c < cells; ++c) count[c + 1] += count[c];
-    start_ = count;
+    // `held` in a fixed number of consecutive parts, counted and filled side by side: each cell
+    // lists part 0's faces first, then part 1's, ..., so in held's order as one pass lists them.
+    const size_t parts = std::clamp<size_t>(held.size() / kChunk, 1, 4);
+    auto partRange = [&](size_t p) { return std::pair<size_t, size_t>{held.size() * p / parts, held.size() * (p + 1) / parts}; };
+    std::vector<std::vector<uint32_t>> slot(parts, std::vector<uint32_t>(cells, 0));  // counts, then where the part's next face goes
+    parallelFor(parts, threads, [&](size_t p) {
+        const auto [begin, end] = partRange(p);
+        for (size_t i = begin; i < end; ++i) forCells(held[i], [&](size_t c) { ++slot[p][c]; });
+    });
+    start_.assign(cells + 1, 0);
+    for (size_t c = 0; c < cells; ++c) {
+        uint32_t at = start_[c];
+        for (size_t p = 0; p < parts; ++p) std::swap(slot[p][c], at), at += slot[p][c];
+        start_[c + 1] = at;
+    }
     faces_.resize(start_[cells]);
-    std::vector<uint32_t> fill(start_.begin(), start_.end() - 1);
-    for (uint32_t f : held) forCells(f, [&](size_t c) { faces_[fill[c]++] = f; });
+    parallelFor(parts, threads, [&](size_t p) {
+        const auto [begin, end] = partRange(p);
+        for (size_t i = begin; i < end; ++i) forCells(held[i], [&](size_t c) { faces_[slot[p][c]++] = held[i]; });
+    });
 }
 
 void FaceGrid::cellRange(Vec3 lo, Vec3 hi, int (&a)[3], int (&b)[3]) const {
@@ -156,7 +174,7 @@ bool closestFaceIn(const TriMesh& mesh, const FaceGrid& grid, const std::vector<
 double FaceSetSearch::closest(const std::vector<uint32_t>& faces, Vec3 p, uint32_t& face, std::array<double, 3>& bary) {
     double best = 1e300;
     if (faces.empty()) return best;
-    std::call_once(gridBuilt_, [this] { grid_ = std::make_unique<FaceGrid>(mesh_); });
+    std::call_once(gridBuilt_, [this] { grid_ = std::make_unique<FaceGrid>(mesh_, 1.0, threads_); });
     const std::vector<uint32_t>* degenerate = nullptr;  // a map's elements stay in place
     {
         const std::lock_guard<std::mutex> lock(degenerateMutex_);

@@ -221,7 +221,7 @@ void bakeLevel(const ChainInputs& in, const LevelWork& w, ChainCarry& carry, Pac
     const bool repeat = w.projected && previous && reach == carry.previousReach && la.atlas.width == res.reports[k - 1].width &&
                         la.atlas.height == res.reports[k - 1].height && sameLevelMesh(L, *previous);
     const bool bakes = !repeat && !tiled && bakesAnImage(in.materials, channels);  // else factors only
-    if (w.projected && !carry.grid && (bakes || (!repeat && !tiled && !in.variants.empty()))) carry.grid.emplace(projectionGrid(in.asset.mesh));
+    if (w.projected && !carry.grid && (bakes || (!repeat && !tiled && !in.variants.empty()))) carry.grid.emplace(projectionGrid(in.asset.mesh, in.options.threads));
     auto bake = [&](const BakeSources& s, const BakeChannels& c) {
         return w.projected ? bakeProjected(s, *carry.grid, L, front, la.atlas.width, la.atlas.height, reach, res.diagonal, c,
                                            targetOrNull, options.threads)

@@ -39,7 +39,7 @@ LayoutChoice chooseLayoutByBake(const BakeSources& sources, std::vector<LayoutDa
     const size_t k = level.index;
     const bool normal = level.normalMap, projected = level.projected;
     if (!level.colorTexture && !normal) return unscoredChoice(planned);
-    if (!grid) grid.emplace(projectionGrid(mesh));
+    if (!grid) grid.emplace(projectionGrid(mesh, options.threads));
     BakeChannels channels;  // base colour, and the normal map
     channels.normal = normal;
     const double reach = projectionReach(level.hausdorff, res.diagonal);  // the level bake's

@@ -139,7 +139,7 @@ LevelUVs levelUVs(const TriMesh& mesh, const LayoutData& L, const LevelView& lv,
     pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
     // The search's grid over the original is built for the first pair and freed with it: held
     // for the whole chain it would sit under every later peak.
-    FaceSetSearch search(mesh);
+    FaceSetSearch search(mesh, threads);
     std::vector<Vec2> projected(pairs.size());
     parallelFor(pairs.size(), threads, [&](size_t i) {
         const uint32_t c = uint32_t(pairs[i] >> 32), v = uint32_t(pairs[i]);

@@ -67,7 +67,9 @@ BakeResult bakePage(const BakeSources& sources, LayoutData& L, const LevelAtlas&
     return bakeMaterial(sources, uv, bo, islands, target);
 }
 
-FaceGrid projectionGrid(const TriMesh& mesh) { return FaceGrid(mesh, withoutCopies(mesh, indexedFaces(mesh))); }
+FaceGrid projectionGrid(const TriMesh& mesh, int threads) {
+    return FaceGrid(mesh, withoutCopies(mesh, indexedFaces(mesh)), 1.0, threads);
+}
 
 BakeResult bakeProjected(const BakeSources& sources, const FaceGrid& grid, const LodLevelData& L, size_t front, int width,
                          int height, double reach, double diagonal, const BakeChannels& channels, const BakeTarget* target,

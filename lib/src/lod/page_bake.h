@@ -35,7 +35,7 @@ BakeResult bakePage(const BakeSources& sources, LayoutData& L, const LevelAtlas&
 // over the index-valid faces in id order). A copy loses every closest-point tie to the first face
 // at its place, and every filter of the search keeps or drops a face's copies with it, so no bake
 // answer changes, while an instanced part's k copies cost one face in every search.
-FaceGrid projectionGrid(const TriMesh& mesh);
+FaceGrid projectionGrid(const TriMesh& mesh, int threads);
 
 // The projection bake of a coarse level: every level triangle is an island of the page (its own
 // 3D triangle at its page UVs) whose texels show the original surface at the closest point, found

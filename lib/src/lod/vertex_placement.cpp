@@ -263,7 +263,7 @@ PlacementResult placeLevelVertices(const TriMesh& original, const DistanceRefere
         std::unique_ptr<FaceGrid> currentGrid;
         std::unique_ptr<BoxedFaces> currentFaces;
         if (nt > kSmallLevel) {
-            currentGrid = std::make_unique<FaceGrid>(current);
+            currentGrid = std::make_unique<FaceGrid>(current, 1.0, options.threads);
         } else {
             std::vector<uint32_t> all(nt);
             for (uint32_t t = 0; t < nt; ++t) all[t] = t;

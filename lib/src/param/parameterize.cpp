@@ -50,7 +50,7 @@ ParameterizeResult parameterize(const TriMesh& mesh, const Multires& multires, c
     // charts are solved, the run's peak); the typical face size is where those queries' search
     // boxes start.
     const double radius = typicalFaceSize(mesh);
-    std::vector<LocalChart> charts = localCharts(mesh, multires, res.charts, FaceGrid(mesh), radius);  // (2)
+    std::vector<LocalChart> charts = localCharts(mesh, multires, res.charts, FaceGrid(mesh, 1.0, options.threads), radius);  // (2)
     solveCharts(charts, options, res);                                         // (3)
     splitFailedCharts(mesh, options, charts, res);                             // (3b)
     if (!options.layout) {

@@ -21,11 +21,12 @@ std::vector<uint32_t> indexedFaces(const TriMesh& mesh);
 
 class FaceGrid {
 public:
-    // About `cellsPerFace` cells per face over the mesh's bounding box (degenerate faces skipped).
-    explicit FaceGrid(const TriMesh& mesh, double cellsPerFace = 1.0);
+    // About `cellsPerFace` cells per face over the mesh's bounding box (degenerate faces skipped),
+    // built on `threads` threads (0 = all cores; the same grid for any count).
+    explicit FaceGrid(const TriMesh& mesh, double cellsPerFace = 1.0, int threads = 1);
     // Only `faces` (ascending ids, none index-degenerate), about `cellsPerFace` cells per listed
     // face; the boxes span the whole mesh's bounding box.
-    FaceGrid(const TriMesh& mesh, const std::vector<uint32_t>& faces, double cellsPerFace = 1.0);
+    FaceGrid(const TriMesh& mesh, const std::vector<uint32_t>& faces, double cellsPerFace = 1.0, int threads = 1);
     // Ids of every face whose bounding box overlaps box [lo, hi], ascending.
     std::vector<uint32_t> facesIn(Vec3 lo, Vec3 hi) const;
     // visit(f) once for every face facesIn(lo, hi) lists, in cell order (not ascending): for
@@ -50,7 +51,7 @@ private:
     std::vector<uint32_t> faces_;
     std::vector<std::array<double, 6>> boxes_;
     // The faces `held` listed, with cells sized for `nf` faces.
-    FaceGrid(const TriMesh& mesh, const std::vector<uint32_t>& held, size_t nf, double cellsPerFace);
+    FaceGrid(const TriMesh& mesh, const std::vector<uint32_t>& held, size_t nf, double cellsPerFace, int threads);
     void cellRange(Vec3 lo, Vec3 hi, int (&a)[3], int (&b)[3]) const;
 };
 
@@ -98,7 +99,8 @@ bool closestFaceIn(const TriMesh& mesh, const FaceGrid& grid, const std::vector<
 // Threads may query one search at once.
 class FaceSetSearch {
 public:
-    explicit FaceSetSearch(const TriMesh& mesh) : mesh_(mesh) {}
+    // `threads` build the grid.
+    explicit FaceSetSearch(const TriMesh& mesh, int threads = 1) : mesh_(mesh), threads_(threads) {}
     // The squared distance to the closest point of `faces` (1e300 when none); `face` and `bary`
     // receive it. A set is known by its address: it stays in place while the search lives.
     double closest(const std::vector<uint32_t>& faces, Vec3 p, uint32_t& face, std::array<double, 3>& bary);
@@ -113,6 +115,7 @@ public:
 
 private:
     const TriMesh& mesh_;
+    int threads_ = 1;
     std::once_flag gridBuilt_;
     std::unique_ptr<FaceGrid> grid_;
     std::mutex degenerateMutex_;
