@@ -321,28 +321,72 @@ public:
     }
     bool worthwhile() const { return classes_ * 2 <= faceClass_.size(); }
 
-    // The memoised shape of `faces`, measuring it on the first request.
+    // The memoised shape of the union of two disjoint sorted face lists (the faces of a candidate
+    // merge), measuring it on the first request: measure() builds the union itself, so a shape met
+    // before (most of them, on a mesh of copies) costs one pass over the two lists and one probe.
     template <class MeasureFn>
-    const Shape& shape(const std::vector<uint32_t>& faces, MeasureFn&& measure) {
-        key_.resize(faces.size());
-        for (size_t i = 0; i < faces.size(); ++i) key_[i] = faceClass_[faces[i]];
-        auto it = shapes_.find(key_);
-        if (it == shapes_.end()) it = shapes_.emplace(key_, measure()).first;
-        return it->second;
+    Shape shape(const std::vector<uint32_t>& a, const std::vector<uint32_t>& b, MeasureFn&& measure) {
+        // The key (the union's face classes in face order) and its hash, in one merge.
+        const size_t n = a.size() + b.size();
+        key_.resize(n);
+        uint64_t h = 0x9E3779B97F4A7C15ull ^ n;
+        size_t i = 0, j = 0, k = 0;
+        for (; i < a.size() && j < b.size(); ++k) {
+            const uint32_t c = faceClass_[b[j] < a[i] ? b[j++] : a[i++]];
+            key_[k] = c;
+            h = (h ^ c) * 0xFF51AFD7ED558CCDull;
+        }
+        for (; i < a.size(); ++i, ++k) key_[k] = faceClass_[a[i]], h = (h ^ key_[k]) * 0xFF51AFD7ED558CCDull;
+        for (; j < b.size(); ++j, ++k) key_[k] = faceClass_[b[j]], h = (h ^ key_[k]) * 0xFF51AFD7ED558CCDull;
+        h ^= h >> 32;
+        if (slots_.empty()) slots_.assign(1024, Slot{});
+        const size_t mask = slots_.size() - 1;
+        for (size_t s = size_t(h) & mask;; s = (s + 1) & mask) {
+            Slot& slot = slots_[s];
+            if (slot.length == kEmpty) break;
+            if (slot.hash == h && slot.length == n && std::equal(key_.begin(), key_.end(), keys_.begin() + std::ptrdiff_t(slot.start)))
+                return slot.shape;
+        }
+        const Shape measured = measure();
+        insert({h, keys_.size(), uint32_t(n), measured});
+        keys_.insert(keys_.end(), key_.begin(), key_.end());
+        return measured;
     }
-    void clear() { shapes_.clear(); }
+    void clear() {
+        std::vector<Slot>().swap(slots_);
+        std::vector<uint32_t>().swap(keys_);
+        used_ = 0;
+    }
 
 private:
-    struct KeyHash {
-        size_t operator()(const std::vector<uint32_t>& k) const {
-            uint64_t h = 0x9E3779B97F4A7C15ull ^ k.size();
-            for (uint32_t x : k) h = (h ^ x) * 0xFF51AFD7ED558CCDull;
-            return size_t(h ^ (h >> 32));
-        }
+    static constexpr uint32_t kEmpty = UINT32_MAX;
+    // An open-addressed table of the shapes measured (linear probing, at most half full); the keys
+    // sit one after another in keys_.
+    struct Slot {
+        uint64_t hash = 0;
+        size_t start = 0;  // of the key in keys_
+        uint32_t length = kEmpty;
+        Shape shape;
     };
+    void insert(const Slot& e) {
+        if (2 * (used_ + 1) > slots_.size()) {
+            std::vector<Slot> old(slots_.size() * 2);
+            old.swap(slots_);
+            used_ = 0;
+            for (const Slot& o : old)
+                if (o.length != kEmpty) insert(o);
+        }
+        const size_t mask = slots_.size() - 1;
+        size_t s = size_t(e.hash) & mask;
+        while (slots_[s].length != kEmpty) s = (s + 1) & mask;
+        slots_[s] = e;
+        ++used_;
+    }
     std::vector<uint32_t> faceClass_, key_;
     size_t classes_ = 0;
-    std::unordered_map<std::vector<uint32_t>, Shape, KeyHash> shapes_;
+    std::vector<Slot> slots_;
+    std::vector<uint32_t> keys_;
+    size_t used_ = 0;
 };
 
 // Connected components of `faces` (edge adjacency restricted to the set), each sorted.
@@ -564,13 +608,22 @@ ChartResult buildCharts(const TriMesh& mesh, const std::vector<uint32_t>& faceRe
         std::sort(out.begin(), out.end());
         out.erase(std::unique(out.begin(), out.end()), out.end());
     }
-    // Resolves chart c's list to current charts, sorted and without c.
+    // Resolves chart c's list to current charts, sorted and without c. A merged chart's list holds
+    // many ids that resolve alike (a face of coincident copies borders hundreds of charts): they
+    // are dropped before the sort, through the stamp of the last list each chart entered.
+    std::vector<uint32_t> listedIn(charts.size(), UINT32_MAX);
+    uint32_t listing = 0;
     auto neighbours = [&](uint32_t c) -> const std::vector<uint32_t>& {
         std::vector<uint32_t>& out = chartNeighbours[c];
-        for (uint32_t& o : out) o = owner(o);
+        ++listing;
+        listedIn[c] = listing;
+        size_t kept = 0;
+        for (uint32_t o : out) {
+            o = owner(o);
+            if (listedIn[o] != listing) listedIn[o] = listing, out[kept++] = o;
+        }
+        out.resize(kept);
         std::sort(out.begin(), out.end());
-        out.erase(std::unique(out.begin(), out.end()), out.end());
-        out.erase(std::remove(out.begin(), out.end(), c), out.end());
         return out;
     };
     auto mergedFaces = [&](uint32_t a, uint32_t b) {
@@ -592,13 +645,15 @@ ChartResult buildCharts(const TriMesh& mesh, const std::vector<uint32_t>& faceRe
         std::vector<Candidate> batch;  // the candidates of the chart being (re)listed
         auto push = [&](uint32_t a, uint32_t b) {
             if (a > b) std::swap(a, b);
-            merged.clear();
-            std::merge(charts[a].faces.begin(), charts[a].faces.end(), charts[b].faces.begin(), charts[b].faces.end(),
-                       std::back_inserter(merged));
             // The relaxed phase ignores the normal-cone and E_region limits, never the disk rule.
             const ShapeLimits limits = relaxed ? ShapeLimits{} : ShapeLimits{options.maxNormalConeDegrees, options.maxRegionEnergy};
-            auto measure = [&] { return measurer.measure(merged, totalArea, diagonal, true, limits); };
-            const Shape s = useMemo ? memo.shape(merged, measure) : measure();
+            auto measure = [&] {
+                merged.clear();
+                std::merge(charts[a].faces.begin(), charts[a].faces.end(), charts[b].faces.begin(), charts[b].faces.end(),
+                           std::back_inserter(merged));
+                return measurer.measure(merged, totalArea, diagonal, true, limits);
+            };
+            const Shape s = useMemo ? memo.shape(charts[a].faces, charts[b].faces, measure) : measure();
             if (s.overLimits || !s.disk) return;
             batch.push_back({s.energy, a, b, charts[a].version, charts[b].version});
         };
