@@ -3,7 +3,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <string>
+#include <vector>
+
+#include "lodbake/core/parallel.h"
 
 #include "lod/level_mesh.h"
 #include "lod/page_bake.h"
@@ -15,6 +19,9 @@ namespace {
 // Scored pages are packed at half the level's page side, and below this side when that is larger
 // (texels): a 2048 page (LOD0 when the source texels do not fit) is scored at 512 a side.
 constexpr double kScoredMaxSide = 512;
+// Candidates scored side by side: at most this many, of a level of at most this many triangles.
+constexpr size_t kSideBySideCandidates = 4;
+constexpr size_t kSideBySideTriangles = 200000;
 
 // The choice between pages that would all bake one colour: every candidate deviates 0, so the
 // energy rule's pick stands (the candidates are listed unscored: no page).
@@ -83,8 +90,12 @@ LayoutChoice chooseLayoutByBake(const BakeSources& sources, std::vector<LayoutDa
         const std::array<int, 2>& f = level.finerPage;
         request.finerPage = std::array<int, 2>{int(std::ceil(f[0] * scale)), int(std::ceil(f[1] * scale))};
     }
-    std::vector<RankCandidate> candidates;
-    for (uint32_t rank : planned.eligibleRanks) {
+    // Each candidate's score: its layout's UVs, page, mesh and bake, and the bake's deviation from
+    // the probe's.
+    const std::vector<uint32_t>& ranks = planned.eligibleRanks;
+    std::vector<RankCandidate> candidates(ranks.size());
+    auto score = [&](size_t i) {
+        const uint32_t rank = ranks[i];
         LayoutData& lay = layouts[rank];
         const LevelUVs luv = projected ? ownCharts(mesh, lay, view, levelUVs(mesh, lay, view, view.data))
                                        : levelUVs(mesh, lay, view, view.data);
@@ -110,7 +121,32 @@ LayoutChoice chooseLayoutByBake(const BakeSources& sources, std::vector<LayoutDa
         c.width = w;
         c.height = h;
         c.charts = la.charts;
-        candidates.push_back(c);
+        candidates[i] = c;
+    };
+    // The candidates are independent (each reads and fills only its own layout; the source images
+    // decode once, whichever bake asks first; the grid is read only), so with a few of a small
+    // level they are scored side by side, each bake still on every thread: one candidate's serial
+    // steps (UVs, page search, mesh, deviation) overlap the other's. A large level's are scored one
+    // after another (their UV lists and meshes would add up at the peak). Errors as one after
+    // another: the first candidate's.
+    std::vector<uint32_t> distinct = ranks;
+    std::sort(distinct.begin(), distinct.end());
+    const bool sideBySide = ranks.size() > 1 && ranks.size() <= kSideBySideCandidates && resolveThreads(options.threads) > 1 &&
+                            view.triangles.size() <= kSideBySideTriangles &&
+                            std::adjacent_find(distinct.begin(), distinct.end()) == distinct.end();
+    if (sideBySide) {
+        std::vector<std::exception_ptr> errors(ranks.size());
+        parallelFor(ranks.size(), int(ranks.size()), [&](size_t i) {
+            try {
+                score(i);
+            } catch (...) {
+                errors[i] = std::current_exception();
+            }
+        });
+        for (const std::exception_ptr& e : errors)
+            if (e) std::rethrow_exception(e);
+    } else {
+        for (size_t i = 0; i < ranks.size(); ++i) score(i);
     }
     LayoutChoice choice;
     PackLevelReport::RankChoice& rc = choice.report;
