@@ -11,15 +11,22 @@
 #include <array>
 #include <cmath>
 #include <iterator>
+#include <memory>
 #include <map>
 #include <unordered_map>
 
 #include "lodbake/core/adjacency.h"
 #include "lodbake/core/errors.h"
 #include "lodbake/core/math.h"
+#include "lodbake/core/parallel.h"
 
 namespace lodbake {
 namespace {
+
+// The first candidate lists are measured on several threads from this many charts, in chunks of
+// kListingChunk charts.
+constexpr size_t kParallelListing = 256;
+constexpr size_t kListingChunk = 64;
 
 // Shape of a face set: E_region and the normal cone, plus the disk test.
 struct Shape {
@@ -637,32 +644,61 @@ ChartResult buildCharts(const TriMesh& mesh, const std::vector<uint32_t>& faceRe
     std::vector<uint32_t> merged;  // scratch: the face list of the candidate merge being measured
     ShapeMemo memo(mesh);
     const bool useMemo = memo.worthwhile();
+    // Measurers of the threads listing the first candidates besides this one (made when first used).
+    std::vector<std::unique_ptr<SetMeasurer>> listingMeasurers;
+    const int listingThreads = resolveThreads(options.threads);
     auto runPhase = [&](bool relaxed) {
         MergeQueue queue(charts.size());
         auto valid = [&](const Candidate& c) {
             return charts[c.a].alive && charts[c.b].alive && charts[c.a].version == c.va && charts[c.b].version == c.vb;
         };
-        std::vector<Candidate> batch;  // the candidates of the chart being (re)listed
-        auto push = [&](uint32_t a, uint32_t b) {
+        // The relaxed phase ignores the normal-cone and E_region limits, never the disk rule.
+        const ShapeLimits limits = relaxed ? ShapeLimits{} : ShapeLimits{options.maxNormalConeDegrees, options.maxRegionEnergy};
+        // Adds the merge of charts a and b to `out` when its shape allows it, measured by `m` over
+        // the scratch list `faces`.
+        auto candidate = [&](uint32_t a, uint32_t b, SetMeasurer& m, std::vector<uint32_t>& faces, std::vector<Candidate>& out) {
             if (a > b) std::swap(a, b);
-            // The relaxed phase ignores the normal-cone and E_region limits, never the disk rule.
-            const ShapeLimits limits = relaxed ? ShapeLimits{} : ShapeLimits{options.maxNormalConeDegrees, options.maxRegionEnergy};
             auto measure = [&] {
-                merged.clear();
+                faces.clear();
                 std::merge(charts[a].faces.begin(), charts[a].faces.end(), charts[b].faces.begin(), charts[b].faces.end(),
-                           std::back_inserter(merged));
-                return measurer.measure(merged, totalArea, diagonal, true, limits);
+                           std::back_inserter(faces));
+                return m.measure(faces, totalArea, diagonal, true, limits);
             };
             const Shape s = useMemo ? memo.shape(charts[a].faces, charts[b].faces, measure) : measure();
             if (s.overLimits || !s.disk) return;
-            batch.push_back({s.energy, a, b, charts[a].version, charts[b].version});
+            out.push_back({s.energy, a, b, charts[a].version, charts[b].version});
         };
-        for (uint32_t c = 0; c < charts.size(); ++c) {
-            if (!charts[c].alive) continue;
-            batch.clear();
-            for (uint32_t o : neighbours(c))
-                if (o > c) push(c, o);
-            queue.relist(c, batch, valid);
+        std::vector<Candidate> batch;  // the candidates of the chart being (re)listed
+        auto push = [&](uint32_t a, uint32_t b) { candidate(a, b, measurer, merged, batch); };
+        // The first lists: every chart's pairs with its higher neighbours. No chart changes while
+        // they are listed, so each chart's list is measured on its own (on several threads, each
+        // with its measurer, when no memo is shared) and the lists are queued in chart order.
+        if (!useMemo && listingThreads > 1 && charts.size() >= kParallelListing) {
+            for (uint32_t c = 0; c < charts.size(); ++c)
+                if (charts[c].alive) neighbours(c);  // resolved once, before the threads read them
+            listingMeasurers.resize(size_t(listingThreads));
+            std::vector<std::vector<Candidate>> lists(charts.size());
+            std::vector<std::vector<uint32_t>> scratch(static_cast<size_t>(listingThreads));
+            parallelChunks(charts.size(), kListingChunk, listingThreads, [&](size_t begin, size_t end, size_t thread) {
+                std::unique_ptr<SetMeasurer>& own = listingMeasurers[thread];
+                if (thread > 0 && !own) own = std::make_unique<SetMeasurer>(mesh, edges);
+                SetMeasurer& m = thread > 0 ? *own : measurer;
+                for (size_t c = begin; c < end; ++c) {
+                    if (!charts[c].alive) continue;
+                    for (uint32_t o : chartNeighbours[c])
+                        if (o > c) candidate(uint32_t(c), o, m, scratch[thread], lists[c]);
+                }
+            });
+            for (uint32_t c = 0; c < charts.size(); ++c)
+                if (charts[c].alive) queue.relist(c, std::move(lists[c]), valid);
+        } else {
+            for (uint32_t c = 0; c < charts.size(); ++c) {
+                if (!charts[c].alive) continue;
+                batch.clear();
+                for (uint32_t o : neighbours(c))
+                    if (o > c) push(c, o);
+                queue.relist(c, batch, valid);
+            }
         }
         Candidate cand;
         while (!(options.maxCharts > 0 && alive <= options.maxCharts) && queue.pop(cand, valid)) {
