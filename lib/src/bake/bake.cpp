@@ -33,6 +33,7 @@
 #include "lodbake/bake/texture_fetch.h"
 #include "lodbake/core/errors.h"
 #include "lodbake/core/parallel.h"
+#include "lodbake/core/touched_fill.h"
 #include "lodbake/texture/codec.h"
 #include "lodbake/texture/color_space.h"
 
@@ -111,11 +112,12 @@ BakeResult bakeMaterial(const BakeSources& bs, const std::vector<std::array<Vec2
     decodeSources(asset, sources, ch, o.threads);
     // Shade: linear RGB + coverage, rows in parallel (each texel depends only on its hit).
     const size_t texels = size_t(g.w) * size_t(g.h);
-    std::vector<float> px(texels * 3, 0.0f);
-    if (ch.alpha) res.alpha.assign(texels, 0.0f);
-    if (ch.orm) res.orm.assign(texels * 3, 0.0f);
-    if (ch.emissive) res.emissive.assign(texels * 3, 0.0f);
-    if (ch.normal) res.normal.assign(texels * 3, 0.0f);
+    std::vector<float> px;
+    assignTouched(px, texels * 3, 0.0f, o.threads);
+    if (ch.alpha) assignTouched(res.alpha, texels, 0.0f, o.threads);
+    if (ch.orm) assignTouched(res.orm, texels * 3, 0.0f, o.threads);
+    if (ch.emissive) assignTouched(res.emissive, texels * 3, 0.0f, o.threads);
+    if (ch.normal) assignTouched(res.normal, texels * 3, 0.0f, o.threads);
     const ExtensionImage extensionImages[] = {
         {ch.clearcoat, &res.clearcoat, 3, shadeClearcoat, false},
         {ch.sheen, &res.sheen, 4, shadeSheen, true},
@@ -125,10 +127,11 @@ BakeResult bakeMaterial(const BakeSources& bs, const std::vector<std::array<Vec2
         {ch.diffuseTransmission, &res.diffuseTransmission, 4, shadeDiffuseTransmission, true},
     };
     for (const ExtensionImage& e : extensionImages)
-        if (e.on) e.out->assign(texels * e.comps, 0.0f);
-    if (ch.clearcoatNormal) res.clearcoatNormal.assign(texels * 3, 0.0f);
-    if (ch.anisotropy) res.anisotropy.assign(texels * 3, 0.0f);
-    std::vector<uint8_t> covered(texels, 0);
+        if (e.on) assignTouched(*e.out, texels * e.comps, 0.0f, o.threads);
+    if (ch.clearcoatNormal) assignTouched(res.clearcoatNormal, texels * 3, 0.0f, o.threads);
+    if (ch.anisotropy) assignTouched(res.anisotropy, texels * 3, 0.0f, o.threads);
+    std::vector<uint8_t> covered;
+    assignTouched(covered, texels, uint8_t(0), o.threads);
     std::vector<size_t> rowCovered(size_t(g.h), 0), rowIsland(size_t(g.h), 0), rowLookups(size_t(g.h), 0);
     const ShadeContext ctx{asset, cornerUV, islands, sources, BakeSourcesAccess::tangents(bs), g.size, o.extendCharts};
     parallelFor(size_t(g.h), o.threads, [&](size_t y) {
@@ -236,8 +239,9 @@ BakeResult bakeMaterial(const BakeSources& bs, const std::vector<std::array<Vec2
     }
 
     // Encode: sRGB 8-bit RGB (srgb_bytes.h: the formula's bytes by table).
-    res.pixels.resize(texels * 3);
-    std::vector<uint8_t> rgb8(res.pixels.size());
+    assignTouched(res.pixels, texels * 3, 0.0f, o.threads);
+    std::vector<uint8_t> rgb8;
+    assignTouched(rgb8, res.pixels.size(), uint8_t(0), o.threads);
     const SrgbBytes& srgb = srgbBytes();
     parallelChunks(texels * 3, kTexelChunk, o.threads, [&](size_t begin, size_t end, size_t) {
         for (size_t i = begin; i < end; ++i) {

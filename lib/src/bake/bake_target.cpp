@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "lodbake/core/parallel.h"
+#include "lodbake/core/touched_fill.h"
 #include "lodbake/core/tangents.h"
 
 namespace lodbake::bake_detail {
@@ -20,7 +21,8 @@ bool targetFrame(const BakeTarget* targetOrNull, const TargetHit& th, TangentFra
 }
 
 std::vector<TargetHit> rasterizeTarget(const BakeTarget& target, const TexelRegion& g, int threads) {
-    std::vector<TargetHit> hits(size_t(g.w) * size_t(g.h));
+    std::vector<TargetHit> hits;
+    assignTouched(hits, size_t(g.w) * size_t(g.h), TargetHit{}, threads);
     parallelChunks(size_t(g.h), kRasterRows, threads, [&](size_t rowBegin, size_t rowEnd, size_t) {
         for (size_t t = 0; t < target.uv.size(); ++t) {
             Vec2 P[3];

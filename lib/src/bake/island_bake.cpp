@@ -15,6 +15,7 @@
 #include "lodbake/core/face_grid.h"
 #include "lodbake/core/face_tree.h"
 #include "lodbake/core/parallel.h"
+#include "lodbake/core/touched_fill.h"
 
 namespace lodbake {
 namespace bake_detail {
@@ -128,8 +129,10 @@ void rasterizeIslands(const TriMesh& mesh, const std::vector<BakeIsland>& island
     // Which island each texel goes to, from the texel distances alone (the nearest, the earlier
     // island on ties, nearer than the face's hit): only that island measures the texel's closest
     // point, the one the merge below would keep.
-    std::vector<int32_t> owner(hits.size(), -1);
-    std::vector<float> ownerDist(hits.size());
+    std::vector<int32_t> owner;
+    std::vector<float> ownerDist;
+    assignTouched(owner, hits.size(), int32_t(-1), threads);
+    assignTouched(ownerDist, hits.size(), 0.0f, threads);
     for (size_t t = 0; t < hits.size(); ++t) ownerDist[t] = hits[t].dist;
     auto texelTriangle = [&](const BakeIsland& isl, Vec2 (&P)[3]) {
         for (int k = 0; k < 3; ++k) P[k] = {isl.uv[size_t(k)].x * g.size, isl.uv[size_t(k)].y * g.size};

@@ -11,6 +11,7 @@
 #include "lodbake/bake/texture_fetch.h"
 #include "lodbake/core/errors.h"
 #include "lodbake/core/parallel.h"
+#include "lodbake/core/touched_fill.h"
 
 namespace lodbake {
 namespace {
@@ -85,7 +86,8 @@ void pullPushFill(const std::vector<FillImage>& images, const std::vector<uint8_
         const size_t texels = size_t(d.w) * size_t(d.h);
         d.as.assign(texels, 0);
         for (Pyramid& p : pyramids) {
-            p.store.emplace_back(texels * p.channels, 0.0f);
+            p.store.emplace_back();
+            assignTouched(p.store.back(), texels * p.channels, 0.0f, threads);
             p.v.push_back(p.store.back().data());
         }
         parallelFor(size_t(d.h), threads, [&](size_t yy) {

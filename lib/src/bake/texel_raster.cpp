@@ -3,6 +3,7 @@
 #include "bake/texel_raster.h"
 
 #include "lodbake/core/parallel.h"
+#include "lodbake/core/touched_fill.h"
 
 namespace lodbake::bake_detail {
 namespace {
@@ -148,7 +149,7 @@ void rasterBandBounded(const TriMesh& mesh, const std::vector<std::array<Vec2, 3
 
 void rasterizeTriangles(const TriMesh& mesh, const std::vector<std::array<Vec2, 3>>& cornerUV, const TexelRegion& g,
                         double dilation, int threads, std::vector<TexelHit>& hits) {
-    hits.assign(size_t(g.w) * size_t(g.h), {});
+    assignTouched(hits, size_t(g.w) * size_t(g.h), TexelHit{}, threads);
     parallelChunks(size_t(g.h), kRasterRows, threads, [&](size_t rowBegin, size_t rowEnd, size_t) {
         if (dilation > 2 * kBoundDilation)
             rasterBandBounded(mesh, cornerUV, g, dilation, rowBegin, rowEnd, hits);

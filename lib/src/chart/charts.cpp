@@ -11,23 +11,26 @@
 #include <array>
 #include <cmath>
 #include <iterator>
+#include <memory>
 #include <map>
 #include <unordered_map>
 
 #include "lodbake/core/adjacency.h"
 #include "lodbake/core/errors.h"
 #include "lodbake/core/math.h"
+#include "lodbake/core/parallel.h"
+#include "chart/shape_memo.h"
 
 namespace lodbake {
 namespace {
 
-// Shape of a face set: E_region and the normal cone, plus the disk test.
-struct Shape {
-    bool disk = false;
-    bool overLimits = false;  // the shape exceeds the ShapeLimits given: the disk test was not run
-    double energy = 0;        // E_region with lengths relative to the diagonal
-    double coneDegrees = 0;
-};
+// The first candidate lists are measured on several threads from this many charts, in chunks of
+// kListingChunk charts.
+constexpr size_t kParallelListing = 256;
+constexpr size_t kListingChunk = 64;
+
+using chart_detail::Shape;
+using chart_detail::ShapeMemo;
 
 // Largest normal cone (degrees) and E_region a face set may have; 0 = no limit.
 struct ShapeLimits {
@@ -300,51 +303,6 @@ private:
     std::vector<std::array<uint32_t, 2>> boundaryNext_;
 };
 
-// Shapes of candidate merges keyed by their faces' vertex triples in face order, which is all
-// SetMeasurer::measure reads: a mesh of coincident copies of one part (instances sharing their
-// vertices) proposes the same triple sequence for many pairs of charts, and each is measured once.
-// Only worth its keys when most faces repeat another face's triple (see ShapeMemo::worthwhile).
-class ShapeMemo {
-public:
-    // Face class: the smallest face with the same (ordered) vertex triple.
-    explicit ShapeMemo(const TriMesh& mesh) : faceClass_(mesh.triangleCount()) {
-        std::vector<uint32_t> byTriple(faceClass_.size());
-        for (uint32_t f = 0; f < byTriple.size(); ++f) byTriple[f] = f;
-        std::sort(byTriple.begin(), byTriple.end(), [&](uint32_t a, uint32_t b) {
-            return mesh.triangles[a] != mesh.triangles[b] ? mesh.triangles[a] < mesh.triangles[b] : a < b;
-        });
-        for (size_t i = 0; i < byTriple.size(); ++i) {
-            const bool repeat = i > 0 && mesh.triangles[byTriple[i]] == mesh.triangles[byTriple[i - 1]];
-            faceClass_[byTriple[i]] = repeat ? faceClass_[byTriple[i - 1]] : byTriple[i];
-            classes_ += repeat ? 0 : 1;
-        }
-    }
-    bool worthwhile() const { return classes_ * 2 <= faceClass_.size(); }
-
-    // The memoised shape of `faces`, measuring it on the first request.
-    template <class MeasureFn>
-    const Shape& shape(const std::vector<uint32_t>& faces, MeasureFn&& measure) {
-        key_.resize(faces.size());
-        for (size_t i = 0; i < faces.size(); ++i) key_[i] = faceClass_[faces[i]];
-        auto it = shapes_.find(key_);
-        if (it == shapes_.end()) it = shapes_.emplace(key_, measure()).first;
-        return it->second;
-    }
-    void clear() { shapes_.clear(); }
-
-private:
-    struct KeyHash {
-        size_t operator()(const std::vector<uint32_t>& k) const {
-            uint64_t h = 0x9E3779B97F4A7C15ull ^ k.size();
-            for (uint32_t x : k) h = (h ^ x) * 0xFF51AFD7ED558CCDull;
-            return size_t(h ^ (h >> 32));
-        }
-    };
-    std::vector<uint32_t> faceClass_, key_;
-    size_t classes_ = 0;
-    std::unordered_map<std::vector<uint32_t>, Shape, KeyHash> shapes_;
-};
-
 // Connected components of `faces` (edge adjacency restricted to the set), each sorted.
 std::vector<std::vector<uint32_t>> components(const CompressedRows& adj, const std::vector<uint32_t>& faces,
                                               std::vector<int32_t>& mark, int32_t tag) {
@@ -564,13 +522,22 @@ ChartResult buildCharts(const TriMesh& mesh, const std::vector<uint32_t>& faceRe
         std::sort(out.begin(), out.end());
         out.erase(std::unique(out.begin(), out.end()), out.end());
     }
-    // Resolves chart c's list to current charts, sorted and without c.
+    // Resolves chart c's list to current charts, sorted and without c. A merged chart's list holds
+    // many ids that resolve alike (a face of coincident copies borders hundreds of charts): they
+    // are dropped before the sort, through the stamp of the last list each chart entered.
+    std::vector<uint32_t> listedIn(charts.size(), UINT32_MAX);
+    uint32_t listing = 0;
     auto neighbours = [&](uint32_t c) -> const std::vector<uint32_t>& {
         std::vector<uint32_t>& out = chartNeighbours[c];
-        for (uint32_t& o : out) o = owner(o);
+        ++listing;
+        listedIn[c] = listing;
+        size_t kept = 0;
+        for (uint32_t o : out) {
+            o = owner(o);
+            if (listedIn[o] != listing) listedIn[o] = listing, out[kept++] = o;
+        }
+        out.resize(kept);
         std::sort(out.begin(), out.end());
-        out.erase(std::unique(out.begin(), out.end()), out.end());
-        out.erase(std::remove(out.begin(), out.end(), c), out.end());
         return out;
     };
     auto mergedFaces = [&](uint32_t a, uint32_t b) {
@@ -584,30 +551,61 @@ ChartResult buildCharts(const TriMesh& mesh, const std::vector<uint32_t>& faceRe
     std::vector<uint32_t> merged;  // scratch: the face list of the candidate merge being measured
     ShapeMemo memo(mesh);
     const bool useMemo = memo.worthwhile();
+    // Measurers of the threads listing the first candidates besides this one (made when first used).
+    std::vector<std::unique_ptr<SetMeasurer>> listingMeasurers;
+    const int listingThreads = resolveThreads(options.threads);
     auto runPhase = [&](bool relaxed) {
         MergeQueue queue(charts.size());
         auto valid = [&](const Candidate& c) {
             return charts[c.a].alive && charts[c.b].alive && charts[c.a].version == c.va && charts[c.b].version == c.vb;
         };
-        std::vector<Candidate> batch;  // the candidates of the chart being (re)listed
-        auto push = [&](uint32_t a, uint32_t b) {
+        // The relaxed phase ignores the normal-cone and E_region limits, never the disk rule.
+        const ShapeLimits limits = relaxed ? ShapeLimits{} : ShapeLimits{options.maxNormalConeDegrees, options.maxRegionEnergy};
+        // Adds the merge of charts a and b to `out` when its shape allows it, measured by `m` over
+        // the scratch list `faces`.
+        auto candidate = [&](uint32_t a, uint32_t b, SetMeasurer& m, std::vector<uint32_t>& faces, std::vector<Candidate>& out) {
             if (a > b) std::swap(a, b);
-            merged.clear();
-            std::merge(charts[a].faces.begin(), charts[a].faces.end(), charts[b].faces.begin(), charts[b].faces.end(),
-                       std::back_inserter(merged));
-            // The relaxed phase ignores the normal-cone and E_region limits, never the disk rule.
-            const ShapeLimits limits = relaxed ? ShapeLimits{} : ShapeLimits{options.maxNormalConeDegrees, options.maxRegionEnergy};
-            auto measure = [&] { return measurer.measure(merged, totalArea, diagonal, true, limits); };
-            const Shape s = useMemo ? memo.shape(merged, measure) : measure();
+            auto measure = [&] {
+                faces.clear();
+                std::merge(charts[a].faces.begin(), charts[a].faces.end(), charts[b].faces.begin(), charts[b].faces.end(),
+                           std::back_inserter(faces));
+                return m.measure(faces, totalArea, diagonal, true, limits);
+            };
+            const Shape s = useMemo ? memo.shape(charts[a].faces, charts[b].faces, measure) : measure();
             if (s.overLimits || !s.disk) return;
-            batch.push_back({s.energy, a, b, charts[a].version, charts[b].version});
+            out.push_back({s.energy, a, b, charts[a].version, charts[b].version});
         };
-        for (uint32_t c = 0; c < charts.size(); ++c) {
-            if (!charts[c].alive) continue;
-            batch.clear();
-            for (uint32_t o : neighbours(c))
-                if (o > c) push(c, o);
-            queue.relist(c, batch, valid);
+        std::vector<Candidate> batch;  // the candidates of the chart being (re)listed
+        auto push = [&](uint32_t a, uint32_t b) { candidate(a, b, measurer, merged, batch); };
+        // The first lists: every chart's pairs with its higher neighbours. No chart changes while
+        // they are listed, so each chart's list is measured on its own (on several threads, each
+        // with its measurer, when no memo is shared) and the lists are queued in chart order.
+        if (!useMemo && listingThreads > 1 && charts.size() >= kParallelListing) {
+            for (uint32_t c = 0; c < charts.size(); ++c)
+                if (charts[c].alive) neighbours(c);  // resolved once, before the threads read them
+            listingMeasurers.resize(size_t(listingThreads));
+            std::vector<std::vector<Candidate>> lists(charts.size());
+            std::vector<std::vector<uint32_t>> scratch(static_cast<size_t>(listingThreads));
+            parallelChunks(charts.size(), kListingChunk, listingThreads, [&](size_t begin, size_t end, size_t thread) {
+                std::unique_ptr<SetMeasurer>& own = listingMeasurers[thread];
+                if (thread > 0 && !own) own = std::make_unique<SetMeasurer>(mesh, edges);
+                SetMeasurer& m = thread > 0 ? *own : measurer;
+                for (size_t c = begin; c < end; ++c) {
+                    if (!charts[c].alive) continue;
+                    for (uint32_t o : chartNeighbours[c])
+                        if (o > c) candidate(uint32_t(c), o, m, scratch[thread], lists[c]);
+                }
+            });
+            for (uint32_t c = 0; c < charts.size(); ++c)
+                if (charts[c].alive) queue.relist(c, std::move(lists[c]), valid);
+        } else {
+            for (uint32_t c = 0; c < charts.size(); ++c) {
+                if (!charts[c].alive) continue;
+                batch.clear();
+                for (uint32_t o : neighbours(c))
+                    if (o > c) push(c, o);
+                queue.relist(c, batch, valid);
+            }
         }
         Candidate cand;
         while (!(options.maxCharts > 0 && alive <= options.maxCharts) && queue.pop(cand, valid)) {

@@ -3,7 +3,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <string>
+#include <vector>
+
+#include "lodbake/core/parallel.h"
 
 #include "lod/level_mesh.h"
 #include "lod/page_bake.h"
@@ -15,6 +19,9 @@ namespace {
 // Scored pages are packed at half the level's page side, and below this side when that is larger
 // (texels): a 2048 page (LOD0 when the source texels do not fit) is scored at 512 a side.
 constexpr double kScoredMaxSide = 512;
+// Candidates scored side by side: at most this many, of a level of at most this many triangles.
+constexpr size_t kSideBySideCandidates = 4;
+constexpr size_t kSideBySideTriangles = 200000;
 
 // The choice between pages that would all bake one colour: every candidate deviates 0, so the
 // energy rule's pick stands (the candidates are listed unscored: no page).
@@ -58,9 +65,12 @@ LayoutChoice chooseLayoutByBake(const BakeSources& sources, std::vector<LayoutDa
             cells.indices.push_back(uint32_t(cells.indices.size()));
         }
     const BakeTarget probeFrames = objectSpaceTarget(probe.uv);
-    const BakeResult probeBake = bakeProjected(sources, *grid, cells, probe.triangles.size(), probe.side, probe.side, reach,
-                                               res.diagonal, channels, normal ? &probeFrames : nullptr, options.threads);
-    const PageChannels probePage{probe.side, probe.side, &probeBake.pixels, &probeBake.normal};
+    BakeResult probeBake;
+    auto bakeProbe = [&] {
+        probeBake = bakeProjected(sources, *grid, cells, probe.triangles.size(), probe.side, probe.side, reach, res.diagonal, channels,
+                                  normal ? &probeFrames : nullptr, options.threads);
+    };
+    const PageChannels probePage{probe.side, probe.side, &probeBake.pixels, &probeBake.normal};  // once baked
 
     // Half the side, or less for a page that needs more than 2 x kScoredMaxSide a side (LOD0 when
     // the source texels do not fit): scale s of the texel limit, page cap and mip sides, log2(1/s)
@@ -83,8 +93,16 @@ LayoutChoice chooseLayoutByBake(const BakeSources& sources, std::vector<LayoutDa
         const std::array<int, 2>& f = level.finerPage;
         request.finerPage = std::array<int, 2>{int(std::ceil(f[0] * scale)), int(std::ceil(f[1] * scale))};
     }
-    std::vector<RankCandidate> candidates;
-    for (uint32_t rank : planned.eligibleRanks) {
+    // Each candidate's score: its layout's UVs, page, mesh and bake (score), then the bake's
+    // deviation from the probe's (deviate).
+    const std::vector<uint32_t>& ranks = planned.eligibleRanks;
+    std::vector<RankCandidate> candidates(ranks.size());
+    struct Baked {
+        BakeResult bake;
+        std::vector<std::array<Vec2, 3>> pageUV;
+    };
+    auto score = [&](size_t i, Baked& out) {
+        const uint32_t rank = ranks[i];
         LayoutData& lay = layouts[rank];
         const LevelUVs luv = projected ? ownCharts(mesh, lay, view, levelUVs(mesh, lay, view, view.data, options.threads))
                                        : levelUVs(mesh, lay, view, view.data, options.threads);
@@ -101,16 +119,55 @@ LayoutChoice chooseLayoutByBake(const BakeSources& sources, std::vector<LayoutDa
             }
         const BakeTarget frames = objectSpaceTarget(std::move(bakeUV));
         const BakeTarget* framesOrNull = normal ? &frames : nullptr;
-        const BakeResult baked = projected ? bakeProjected(sources, *grid, L, view.triangles.size(), w, h, reach, res.diagonal,
+        BakeResult baked = projected ? bakeProjected(sources, *grid, L, view.triangles.size(), w, h, reach, res.diagonal,
                                                            channels, framesOrNull, options.threads)
                                            : bakePage(sources, lay, la, channels, framesOrNull, options.threads, false);
-        RankCandidate c;
+        RankCandidate& c = candidates[i];
         c.rank = rank;
-        c.deviation = textureDeviation(probe, probePage, PageChannels{w, h, &baked.pixels, &baked.normal}, pageUV);
         c.width = w;
         c.height = h;
         c.charts = la.charts;
-        candidates.push_back(c);
+        out.bake = std::move(baked);
+        out.pageUV = std::move(pageUV);
+    };
+    auto deviate = [&](size_t i, Baked& b) {
+        RankCandidate& c = candidates[i];
+        c.deviation = textureDeviation(probe, probePage, PageChannels{c.width, c.height, &b.bake.pixels, &b.bake.normal}, b.pageUV);
+        b = {};
+    };
+    // The probe and the candidates are independent (each candidate reads and fills only its own
+    // layout; the source images decode once, whichever bake asks first; the grid is read only), so
+    // with a few candidates of a small level they are baked side by side, each bake still on every
+    // thread: one's serial steps (UVs, page search, mesh) overlap the others' work. A large level's
+    // are baked one after another (their UV lists and meshes would add up at the peak), each
+    // candidate's bake dropped once it is scored. Errors as one after another: the probe's, then
+    // the first candidate's.
+    std::vector<uint32_t> distinct = ranks;
+    std::sort(distinct.begin(), distinct.end());
+    const bool sideBySide = ranks.size() > 1 && ranks.size() <= kSideBySideCandidates && resolveThreads(options.threads) > 1 &&
+                            view.triangles.size() <= kSideBySideTriangles &&
+                            std::adjacent_find(distinct.begin(), distinct.end()) == distinct.end();
+    if (sideBySide) {
+        std::vector<Baked> baked(ranks.size());
+        std::vector<std::exception_ptr> errors(ranks.size() + 1);  // the probe's, then the candidates'
+        parallelFor(ranks.size() + 1, int(ranks.size() + 1), [&](size_t t) {
+            try {
+                if (t == 0) bakeProbe();
+                else score(t - 1, baked[t - 1]);
+            } catch (...) {
+                errors[t] = std::current_exception();
+            }
+        });
+        for (const std::exception_ptr& e : errors)
+            if (e) std::rethrow_exception(e);
+        for (size_t i = 0; i < ranks.size(); ++i) deviate(i, baked[i]);
+    } else {
+        bakeProbe();
+        for (size_t i = 0; i < ranks.size(); ++i) {
+            Baked b;
+            score(i, b);
+            deviate(i, b);
+        }
     }
     LayoutChoice choice;
     PackLevelReport::RankChoice& rc = choice.report;

@@ -44,7 +44,9 @@ ParameterizeResult parameterize(const TriMesh& mesh, const Multires& multires, c
     // (1) Charts from the coarsest level's base regions (every face its own region without levels).
     static const std::vector<uint32_t> kNoRegions;
     const std::vector<uint32_t>& regions = multires.levels.empty() ? kNoRegions : multires.levels.back().faceRegion;
-    res.charts = buildCharts(mesh, regions, options.charts);
+    ChartOptions chartOptions = options.charts;
+    chartOptions.threads = options.threads;
+    res.charts = buildCharts(mesh, regions, chartOptions);
 
     // The original faces by place, for closest-point and near-face queries (not held while the
     // charts are solved, the run's peak); the typical face size is where those queries' search

@@ -12,6 +12,7 @@
 //     trimServedLevels        the levels 0..v the rank serves, against T0 over the same levels
 //   bakeHierarchy             every layout at every size with bakeBaseColor (original appearance)
 #include <algorithm>
+#include <exception>
 #include <map>
 #include <optional>
 #include <unordered_map>
@@ -21,6 +22,7 @@
 #include "lodbake/bake/bake.h"
 #include "lodbake/core/errors.h"
 #include "lodbake/core/key_set.h"
+#include "lodbake/core/parallel.h"
 #include "lodbake/core/timing.h"
 #include "lodbake/chart/charts.h"
 #include "lodbake/chart/level_charts.h"
@@ -157,7 +159,7 @@ std::vector<uint32_t> splitCharts(const TriMesh& mesh, const std::vector<uint32_
 
 std::vector<uint32_t> splitCharts(const TriMesh& mesh, const std::vector<uint32_t>& parentChart, uint32_t parentCount,
                                   const std::vector<uint32_t>& faceRegion, const std::vector<uint32_t>& perChart,
-                                  uint32_t& count, SplitMemo* memo) {
+                                  uint32_t& count, SplitMemo* memo, int threads) {
     const size_t nf = mesh.triangleCount();
     if (perChart.size() != parentCount) throw InvalidInput("splitCharts: perChart does not match the parent charts");
     if (parentChart.size() != nf || faceRegion.size() != nf) throw InvalidInput("splitCharts: tables do not match the mesh");
@@ -166,6 +168,45 @@ std::vector<uint32_t> splitCharts(const TriMesh& mesh, const std::vector<uint32_
         if (parentChart[f] >= parentCount || faceRegion[f] >= nf) throw InvalidInput("splitCharts: entry out of range");
         faces[parentChart[f]].push_back(f);
     }
+    // The parents split anew (not in the memo; each parent's key is its own), each on its own:
+    // the chart as its own mesh (compact vertices) with its part of every region, merged down by
+    // buildCharts. Side by side on `threads` threads; errors as one after another.
+    std::vector<uint32_t> todo;
+    std::vector<size_t> todoIndex(parentCount, SIZE_MAX);
+    for (uint32_t c = 0; c < parentCount; ++c)
+        if (!faces[c].empty() && !(memo && memo->count({c, perChart[c]}))) {
+            todoIndex[c] = todo.size();
+            todo.push_back(c);
+        }
+    std::vector<ChartResult> split(todo.size());
+    std::vector<std::exception_ptr> errors(todo.size());
+    parallelFor(todo.size(), threads, [&](size_t k) {
+        try {
+            const uint32_t c = todo[k];
+            const std::vector<uint32_t>& F = faces[c];
+            TriMesh sub;
+            std::unordered_map<uint32_t, uint32_t> vmap;
+            std::map<uint32_t, uint32_t> regionRep;  // region representative -> first local face
+            std::vector<uint32_t> localRegion(F.size());
+            for (uint32_t i = 0; i < F.size(); ++i) {
+                Tri t{};
+                for (size_t j = 0; j < 3; ++j) {
+                    auto [it, inserted] = vmap.emplace(mesh.triangles[F[i]][j], uint32_t(sub.positions.size()));
+                    if (inserted) sub.positions.push_back(mesh.positions[mesh.triangles[F[i]][j]]);
+                    t[j] = it->second;
+                }
+                sub.triangles.push_back(t);
+                localRegion[i] = regionRep.emplace(faceRegion[F[i]], i).first->second;
+            }
+            ChartOptions co;
+            co.maxCharts = std::max(1u, perChart[c]);
+            split[k] = buildCharts(sub, localRegion, co);
+        } catch (...) {
+            errors[k] = std::current_exception();
+        }
+    });
+    for (const std::exception_ptr& e : errors)
+        if (e) std::rethrow_exception(e);
     std::vector<uint32_t> out(nf);
     for (uint32_t f = 0; f < nf; ++f) out[f] = f;
     count = 0;
@@ -173,33 +214,14 @@ std::vector<uint32_t> splitCharts(const TriMesh& mesh, const std::vector<uint32_
         const std::vector<uint32_t>& F = faces[c];
         if (F.empty()) continue;
         const std::pair<uint32_t, uint32_t> key{c, perChart[c]};
-        if (memo) {
-            auto it = memo->find(key);
-            if (it != memo->end()) {
-                for (uint32_t i = 0; i < F.size(); ++i) out[F[i]] = it->second.first[i];
-                count += it->second.second;
-                continue;
-            }
+        if (todoIndex[c] == SIZE_MAX) {  // in the memo
+            const auto& known = memo->at(key);
+            for (uint32_t i = 0; i < F.size(); ++i) out[F[i]] = known.first[i];
+            count += known.second;
+            continue;
         }
         const uint32_t countBefore = count;
-        // The chart as its own mesh (compact vertices) with its part of every region.
-        TriMesh sub;
-        std::unordered_map<uint32_t, uint32_t> vmap;
-        std::map<uint32_t, uint32_t> regionRep;  // region representative -> first local face
-        std::vector<uint32_t> localRegion(F.size());
-        for (uint32_t i = 0; i < F.size(); ++i) {
-            Tri t{};
-            for (size_t k = 0; k < 3; ++k) {
-                auto [it, inserted] = vmap.emplace(mesh.triangles[F[i]][k], uint32_t(sub.positions.size()));
-                if (inserted) sub.positions.push_back(mesh.positions[mesh.triangles[F[i]][k]]);
-                t[k] = it->second;
-            }
-            sub.triangles.push_back(t);
-            localRegion[i] = regionRep.emplace(faceRegion[F[i]], i).first->second;
-        }
-        ChartOptions co;
-        co.maxCharts = std::max(1u, perChart[c]);
-        ChartResult cr = buildCharts(sub, localRegion, co);
+        const ChartResult& cr = split[todoIndex[c]];
         // Representative of each new chart: its smallest face (F is ascending).
         std::vector<uint32_t> rep(cr.chartCount, UINT32_MAX);
         for (uint32_t i = 0; i < F.size(); ++i) {
@@ -282,7 +304,8 @@ struct SplitCandidate {
 // The coarsest level finer than `source` whose regions split the parent's charts into more
 // charts (levels whose regions coincide with the coarser level's add nothing). count <= the
 // parent's chart count when no level does.
-SplitCandidate nextSplit(const TriMesh& mesh, const Multires& mr, const ChartLayout& parent, uint32_t source, uint32_t perChart) {
+SplitCandidate nextSplit(const TriMesh& mesh, const Multires& mr, const ChartLayout& parent, uint32_t source, uint32_t perChart,
+                         int threads) {
     const size_t nf = mesh.triangleCount();
     SplitCandidate c;
     c.level = source;
@@ -296,7 +319,7 @@ SplitCandidate nextSplit(const TriMesh& mesh, const Multires& mr, const ChartLay
         }
         c.memo.clear();
         c.charts = splitCharts(mesh, parent.faceChart, parent.chartCount, c.regions,
-                               std::vector<uint32_t>(parent.chartCount, perChart), c.count, &c.memo);
+                               std::vector<uint32_t>(parent.chartCount, perChart), c.count, &c.memo, threads);
         if (c.count > parent.chartCount) break;
     }
     return c;
@@ -307,7 +330,7 @@ SplitCandidate nextSplit(const TriMesh& mesh, const Multires& mr, const ChartLay
 // it: such parents are split into fewer pieces, down to keeping them whole (at most 3 rounds).
 // Updates `per` (pieces per parent chart) and the candidate's charts.
 void keepLevelTrianglesWhole(const TriMesh& mesh, const Multires& mr, const ChartLayout& parent, std::vector<uint32_t>& per,
-                             SplitCandidate& cand) {
+                             SplitCandidate& cand, int threads) {
     const std::vector<size_t> parentCrossing =
         crossingPerParent(mesh, mr, cand.level, parent.faceChart, false, parent.faceChart, parent.chartCount);
     for (int round = 0; round < 3; ++round) {
@@ -319,7 +342,7 @@ void keepLevelTrianglesWhole(const TriMesh& mesh, const Multires& mr, const Char
                 changed = true;
             }
         if (!changed) break;
-        cand.charts = splitCharts(mesh, parent.faceChart, parent.chartCount, cand.regions, per, cand.count, &cand.memo);
+        cand.charts = splitCharts(mesh, parent.faceChart, parent.chartCount, cand.regions, per, cand.count, &cand.memo, threads);
     }
 }
 
@@ -346,7 +369,8 @@ void solveRankLayout(const TriMesh& mesh, const Multires& mr, const ChartLayout&
         }
         if (bad.empty()) break;
         for (uint32_t p : bad) per[p] = attempt < 2 ? per[p] * 2 : 1;
-        std::vector<uint32_t> charts = splitCharts(mesh, parent.faceChart, parent.chartCount, cand.regions, per, cand.count, &cand.memo);
+        std::vector<uint32_t> charts =
+            splitCharts(mesh, parent.faceChart, parent.chartCount, cand.regions, per, cand.count, &cand.memo, o.param.threads);
         changed = charts != cand.charts;
         cand.charts = std::move(charts);
         ++rr.resplits;
@@ -450,7 +474,7 @@ RefineResult refineTextures(const Asset& asset, const Multires& mr, const Refine
     uint32_t source = n;
     for (uint32_t j = 1; j <= maxRank && source > 0;) {
         const ChartLayout& parent = res.ranks.back().layout;
-        SplitCandidate cand = nextSplit(mesh, mr, parent, source, o.splitPerChart);
+        SplitCandidate cand = nextSplit(mesh, mr, parent, source, o.splitPerChart, o.param.threads);
         if (cand.count <= parent.chartCount) break;
         source = cand.level;
         if (base.upTo(cand.level).areaRatioStdDev < o.minAreaRatioStdDev) {
@@ -462,7 +486,7 @@ RefineResult refineTextures(const Asset& asset, const Multires& mr, const Refine
         rr.lastLevel = cand.level;
         rr.regions = cand.level == 0 ? uint32_t(mesh.triangleCount()) : countRegions(mr.levels[cand.level - 1].faceRegion);
         std::vector<uint32_t> per(parent.chartCount, o.splitPerChart);
-        if (o.keepLevelTrianglesWhole) keepLevelTrianglesWhole(mesh, mr, parent, per, cand);
+        if (o.keepLevelTrianglesWhole) keepLevelTrianglesWhole(mesh, mr, parent, per, cand, o.param.threads);
         if (cand.count <= parent.chartCount) {
             res.rejected.push_back({cand.level, cand.count, "keeping level triangles whole leaves nothing to split"});
             continue;

@@ -26,6 +26,9 @@ struct ChartOptions {
     // A merge is refused when the merged chart's E_region, with lengths relative to the mesh's
     // bounding-box diagonal, exceeds this. 0 = no limit.
     double maxRegionEnergy = 0;
+    // Threads measuring the first list of candidate merges (every pair of neighbouring charts);
+    // 0 = all cores. Never changes the result.
+    int threads = 1;
 };
 
 struct ChartResult {

@@ -82,7 +82,7 @@ using SplitMemo = std::map<std::pair<uint32_t, uint32_t>, std::pair<std::vector<
 // The same, taking the pieces of a (parent chart, target) `memo` holds and adding the ones it makes.
 std::vector<uint32_t> splitCharts(const TriMesh& mesh, const std::vector<uint32_t>& parentChart, uint32_t parentCount,
                                   const std::vector<uint32_t>& faceRegion, const std::vector<uint32_t>& perChart,
-                                  uint32_t& count, SplitMemo* memo);
+                                  uint32_t& count, SplitMemo* memo, int threads = 1);
 
 // How refineTextures parameterises rank layouts by default: parameterize's defaults on a
 // 512-texel atlas.
