@@ -887,31 +887,3 @@ TEST(IoAssets, JpegHeaderCheckAgreesWithDecode) {
     }
     EXPECT_GE(jpegs.size(), 2u);
 }
-
-// Images checked side by side: every good one gets its size, and of several bad ones the error
-// names the first by index, on any thread count.
-TEST(IoRead, ImagesCheckedSideBySideNameTheFirstBadImage) {
-    std::vector<float> values(size_t(16) * 8 * 3, 0.5f);
-    const Image good = encodeImage(values, 16, 8, ImageFormat::Png, 90, "good");
-    Image cut = good, junk = good;
-    cut.name = "cut";
-    cut.encoded.resize(cut.encoded.size() / 2);
-    junk.name = "junk";
-    std::fill(junk.encoded.begin() + 8, junk.encoded.end(), 0x5a);
-    for (int threads : {1, 2, 4}) {
-        Asset a;
-        a.sourcePath = "in.glb";
-        a.images = {good, good, cut, good, junk, good};
-        for (Image& img : a.images) img.width = img.height = img.channels = 0;
-        try {
-            checkImages(a, ImageCheck::Decode, threads);
-            ADD_FAILURE() << "no error";
-        } catch (const InvalidInput& e) {
-            EXPECT_EQ(std::string(e.what()).rfind("in.glb: image 2 'cut': cannot decode", 0), 0u) << e.what();
-        }
-        a.images = {good, good, good};
-        for (Image& img : a.images) img.width = img.height = img.channels = 0;
-        checkImages(a, ImageCheck::Decode, threads);
-        for (const Image& img : a.images) EXPECT_EQ(img.width * 100 + img.height, 1608);
-    }
-}

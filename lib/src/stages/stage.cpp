@@ -12,11 +12,11 @@
 namespace lodbake {
 
 Asset loadStageInput(const StageCommon& common, double& seconds, std::optional<Multires>* multires,
-                     void (*check)(Asset&, ImageCheck, int threads)) {
+                     void (*check)(Asset&, ImageCheck)) {
     Clock::time_point t0 = Clock::now();
     Asset asset = common.inputBytes ? readGltfBytes(common.input, std::move(*common.inputBytes), {}, multires)
                                     : readGltf(common.input, {}, multires);
-    if (check) check(asset, common.inputImagesDecoded ? ImageCheck::Header : ImageCheck::Decode, common.threads);
+    if (check) check(asset, common.inputImagesDecoded ? ImageCheck::Header : ImageCheck::Decode);
     returnFreedPages();  // the file's bytes and the parser's tree: the stage's peak comes later
     seconds = secondsSince(t0);
     if (common.warning)

@@ -122,9 +122,7 @@ StageResult runTextureRefine(const TextureRefineSettings& s) {
     double loadSeconds = 0;
     // Without bakes this stage reads no pixels: a header check names an unreadable image, and the
     // stage that reads the pixels (pack) decodes them.
-    void (*headerOnly)(Asset&, ImageCheck, int) = [](Asset& a, ImageCheck, int threads) {
-        checkImages(a, ImageCheck::Header, threads);
-    };
+    void (*headerOnly)(Asset&, ImageCheck) = [](Asset& a, ImageCheck) { checkImages(a, ImageCheck::Header); };
     Asset asset = loadStageInput(s.common, loadSeconds, &multires, s.refine.bakeImages ? &checkImages : headerOnly);
     if (!multires) throw Impossible(s.common.input + ": no LODBAKE_multires extension; run simplify and parameterize first");
     if (multires->charts.empty()) throw Impossible(s.common.input + ": no chart layout; run parameterize first");

@@ -6,8 +6,6 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <exception>
-#include <mutex>
 
 #include <fcntl.h>
 #include <unistd.h>
@@ -16,20 +14,16 @@
 #include <OpenImageIO/imageio.h>
 
 #include "lodbake/core/errors.h"
-#include "lodbake/core/parallel.h"
 
 namespace lodbake {
 namespace {
 
 // libpng and libjpeg print their own messages on stderr before OpenImageIO reports the failure,
-// which would break the one-line error: stderr goes to /dev/null while images are checked (at load
-// time, before any progress line exists). Checks overlap on the load's threads: the first quiet
-// redirects stderr, the last one gone restores it.
+// which would break the one-line error: stderr goes to /dev/null while an image is decoded (at
+// load time, before any worker thread or progress line exists).
 class QuietStderr {
 public:
     QuietStderr() {
-        const std::lock_guard<std::mutex> lock(mutex_);
-        if (count_++ > 0) return;
         std::fflush(stderr);
         saved_ = dup(STDERR_FILENO);
         int null = open("/dev/null", O_WRONLY);
@@ -37,22 +31,17 @@ public:
         if (null >= 0) close(null);
     }
     ~QuietStderr() {
-        const std::lock_guard<std::mutex> lock(mutex_);
-        if (--count_ > 0) return;
         std::fflush(stderr);
         if (saved_ >= 0) {
             dup2(saved_, STDERR_FILENO);
             close(saved_);
         }
-        saved_ = -1;
     }
     QuietStderr(const QuietStderr&) = delete;
     QuietStderr& operator=(const QuietStderr&) = delete;
 
 private:
-    static inline std::mutex mutex_;
-    static inline int count_ = 0;
-    static inline int saved_ = -1;
+    int saved_ = -1;
 };
 
 // Why a PNG stream is incomplete (a chunk that runs past the data, or no IEND chunk), or "" when
@@ -257,18 +246,8 @@ std::pair<int, int> imageSize(const Image& image) {
     return size;
 }
 
-void checkImages(Asset& asset, ImageCheck check, int threads) {
-    // Each image on its own; of several bad ones the first by index is named, whatever the threads.
-    std::vector<std::exception_ptr> failed(asset.images.size());
-    parallelFor(asset.images.size(), threads, [&](size_t i) {
-        try {
-            checkImage(asset.sourcePath, asset.images[i], i, check);
-        } catch (...) {
-            failed[i] = std::current_exception();
-        }
-    });
-    for (const std::exception_ptr& e : failed)
-        if (e) std::rethrow_exception(e);
+void checkImages(Asset& asset, ImageCheck check) {
+    for (size_t i = 0; i < asset.images.size(); ++i) checkImage(asset.sourcePath, asset.images[i], i, check);
 }
 
 Image encodeImage(const std::vector<float>& rgb, int width, int height, ImageFormat format, int jpegQuality,

@@ -49,11 +49,11 @@ struct StageResult {
 // Reads common.input and, when `multires` is given, its LODBAKE_multires extension; `check`, when
 // given, runs on the asset as part of loading (stages that use the images pass checkImages; the
 // others keep images encoded and never load OpenImageIO), with ImageCheck::Header when
-// common.inputImagesDecoded and ImageCheck::Decode otherwise, on common.threads. Passes the
-// reader's warnings to common.warning. `seconds` gets the load time.
+// common.inputImagesDecoded and ImageCheck::Decode otherwise. Passes the reader's warnings to
+// common.warning. `seconds` gets the load time.
 // \throw the errors of readGltf and of `check`.
 Asset loadStageInput(const StageCommon& common, double& seconds, std::optional<Multires>* multires = nullptr,
-                     void (*check)(Asset&, ImageCheck, int threads) = nullptr);
+                     void (*check)(Asset&, ImageCheck) = nullptr);
 
 // Writes asset + multires to common.output (or common.outputBytes) with generator
 // "lodbake TOOL 0.1.0"; returns seconds. \throw the errors of writeGltf.

@@ -69,10 +69,8 @@ enum class ImageCheck {
     Decode,  // also decode every pixel (finds truncated or corrupt data)
 };
 
-// Fills width, height and channels of every image of `asset`, `threads` images at a time (0 = all
-// cores).
-// \throw InvalidInput "<asset.sourcePath>: image N 'name': cannot decode ..." (one line; the
-//        first bad image by index).
-void checkImages(Asset& asset, ImageCheck check = ImageCheck::Decode, int threads = 1);
+// Fills width, height and channels of every image of `asset`.
+// \throw InvalidInput "<asset.sourcePath>: image N 'name': cannot decode ..." (one line).
+void checkImages(Asset& asset, ImageCheck check = ImageCheck::Decode);
 
 }  // namespace lodbake
