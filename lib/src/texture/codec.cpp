@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <mutex>
 
 #include <fcntl.h>
 #include <unistd.h>
@@ -17,6 +18,14 @@
 
 namespace lodbake {
 namespace {
+
+// OpenImageIO 2.4's JPEG reader parses an ICC profile on open in a way that is not thread-safe:
+// concurrent opens of such JPEGs crash (OpenImageIO issue 3756). Opens take this lock; the pixels
+// are read side by side.
+std::mutex& openMutex() {
+    static std::mutex m;
+    return m;
+}
 
 // libpng and libjpeg print their own messages on stderr before OpenImageIO reports the failure,
 // which would break the one-line error: stderr goes to /dev/null while an image is decoded (at
@@ -110,13 +119,16 @@ void checkImage(const std::string& path, Image& img, size_t index, ImageCheck ch
     OIIO::Filesystem::IOProxy* proxy = &reader;
     OIIO::ImageSpec config;
     config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
-    auto in = OIIO::ImageInput::create(name, false, &config, proxy);
-    OIIO::ImageSpec opened;
-    if (in && !in->open(name, opened, config)) in.reset();
-    if (!in) {
-        std::string e = firstLine(OIIO::geterror());
-        fail("cannot decode " + kind + (e.empty() ? "" : ": " + e));
+    OIIO::ImageInput::unique_ptr in;
+    std::string openError;
+    {
+        const std::lock_guard<std::mutex> lock(openMutex());
+        in = OIIO::ImageInput::create(name, false, &config, proxy);
+        OIIO::ImageSpec opened;
+        if (in && !in->open(name, opened, config)) in.reset();
+        if (!in) openError = firstLine(OIIO::geterror());
     }
+    if (!in) fail("cannot decode " + kind + (openError.empty() ? "" : ": " + openError));
     const OIIO::ImageSpec& spec = in->spec();
     if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0) fail("invalid image size");
     if (check == ImageCheck::Decode) {
@@ -196,14 +208,18 @@ bool decodeImage(const Image& image, DecodedImage& out, std::string& error, Deco
     }
     std::string name = image.mimeType == "image/jpeg" ? "image.jpg" : "image.png";
     OIIO::Filesystem::IOMemReader reader(const_cast<uint8_t*>(image.encoded.data()), image.encoded.size());
-    // create + set_ioproxy: OIIO 2.4.7's ImageInput::open(name, config, proxy) fails on memory proxies.
-    auto in = OIIO::ImageInput::create(image.mimeType == "image/jpeg" ? "jpeg" : "png");
-    OIIO::ImageSpec opened, config;
-    // glTF images carry straight alpha: OIIO would premultiply colour by it.
-    config.attribute("oiio:UnassociatedAlpha", 1);
-    if (!in || !in->set_ioproxy(&reader) || !in->open(name, opened, config)) {
-        error = "image '" + image.name + "' cannot be decoded: " + OIIO::geterror();
-        return false;
+    OIIO::ImageInput::unique_ptr in;
+    {
+        const std::lock_guard<std::mutex> lock(openMutex());
+        // create + set_ioproxy: OIIO 2.4.7's ImageInput::open(name, config, proxy) fails on memory proxies.
+        in = OIIO::ImageInput::create(image.mimeType == "image/jpeg" ? "jpeg" : "png");
+        OIIO::ImageSpec opened, config;
+        // glTF images carry straight alpha: OIIO would premultiply colour by it.
+        config.attribute("oiio:UnassociatedAlpha", 1);
+        if (!in || !in->set_ioproxy(&reader) || !in->open(name, opened, config)) {
+            error = "image '" + image.name + "' cannot be decoded: " + OIIO::geterror();
+            return false;
+        }
     }
     const OIIO::ImageSpec& spec = in->spec();
     int w = spec.width, h = spec.height, nc = spec.nchannels;
@@ -235,6 +251,7 @@ std::pair<int, int> imageSize(const Image& image) {
     if (image.width > 0 && image.height > 0) return {image.width, image.height};
     if (image.encoded.empty()) return {0, 0};
     OIIO::Filesystem::IOMemReader reader(const_cast<uint8_t*>(image.encoded.data()), image.encoded.size());
+    const std::lock_guard<std::mutex> lock(openMutex());
     auto in = OIIO::ImageInput::create(image.mimeType == "image/jpeg" ? "jpeg" : "png");
     OIIO::ImageSpec opened;
     if (!in || !in->set_ioproxy(&reader) || !in->open(image.mimeType == "image/jpeg" ? "image.jpg" : "image.png", opened)) {
