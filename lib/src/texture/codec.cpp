@@ -19,9 +19,9 @@
 namespace lodbake {
 namespace {
 
-// OpenImageIO 2.4's JPEG reader parses an ICC profile on open in a way that is not thread-safe:
-// concurrent opens of such JPEGs crash (OpenImageIO issue 3756). Opens take this lock; the pixels
-// are read side by side.
+// OpenImageIO 2.4's JPEG reader parses an embedded ICC profile on open through state its threads
+// share (its issue 3756), so no two opens may overlap: every open takes this lock. Reading the
+// pixels needs no lock, so decodes still run side by side.
 std::mutex& openMutex() {
     static std::mutex m;
     return m;
