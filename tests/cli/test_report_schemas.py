@@ -68,6 +68,11 @@ class ReportSchemas(unittest.TestCase):
         run([tool("lodbake"), "-i", src, "-o", f["chain.glb"], "--ratio", "0.5", "--no-texture-refine", "--size", "128",
              "--max-size", "128", "--samples", "16", "--lod0", "original"] + q + [r["lodbake"]])
         cls.reports = {t: json.load(open(r[t])) for t in TOOLS}
+        # Over the triangle budget T0 is compared with nothing and not measured.
+        over = os.path.join(d, "over.json")
+        run([tool("texture-refine"), "-i", f["uv.glb"], "-o", os.path.join(d, "over.tex.glb"), "--size", "128", "--sizes",
+             "64,128", "--max-refine-triangles", "1"] + q + [over])
+        cls.over_budget = json.load(open(over))
 
     def test_schemas_are_valid(self):
         for t, s in self.schemas.items():
@@ -79,6 +84,8 @@ class ReportSchemas(unittest.TestCase):
         for t in TOOLS:
             with self.subTest(tool=t):
                 self.assertEqual(errors(self.schemas, t, self.reports[t]), [])
+        self.assertEqual(errors(self.schemas, "texture-refine", self.over_budget), [])
+        self.assertEqual([r["measured"] for r in self.over_budget["ranks"]], [False])
         # lodbake's stages are the tools' own reports.
         for stage in self.reports["lodbake"]["stages"]:
             self.assertEqual(errors(self.schemas, stage["tool"], stage), [])
@@ -91,6 +98,8 @@ class ReportSchemas(unittest.TestCase):
         self.assertTrue(broken("simplify", lambda r: r["levels"][0].pop("maxDeviation")))
         self.assertTrue(broken("parameterize", lambda r: r["total"].update(charts="2")))
         self.assertTrue(broken("texture-refine", lambda r: r["ranks"][0]["refined"].pop("E")))
+        self.assertTrue(broken("texture-refine", lambda r: r["ranks"][0].pop("T0")))
+        self.assertTrue(broken("texture-refine", lambda r: r["textures"][0].pop("E")))
         self.assertTrue(broken("pack", lambda r: r["levels"][1]["deviation"].update(hausdorff=-1)))
         self.assertTrue(broken("agsphere-build", lambda r: r.pop("sphere")))
         self.assertTrue(broken("compare", lambda r: r.update(pass_="x", **{"pass": "yes"})))

@@ -287,6 +287,11 @@ class TextureRefineCli(unittest.TestCase):
         self.assertEqual(runs["unlimited"][1]["warnings"], [])
         tex, rep, err = runs["over"]
         self.assertEqual([r["rank"] for r in rep["ranks"]], [0])
+        # T0 is compared with no rank: its measure (seconds on a million triangles) is not taken.
+        self.assertFalse(rep["ranks"][0]["measured"])
+        self.assertIn("triangle budget", rep["ranks"][0]["why"])
+        self.assertNotIn("E", rep["textures"][0])
+        self.assertTrue(runs["unlimited"][1]["ranks"][0]["measured"])
         self.assertEqual(len(rep["warnings"]), 1)
         self.assertIn("over the budget of 10", rep["warnings"][0])
         self.assertIn("over the budget of 10", err)

@@ -31,6 +31,10 @@ nlohmann::json measureJson(const LayoutMeasure& m, double r) {
     return j;
 }
 
+// Why a rank carries no measure (RankResult::measured).
+constexpr const char* kUnmeasured =
+    "not measured: the input is over the triangle budget (--max-refine-triangles), so no rank is compared with T0";
+
 // Resolution modifier r of a `side` x `side` texture: E is quoted per 512^2 texels.
 double resolutionModifier(int side) { return (512.0 * 512.0) / (double(side) * side); }
 
@@ -51,10 +55,15 @@ nlohmann::json makeReport(const TextureRefineSettings& s, const Asset& asset, co
                             {"charts", r.layout.chartCount},
                             {"levelIslands", r.layout.islands.size()},
                             {"resolution", o.param.textureSize},
-                            {"refined", measureJson(r.measure, rSize)},
-                            {"T0", measureJson(r.base, rSize)},
-                            {"lowerE", r.measure.energy.E < r.base.energy.E},
-                            {"lowerAreaRatioStdDev", r.measure.areaRatioStdDev < r.base.areaRatioStdDev}};
+                            {"measured", r.measured}};
+        if (r.measured) {
+            j["refined"] = measureJson(r.measure, rSize);
+            j["T0"] = measureJson(r.base, rSize);
+            j["lowerE"] = r.measure.energy.E < r.base.energy.E;
+            j["lowerAreaRatioStdDev"] = r.measure.areaRatioStdDev < r.base.areaRatioStdDev;
+        } else {
+            j["why"] = kUnmeasured;
+        }
         if (r.rank > 0) {
             j["parameterize"] = {{"flips", r.chartFlips}, {"overlaps", r.chartOverlaps}, {"levelFlipsInSolve", r.levelFlipsInSolve},
                                  {"methods", r.methods}, {"resplits", r.resplits}, {"unsplitCharts", r.unsplit},
@@ -66,18 +75,22 @@ nlohmann::json makeReport(const TextureRefineSettings& s, const Asset& asset, co
     }
     for (const RefinedImage& img : res.images) {
         const RankResult& r = res.ranks[img.rank];
-        nlohmann::json e = energyJson(r.measure.energy, resolutionModifier(img.size));
-        textures.push_back({{"rank", img.rank},
+        nlohmann::json t = {{"rank", img.rank},
                             {"validLevels", {r.firstLevel, r.lastLevel}},
                             {"resolution", img.size},
                             {"charts", r.layout.chartCount},
-                            {"E", e["E"]},
-                            {"E_pixel", e["E_pixel"]},
-                            {"E_poly", e["E_poly"]},
-                            {"areaRatioStdDev", r.measure.areaRatioStdDev},
+                            {"measured", r.measured},
                             {"coveredTexels", img.coveredTexels},
                             {"bytes", img.image.encoded.size()},
-                            {"bakeSeconds", img.seconds}});
+                            {"bakeSeconds", img.seconds}};
+        if (r.measured) {
+            const nlohmann::json e = energyJson(r.measure.energy, resolutionModifier(img.size));
+            t["E"] = e["E"];
+            t["E_pixel"] = e["E_pixel"];
+            t["E_poly"] = e["E_poly"];
+            t["areaRatioStdDev"] = r.measure.areaRatioStdDev;
+        }
+        textures.push_back(std::move(t));
     }
 
     nlohmann::json rep;
@@ -106,11 +119,16 @@ nlohmann::json makeReport(const TextureRefineSettings& s, const Asset& asset, co
 std::string statistics(const TextureRefineSettings& s, const RefineResult& res, double writeSeconds) {
     std::string out;
     const double rSize = resolutionModifier(s.refine.param.textureSize);
-    for (const RankResult& r : res.ranks)
+    for (const RankResult& r : res.ranks) {
+        if (!r.measured) {
+            appendf(out, "rank %u: levels %u..%u, %u charts, %s\n", r.rank, r.firstLevel, r.lastLevel, r.layout.chartCount, kUnmeasured);
+            continue;
+        }
         appendf(out, "rank %u: levels %u..%u, %u charts, E %.6g (T0 %.6g), area-ratio std-dev %.4f (T0 %.4f), flips %zu, overlaps %zu\n",
                 r.rank, r.firstLevel, r.lastLevel, r.layout.chartCount, r.measure.energy.E * rSize,
                 r.base.energy.E * rSize, r.measure.areaRatioStdDev, r.base.areaRatioStdDev, r.measure.flips,
                 r.measure.overlaps);
+    }
     appendf(out, "images: %zu; time: refine %.2fs, write %.2fs\n", res.images.size(), res.seconds, writeSeconds);
     return out;
 }

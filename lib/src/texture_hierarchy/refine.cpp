@@ -1,7 +1,7 @@
 // refineTextures: rank layouts by chart splitting + parameterize, and the MIP-style bakes.
 //
 // Pipeline of refineTextures, in execution order:
-//   rankZero                  T0 as it is, measured over every level (measure.cpp)
+//   rankZero                  T0 as it is, measured over every level (measure.cpp) within the budget
 //   per rank j:
 //     nextSplit               the next finer level whose regions split rank j-1's charts: per
 //                             parent chart, its faces as a small mesh with that level's regions,
@@ -278,16 +278,19 @@ private:
     std::vector<LayoutMeasure> byLevel_;  // index l: over levels 0..l
 };
 
-// Rank 0: T0 as it is, valid for every level.
-RankResult rankZero(const TriMesh& mesh, const Multires& mr, BaseMeasures& base) {
+// Rank 0: T0 as it is, valid for every level; measured unless `measured` is false.
+RankResult rankZero(const TriMesh& mesh, const Multires& mr, BaseMeasures& base, bool measured) {
     const uint32_t n = uint32_t(mr.levels.size());
     RankResult r0;
     r0.rank = 0;
     r0.lastLevel = n;
     r0.layout = mr.charts;
     r0.layout.material = -1;
-    r0.measure = base.upTo(n);
-    r0.base = r0.measure;
+    r0.measured = measured;
+    if (measured) {
+        r0.measure = base.upTo(n);
+        r0.base = r0.measure;
+    }
     r0.regions = n > 0 ? countRegions(mr.levels.back().faceRegion) : uint32_t(mesh.triangleCount());
     return r0;
 }
@@ -463,7 +466,7 @@ RefineResult refineTextures(const Asset& asset, const Multires& mr, const Refine
     eo.beta = o.param.solve.energy.beta;
     RefineResult res;
     BaseMeasures base(mesh, mr, eo, o.param.threads);
-    res.ranks.push_back(rankZero(mesh, mr, base));
+    res.ranks.push_back(rankZero(mesh, mr, base, !overBudget));
     if (overBudget && o.ranks > 0 && n > 0)
         res.warnings.push_back(std::to_string(mesh.triangleCount()) + " triangles is over the budget of " +
                                std::to_string(o.maxTriangles) + " (--max-refine-triangles): no refined ranks, T0 serves every level");

@@ -133,6 +133,10 @@ struct RankResult {
     ChartLayout layout;                      // rank 0: a copy of Multires::charts
     LayoutMeasure measure;                   // this layout over levels 0..lastLevel
     LayoutMeasure base;                      // T0 over the same levels (the comparison)
+    // False for T0 over the triangle budget (RefineOptions::maxTriangles): no rank is compared with
+    // it, so `measure` and `base` are not taken (on a million triangles they cost seconds for
+    // figures only the report shows).
+    bool measured = true;
     uint32_t regions = 0;                    // regions of level lastLevel (rank >= 1)
     size_t chartFlips = 0, chartOverlaps = 0, levelFlipsInSolve = 0;  // from parameterize (rank >= 1)
     // Rounds (<= 3) in which parent charts whose pieces came out worse than the parent itself (higher
