@@ -17,6 +17,7 @@ Asset loadStageInput(const StageCommon& common, double& seconds, std::optional<M
     Asset asset = common.inputBytes ? readGltfBytes(common.input, std::move(*common.inputBytes), {}, multires)
                                     : readGltf(common.input, {}, multires);
     if (check) check(asset, common.inputImagesDecoded ? ImageCheck::Header : ImageCheck::Decode);
+    keepFreedPages(asset.mesh.triangleCount() < kKeepFreedPagesBelow);
     returnFreedPages();  // the file's bytes and the parser's tree: the stage's peak comes later
     seconds = secondsSince(t0);
     if (common.warning)
