@@ -31,6 +31,7 @@
 #include "gltf/gltf_internal.h"
 #include "gltf/gpu_streams.h"
 #include "gltf/material_json.h"
+#include "lodbake/core/parallel.h"
 #include "lodbake/core/material_uniforms.h"
 #include "gltf/rig_write.h"
 #include "gltf/scene_extras_codec.h"
@@ -452,27 +453,35 @@ LodChainWriteStats writeLodChain(const std::string& path, const std::vector<LodL
     if (M.doubleSided) mat["doubleSided"] = true;
     return mat;
     };
-    for (size_t i = 0; i < levels.size(); ++i) {
-        LodLevelData optimized;  // geometry only: the material stays the caller's
+    // Every level's GPU order and cache figures first, the levels side by side (each level's own
+    // work, written in order below).
+    std::vector<LodLevelData> optimized(options.optimize ? levels.size() : 0);  // geometry only: the material stays the caller's
+    const size_t firstStat = stats.levelCacheBefore.size();  // after the original's, when it leads
+    stats.levelCacheBefore.resize(firstStat + levels.size());
+    stats.levelCacheAfter.resize(firstStat + levels.size());
+    parallelFor(levels.size(), options.threads, [&](size_t i) {
         if (options.optimize) {
             const LodLevelData& src = levels[i];
-            optimized.name = src.name;
-            optimized.positions = src.positions;
-            optimized.normals = src.normals;
-            optimized.uvs = src.uvs;
-            optimized.tangents = src.tangents;
-            optimized.joints = src.joints;
-            optimized.weights = src.weights;
-            optimized.targetPositions = src.targetPositions;
-            optimized.targetNormals = src.targetNormals;
-            optimized.targetTangents = src.targetTangents;
-            optimized.indices = src.indices;
-            optimized.parts = src.parts;
-            optimizeLevelBuffers(optimized);
+            LodLevelData& o = optimized[i];
+            o.name = src.name;
+            o.positions = src.positions;
+            o.normals = src.normals;
+            o.uvs = src.uvs;
+            o.tangents = src.tangents;
+            o.joints = src.joints;
+            o.weights = src.weights;
+            o.targetPositions = src.targetPositions;
+            o.targetNormals = src.targetNormals;
+            o.targetTangents = src.targetTangents;
+            o.indices = src.indices;
+            o.parts = src.parts;
+            optimizeLevelBuffers(o);
         }
-        const LodLevelData& L = options.optimize ? optimized : levels[i];
-        stats.levelCacheBefore.push_back(analyzeVertexCache(levels[i]));
-        stats.levelCacheAfter.push_back(analyzeVertexCache(L));
+        stats.levelCacheBefore[firstStat + i] = analyzeVertexCache(levels[i]);
+        stats.levelCacheAfter[firstStat + i] = analyzeVertexCache(options.optimize ? optimized[i] : levels[i]);
+    });
+    for (size_t i = 0; i < levels.size(); ++i) {
+        const LodLevelData& L = options.optimize ? optimized[i] : levels[i];
         size_t before = b.size;
         std::vector<json> prims;
         if (options.draco && !morphed) {

@@ -91,8 +91,23 @@ public:
              const std::vector<UvTri>& uv, uint32_t firstIsland, double uvPerUnit, const AbsorbOptions& options)
         : positions_(positions), triangles_(triangles), firstIsland_(firstIsland), uvPerUnit_(uvPerUnit), options_(options),
           chart_(chart), uv_(uv), assigned_(triangles.size(), 0), grid_(gridCell(uv)) {
+        // Each edge's triangles in triangle order (corner order within one): the half-edges sorted
+        // by (edge, half-edge id), each half-edge pointing at its edge's run.
+        const size_t halfEdges = 3 * triangles_.size();
+        std::vector<std::pair<uint64_t, uint32_t>> byEdge(halfEdges);
         for (uint32_t t = 0; t < triangles_.size(); ++t)
-            for (size_t j = 0; j < 3; ++j) edges_[pairKey(triangles_[t][j], triangles_[t][(j + 1) % 3])].push_back(t);
+            for (size_t j = 0; j < 3; ++j) byEdge[3 * t + j] = {pairKey(triangles_[t][j], triangles_[t][(j + 1) % 3]), uint32_t(3 * t + j)};
+        std::sort(byEdge.begin(), byEdge.end());
+        edgeTriangles_.resize(halfEdges);
+        edgeRun_.resize(halfEdges);
+        for (size_t i = 0, j = 0; i < halfEdges; i = j) {
+            while (j < halfEdges && byEdge[j].first == byEdge[i].first) ++j;
+            for (size_t k = i; k < j; ++k) {
+                edgeTriangles_[k] = byEdge[k].second / 3;
+                edgeRun_[byEdge[k].second] = {uint32_t(i), uint32_t(j)};
+            }
+        }
+        vertexUv_.reserve(halfEdges);
         nextChart_ = firstIsland_;
         for (uint32_t c : chart_) nextChart_ = std::max(nextChart_, c + 1);
         for (uint32_t t = 0; t < triangles_.size(); ++t)
@@ -123,9 +138,11 @@ private:
     }
 
     void pushNeighbours(uint32_t t, std::deque<uint32_t>& queue) const {
-        for (size_t j = 0; j < 3; ++j)
-            for (uint32_t n : edges_.at(pairKey(triangles_[t][j], triangles_[t][(j + 1) % 3])))
-                if (!assigned_[n]) queue.push_back(n);
+        for (size_t j = 0; j < 3; ++j) {
+            const auto [begin, end] = edgeRun_[3 * size_t(t) + j];
+            for (uint32_t k = begin; k < end; ++k)
+                if (!assigned_[edgeTriangles_[k]]) queue.push_back(edgeTriangles_[k]);
+        }
     }
 
     // Unfolds every queued triangle onto the first adjacent chart that has room for it; each one
@@ -143,10 +160,11 @@ private:
 
     // Places triangle t on the chart of an assigned neighbour across one of its edges.
     bool unfold(uint32_t t) {
-        const Tri& tri = triangles_[t];
         for (size_t j = 0; j < 3; ++j) {
             const size_t ia = j, ib = (j + 1) % 3, ic = (j + 2) % 3;
-            for (uint32_t s : edges_.at(pairKey(tri[ia], tri[ib]))) {
+            const auto [begin, end] = edgeRun_[3 * size_t(t) + j];
+            for (uint32_t k = begin; k < end; ++k) {
+                const uint32_t s = edgeTriangles_[k];
                 if (s == t || !assigned_[s]) continue;
                 UvTri placed;
                 if (place(t, s, ia, ib, ic, placed)) {
@@ -204,7 +222,8 @@ private:
     std::vector<UvTri> uv_;
     std::vector<char> assigned_;
     ChartGrid grid_;
-    std::unordered_map<uint64_t, std::vector<uint32_t>> edges_;
+    std::vector<uint32_t> edgeTriangles_;                   // every edge's triangles, edge by edge
+    std::vector<std::pair<uint32_t, uint32_t>> edgeRun_;    // per half-edge (3 t + j), its edge's run there
     std::unordered_map<uint64_t, Vec2> vertexUv_;  // (chart << 32 | vertex) -> its first UV there
     uint32_t nextChart_ = 0;
 };

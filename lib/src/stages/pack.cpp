@@ -169,7 +169,9 @@ StageResult runPack(const PackSettings& s) {
     PackResult res = packLodChain(asset, *multires, opt);
 
     Clock::time_point t1 = Clock::now();
-    PackWriteStats ws = writePackResult(s.common.output, res, s.write);
+    PackWriteOptions write = s.write;
+    write.chain.threads = s.common.threads;
+    PackWriteStats ws = writePackResult(s.common.output, res, write);
     double writeSeconds = secondsSince(t1);
 
     StageResult out;

@@ -110,6 +110,7 @@ struct LodChainWriteOptions {
     // (so a level's default material keeps its index), named "<level>_<variant>", and images
     // equal to one the level already wrote are shared.
     std::vector<std::string> variants;
+    int threads = 1;  // levels optimised side by side (0 = all cores); the file is the same for any count
 };
 
 // meshopt_analyzeVertexCache with a 16-entry FIFO: ACMR = vertex shader invocations per triangle
