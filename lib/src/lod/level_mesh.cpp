@@ -188,7 +188,7 @@ void buildLevelMesh(const Asset& asset, const LevelView& lv, const LevelUVs& luv
             }
             const uint32_t w = lv.cornerWedges[t][j];
             CornerKey key{v, c, float(n.x), float(n.y), float(n.z), luv.uv[t][j].x, luv.uv[t][j].y, motionOf(w)};
-            auto [it, inserted] = index.emplace(key, uint32_t(out.positions.size() / 3));
+            auto [it, inserted] = index.try_emplace(key, uint32_t(out.positions.size() / 3));
             if (inserted) {
                 const Vec3& p = positions[v];
                 out.positions.insert(out.positions.end(), {float(p.x), float(p.y), float(p.z)});
