@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "lodbake/core/cell_lists.h"
 #include "lodbake/core/closest_point.h"
 #include "lodbake/core/parallel.h"
 
@@ -42,34 +43,15 @@ FaceGrid::FaceGrid(const TriMesh& mesh, const std::vector<uint32_t>& held, size_
     cell_ = std::max({cell_, box.longestSide() / 2048.0, 1e-12});
     for (int a = 0; a < 3; ++a) n_[a] = std::max(1, int(std::ceil(ext[a] / cell_)));
     const size_t cells = size_t(n_[0]) * size_t(n_[1]) * size_t(n_[2]);
-    auto forCells = [&](uint32_t f, auto&& fn) {
-        const auto& b = boxes_[f];
+    auto forCells = [&](size_t i, auto&& fn) {
+        const auto& b = boxes_[held[i]];
         int lo[3], hi[3];
         cellRange({b[0], b[1], b[2]}, {b[3], b[4], b[5]}, lo, hi);
         for (int z = lo[2]; z <= hi[2]; ++z)
             for (int y = lo[1]; y <= hi[1]; ++y)
                 for (int x = lo[0]; x <= hi[0]; ++x) fn((size_t(z) * size_t(n_[1]) + size_t(y)) * size_t(n_[0]) + size_t(x));
     };
-    // `held` in a fixed number of consecutive parts, counted and filled side by side: each cell
-    // lists part 0's faces first, then part 1's, ..., so in held's order as one pass lists them.
-    const size_t parts = std::clamp<size_t>(held.size() / kChunk, 1, 4);
-    auto partRange = [&](size_t p) { return std::pair<size_t, size_t>{held.size() * p / parts, held.size() * (p + 1) / parts}; };
-    std::vector<std::vector<uint32_t>> slot(parts, std::vector<uint32_t>(cells, 0));  // counts, then where the part's next face goes
-    parallelFor(parts, threads, [&](size_t p) {
-        const auto [begin, end] = partRange(p);
-        for (size_t i = begin; i < end; ++i) forCells(held[i], [&](size_t c) { ++slot[p][c]; });
-    });
-    start_.assign(cells + 1, 0);
-    for (size_t c = 0; c < cells; ++c) {
-        uint32_t at = start_[c];
-        for (size_t p = 0; p < parts; ++p) std::swap(slot[p][c], at), at += slot[p][c];
-        start_[c + 1] = at;
-    }
-    faces_.resize(start_[cells]);
-    parallelFor(parts, threads, [&](size_t p) {
-        const auto [begin, end] = partRange(p);
-        for (size_t i = begin; i < end; ++i) forCells(held[i], [&](size_t c) { faces_[slot[p][c]++] = held[i]; });
-    });
+    fillCellLists(held.size(), cells, threads, forCells, [&](size_t i) { return held[i]; }, start_, faces_);
 }
 
 void FaceGrid::cellRange(Vec3 lo, Vec3 hi, int (&a)[3], int (&b)[3]) const {

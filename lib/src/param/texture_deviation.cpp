@@ -32,9 +32,10 @@ uint32_t mortonKey(uint32_t x, uint32_t y) {
 }
 
 // The used original faces in a grid over the unit square of about one cell per face (faces
-// outside it land in the border cells).
-Grid2 uvGrid(const std::vector<std::array<Vec2, 3>>& uv, const std::vector<char>& use) {
+// outside it land in the border cells), filled on `threads` threads.
+Grid2 uvGrid(const std::vector<std::array<Vec2, 3>>& uv, const std::vector<char>& use, int threads) {
     std::vector<GridItem2> items;
+    items.reserve(uv.size());
     for (size_t f = 0; f < uv.size(); ++f) {
         if (!use[f]) continue;
         const auto& t = uv[f];
@@ -42,7 +43,7 @@ Grid2 uvGrid(const std::vector<std::array<Vec2, 3>>& uv, const std::vector<char>
                          {std::max({t[0].x, t[1].x, t[2].x}), std::max({t[0].y, t[1].y, t[2].y})}});
     }
     const int g = std::clamp(int(std::sqrt(double(items.size()))), 1, 1024);
-    return Grid2({0, 0}, {1, 1}, g, g, items);
+    return Grid2({0, 0}, {1, 1}, g, g, items, threads);
 }
 
 }  // namespace
@@ -61,7 +62,7 @@ TextureDeviation textureDeviation(const TriMesh& mesh, const Level& level, const
         const Tri& t = mesh.triangles[f];
         use[f] = t[0] != t[1] && t[1] != t[2] && t[0] != t[2];
     }
-    const Grid2 grid = uvGrid(layout.cornerUV, use);
+    const Grid2 grid = uvGrid(layout.cornerUV, use, options.threads);
 
     const std::vector<uint32_t> triChart = levelTriangleCharts(mesh, layout.faceChart, layout.chartCount, level);
     std::map<Tri, size_t> islandOf;

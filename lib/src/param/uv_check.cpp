@@ -110,9 +110,10 @@ UVFolds findUVFolds(std::vector<std::array<Vec2, 3>> tris, double tolerance, int
     // boxes meet share a cell.
     const int g = std::clamp(int(std::sqrt(double(n))), 1, 2048);
     std::vector<GridItem2> items;
+    items.reserve(n);
     for (size_t i = 0; i < n; ++i)
         if (!r.flipped[i]) items.push_back({uint32_t(i), {box[i][0], box[i][1]}, {box[i][2], box[i][3]}});
-    const Grid2 grid(lo, hi, g, g, items);
+    const Grid2 grid(lo, hi, g, g, items, threads);
     std::vector<GridItem2>().swap(items);  // the grid holds its own lists (freed before the axes: the peak)
     std::vector<EdgeAxes> axes(n);
     std::vector<uint8_t> axisMask(n, 0);

@@ -32,8 +32,9 @@ public:
         size_t size() const { return size_t(last - first); }
     };
 
-    // nx x ny cells (each >= 1) over the box [lo, hi] (a side of no extent counts as 1e-300).
-    Grid2(Vec2 lo, Vec2 hi, int nx, int ny, const std::vector<GridItem2>& items);
+    // nx x ny cells (each >= 1) over the box [lo, hi] (a side of no extent counts as 1e-300),
+    // filled on `threads` threads (the same lists for any count).
+    Grid2(Vec2 lo, Vec2 hi, int nx, int ny, const std::vector<GridItem2>& items, int threads = 1);
 
     // Cells for about `items` cells over [lo, hi], of about square shape, at most 1024 a side.
     static std::array<int, 2> squareCells(Vec2 lo, Vec2 hi, size_t items);
