@@ -21,9 +21,9 @@ constexpr size_t kKeepFreedPagesBelow = 250000;
 // Whether freed pages stay with the allocator for the next allocations: no purges (then
 // returnFreedPages does nothing) and, with jemalloc, no timed return of idle pages either. The
 // purges hold a large input's peak near what it has live; on a small input they only make the
-// next phase fault the same pages in again (zeroed by the kernel each time: some 10% of a small
-// asset's chain) for a peak far from any limit. Set from the input's size (kKeepFreedPagesBelow)
-// by the stages as they load it; allocator settings only, so outputs never change.
+// next phase fault the same pages in again (each one zeroed by the kernel anew) for a peak far
+// from any limit. Set from the input's size (kKeepFreedPagesBelow) by the stages as they load it;
+// allocator settings only, so outputs never change.
 void keepFreedPages(bool keep);
 
 }  // namespace lodbake
