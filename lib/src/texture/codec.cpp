@@ -19,9 +19,9 @@
 namespace lodbake {
 namespace {
 
-// OpenImageIO 2.4's JPEG reader parses an embedded ICC profile on open through state its threads
-// share (its issue 3756), so no two opens may overlap: every open takes this lock. Reading the
-// pixels needs no lock, so decodes still run side by side.
+// OpenImageIO 2.4's JPEG reader is not thread-safe on open: it parses an embedded ICC profile
+// through state all threads share (OpenImageIO issue 3756). Opens therefore never overlap: each
+// takes this lock. Pixel reads need none, so decodes still run side by side.
 std::mutex& openMutex() {
     static std::mutex m;
     return m;
