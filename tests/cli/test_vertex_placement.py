@@ -5,7 +5,9 @@ On generated samples (simplify 10% / 2%, parameterize, pack with and without
 unplaced one's on a curved sample and never above it on any; the report's before/after figures
 agree with that; no level face turns against its vertices' normals (the original surface's
 orientation) when it was not already; a skinned sample keeps its joints and weights; the output is
-byte-identical for 1 and 2 threads.
+byte-identical for 1 and 2 threads. A level that simplify left on the original (the drum's flat
+faces at half its triangles) is not moved and the report says why; the curved samples' levels are
+all tried.
 """
 import json
 import os
@@ -47,7 +49,7 @@ def hausdorff(original, chain, lod):
 class VertexPlacement(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
-        lt.require_tools("simplify", "parameterize", "pack", "make-samples", "compare")
+        lt.require_tools("simplify", "parameterize", "pack", "make-samples", "compare", "lodbake")
         cls.dir = lt.work_dir("vertex_placement")
         lt.make_samples(cls.dir)
         cls.uv = {}
@@ -73,6 +75,7 @@ class VertexPlacement(unittest.TestCase):
                 with self.subTest(sample=name, lod=k):
                     level = report["levels"][k]
                     pl = level["placement"]
+                    self.assertNotIn("skipped", pl)
                     self.assertLessEqual(level["deviation"]["hausdorff"], pl["before"]["hausdorff"])
                     hp, hq = hausdorff(original, placed, k), hausdorff(original, plain, k)
                     # compare measures with other samples than pack: a kept placement is never
@@ -84,6 +87,26 @@ class VertexPlacement(unittest.TestCase):
                                          reversed_faces(gq, gq.json["nodes"][k]["mesh"]))
             if name == "seamball":  # a closed curved surface: placement pulls the coarse levels out to it
                 self.assertGreaterEqual(lowered, 1, "placement lowered no level's Hausdorff distance by 10%")
+
+    def test_level_on_original_not_moved(self):
+        src = os.path.join(self.dir, "drum.glb")
+        out, rep = (os.path.join(self.dir, "drum" + ext) for ext in (".lod.glb", ".json"))
+        lt.run([lt.tool("lodbake"), src, "-o", out, "--report", rep, "--ratio", "0.5,0.1", "--max-size", "256", "-q"])
+        with open(rep) as f:
+            levels = json.load(f)["stages"][-1]["levels"]
+        skipped = 0
+        for level in levels[1:]:
+            pl = level["placement"]
+            with self.subTest(lod=level["lod"]):
+                if "skipped" in pl:
+                    skipped += 1
+                    self.assertLessEqual(pl["before"]["relHausdorff"], 2 ** -20)
+                    self.assertFalse(pl["applied"])
+                    self.assertEqual(pl["movedVertices"], 0)
+                    self.assertEqual(level["deviation"]["hausdorff"], pl["before"]["hausdorff"])
+                else:
+                    self.assertGreater(pl["before"]["relHausdorff"], 2 ** -20)
+        self.assertEqual(skipped, 1, "the drum's half-resolution level lies on its flat faces")
 
     def test_skinned_keeps_weights(self):
         placed, plain, report = self.chains("walker")

@@ -17,6 +17,10 @@ namespace lodbake::lod_detail {
 namespace {
 
 constexpr size_t kMeasureStride = 8;  // coarse pass of pack's measure: every 8th sample (DistanceOptions)
+// A level within this fraction of the original's bounding-box diagonal is left where simplify put
+// it: that is some eight float steps of a coordinate the diagonal's size, the precision its
+// positions are written with, so vertex placement could not bring it measurably closer.
+constexpr double kOnOriginal = 0x1p-20;
 
 // A level view as the measure reads it: for a rigged asset posed through the wedges its corners keep.
 TriMesh measuredMesh(const Asset& asset, const LevelView& lv, bool posed) {
@@ -49,13 +53,31 @@ bool noWorse(PosedDistanceReference::Measure& after, PosedDistanceReference::Mea
 }
 
 // Vertex placement of level view `lv`, kept when the measured Hausdorff distance does not grow.
-// `before` is the level's measure as simplify left it (done when the level was measured already).
-// Returns the level's figures: after placement when kept, else before's (then done). `time`
-// receives the placement's seconds.
+// `before` is the level's measure as simplify left it (of `level`; done when the level was measured
+// already). Returns the level's figures: after placement when kept, else before's (then done).
+// `time` receives the placement's seconds.
 GeometricDistance placeVertices(const Asset& asset, LevelView& lv, bool posed, PosedDistanceReference& original,
-                                const DistanceOptions& dopt, PosedDistanceReference::Measure& before,
-                                PackLevelReport::Placement& report, PackLevelProfile& time) {
+                                const DistanceOptions& dopt, const TriMesh& level, double diagonal,
+                                PosedDistanceReference::Measure& before, PackLevelReport::Placement& report,
+                                PackLevelProfile& time) {
     auto t0 = Clock::now();
+    // A level on the original to its positions' precision is not moved. It is measured first up
+    // to that bound: one within it is then measured in full, one beyond it stops at its first
+    // sample past the bound and is measured afresh (an unstopped measure's figures are the full ones).
+    const double onOriginal = kOnOriginal * diagonal;
+    if (!before.done()) {
+        DistanceOptions bounded = dopt;
+        bounded.stopAbove = onOriginal;
+        while (!before.done()) before.step(bounded);
+        if (before.figures().stopped) before = original.measure(level);
+    }
+    if (before.done() && before.figures().hausdorff <= onOriginal) {
+        const GeometricDistance& b = before.figures();
+        report = {true, false, b.hausdorff, b.relHausdorff, b.rms, b.relRms, 0, 0, 0, 0,
+                  "the level lies on the original to its positions' precision"};
+        time.placementSeconds = secondsSince(t0);
+        return b;
+    }
     PlacementOptions po;
     po.threads = dopt.threads;
     PlacementResult placed = placeLevelVertices(asset.mesh, original.bind(), *lv.data, po);
@@ -74,7 +96,7 @@ GeometricDistance placeVertices(const Asset& asset, LevelView& lv, bool posed, P
     if (!applied) d = before.figures();
     // Kept: the figures before it measured only until they reached those after it (a lower bound).
     const GeometricDistance& b = before.figures();
-    report = {true, applied, b.hausdorff, b.relHausdorff, b.rms, b.relRms, placed.moved, placed.fixed, placed.shortened, placed.rounds};
+    report = {true, applied, b.hausdorff, b.relHausdorff, b.rms, b.relRms, placed.moved, placed.fixed, placed.shortened, placed.rounds, {}};
     time.placementSeconds = secondsSince(t0);
     return d;
 }
@@ -96,6 +118,7 @@ void measureLevels(const Asset& asset, std::vector<LevelView>& views, const Pack
     // The original's trees, built once for every level and placement and freed before the bakes.
     PosedDistanceReference original(asset.rig, asset.morph, asset.mesh, poses, options.threads);
     const bool posed = !poses.empty();
+    const double diagonal = bounds(asset.mesh).diagonal();  // the measures' (their relative figures')
     for (size_t k = 0; k < n; ++k) {
         res.reports[k].source = views[k].source;
         res.reports[k].maxDeviation = views[k].maxDeviation;
@@ -142,7 +165,7 @@ void measureLevels(const Asset& asset, std::vector<LevelView>& views, const Pack
                                                                                   : original.measure(level);
             GeometricDistance d;
             if (place && views[k].data) {
-                d = placeVertices(asset, views[k], posed, original, dopt, before, r.placement, time[k]);
+                d = placeVertices(asset, views[k], posed, original, dopt, level, diagonal, before, r.placement, time[k]);
             } else {
                 while (!before.done()) before.step(dopt);
                 d = before.figures();

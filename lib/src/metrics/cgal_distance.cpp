@@ -228,15 +228,33 @@ public:
         for (uint32_t i = 0; i < points.size(); ++i) order_[i] = {keyOf(cellOf(points[i])), i};
         std::sort(order_.begin(), order_.end());
     }
-    // Whether a sample in p's cell or the cells around it bounds p's distance below `limit`.
+    // Whether a sample in p's cell or the cells around it bounds p's distance below `limit`. A
+    // sample bounds it only from within `limit` of p: a neighbour cell farther away than that
+    // (every one when the limit is far below the cells' size, as on a level lying on the
+    // original) holds none that could.
     bool boundsBelow(Vec3 p, double limit) const {
         if (order_.empty()) return false;
         const std::array<int64_t, 3> c = cellOf(p);
         const int64_t top = (int64_t(1) << kBits) - 1;
+        // p's offsets from its cell's lower and upper walls, per axis.
+        const double q[3] = {p.x - lo_.x, p.y - lo_.y, p.z - lo_.z};
+        double below[3], above[3];
+        for (int a = 0; a < 3; ++a) {
+            below[a] = q[a] - double(c[size_t(a)]) * cell_;
+            above[a] = double(c[size_t(a)] + 1) * cell_ - q[a];
+        }
         for (int k = 0; k < 27; ++k) {  // p's own cell first: its samples are the likeliest to settle it
             const int64_t dx = (k + 13) % 27 / 9 - 1, dy = (k + 13) % 9 / 3 - 1, dz = (k + 13) % 3 - 1;
             const std::array<int64_t, 3> n{c[0] + dx, c[1] + dy, c[2] + dz};
             if (std::min({n[0], n[1], n[2]}) < 0 || std::max({n[0], n[1], n[2]}) > top) continue;
+            const int64_t d[3] = {dx, dy, dz};
+            double gap2 = 0;  // squared distance from p to the neighbour cell, less a rounding margin
+            for (int a = 0; a < 3; ++a) {
+                const double g = d[a] < 0 ? below[a] : d[a] > 0 ? above[a] : 0;
+                const double m = std::max(0.0, g - 1e-9 * cell_);
+                gap2 += m * m;
+            }
+            if (gap2 >= limit * limit) continue;
             const uint64_t key = keyOf(n);
             auto it = std::lower_bound(order_.begin(), order_.end(), std::make_pair(key, uint32_t(0)));
             for (; it != order_.end() && it->first == key; ++it)
@@ -271,10 +289,11 @@ double vertexMaximum(const Surface& from, const Measured& to, const CoarseGrid* 
     std::vector<double> itemMax(items, 0.0);
     std::vector<size_t> itemQueried(items, 0);
     parallelFor(items, threads, [&](size_t c) {
+        NearestWalk nearest(to.tree);  // vertices of nearby ids mostly lie near each other
         for (size_t v = c * kChunk; v < std::min(nv, (c + 1) * kChunk) && !stop.hit(); ++v) {
             const Vec3 p = from.vertices[v];
             if (grid && grid->boundsBelow(p, limit)) continue;
-            const double d = std::sqrt(CGAL::squared_distance(toPoint(p), to.tree.closest(toPoint(p))));
+            const double d = std::sqrt(CGAL::squared_distance(toPoint(p), nearest(toPoint(p))));
             itemMax[c] = std::max(itemMax[c], d);
             stop.see(d);
             ++itemQueried[c];

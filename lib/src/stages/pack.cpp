@@ -89,6 +89,7 @@ nlohmann::json makeReport(const PackSettings& s, const Asset& asset, const Multi
                                           {"movedVertices", pl.moved}, {"fixedVertices", pl.fixed},
                                           {"shortenedSteps", pl.shortened}, {"rounds", pl.rounds},
                                           {"seconds", t.placementSeconds}, {"placeSeconds", t.placeSeconds}};
+            if (!pl.skipped.empty()) levels.back()["placement"]["skipped"] = pl.skipped;
         }
     }
     nlohmann::json rep;

@@ -129,6 +129,7 @@ struct PackLevelReport {
         double hausdorff = 0, relHausdorff = 0, rms = 0, relRms = 0;
         size_t moved = 0, fixed = 0, shortened = 0;  // vertices moved / held on open edges / steps shortened against flips
         int rounds = 0;               // least-squares rounds run
+        std::string skipped;          // why placement was not tried on a level it could not improve
     } placement;
     double coverage = 0;          // MSFT_screencoverage value: the level is used at coverage >= this
     double maxCoverage = 0;       // ... and below this (the next finer level's threshold; LOD0: lod0Coverage)
