@@ -48,6 +48,10 @@ uint32_t PositionWeld::insert(const PositionKey& k, bool& inserted) {
     }
 }
 
+void PositionWeld::prefetch(const PositionKey& k) const {
+    if (!slots_.empty()) __builtin_prefetch(&slots_[size_t(hashOf(k)) & (slots_.size() - 1)]);
+}
+
 void PositionWeld::rehash(size_t cap) {
     slots_.assign(cap, kEmpty);
     for (uint32_t id = 0; id < keys_.size(); ++id)

@@ -106,7 +106,14 @@ struct MeshBuilder {
             local[i] = w;
             return w;
         };
-        for (Tri t : p.tris) {
+        // The weld's slots of the corners a few triangles ahead are fetched while these are added
+        // (the table is not rehashed within the primitive: reserved above).
+        constexpr size_t kAhead = 8;
+        for (size_t j = 0; j < nt; ++j) {
+            if (j + kAhead < nt)
+                for (uint32_t i : p.tris[j + kAhead])
+                    if (local[i] < 0) weld.prefetch(keys[i]);
+            Tri t = p.tris[j];
             if (det < 0) std::swap(t[1], t[2]);
             if (keys[t[0]] == keys[t[1]] || keys[t[1]] == keys[t[2]] || keys[t[0]] == keys[t[2]]) {
                 degenerate++;

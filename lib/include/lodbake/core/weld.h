@@ -34,6 +34,9 @@ public:
     void reserve(size_t more);
     // The id of `k`; a new key gets the next id (`inserted` is then true).
     uint32_t insert(const PositionKey& k, bool& inserted);
+    // Asks the memory for the slot where k's search starts, some inserts ahead of k's: on a table
+    // of millions of positions each insert otherwise waits for a cache miss.
+    void prefetch(const PositionKey& k) const;
 
 private:
     static constexpr uint32_t kEmpty = ~0u;
