@@ -199,6 +199,10 @@ def scale(res):
         c = ok.get(("lodbake", "bin"))
         if e.get("role") == "chain" and c:
             worst = max(r["gbPerMTriangles"] for (t, b), r in ok.items() if b == "bin")
+            if e["triangles"] >= 5e6:  # the ten-million input: its goal is the machine's memory
+                notes.append("- %s: whole chain %.1f s (%.1f min); peak %.1f GB (goal within 24 GB: %s)" % (
+                    e["name"], c["wall"], c["wall"] / 60, c["peakMB"] / 1024, "met" if c["peakMB"] <= 24 * 1024 else "**not met**"))
+                continue
             at_1m = ""
             if 0.9e6 <= e["triangles"] <= 1.2e6:
                 at_1m = "; goal ≤ 30 s at 1M: %s" % ("met" if c["wall"] <= 30 else "**not met**")

@@ -1,7 +1,7 @@
 """scale: large inputs made by subdividing shared assets (cached in --work).
 Textured inputs (default duck-1M; avocado-11M is the ten-million one) run simplify -> parameterize
 -> texture-refine -> pack as separate tools, pack on parameterize's output too ("pack-norefine"),
-then the whole chain in one process (lodbake), each with wall, CPU, peak RSS, GB of peak per
+then the whole chain in one process (lodbake; --chain-only inputs run it alone), each with wall, CPU, peak RSS, GB of peak per
 million input triangles and its report's time split, beside Debian gltfpack -si at each ratio.
 Geometry-only inputs (default bunny-1M and bunny-4M, the Stanford bunny subdivided twice and
 three times) run simplify --ratio 0.01 beside Debian's and npm's gltfpack -si 0.01, and
@@ -25,6 +25,9 @@ def add_arguments(p):
     p.add_argument("--threads", default="0", help="--threads of every stage (default 0 = all cores)")
     p.add_argument("--no-agsphere", action="store_true", help="skip agsphere-build on the geometry-only inputs")
     p.add_argument("--no-compare", action="store_true", help="skip compare's own timing")
+    p.add_argument("--chain-only", nargs="+", default=[], metavar="ASSET",
+                   help="these textured inputs run the whole chain (lodbake) alone, not each stage too (the "
+                        "ten-million input's stages one by one would add most of an hour)")
 
 
 def row(tool, r, tris, report=None, build=None):
@@ -42,8 +45,8 @@ def row(tool, r, tris, report=None, build=None):
     return out
 
 
-def chain_rows(b, src, w, tris, args):
-    """Every stage as its own tool, then lodbake: one row each."""
+def chain_rows(b, src, w, tris, args, chain_only=False):
+    """Every stage as its own tool (unless `chain_only`), then lodbake: one row each."""
     n = os.path.join(w, "%s" % b.label)
     common_flags = ["--threads", args.threads, "--quiet"]
     steps = [
@@ -54,6 +57,8 @@ def chain_rows(b, src, w, tris, args):
         ("pack-norefine", [b.tool("pack"), "-i", n + ".uv.glb", "-o", n + ".norefine.lod.glb"]),
         ("lodbake", [b.tool("lodbake"), "-i", src, "-o", n + ".chain.lod.glb", "--ratio", args.ratio]),
     ]
+    if chain_only:
+        steps = steps[-1:]
     rows = []
     for tool, cmd in steps:
         rep = "%s.%s.json" % (n, tool)
@@ -123,7 +128,10 @@ def run(args, builds, results):
         os.makedirs(w, exist_ok=True)
         entry = {"name": label, "file": src, "triangles": tris, "role": "chain" if textured else "simplify", "rows": []}
         for b in builds:
-            entry["rows"] += (chain_rows if textured else simplify_rows)(b, src, w, tris, args)
+            if textured:
+                entry["rows"] += chain_rows(b, src, w, tris, args, name in args.chain_only or label in args.chain_only)
+            else:
+                entry["rows"] += simplify_rows(b, src, w, tris, args)
         if textured:
             entry["rows"] += peer_rows(src, w, tris, args.ratio.split(","), args, ["gltfpack-debian"])
         else:

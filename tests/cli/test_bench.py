@@ -2,7 +2,8 @@
 on one tiny generated sample (make-samples --scale 0.3: seamball, 432 triangles), one rep, then
 `bench.py report` on its results file. Checks the results file's shape (machine, builds, settings,
 one row per tool with its figures, the chain's stage split) and that the report prints the
-tables. No timing is asserted."""
+tables; and that `bench.py scale --chain-only` runs the whole chain alone (no stage rows). No
+timing is asserted."""
 import json
 import os
 import sys
@@ -60,6 +61,19 @@ class BenchSmoke(unittest.TestCase):
         self.assertEqual(tools - {"lodbake"}, set(self.json["settings"]["peers"]))
         for p in a["rows"]:
             self.assertTrue("error" in p or p["wall"] >= 0, p)
+
+    def test_scale_chain_only(self):
+        out = os.path.join(self.dir, "scale.json")
+        lt.run([sys.executable, BENCH, "scale", "--bin", lt.BIN, "--assets", os.path.join(self.dir, "samples", "seamball.glb"),
+                "--chain-only", "seamball", "--no-compare", "--work", os.path.join(self.dir, "work"), "--out", out], timeout=300)
+        with open(out) as f:
+            a = json.load(f)["assets"][0]
+        ours = [r["tool"] for r in a["rows"] if r.get("build") == "bin"]
+        self.assertEqual(ours, ["lodbake"])
+        self.assertNotIn("error", a["rows"][0])
+        self.assertEqual(set(a["rows"][0]["stages"]), {"simplify", "parameterize", "texture-refine", "pack"})
+        p = lt.run([sys.executable, BENCH, "report", out])
+        self.assertIn("- seamball: whole chain", p.stdout)
 
     def test_report(self):
         p = lt.run([sys.executable, BENCH, "report", self.results])
