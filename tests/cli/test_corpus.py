@@ -8,11 +8,9 @@ Files the validator rejects must exit 2 with one line on stderr, except KNOWN_LE
 anyway, for the reason given).
 Prints a table: asset, class, exit, levels, seconds (docs/corpus.md has the last one).
 
-By default SLOW is left out (StanfordBunny, the three copies of 2CylinderEngine, the four largest
-extension test files and RecursiveSkeletons):
-LODBAKE_CORPUS=all runs every file, LODBAKE_CORPUS_FILTER=TEXT only the files
-whose name contains TEXT. A valid file that requires an extension lodbake does not implement must
-exit 2, one with no triangles exit 3, each with one line.
+LODBAKE_CORPUS_FILTER=TEXT runs only the files whose name contains TEXT. A valid file that requires
+an extension lodbake does not implement must exit 2, one with no triangles exit 3, each with one
+line.
 Skips cleanly when the folders, the tools or the validator are absent."""
 import json
 import os
@@ -25,20 +23,8 @@ import unittest
 import lodbake_test as lt
 
 ASSIMP = os.environ.get("LODBAKE_ASSIMP_GLTF2", "/usr/share/assimp/models/glTF2")
-ALL = os.environ.get("LODBAKE_CORPUS", "") == "all"
 FILTER = os.environ.get("LODBAKE_CORPUS_FILTER", "")  # run only names containing this
 THREADS = "2"
-
-# Long inputs left out by default: StanfordBunny and 2CylinderEngine (three copies of the same
-# model), minutes each in parameterize and texture-refine; the extension test files of 78k-214k
-# triangles (1-3 minutes each); RecursiveSkeletons, whose welded skins lock every vertex, so every
-# level is LOD0 again and pack bakes it three times by projection (4 minutes).
-SLOW = {"assets/StanfordBunny/StanfordBunny.glb", "assets/2CylinderEngine/2CylinderEngine.glb",
-        "assimp/2CylinderEngine-glTF-Binary/2CylinderEngine.glb", "assimp/draco/2CylinderEngine.gltf",
-        "assets/TransmissionTest/TransmissionTest.glb", "assets/SheenCloth/SheenCloth.gltf",
-        "assets/AnisotropyStrengthTest/AnisotropyStrengthTest.glb",
-        "assets/TransmissionRoughnessTest/TransmissionRoughnessTest.glb",
-        "assets/RecursiveSkeletons/RecursiveSkeletons.glb"}
 
 # Files glTF-Validator reports errors for that lodbake reads on purpose, and why.
 KNOWN_LENIENT = {
@@ -194,7 +180,7 @@ class Corpus(unittest.TestCase):
     def test_corpus(self):
         for name, src in self.files:
             rel = name.split("/", 1)[1]
-            if (name in SLOW and not ALL) or FILTER not in name:
+            if FILTER not in name:
                 continue
             with self.subTest(asset=name):
                 errors = lt.validate(src)["errors"]
