@@ -1,8 +1,9 @@
 """scale: large inputs made by subdividing shared assets (cached in --work).
 Textured inputs (default duck-1M; avocado-11M is the ten-million one) run simplify -> parameterize
 -> texture-refine -> pack as separate tools, pack on parameterize's output too ("pack-norefine"),
-then the whole chain in one process (lodbake; --chain-only inputs run it alone), each with wall, CPU, peak RSS, GB of peak per
-million input triangles and its report's time split, beside Debian gltfpack -si at each ratio.
+then the whole chain in one process (lodbake; --chain-only inputs run it alone), each with wall,
+CPU, peak RSS, GB of peak per million input triangles and its report's time split, beside Debian
+gltfpack -si at each ratio.
 Geometry-only inputs (default bunny-1M and bunny-4M, the Stanford bunny subdivided twice and
 three times) run simplify --ratio 0.01 beside Debian's and npm's gltfpack -si 0.01, and
 agsphere-build --ratio 0.5,0.3 without and with --view 1,0,0. Also compare's own cost on the
