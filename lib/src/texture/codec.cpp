@@ -20,8 +20,8 @@ namespace lodbake {
 namespace {
 
 // OpenImageIO 2.4's JPEG reader is not thread-safe on open: it parses an embedded ICC profile
-// through state all threads share (OpenImageIO issue 3756). Opens therefore never overlap: each
-// takes this lock. Pixel reads need none, so decodes still run side by side.
+// through state all threads share. Opens therefore never overlap: each takes this lock. Pixel
+// reads need none, so decodes still run side by side.
 std::mutex& openMutex() {
     static std::mutex m;
     return m;
